@@ -1,0 +1,1 @@
+//! parol6-core

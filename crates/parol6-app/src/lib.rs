@@ -1,1 +1,8 @@
-//! parol6-app
+//! # parol6-app
+//!
+//! The PAROL6 Studio desktop application (eframe/egui with our own wgpu 3D pipeline) and the
+//! `parol6` command line. This crate owns presentation and user interaction only: it reads
+//! robot facts from `parol6-core` and talks to the controller through `parol6-hw`.
+//! It must not implement kinematics, physics or protocol logic itself.
+
+pub mod cli;

@@ -1,1 +1,13 @@
-//! parol6-core
+//! # parol6-core
+//!
+//! The robot itself, without GUI or serial: URDF → [`model::RobotModel`], forward kinematics,
+//! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones
+//! ([`limits`]), PAROL6 facts ([`parol6`]).
+//!
+//! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
+//! as [`na`] so every crate uses the same version.
+
+pub use nalgebra as na;
+
+pub mod limits;
+pub mod parol6;

@@ -1,0 +1,193 @@
+//! PAROL6 facts from the reference pack (`ROBOT.md`): joint limits, standby pose, speed and
+//! acceleration limits, tools. Joint values are the controller's *software angles*
+//! (`rad = steps · 2π / (6400 · ratio)`), which are also the joint variables of the embedded
+//! URDF (`assets/parol6/parol6.urdf`).
+
+use std::f64::consts::PI;
+
+/// Number of joints of the PAROL6.
+pub const JOINT_COUNT: usize = 6;
+
+/// Joint names used by the embedded URDF, J1 (base) … J6 (flange).
+pub const JOINT_NAMES: [&str; JOINT_COUNT] = ["J1", "J2", "J3", "J4", "J5", "J6"];
+
+/// Joint limits in degrees, ROBOT.md §3 (API / GUI values).
+pub const LIMITS_DEG: [(f64, f64); JOINT_COUNT] = [
+    (-123.046875, 123.046875),
+    (-145.0088, -3.375),
+    (107.866, 287.8675),
+    (-105.46975, 105.46975),
+    (-90.0, 90.0),
+    (0.0, 360.0),
+];
+
+/// Joint limits in radians as written in the embedded URDF (ROBOT.md §3 / §6.1).
+pub const LIMITS_RAD: [(f64, f64); JOINT_COUNT] = [
+    (-2.1475731, 2.1475731),
+    (-2.530881, -0.05890486),
+    (1.88261685, 5.02423568),
+    (-1.8407944, 1.8407944),
+    (-1.57079633, 1.57079633),
+    (0.0, 2.0 * PI),
+];
+
+/// Standby = home pose, degrees (ROBOT.md §4).
+pub const STANDBY_DEG: [f64; JOINT_COUNT] = [90.0, -90.0, 180.0, 0.0, 0.0, 180.0];
+
+/// GUI "Park" pose, degrees (ROBOT.md §4).
+pub const PARK_DEG: [f64; JOINT_COUNT] = [90.0, -144.683, 108.171, 2.222, 25.003, 180.0];
+
+/// Gear reduction (motor turns per joint turn), ROBOT.md §1.
+pub const GEAR_RATIOS: [f64; JOINT_COUNT] = [6.4, 20.0, 20.0 * 38.0 / 42.0, 4.0, 4.0, 10.0];
+
+/// Motor microsteps per motor revolution (200 full steps × 32).
+pub const MICROSTEPS_PER_MOTOR_REV: f64 = 6400.0;
+
+/// API max joint speed in motor steps/s, ROBOT.md §5.
+pub const MAX_SPEED_STEPS_S: [f64; JOINT_COUNT] = [15000.0, 25000.0, 32000.0, 10000.0, 10000.0, 27000.0];
+
+/// API max joint acceleration in motor steps/s² (3 × max speed), ROBOT.md §5.
+pub const MAX_ACCEL_STEPS_S2: [f64; JOINT_COUNT] = [45000.0, 75000.0, 96000.0, 30000.0, 30000.0, 81000.0];
+
+/// API max joint jerk in motor steps/s³ (10 × max acceleration), ROBOT.md §5.
+pub const MAX_JERK_STEPS_S3: [f64; JOINT_COUNT] = [450000.0, 750000.0, 960000.0, 300000.0, 300000.0, 810000.0];
+
+/// Radians per motor step for joint `i` (`2π / (6400 · ratio)`).
+pub fn rad_per_step(joint: usize) -> f64 {
+    2.0 * PI / (MICROSTEPS_PER_MOTOR_REV * GEAR_RATIOS[joint])
+}
+
+/// Standby pose in radians.
+pub fn standby_rad() -> [f64; JOINT_COUNT] {
+    STANDBY_DEG.map(f64::to_radians)
+}
+
+/// Park pose in radians.
+pub fn park_rad() -> [f64; JOINT_COUNT] {
+    PARK_DEG.map(f64::to_radians)
+}
+
+/// API max joint speeds in rad/s.
+pub fn max_speed_rad_s() -> [f64; JOINT_COUNT] {
+    std::array::from_fn(|i| MAX_SPEED_STEPS_S[i] * rad_per_step(i))
+}
+
+/// API max joint accelerations in rad/s².
+pub fn max_accel_rad_s2() -> [f64; JOINT_COUNT] {
+    std::array::from_fn(|i| MAX_ACCEL_STEPS_S2[i] * rad_per_step(i))
+}
+
+/// API max joint jerks in rad/s³.
+pub fn max_jerk_rad_s3() -> [f64; JOINT_COUNT] {
+    std::array::from_fn(|i| MAX_JERK_STEPS_S3[i] * rad_per_step(i))
+}
+
+/// A tool fitted to the flange, ROBOT.md §7. The TCP is a pure translation in the L6 frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+pub enum Tool {
+    /// Bare flange.
+    #[default]
+    None,
+    /// Pneumatic gripper, vertical mount (API default variant).
+    PneumaticVertical,
+    /// Pneumatic gripper, horizontal mount.
+    PneumaticHorizontal,
+    /// SSG-48 electric gripper (finger and pinch variants share the TCP).
+    Ssg48,
+    /// MSG electric gripper (100/150/200 mm rails share the TCP).
+    Msg,
+    /// Vacuum gripper.
+    Vacuum,
+}
+
+impl Tool {
+    /// Every tool, in menu order.
+    pub const ALL: [Tool; 6] = [
+        Tool::None,
+        Tool::PneumaticVertical,
+        Tool::PneumaticHorizontal,
+        Tool::Ssg48,
+        Tool::Msg,
+        Tool::Vacuum,
+    ];
+
+    /// TCP offset in the L6 (flange) frame, metres.
+    pub fn tcp_offset_m(self) -> [f64; 3] {
+        match self {
+            Tool::None => [0.0, 0.0, 0.0],
+            Tool::PneumaticVertical => [-0.055, 0.0, -0.027],
+            Tool::PneumaticHorizontal => [0.0, 0.0, -0.082],
+            Tool::Ssg48 => [0.0, 0.0, -0.105],
+            Tool::Msg => [-0.029, 0.0, -0.103],
+            Tool::Vacuum => [0.0, 0.0, -0.037],
+        }
+    }
+
+    /// Command-line / config name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tool::None => "none",
+            Tool::PneumaticVertical => "pneumatic-vertical",
+            Tool::PneumaticHorizontal => "pneumatic-horizontal",
+            Tool::Ssg48 => "ssg48",
+            Tool::Msg => "msg",
+            Tool::Vacuum => "vacuum",
+        }
+    }
+
+    /// Human label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Tool::None => "None (bare flange)",
+            Tool::PneumaticVertical => "Pneumatic, vertical",
+            Tool::PneumaticHorizontal => "Pneumatic, horizontal",
+            Tool::Ssg48 => "SSG-48 electric gripper",
+            Tool::Msg => "MSG electric gripper",
+            Tool::Vacuum => "Vacuum gripper",
+        }
+    }
+
+    /// Parse a tool name (as printed by [`Tool::name`]); also accepts `pneumatic` and `ssg-48`.
+    pub fn from_name(name: &str) -> Option<Tool> {
+        let n = name.trim().to_ascii_lowercase();
+        match n.as_str() {
+            "none" | "flange" => Some(Tool::None),
+            "pneumatic" | "pneumatic-vertical" => Some(Tool::PneumaticVertical),
+            "pneumatic-horizontal" => Some(Tool::PneumaticHorizontal),
+            "ssg48" | "ssg-48" => Some(Tool::Ssg48),
+            "msg" => Some(Tool::Msg),
+            "vacuum" => Some(Tool::Vacuum),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_deg_and_rad_agree() {
+        for (d, r) in LIMITS_DEG.iter().zip(LIMITS_RAD.iter()) {
+            assert!((d.0.to_radians() - r.0).abs() < 1e-6);
+            assert!((d.1.to_radians() - r.1).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn api_speeds_in_rad_s_match_robot_md() {
+        let v = max_speed_rad_s();
+        let expected = [2.3010, 1.2272, 1.7361, 2.4544, 2.4544, 2.6507];
+        for (a, b) in v.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-3, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn tool_names_round_trip() {
+        for t in Tool::ALL {
+            assert_eq!(Tool::from_name(t.name()), Some(t));
+        }
+        assert_eq!(Tool::from_name("bogus"), None);
+    }
+}

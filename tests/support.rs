@@ -1,1 +1,24 @@
-//! support
+//! Helpers shared by the cross-crate integration tests: locating the reference pack
+//! `../shared/parol6` beside the repository.
+
+use std::path::PathBuf;
+
+/// The reference pack folder (`<repo>/../shared/parol6`), or `None` after printing a clear
+/// skip notice when it is absent. CI always has it.
+pub fn shared_dir() -> Option<PathBuf> {
+    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let candidates = [std::env::var_os("PAROL6_SHARED").map(PathBuf::from), Some(repo.join("..").join("shared").join("parol6"))];
+    for c in candidates.into_iter().flatten() {
+        if c.join("ROBOT.md").is_file() {
+            return Some(c);
+        }
+    }
+    eprintln!("SKIPPED: reference pack ../shared/parol6 not found beside the repository (set PAROL6_SHARED to its path)");
+    None
+}
+
+/// Reads and parses a JSON file of the reference pack.
+pub fn read_json(path: &std::path::Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{} is not JSON: {e}", path.display()))
+}

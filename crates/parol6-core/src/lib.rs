@@ -11,3 +11,13 @@ pub use nalgebra as na;
 
 pub mod limits;
 pub mod parol6;
+pub mod profile;
+pub mod ik;
+pub mod kinematics;
+pub mod model;
+
+pub use ik::{IkError, IkSolution};
+pub use kinematics::{Manipulability, TcpPose};
+pub use limits::{JointLimit, JointLimits, LimitPolicy, LimitViolation, LimitZone, ZoneThresholds};
+pub use model::{ModelError, RobotModel};
+pub use parol6::Tool;

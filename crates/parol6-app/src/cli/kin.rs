@@ -1,31 +1,247 @@
-//! `parol6 fk` and `parol6 ik`.
+//! `parol6 fk`, `parol6 ik` and their benchmarks.
 
-use super::CliResult;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use parol6_core::ik::{self, NumericIkOptions};
+use parol6_core::{RobotModel, TcpPose, Tool};
+use rand::{Rng, SeedableRng};
+use serde_json::json;
+
+use super::bench::NsStats;
+use super::{CliError, CliResult, print_json};
+
+/// Robot selection shared by `fk` and `ik`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RobotArgs {
+    /// URDF file of another robot (default: the embedded PAROL6).
+    #[arg(long, value_name = "PATH")]
+    pub urdf: Option<PathBuf>,
+    /// Tip link of the chain (default: the single leaf link).
+    #[arg(long, value_name = "LINK")]
+    pub tip: Option<String>,
+    /// Tool on the flange: none, pneumatic-vertical, pneumatic-horizontal, ssg48, msg, vacuum.
+    #[arg(long, value_name = "NAME")]
+    pub tool: Option<String>,
+}
+
+impl RobotArgs {
+    /// Loads the selected robot with its tool.
+    pub fn load(&self) -> Result<RobotModel, CliError> {
+        let mut model = match &self.urdf {
+            None => {
+                if let Some(t) = &self.tip
+                    && t != "L6"
+                {
+                    return Err(CliError::usage(format!("tip link \"{t}\" does not exist in the embedded PAROL6 (its tip is L6)")));
+                }
+                RobotModel::parol6()
+            }
+            Some(p) => RobotModel::from_urdf_file(p, self.tip.as_deref()).map_err(CliError::usage)?,
+        };
+        for w in &model.warnings {
+            eprintln!("warning: {w}");
+        }
+        if let Some(name) = &self.tool {
+            let tool = Tool::from_name(name).ok_or_else(|| {
+                let names: Vec<&str> = Tool::ALL.iter().map(|t| t.name()).collect();
+                CliError::usage(format!("unknown tool \"{name}\" (known: {})", names.join(", ")))
+            })?;
+            model.set_tool(tool);
+        }
+        Ok(model)
+    }
+}
 
 /// Arguments of `parol6 fk`.
 #[derive(Debug, clap::Args)]
-pub struct FkArgs {}
+pub struct FkArgs {
+    /// Joint values J1,…,JN (rad, or degrees with --deg).
+    #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
+    pub joints: String,
+    /// Joint values are in degrees.
+    #[arg(long)]
+    pub deg: bool,
+    #[command(flatten)]
+    pub robot: RobotArgs,
+}
 
 /// Arguments of `parol6 ik`.
 #[derive(Debug, clap::Args)]
-pub struct IkArgs {}
+pub struct IkArgs {
+    /// Target TCP pose X,Y,Z,ROLL,PITCH,YAW (m and rad; see --mm and --deg). RPY is URDF's
+    /// R = Rz(yaw)·Ry(pitch)·Rx(roll).
+    #[arg(long, value_name = "X,Y,Z,R,P,Y", allow_hyphen_values = true)]
+    pub pose: String,
+    /// Angles (pose RPY and seed) are in degrees.
+    #[arg(long)]
+    pub deg: bool,
+    /// Position is in millimetres.
+    #[arg(long)]
+    pub mm: bool,
+    /// Seed joint values (default: the PAROL6 standby pose, or mid-range for other robots).
+    #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
+    pub seed: Option<String>,
+    /// Print every solution (every closed-form branch within the limits), best first.
+    #[arg(long)]
+    pub all: bool,
+    #[command(flatten)]
+    pub robot: RobotArgs,
+}
+
+/// Parses a comma-separated list of numbers, naming the offending field on error.
+pub fn parse_list(what: &str, text: &str, expected: Option<usize>) -> Result<Vec<f64>, CliError> {
+    let values: Vec<f64> = text
+        .split(',')
+        .enumerate()
+        .map(|(i, s)| {
+            let s = s.trim();
+            match s.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(CliError::usage(format!("{what}: value {} (\"{s}\") is not a finite number", i + 1))),
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    if let Some(n) = expected
+        && values.len() != n
+    {
+        return Err(CliError::usage(format!("{what}: expected {n} comma-separated values, got {}", values.len())));
+    }
+    Ok(values)
+}
+
+fn tcp_json(p: &TcpPose) -> serde_json::Value {
+    json!({"position_m": p.position_m, "rpy_rad": p.rpy_rad, "quaternion_wxyz": p.quaternion_wxyz, "matrix": p.matrix4()})
+}
 
 /// Runs `parol6 fk`.
-pub fn run_fk(_a: &FkArgs) -> CliResult {
+pub fn run_fk(a: &FkArgs) -> CliResult {
+    let model = a.robot.load()?;
+    let mut q = parse_list("--joints", &a.joints, Some(model.dof()))?;
+    if a.deg {
+        q.iter_mut().for_each(|v| *v = v.to_radians());
+    }
+    let pose = model.fk(&q);
+    let within = model.limits.check(&q);
+    if let Err(e) = &within {
+        eprintln!("warning: {e}");
+    }
+    print_json(&json!({"joints_rad": q, "within_limits": within.is_ok(), "tcp": tcp_json(&pose)}));
     Ok(())
+}
+
+/// Default IK seed: standby for the PAROL6, mid-range otherwise.
+pub fn default_seed(model: &RobotModel) -> Vec<f64> {
+    if model.is_parol6 {
+        parol6_core::parol6::standby_rad().to_vec()
+    } else {
+        model
+            .limits
+            .iter()
+            .map(|l| if l.is_bounded() { 0.5 * (l.min + l.max) } else { 0.0 })
+            .collect()
+    }
 }
 
 /// Runs `parol6 ik`.
-pub fn run_ik(_a: &IkArgs) -> CliResult {
+pub fn run_ik(a: &IkArgs) -> CliResult {
+    let model = a.robot.load()?;
+    let p = parse_list("--pose", &a.pose, Some(6))?;
+    let scale = if a.mm { 1e-3 } else { 1.0 };
+    let ang = |v: f64| if a.deg { v.to_radians() } else { v };
+    let target = parol6_core::kinematics::iso_from_xyz_rpy([p[0] * scale, p[1] * scale, p[2] * scale], [ang(p[3]), ang(p[4]), ang(p[5])]);
+    let seed = match &a.seed {
+        Some(s) => parse_list("--seed", s, Some(model.dof()))?.into_iter().map(ang).collect(),
+        None => default_seed(&model),
+    };
+    let mut sols = ik::solve(&model, &target, &seed).map_err(CliError::usage)?;
+    if !a.all {
+        sols.truncate(1);
+    }
+    let solver = if model.is_parol6 { "closed-form" } else { "numeric" };
+    let list: Vec<serde_json::Value> = sols
+        .iter()
+        .map(|s| {
+            json!({
+                "joints_rad": s.joints_rad,
+                "branch": s.branch.map(|b| b.label()),
+                "distance_to_seed": s.distance_to_seed,
+                "singular": s.singular,
+            })
+        })
+        .collect();
+    print_json(&json!({"solver": solver, "solutions": list}));
     Ok(())
+}
+
+fn random_in_limits(model: &RobotModel, rng: &mut impl Rng) -> Vec<f64> {
+    model
+        .limits
+        .iter()
+        .map(|l| if l.is_bounded() { rng.random_range(l.min..=l.max) } else { rng.random_range(-std::f64::consts::PI..std::f64::consts::PI) })
+        .collect()
 }
 
 /// `parol6 bench fk`.
-pub fn bench_fk(_n: usize) -> CliResult {
+pub fn bench_fk(n: usize) -> CliResult {
+    let model = RobotModel::parol6();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(1);
+    let qs: Vec<Vec<f64>> = (0..n.max(1)).map(|_| random_in_limits(&model, &mut rng)).collect();
+    for q in qs.iter().take(1000) {
+        black_box(model.tcp_isometry(black_box(q)));
+    }
+    let mut samples = Vec::with_capacity(qs.len());
+    for q in &qs {
+        let t0 = Instant::now();
+        black_box(model.tcp_isometry(black_box(q)));
+        samples.push(t0.elapsed().as_nanos() as f64);
+    }
+    let s = NsStats::from_samples(&mut samples);
+    let mut out = s.json();
+    out["bench"] = json!("fk");
+    print_json(&out);
     Ok(())
 }
 
-/// `parol6 bench ik`.
-pub fn bench_ik(_n: usize) -> CliResult {
+/// `parol6 bench ik`: both solvers on the same random reachable in-limit poses.
+pub fn bench_ik(n: usize) -> CliResult {
+    let model = RobotModel::parol6();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(2);
+    let seed = parol6_core::parol6::standby_rad();
+    let targets: Vec<_> = (0..n.max(1)).map(|_| model.tcp_isometry(&random_in_limits(&model, &mut rng))).collect();
+    let opts = NumericIkOptions::default();
+    let mut report = serde_json::Map::new();
+    for solver in ["analytic", "numeric"] {
+        let mut samples = Vec::with_capacity(targets.len());
+        let mut ok = 0usize;
+        for (i, t) in targets.iter().enumerate() {
+            let t0 = Instant::now();
+            let found = if solver == "analytic" {
+                ik::solve_parol6(&model, black_box(t), &seed).ok().and_then(|v| v.into_iter().next())
+            } else {
+                ik::solve_numeric(&model, black_box(t), &seed, &opts).ok()
+            };
+            samples.push(t0.elapsed().as_nanos() as f64);
+            if let Some(s) = found {
+                let (ep, er) = ik::pose_error(&model.tcp_isometry(&s.joints_rad), t);
+                if ep < 1e-6 && er < 1e-6 && model.limits.contains(&s.joints_rad) {
+                    ok += 1;
+                }
+            }
+            if i % 20_000 == 19_999 {
+                eprintln!("bench ik {solver}: {}/{}", i + 1, targets.len());
+            }
+        }
+        let s = NsStats::from_samples(&mut samples);
+        let mut o = s.json();
+        o["success_rate"] = json!(ok as f64 / targets.len() as f64);
+        report.insert(solver.to_string(), o);
+    }
+    let mut out = report.get("analytic").cloned().unwrap_or_default();
+    out["bench"] = json!("ik");
+    out["analytic"] = report.get("analytic").cloned().unwrap_or_default();
+    out["numeric"] = report.get("numeric").cloned().unwrap_or_default();
+    print_json(&out);
     Ok(())
 }

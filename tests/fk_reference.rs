@@ -23,12 +23,19 @@ fn fk_matches_reference_vectors() {
     let vectors = doc["vectors"].as_array().expect("vectors");
     assert!(vectors.len() >= 4);
     for v in vectors {
-        let q: Vec<f64> = v["joint_deg"].as_array().expect("joints").iter().map(|x| x.as_f64().expect("deg").to_radians()).collect();
+        let q: Vec<f64> =
+            v["joint_deg"].as_array().expect("joints").iter().map(|x| x.as_f64().expect("deg").to_radians()).collect();
         let want = rows(&v["python_api_urdf_L6_pose"]);
         let got = model.fk(&q).matrix4();
         for r in 0..3 {
             for c in 0..4 {
-                assert!((got[r][c] - want[r][c]).abs() <= 1e-6, "{}: [{r}][{c}] {} vs {}", v["name"], got[r][c], want[r][c]);
+                assert!(
+                    (got[r][c] - want[r][c]).abs() <= 1e-6,
+                    "{}: [{r}][{c}] {} vs {}",
+                    v["name"],
+                    got[r][c],
+                    want[r][c]
+                );
             }
         }
     }
@@ -37,7 +44,8 @@ fn fk_matches_reference_vectors() {
 #[test]
 fn fk_equals_official_python_api_urdf() {
     let Some(dir) = parol6_tests::shared_dir() else { return };
-    let official = RobotModel::from_urdf_file(&dir.join("urdf/python-api/PAROL6.urdf"), None).expect("official URDF loads");
+    let official =
+        RobotModel::from_urdf_file(&dir.join("urdf/python-api/PAROL6.urdf"), None).expect("official URDF loads");
     assert!(official.warnings.is_empty(), "meshes resolve: {:?}", official.warnings);
     assert!(official.is_parol6, "official chain recognised as PAROL6");
     let ours = RobotModel::parol6();
@@ -59,6 +67,11 @@ fn official_original_urdf_loads_with_meshes() {
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
     assert_eq!(m.dof(), 6);
     assert!(!m.is_parol6, "different joint convention: numeric IK applies");
-    let meshes = m.links.iter().flat_map(|l| &l.visuals).filter(|g| matches!(g.shape, parol6_core::model::Shape::Mesh { .. })).count();
+    let meshes = m
+        .links
+        .iter()
+        .flat_map(|l| &l.visuals)
+        .filter(|g| matches!(g.shape, parol6_core::model::Shape::Mesh { .. }))
+        .count();
     assert_eq!(meshes, 7);
 }

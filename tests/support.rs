@@ -7,13 +7,16 @@ use std::path::PathBuf;
 /// skip notice when it is absent. CI always has it.
 pub fn shared_dir() -> Option<PathBuf> {
     let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let candidates = [std::env::var_os("PAROL6_SHARED").map(PathBuf::from), Some(repo.join("..").join("shared").join("parol6"))];
+    let candidates =
+        [std::env::var_os("PAROL6_SHARED").map(PathBuf::from), Some(repo.join("..").join("shared").join("parol6"))];
     for c in candidates.into_iter().flatten() {
         if c.join("ROBOT.md").is_file() {
             return Some(c);
         }
     }
-    eprintln!("SKIPPED: reference pack ../shared/parol6 not found beside the repository (set PAROL6_SHARED to its path)");
+    eprintln!(
+        "SKIPPED: reference pack ../shared/parol6 not found beside the repository (set PAROL6_SHARED to its path)"
+    );
     None
 }
 

@@ -1,7 +1,7 @@
 //! Criterion: numeric (Levenberg–Marquardt) IK on the PAROL6 chain.
 use criterion::{Criterion, criterion_group, criterion_main};
-use parol6_core::ik::{self, NumericIkOptions};
 use parol6_core::RobotModel;
+use parol6_core::ik::{self, NumericIkOptions};
 use std::hint::black_box;
 
 fn ik_numeric(c: &mut Criterion) {

@@ -145,7 +145,7 @@ pub struct NumericIkOptions {
 
 impl Default for NumericIkOptions {
     fn default() -> Self {
-        Self { max_iterations: 60, max_attempts: 30, tolerance: IK_TOLERANCE, rng_seed: 0x5eed_7a21 }
+        Self { max_iterations: 80, max_attempts: 80, tolerance: IK_TOLERANCE, rng_seed: 0x5eed_7a21 }
     }
 }
 
@@ -167,7 +167,11 @@ pub fn solve(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -> Resul
 
 fn check_input(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -> Result<(), IkError> {
     if seed.len() != model.dof() {
-        return Err(IkError::InvalidInput(format!("seed has {} values, the robot has {} joints", seed.len(), model.dof())));
+        return Err(IkError::InvalidInput(format!(
+            "seed has {} values, the robot has {} joints",
+            seed.len(),
+            model.dof()
+        )));
     }
     if !seed.iter().all(|v| v.is_finite()) {
         return Err(IkError::InvalidInput("seed contains a non-finite value".into()));
@@ -316,6 +320,7 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
     if !any_reach {
         return Err(IkError::Unreachable(reach_detail));
     }
+    let branches_reaching = raw.len();
     let mut out = Vec::with_capacity(raw.len());
     let mut first_violation = String::new();
     for (q, branch, singular) in raw {
@@ -326,7 +331,8 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
                 Some(w) => wrapped.push(w),
                 None => {
                     if first_violation.is_empty() {
-                        first_violation = format!("{} branch needs {} = {:.2}°", branch.label(), l.name, v.to_degrees());
+                        first_violation =
+                            format!("{} branch needs {} = {:.2}°", branch.label(), l.name, v.to_degrees());
                     }
                     break;
                 }
@@ -343,7 +349,7 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
         out.push(IkSolution { joints_rad: wrapped, branch: Some(branch), distance_to_seed, singular });
     }
     if out.is_empty() {
-        return Err(IkError::NoSolutionWithinLimits { branches: 8, detail: first_violation });
+        return Err(IkError::NoSolutionWithinLimits { branches: branches_reaching, detail: first_violation });
     }
     out.sort_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed));
     Ok(out)
@@ -483,16 +489,18 @@ pub fn solve_numeric(
     if crate::kinematics::Manipulability::of(&model.jacobian(&q_best)).singular {
         return Err(IkError::Singular { residual_m, residual_rad });
     }
-    let at_limit = q_best.iter().zip(model.limits.iter()).any(|(v, l)| (v - l.min).abs() < 1e-9 || (v - l.max).abs() < 1e-9);
+    let at_limit =
+        q_best.iter().zip(model.limits.iter()).any(|(v, l)| (v - l.min).abs() < 1e-9 || (v - l.max).abs() < 1e-9);
     if at_limit {
         return Err(IkError::NoSolutionWithinLimits {
             branches: 0,
-            detail: format!("best attempt pinned at a joint limit, {residual_m:.2e} m / {residual_rad:.2e} rad from the target"),
+            detail: format!(
+                "best attempt pinned at a joint limit, {residual_m:.2e} m / {residual_rad:.2e} rad from the target"
+            ),
         });
     }
     Err(IkError::NotConverged { attempts: opts.max_attempts, residual_m, residual_rad })
 }
-
 
 #[cfg(test)]
 mod tests {
@@ -515,7 +523,8 @@ mod tests {
         let q = crate::parol6::standby_rad().to_vec();
         let sols = solve_parol6(&m, &m.tcp_isometry(&q), &q).expect("standby is reachable");
         assert!(dist(&sols[0].joints_rad, &q) < 1e-9, "best first: {:?}", sols[0]);
-        let labels: std::collections::HashSet<String> = sols.iter().filter_map(|s| s.branch.map(|b| b.label())).collect();
+        let labels: std::collections::HashSet<String> =
+            sols.iter().filter_map(|s| s.branch.map(|b| b.label())).collect();
         assert_eq!(labels.len(), sols.len(), "branches are distinct");
     }
 

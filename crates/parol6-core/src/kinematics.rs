@@ -34,7 +34,11 @@ impl TcpPose {
         let q = iso.rotation;
         Self {
             position_m: [iso.translation.x, iso.translation.y, iso.translation.z],
-            rotation: [[m[(0, 0)], m[(0, 1)], m[(0, 2)]], [m[(1, 0)], m[(1, 1)], m[(1, 2)]], [m[(2, 0)], m[(2, 1)], m[(2, 2)]]],
+            rotation: [
+                [m[(0, 0)], m[(0, 1)], m[(0, 2)]],
+                [m[(1, 0)], m[(1, 1)], m[(1, 2)]],
+                [m[(2, 0)], m[(2, 1)], m[(2, 2)]],
+            ],
             rpy_rad: rpy_from_matrix(m),
             quaternion_wxyz: [q.w, q.i, q.j, q.k],
         }
@@ -69,7 +73,10 @@ impl TcpPose {
 
 /// Isometry from a position and URDF RPY.
 pub fn iso_from_xyz_rpy(p: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
-    Isometry3::from_parts(Translation3::new(p[0], p[1], p[2]), UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]))
+    Isometry3::from_parts(
+        Translation3::new(p[0], p[1], p[2]),
+        UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]),
+    )
 }
 
 /// URDF roll-pitch-yaw of a rotation matrix (`R = Rz(yaw)·Ry(pitch)·Rx(roll)`).
@@ -101,7 +108,9 @@ pub fn matrix4_rows(iso: &Isometry3<f64>) -> [[f64; 4]; 4] {
 #[inline]
 fn joint_motion(j: &ChainJoint, q: f64) -> Isometry3<f64> {
     match j.kind {
-        JointKind::Prismatic => Isometry3::from_parts(Translation3::from(j.axis.into_inner() * q), UnitQuaternion::identity()),
+        JointKind::Prismatic => {
+            Isometry3::from_parts(Translation3::from(j.axis.into_inner() * q), UnitQuaternion::identity())
+        }
         _ => {
             if j.axis_is_z {
                 let (s, c) = (0.5 * q).sin_cos();

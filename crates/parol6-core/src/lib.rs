@@ -9,12 +9,12 @@
 
 pub use nalgebra as na;
 
-pub mod limits;
-pub mod parol6;
-pub mod profile;
 pub mod ik;
 pub mod kinematics;
+pub mod limits;
 pub mod model;
+pub mod parol6;
+pub mod profile;
 
 pub use ik::{IkError, IkSolution};
 pub use kinematics::{Manipulability, TcpPose};

@@ -286,7 +286,13 @@ impl JointLimits {
             }
             if !l.contains(v) {
                 let (limit, side) = if v < l.min { (l.min, LimitSide::Lower) } else { (l.max, LimitSide::Upper) };
-                return Err(LimitViolation::OutOfRange { joint_index: i + 1, name: l.name.clone(), value: v, limit, side });
+                return Err(LimitViolation::OutOfRange {
+                    joint_index: i + 1,
+                    name: l.name.clone(),
+                    value: v,
+                    limit,
+                    side,
+                });
             }
         }
         Ok(())
@@ -327,11 +333,7 @@ impl JointLimits {
 
     /// Predictive zone report of every joint.
     pub fn zone_reports(&self, q: &[f64], qd: &[f64], thresholds: &ZoneThresholds) -> Vec<ZoneReport> {
-        self.joints
-            .iter()
-            .zip(q.iter().zip(qd))
-            .map(|(l, (&v, &w))| thresholds.predictive_zone(l, v, w))
-            .collect()
+        self.joints.iter().zip(q.iter().zip(qd)).map(|(l, (&v, &w))| thresholds.predictive_zone(l, v, w)).collect()
     }
 }
 

@@ -409,7 +409,9 @@ fn build(robot: &urdf_rs::Robot, opts: &LoadOptions) -> Result<RobotModel, Model
                 // prefer the single leaf reached through at least one movable joint
                 let movable_leaves: Vec<String> = leaves
                     .iter()
-                    .filter(|l| path_to_root(l, &parent_joint).iter().any(|j| j.joint_type != urdf_rs::JointType::Fixed))
+                    .filter(|l| {
+                        path_to_root(l, &parent_joint).iter().any(|j| j.joint_type != urdf_rs::JointType::Fixed)
+                    })
                     .cloned()
                     .collect();
                 if movable_leaves.len() == 1 {
@@ -442,7 +444,10 @@ fn build(robot: &urdf_rs::Robot, opts: &LoadOptions) -> Result<RobotModel, Model
             urdf_rs::JointType::Continuous => JointKind::Continuous,
             urdf_rs::JointType::Prismatic => JointKind::Prismatic,
             ref other => {
-                return Err(ModelError::UnsupportedJoint { joint: j.name.clone(), kind: format!("{other:?}").to_lowercase() });
+                return Err(ModelError::UnsupportedJoint {
+                    joint: j.name.clone(),
+                    kind: format!("{other:?}").to_lowercase(),
+                });
             }
         };
         let a = Vector3::from(j.axis.xyz.0);
@@ -505,8 +510,12 @@ fn build(robot: &urdf_rs::Robot, opts: &LoadOptions) -> Result<RobotModel, Model
         let Some(&(frame, offset)) = link_frame.get(&name) else { continue };
         let inertial = (ul.inertial.mass.value > 0.0).then(|| {
             let i = &ul.inertial.inertia;
-            let rot = UnitQuaternion::from_euler_angles(ul.inertial.origin.rpy.0[0], ul.inertial.origin.rpy.0[1], ul.inertial.origin.rpy.0[2])
-                .to_rotation_matrix();
+            let rot = UnitQuaternion::from_euler_angles(
+                ul.inertial.origin.rpy.0[0],
+                ul.inertial.origin.rpy.0[1],
+                ul.inertial.origin.rpy.0[2],
+            )
+            .to_rotation_matrix();
             let tensor = Matrix3::new(i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz);
             Inertial {
                 mass_kg: ul.inertial.mass.value,
@@ -577,7 +586,11 @@ fn convert_shape(g: &urdf_rs::Geometry, link: &str, opts: &LoadOptions, warnings
         urdf_rs::Geometry::Mesh { filename, scale } => {
             let (path, found) = resolve_mesh(filename, opts);
             if !found {
-                warnings.push(ModelError::MeshNotFound { link: link.to_string(), uri: filename.clone(), resolved: path.clone() });
+                warnings.push(ModelError::MeshNotFound {
+                    link: link.to_string(),
+                    uri: filename.clone(),
+                    resolved: path.clone(),
+                });
             }
             Shape::Mesh { path, uri: filename.clone(), scale: scale.as_ref().map_or([1.0; 3], |s| s.0) }
         }
@@ -684,9 +697,16 @@ mod tests {
 
     #[test]
     fn malformed_cycle() {
-        let x = format!(r#"<robot name="r">{}{}{}{}</robot>"#, links(&["a", "b", "c"]), rev("j1", "a", "b"), rev("j2", "b", "c"), rev("j3", "c", "b"));
+        let x = format!(
+            r#"<robot name="r">{}{}{}{}</robot>"#,
+            links(&["a", "b", "c"]),
+            rev("j1", "a", "b"),
+            rev("j2", "b", "c"),
+            rev("j3", "c", "b")
+        );
         assert!(matches!(load(&x), Err(ModelError::Cycle(_))));
-        let loop_only = format!(r#"<robot name="r">{}{}{}</robot>"#, links(&["a", "b"]), rev("j1", "a", "b"), rev("j2", "b", "a"));
+        let loop_only =
+            format!(r#"<robot name="r">{}{}{}</robot>"#, links(&["a", "b"]), rev("j1", "a", "b"), rev("j2", "b", "a"));
         assert!(matches!(load(&loop_only), Err(ModelError::Cycle(_))));
     }
 
@@ -701,7 +721,12 @@ mod tests {
 
     #[test]
     fn malformed_tip_not_found_and_ambiguous_tip() {
-        let x = format!(r#"<robot name="r">{}{}{}</robot>"#, links(&["a", "b", "c"]), rev("j1", "a", "b"), rev("j2", "a", "c"));
+        let x = format!(
+            r#"<robot name="r">{}{}{}</robot>"#,
+            links(&["a", "b", "c"]),
+            rev("j1", "a", "b"),
+            rev("j2", "a", "c")
+        );
         assert!(matches!(load(&x), Err(ModelError::AmbiguousTip(_))));
         let opts = LoadOptions { tip: Some("nope".into()), ..Default::default() };
         assert!(matches!(RobotModel::from_urdf_str(&x, &opts), Err(ModelError::TipNotFound(t)) if t == "nope"));
@@ -718,7 +743,8 @@ mod tests {
             links(&["a", "b"])
         );
         assert!(matches!(load(&x), Err(ModelError::InvalidLimits { .. })));
-        let y = x.replace(r#"lower="1" upper="-1""#, r#"lower="-1" upper="1""#).replace(r#"xyz="0 0 1""#, r#"xyz="0 0 0""#);
+        let y =
+            x.replace(r#"lower="1" upper="-1""#, r#"lower="-1" upper="1""#).replace(r#"xyz="0 0 1""#, r#"xyz="0 0 0""#);
         assert!(matches!(load(&y), Err(ModelError::InvalidAxis(_))));
     }
 

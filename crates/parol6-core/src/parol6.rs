@@ -102,14 +102,8 @@ pub enum Tool {
 
 impl Tool {
     /// Every tool, in menu order.
-    pub const ALL: [Tool; 6] = [
-        Tool::None,
-        Tool::PneumaticVertical,
-        Tool::PneumaticHorizontal,
-        Tool::Ssg48,
-        Tool::Msg,
-        Tool::Vacuum,
-    ];
+    pub const ALL: [Tool; 6] =
+        [Tool::None, Tool::PneumaticVertical, Tool::PneumaticHorizontal, Tool::Ssg48, Tool::Msg, Tool::Vacuum];
 
     /// TCP offset in the L6 (flange) frame, metres.
     pub fn tcp_offset_m(self) -> [f64; 3] {

@@ -34,7 +34,9 @@ impl RobotArgs {
                 if let Some(t) = &self.tip
                     && t != "L6"
                 {
-                    return Err(CliError::usage(format!("tip link \"{t}\" does not exist in the embedded PAROL6 (its tip is L6)")));
+                    return Err(CliError::usage(format!(
+                        "tip link \"{t}\" does not exist in the embedded PAROL6 (its tip is L6)"
+                    )));
                 }
                 RobotModel::parol6()
             }
@@ -136,11 +138,7 @@ pub fn default_seed(model: &RobotModel) -> Vec<f64> {
     if model.is_parol6 {
         parol6_core::parol6::standby_rad().to_vec()
     } else {
-        model
-            .limits
-            .iter()
-            .map(|l| if l.is_bounded() { 0.5 * (l.min + l.max) } else { 0.0 })
-            .collect()
+        model.limits.iter().map(|l| if l.is_bounded() { 0.5 * (l.min + l.max) } else { 0.0 }).collect()
     }
 }
 
@@ -150,7 +148,10 @@ pub fn run_ik(a: &IkArgs) -> CliResult {
     let p = parse_list("--pose", &a.pose, Some(6))?;
     let scale = if a.mm { 1e-3 } else { 1.0 };
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
-    let target = parol6_core::kinematics::iso_from_xyz_rpy([p[0] * scale, p[1] * scale, p[2] * scale], [ang(p[3]), ang(p[4]), ang(p[5])]);
+    let target = parol6_core::kinematics::iso_from_xyz_rpy(
+        [p[0] * scale, p[1] * scale, p[2] * scale],
+        [ang(p[3]), ang(p[4]), ang(p[5])],
+    );
     let seed = match &a.seed {
         Some(s) => parse_list("--seed", s, Some(model.dof()))?.into_iter().map(ang).collect(),
         None => default_seed(&model),
@@ -179,7 +180,13 @@ fn random_in_limits(model: &RobotModel, rng: &mut impl Rng) -> Vec<f64> {
     model
         .limits
         .iter()
-        .map(|l| if l.is_bounded() { rng.random_range(l.min..=l.max) } else { rng.random_range(-std::f64::consts::PI..std::f64::consts::PI) })
+        .map(|l| {
+            if l.is_bounded() {
+                rng.random_range(l.min..=l.max)
+            } else {
+                rng.random_range(-std::f64::consts::PI..std::f64::consts::PI)
+            }
+        })
         .collect()
 }
 

@@ -5,4 +5,8 @@
 //! robot facts from `parol6-core` and talks to the controller through `parol6-hw`.
 //! It must not implement kinematics, physics or protocol logic itself.
 
+pub mod app;
 pub mod cli;
+pub mod panels;
+pub mod ui_screenshot;
+pub mod viewport;

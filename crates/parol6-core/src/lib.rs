@@ -15,6 +15,7 @@ pub mod limits;
 pub mod model;
 pub mod parol6;
 pub mod profile;
+pub mod sim;
 
 pub use ik::{IkError, IkSolution};
 pub use kinematics::{Manipulability, TcpPose};

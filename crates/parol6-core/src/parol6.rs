@@ -3,7 +3,7 @@
 //! (`rad = steps · 2π / (6400 · ratio)`), which are also the joint variables of the embedded
 //! URDF (`assets/parol6/parol6.urdf`).
 
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Number of joints of the PAROL6.
 pub const JOINT_COUNT: usize = 6;
@@ -27,7 +27,7 @@ pub const LIMITS_RAD: [(f64, f64); JOINT_COUNT] = [
     (-2.530881, -0.05890486),
     (1.88261685, 5.02423568),
     (-1.8407944, 1.8407944),
-    (-1.57079633, 1.57079633),
+    (-FRAC_PI_2, FRAC_PI_2),
     (0.0, 2.0 * PI),
 ];
 

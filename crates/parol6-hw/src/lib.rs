@@ -1,1 +1,86 @@
-//! parol6-hw
+//! # parol6-hw
+//!
+//! Everything between PAROL6 Studio and a real PAROL6 controller board:
+//! - the serial wire protocol ([`frame`], [`parser`]) and the step ↔ angle units ([`units`]),
+//! - serial-port discovery ([`ports`]),
+//! - the controller [`session`]: one thread sending one command frame per period, parsing the
+//!   status, publishing lock-free snapshots, and acting as the **safety layer** (the firmware has
+//!   no CRC, no timeout and no limit checks),
+//! - a controller [`emulator`] that behaves like the public firmware, on a pseudo-terminal.
+//!
+//! This crate must not depend on any GUI, windowing or GPU crate, nor on rapier (physics lives
+//! in `parol6-core`'s simulation). Motion profiles come from [`parol6_core::profile`], joint
+//! limits from [`parol6_core::limits`].
+
+pub mod emulator;
+pub mod frame;
+pub mod parser;
+pub mod ports;
+pub mod session;
+pub mod units;
+
+pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle};
+pub use frame::{CommandCode, CommandFields, CommandFrame, GripperCommand, ReceivedCommand, StatusFrame};
+pub use parser::{CommandParser, StatusParser};
+pub use ports::{PAROL6_PID, PAROL6_VID, PortInfo, find_parol6_port, list_ports};
+pub use session::{HomingState, LinkState, MotionState, Session, SessionConfig, Snapshot};
+
+/// Errors of the hardware layer.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HwError {
+    /// The port exists but we may not open it.
+    #[error(
+        "permission denied opening {port}: add your user to the 'dialout' group \
+         (sudo usermod -aG dialout $USER, then log out and back in) or install a udev rule such as \
+         SUBSYSTEM==\"tty\", ATTRS{{idVendor}}==\"0483\", ATTRS{{idProduct}}==\"5740\", MODE=\"0660\", GROUP=\"dialout\" \
+         in /etc/udev/rules.d/99-parol6.rules"
+    )]
+    PermissionDenied {
+        /// Port path.
+        port: String,
+    },
+    /// The port could not be opened for another reason.
+    #[error("cannot open serial port {port}: {reason}")]
+    PortOpen {
+        /// Port path.
+        port: String,
+        /// What serialport reported.
+        reason: String,
+    },
+    /// No PAROL6 (USB 0483:5740) found.
+    #[error("no PAROL6 controller found (USB 0483:5740); ports seen: {seen}")]
+    NotFound {
+        /// Ports that were listed.
+        seen: String,
+    },
+    /// Listing ports failed.
+    #[error("cannot list serial ports: {0}")]
+    ListPorts(String),
+    /// Bad session settings.
+    #[error("invalid session setting: {0}")]
+    BadConfig(String),
+    /// A request was refused (E-stop, disabled, busy, outside limits …).
+    #[error("refused: {0}")]
+    Refused(String),
+    /// The target violates the joint limits.
+    #[error(transparent)]
+    Limit(#[from] parol6_core::limits::LimitViolation),
+    /// The move could not be planned.
+    #[error(transparent)]
+    Profile(#[from] parol6_core::profile::ProfileError),
+    /// A value cannot be expressed in steps.
+    #[error(transparent)]
+    Units(#[from] units::UnitError),
+    /// Homing did not complete.
+    #[error("homing failed: {0}")]
+    Homing(String),
+    /// Waiting for something timed out.
+    #[error("timed out: {0}")]
+    Timeout(String),
+    /// The session thread has ended.
+    #[error("the controller session is closed")]
+    Closed,
+    /// The emulator could not start.
+    #[error("emulator: {0}")]
+    Emulator(String),
+}

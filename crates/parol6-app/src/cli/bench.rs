@@ -27,6 +27,42 @@ pub enum BenchTarget {
         #[arg(long, default_value_t = 100_000)]
         n: usize,
     },
+    /// Full-UI rendering offscreen while the arm sweeps all joints (`fps_median`,
+    /// `frame_ms_p50`, `frame_ms_p99`, `ui_cpu_ms_p50`).
+    Render(super::gui::BenchRenderArgs),
+    /// Serial session against the in-process controller emulator over a pty: period jitter
+    /// and jog-press → wire latency (`period_jitter_p99_ms`, `jog_latency_max_ms`).
+    Serial {
+        /// Seconds of idle streaming to measure the period jitter.
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f64,
+        /// Command rate, Hz (50–500).
+        #[arg(long, default_value_t = 100.0)]
+        rate: f64,
+        /// Number of jog presses for the latency.
+        #[arg(long, default_value_t = 50)]
+        presses: usize,
+    },
+    /// Simulation step time (dynamic, with colliders; `median_ns`, `p99_ns`) and the CPU share
+    /// of the 1 kHz real-time thread (`realtime_thread.thread_cpu_percent`).
+    Physics {
+        /// Number of steps timed.
+        #[arg(long, default_value_t = 20_000)]
+        n: usize,
+        /// Seconds of the real-time thread for the CPU measurement (0 = skip).
+        #[arg(long, default_value_t = 3.0)]
+        cpu_seconds: f64,
+    },
+    /// Command → applied latency with the 1 kHz thread running while another thread sends
+    /// commands (`median_ns`, `p99_ns`).
+    Latency {
+        /// Number of commands.
+        #[arg(long, default_value_t = 10_000)]
+        n: usize,
+        /// Mean spacing between two commands, µs.
+        #[arg(long, default_value_t = 200)]
+        interval_us: u64,
+    },
 }
 
 /// Runs `parol6 bench`.
@@ -34,6 +70,10 @@ pub fn run(args: &BenchArgs) -> CliResult {
     match &args.target {
         BenchTarget::Fk { n } => super::kin::bench_fk(*n),
         BenchTarget::Ik { n } => super::kin::bench_ik(*n),
+        BenchTarget::Render(a) => super::gui::bench_render(a),
+        BenchTarget::Serial { seconds, rate, presses } => super::hw::bench_serial(*seconds, *rate, *presses),
+        BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(*n, *cpu_seconds),
+        BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(*n, *interval_us),
     }
 }
 

@@ -8,8 +8,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bench;
+pub mod gui;
 pub mod hw;
 pub mod kin;
+pub mod render;
+pub mod sim;
 
 /// Exit status for bad or unsolvable input.
 pub const EXIT_USAGE: u8 = 2;
@@ -46,9 +49,13 @@ pub type CliResult = Result<(), CliError>;
 
 #[derive(Debug, Parser)]
 #[command(name = "parol6", version, about = "PAROL6 Studio: simulate, visualise and jog the PAROL6 arm")]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Window options, used when no subcommand is given (the GUI).
+    #[command(flatten)]
+    pub gui: gui::GuiArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -61,6 +68,10 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Talk to a PAROL6 controller over USB serial (or run the controller emulator).
     Hw(hw::HwArgs),
+    /// Render the robot to a PNG with no window and no display.
+    Screenshot(render::ScreenshotArgs),
+    /// Inverse dynamics: joint torques (gravity + inertial + Coriolis) of a motion (JSON).
+    Dynamics(sim::DynamicsArgs),
 }
 
 /// Prints `value` as one line of JSON on stdout.
@@ -78,15 +89,13 @@ pub fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        None => {
-            use clap::CommandFactory;
-            let _ = Cli::command().print_help();
-            Ok(())
-        }
+        None => gui::run(&cli.gui),
         Some(Command::Fk(a)) => kin::run_fk(&a),
         Some(Command::Ik(a)) => kin::run_ik(&a),
         Some(Command::Bench(a)) => bench::run(&a),
         Some(Command::Hw(a)) => hw::run(&a),
+        Some(Command::Screenshot(a)) => render::run_screenshot(&a),
+        Some(Command::Dynamics(a)) => sim::run_dynamics(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,258 @@
+//! Connection panel: serial port list, connect / disconnect (or the built-in emulator), LEDs for
+//! link, enabled, E-stop and homed per joint, enable / disable / home, link health, and jog per
+//! joint (press and hold the buttons, or select a joint with 1–6 and hold Page Up / Page Down).
+
+use eframe::egui;
+use std::time::{Duration, Instant};
+
+use parol6_core::limits::LimitZone;
+
+use super::{AppCommand, LinkCommand, Panel, PanelContext, on_off_led, zone_color};
+
+/// What the connection panel shows about an open serial session (built by the app from the
+/// session snapshot every frame).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LinkView {
+    /// Port path (or the emulator's pseudo-terminal).
+    pub port: String,
+    /// True when talking to the built-in emulator.
+    pub emulated: bool,
+    /// Status frames arrive.
+    pub link_ok: bool,
+    /// Link state in words.
+    pub link_state: String,
+    /// Drives enabled.
+    pub enabled: bool,
+    /// E-stop pressed.
+    pub estop: bool,
+    /// Homing in progress.
+    pub homing: bool,
+    /// Homed flag per joint.
+    pub homed: Vec<bool>,
+    /// Command/status loop rate, Hz.
+    pub loop_rate_hz: f64,
+    /// Loop period jitter, ms.
+    pub jitter_ms: f64,
+    /// Frames lost or corrupted.
+    pub dropped_frames: u64,
+    /// Last error reported by the session.
+    pub last_error: Option<String>,
+}
+
+/// Minimum time between two port scans.
+const RESCAN_INTERVAL: Duration = Duration::from_secs(2);
+
+/// The connection panel.
+#[derive(Debug, Default)]
+pub struct ConnectionPanel {
+    ports: Vec<(String, String)>,
+    scanned_at: Option<Instant>,
+    scan_error: Option<String>,
+    port_text: String,
+    /// Joint selected for keyboard jogging (0-based).
+    key_joint: usize,
+    /// The jog currently requested (joint, direction).
+    jog: Option<(usize, i8)>,
+}
+
+impl ConnectionPanel {
+    fn rescan(&mut self) {
+        self.scanned_at = Some(Instant::now());
+        match parol6_hw::list_ports() {
+            Ok(list) => {
+                self.ports = list
+                    .iter()
+                    .map(|p| {
+                        let mut d = p.name.clone();
+                        if p.is_parol6 {
+                            d.push_str("  (PAROL6)");
+                        } else if let Some(prod) = &p.product {
+                            d.push_str(&format!("  ({prod})"));
+                        }
+                        (p.name.clone(), d)
+                    })
+                    .collect();
+                self.scan_error = None;
+                if self.port_text.is_empty()
+                    && let Ok(p) = parol6_hw::find_parol6_port()
+                {
+                    self.port_text = p;
+                }
+            }
+            Err(e) => {
+                self.ports.clear();
+                self.scan_error = Some(e.to_string());
+            }
+        }
+    }
+
+    fn disconnected_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        if self.scanned_at.is_none_or(|t| t.elapsed() > RESCAN_INTERVAL * 15) {
+            if self.port_text.is_empty() {
+                self.port_text = ctx.settings.last_port.clone();
+            }
+            self.rescan();
+        }
+        ui.horizontal(|ui| {
+            ui.label("Port");
+            egui::ComboBox::from_id_salt("port_list")
+                .selected_text(if self.port_text.is_empty() { "select…" } else { self.port_text.as_str() })
+                .width(180.0)
+                .show_ui(ui, |ui| {
+                    for (path, desc) in &self.ports {
+                        ui.selectable_value(&mut self.port_text, path.clone(), desc);
+                    }
+                    if self.ports.is_empty() {
+                        ui.weak("no serial ports found");
+                    }
+                });
+            if ui.button("Rescan").on_hover_text("Rescan the serial ports").clicked()
+                && self.scanned_at.is_none_or(|t| t.elapsed() > RESCAN_INTERVAL / 4)
+            {
+                self.rescan();
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.add(egui::TextEdit::singleline(&mut self.port_text).hint_text("/dev/ttyACM0").desired_width(150.0));
+            let can = !self.port_text.trim().is_empty();
+            if ui.add_enabled(can, egui::Button::new("Connect")).clicked() {
+                let p = self.port_text.trim().to_string();
+                ctx.settings.last_port = p.clone();
+                ctx.send(AppCommand::Link(LinkCommand::Connect(p)));
+            }
+        });
+        if ui.button("Connect to the built-in emulator").on_hover_text("a fake PAROL6 controller in-process").clicked()
+        {
+            ctx.send(AppCommand::Link(LinkCommand::ConnectEmulator));
+        }
+        if let Some(e) = &self.scan_error {
+            ui.colored_label(ui.visuals().warn_fg_color, e);
+        }
+    }
+
+    fn jog_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, link: &LinkView) {
+        let mut held: Option<(usize, i8)> = None;
+        let n = ctx.model.dof();
+        let allowed = link.link_ok && link.enabled && !link.estop;
+        ui.label(egui::RichText::new("Jog (hold)").strong())
+            .on_hover_text("Press and hold a button, or select a joint with 1–6 and hold Page Up / Page Down");
+        egui::Grid::new("jog_grid").num_columns(4).spacing([6.0, 3.0]).show(ui, |ui| {
+            for i in 0..n {
+                let name = ctx.model.joints.get(i).map(|j| j.name.as_str()).unwrap_or("?");
+                let sel = self.key_joint == i;
+                if ui.selectable_label(sel, name).clicked() {
+                    self.key_joint = i;
+                }
+                for (label, dir) in [("−", -1i8), ("+", 1i8)] {
+                    let b = ui.add_enabled(allowed, egui::Button::new(label).min_size(egui::vec2(34.0, 20.0)));
+                    if b.is_pointer_button_down_on() {
+                        held = Some((i, dir));
+                    }
+                }
+                let zone = ctx.robot.zones.get(i).map(|z| z.zone).unwrap_or(LimitZone::Safe);
+                ui.label(
+                    egui::RichText::new(ctx.settings.unit.fmt(ctx.robot.q.get(i).copied().unwrap_or(0.0)))
+                        .monospace()
+                        .color(zone_color(zone)),
+                );
+                ui.end_row();
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Jog speed");
+            let mut pct = ctx.settings.jog_speed_fraction * 100.0;
+            if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
+                ctx.settings.jog_speed_fraction = (pct / 100.0).clamp(0.01, 1.0);
+            }
+        });
+        // Keyboard: 1–6 select, Page Up / Page Down held = jog (not while typing in a field).
+        let typing = ui.ctx().memory(|m| m.focused().is_some());
+        if !typing {
+            let keys =
+                [egui::Key::Num1, egui::Key::Num2, egui::Key::Num3, egui::Key::Num4, egui::Key::Num5, egui::Key::Num6];
+            ui.input(|inp| {
+                for (i, k) in keys.iter().enumerate().take(n) {
+                    if inp.key_pressed(*k) {
+                        self.key_joint = i;
+                    }
+                }
+                if held.is_none() && allowed {
+                    if inp.key_down(egui::Key::PageUp) {
+                        held = Some((self.key_joint, 1));
+                    } else if inp.key_down(egui::Key::PageDown) {
+                        held = Some((self.key_joint, -1));
+                    }
+                }
+            });
+        }
+        if held != self.jog || held.is_some() {
+            // Sent every frame while held: the session's dead-man needs a steady refresh.
+            ctx.send(AppCommand::Link(LinkCommand::Jog(held)));
+        }
+        self.jog = held;
+    }
+
+    fn connected_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, link: &LinkView) {
+        ui.horizontal(|ui| {
+            ui.label(format!("{}{}", link.port, if link.emulated { " (emulator)" } else { "" }));
+            if ui.button("Disconnect").clicked() {
+                ctx.send(AppCommand::Link(LinkCommand::Disconnect));
+            }
+        });
+        let green = zone_color(LimitZone::Safe);
+        let red = zone_color(LimitZone::Critical);
+        ui.horizontal(|ui| {
+            on_off_led(ui, link.link_ok, green, "link").on_hover_text(&link.link_state);
+            on_off_led(ui, link.enabled, green, "enabled");
+            on_off_led(ui, link.estop, red, "E-STOP");
+            on_off_led(ui, link.homing, zone_color(LimitZone::Warning), "homing");
+        });
+        ui.horizontal(|ui| {
+            ui.label("homed");
+            for (i, h) in link.homed.iter().enumerate() {
+                let name = ctx.model.joints.get(i).map(|j| j.name.clone()).unwrap_or_else(|| format!("J{}", i + 1));
+                on_off_led(ui, *h, green, &name);
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui.add_enabled(link.link_ok && !link.enabled, egui::Button::new("Enable")).clicked() {
+                ctx.send(AppCommand::Link(LinkCommand::Enable));
+            }
+            if ui.add_enabled(link.link_ok && link.enabled, egui::Button::new("Disable")).clicked() {
+                ctx.send(AppCommand::Link(LinkCommand::Disable));
+            }
+            if ui.add_enabled(link.link_ok && !link.estop, egui::Button::new("Home (homing)")).clicked() {
+                ctx.send(AppCommand::Link(LinkCommand::Home));
+            }
+        });
+        ui.monospace(format!(
+            "loop {:.0} Hz  jitter {:.2} ms  dropped {}",
+            link.loop_rate_hz, link.jitter_ms, link.dropped_frames
+        ))
+        .on_hover_text("link health: command/status loop rate, period jitter, frames lost or corrupted");
+        if let Some(e) = &link.last_error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        ui.separator();
+        self.jog_ui(ui, ctx, link);
+    }
+}
+
+impl Panel for ConnectionPanel {
+    fn title(&self) -> &'static str {
+        "Robot connection"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        // The app shows the title on the collapsing header around this panel.
+        match ctx.link.cloned() {
+            Some(link) => self.connected_ui(ui, ctx, &link),
+            None => {
+                if self.jog.take().is_some() {
+                    ctx.send(AppCommand::Link(LinkCommand::Jog(None)));
+                }
+                self.disconnected_ui(ui, ctx);
+            }
+        }
+    }
+}

@@ -1,0 +1,336 @@
+//! Operator panels. One panel = one file implementing [`Panel`]; the app ([`crate::app`]) owns
+//! them, hands each a [`PanelContext`] per frame and executes the [`AppCommand`]s they queue.
+//!
+//! Panels never talk to the simulation or the serial session directly: they read the
+//! [`RobotState`] of this frame and queue commands, so the same panel drives the simulation or
+//! the real robot.
+
+use eframe::egui;
+use std::time::Instant;
+
+use parol6_core::RobotModel;
+use parol6_core::kinematics::TcpPose;
+use parol6_core::limits::{LimitZone, ZoneReport};
+use parol6_core::profile::ProfileKind;
+use serde::{Deserialize, Serialize};
+
+pub mod cartesian_target;
+pub mod connection;
+pub mod demos;
+pub mod joints;
+pub mod status_bar;
+pub mod tcp;
+
+/// A panel of the operator UI.
+pub trait Panel {
+    /// Heading shown above the panel.
+    fn title(&self) -> &'static str;
+    /// Draws the panel for this frame.
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>);
+}
+
+/// Angle display unit, chosen once for the whole UI.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum AngleUnit {
+    /// Degrees.
+    #[default]
+    Deg,
+    /// Radians.
+    Rad,
+}
+
+impl AngleUnit {
+    /// Radians → display unit.
+    pub fn from_rad(self, rad: f64) -> f64 {
+        let v = match self {
+            AngleUnit::Deg => rad.to_degrees(),
+            AngleUnit::Rad => rad,
+        };
+        // No "-0.00" for values that round to zero.
+        if v.abs() < 5e-7 { 0.0 } else { v }
+    }
+
+    /// Display unit → radians.
+    pub fn to_rad(self, v: f64) -> f64 {
+        match self {
+            AngleUnit::Deg => v.to_radians(),
+            AngleUnit::Rad => v,
+        }
+    }
+
+    /// Unit suffix (`°` or ` rad`).
+    pub fn suffix(self) -> &'static str {
+        match self {
+            AngleUnit::Deg => "°",
+            AngleUnit::Rad => " rad",
+        }
+    }
+
+    /// Decimals shown for this unit.
+    pub fn decimals(self) -> usize {
+        match self {
+            AngleUnit::Deg => 2,
+            AngleUnit::Rad => 4,
+        }
+    }
+
+    /// Formats an angle given in radians, with its unit.
+    pub fn fmt(self, rad: f64) -> String {
+        format!("{:.*}{}", self.decimals(), self.from_rad(rad), self.suffix())
+    }
+}
+
+/// UI settings that survive a restart (see [`crate::app::settings_path`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Angle unit.
+    pub unit: AngleUnit,
+    /// Left (joints) panel shown.
+    pub show_left: bool,
+    /// Right (TCP / target / demos) panel shown.
+    pub show_right: bool,
+    /// Speed fraction (0–1] of profiled moves.
+    pub speed_fraction: f64,
+    /// Profile shape of profiled moves.
+    pub profile: ProfileKindSetting,
+    /// Last serial port connected to.
+    pub last_port: String,
+    /// 3D view display toggles.
+    pub view: crate::viewport::ViewportOptions,
+    /// Jog speed fraction (0–1] for the hardware jog buttons.
+    pub jog_speed_fraction: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            unit: AngleUnit::Deg,
+            show_left: true,
+            show_right: true,
+            speed_fraction: 0.5,
+            profile: ProfileKindSetting::Trapezoidal,
+            last_port: String::new(),
+            view: crate::viewport::ViewportOptions::default(),
+            jog_speed_fraction: 0.2,
+        }
+    }
+}
+
+/// Serializable mirror of [`ProfileKind`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum ProfileKindSetting {
+    /// Trapezoidal velocity.
+    #[default]
+    Trapezoidal,
+    /// Jerk-limited (quintic).
+    JerkLimited,
+}
+
+impl ProfileKindSetting {
+    /// The core profile kind.
+    pub fn kind(self) -> ProfileKind {
+        match self {
+            ProfileKindSetting::Trapezoidal => ProfileKind::Trapezoidal,
+            ProfileKindSetting::JerkLimited => ProfileKind::JerkLimited,
+        }
+    }
+
+    /// Label for menus.
+    pub fn label(self) -> &'static str {
+        match self {
+            ProfileKindSetting::Trapezoidal => "trapezoidal",
+            ProfileKindSetting::JerkLimited => "jerk-limited",
+        }
+    }
+}
+
+/// Where the shown robot state comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StateSource {
+    /// The in-process simulation.
+    Simulation,
+    /// Measured by the controller over the serial link (the 3D arm mirrors the robot).
+    Robot,
+}
+
+/// The robot state all panels show this frame (from the simulation or the serial link).
+#[derive(Debug, Clone)]
+pub struct RobotState {
+    /// Source of the values.
+    pub source: StateSource,
+    /// Joint positions, rad.
+    pub q: Vec<f64>,
+    /// Joint velocities, rad/s.
+    pub qd: Vec<f64>,
+    /// Commanded joint targets, rad.
+    pub target_q: Vec<f64>,
+    /// Per-joint limit zone with prediction.
+    pub zones: Vec<ZoneReport>,
+    /// TCP pose.
+    pub tcp: TcpPose,
+    /// True while the arm moves (or a move is in progress).
+    pub moving: bool,
+}
+
+impl RobotState {
+    /// Worst zone over all joints, with the joint index.
+    pub fn worst_zone(&self) -> Option<(usize, ZoneReport)> {
+        self.zones
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, z)| z.zone != LimitZone::Safe)
+            .max_by(|a, b| a.1.zone.cmp(&b.1.zone).then_with(|| cmp_ttl(b.1.time_to_limit_s, a.1.time_to_limit_s)))
+    }
+}
+
+fn cmp_ttl(a: Option<f64>, b: Option<f64>) -> std::cmp::Ordering {
+    a.unwrap_or(f64::INFINITY).total_cmp(&b.unwrap_or(f64::INFINITY))
+}
+
+/// Something a panel asks the app to do after the UI pass.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AppCommand {
+    /// Follow these joint targets directly (sliders; rad, already within the limits).
+    SetJointTargets(Vec<f64>),
+    /// Profiled point-to-point move.
+    MoveTo {
+        /// Goal, rad.
+        goal: Vec<f64>,
+        /// Speed fraction (0, 1].
+        speed_fraction: f64,
+        /// Profile shape.
+        kind: ProfileKind,
+    },
+    /// Stop now (also cancels a running demo).
+    Stop,
+    /// Go to the home (standby) pose.
+    Home,
+    /// Clear the TCP trail of the 3D view.
+    ClearTrail,
+    /// Reset the 3D camera.
+    ResetView,
+    /// Hardware link command (connection panel).
+    Link(LinkCommand),
+}
+
+/// Commands of the connection panel, executed by the app against the serial session.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LinkCommand {
+    /// Connect to a serial port.
+    Connect(String),
+    /// Start the built-in controller emulator and connect to it.
+    ConnectEmulator,
+    /// Close the link.
+    Disconnect,
+    /// Enable the drives.
+    Enable,
+    /// Disable the drives.
+    Disable,
+    /// Run the homing sequence.
+    Home,
+    /// Jog joint `joint` (0-based) in `direction` (±1) while held; `None` releases.
+    Jog(Option<(usize, i8)>),
+}
+
+/// Performance figures shown in the status bar.
+#[derive(Debug, Clone, Default)]
+pub struct PerfStats {
+    /// Frames per second (smoothed over the last second).
+    pub fps: f64,
+    /// CPU time of the last UI pass, ms.
+    pub ui_cpu_ms: f64,
+    /// Physics step rate, Hz.
+    pub physics_rate_hz: f64,
+    /// Last physics step duration, µs.
+    pub physics_step_us: f64,
+    /// Last command latency (send → applied), ms.
+    pub command_latency_ms: Option<f64>,
+    /// Simulated time, s.
+    pub sim_time_s: f64,
+}
+
+/// A message shown to the operator (banner at the top of the 3D view).
+#[derive(Debug, Clone)]
+pub struct Notice {
+    /// Text.
+    pub text: String,
+    /// True for errors (red), false for information.
+    pub error: bool,
+    /// When it was raised.
+    pub at: Instant,
+}
+
+/// The per-frame context handed to every panel.
+pub struct PanelContext<'a> {
+    /// The robot.
+    pub model: &'a RobotModel,
+    /// Shown state.
+    pub robot: &'a RobotState,
+    /// Persistent settings.
+    pub settings: &'a mut Settings,
+    /// Commands to execute after the UI pass.
+    pub commands: &'a mut Vec<AppCommand>,
+    /// Notices to show.
+    pub notices: &'a mut Vec<Notice>,
+    /// Performance figures.
+    pub perf: &'a PerfStats,
+    /// Serial link status, when a hardware session is open.
+    pub link: Option<&'a connection::LinkView>,
+    /// Ghost pose to preview in the 3D view (e.g. an IK solution); the app shows it this frame.
+    pub preview: &'a mut Option<Vec<f64>>,
+}
+
+impl PanelContext<'_> {
+    /// Queues a command.
+    pub fn send(&mut self, command: AppCommand) {
+        self.commands.push(command);
+    }
+
+    /// Shows an error to the operator.
+    pub fn error(&mut self, text: impl Into<String>) {
+        self.notices.push(Notice { text: text.into(), error: true, at: Instant::now() });
+    }
+
+    /// Shows information to the operator.
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.notices.push(Notice { text: text.into(), error: false, at: Instant::now() });
+    }
+
+    /// A profiled move to `goal` with the current speed and profile settings.
+    pub fn move_to(&mut self, goal: Vec<f64>) {
+        let cmd = AppCommand::MoveTo {
+            goal,
+            speed_fraction: self.settings.speed_fraction,
+            kind: self.settings.profile.kind(),
+        };
+        self.send(cmd);
+    }
+}
+
+/// The LED colour of a zone (from the core's one colour table).
+pub fn zone_color(zone: LimitZone) -> egui::Color32 {
+    let [r, g, b, a] = zone.rgba();
+    egui::Color32::from_rgba_unmultiplied(r, g, b, a)
+}
+
+/// Paints a round LED of `color` and returns its response (hover it for `tooltip`).
+pub fn led(ui: &mut egui::Ui, color: egui::Color32, tooltip: impl Into<egui::WidgetText>) -> egui::Response {
+    let size = egui::vec2(14.0, 14.0);
+    let (rect, response) = ui.allocate_exact_size(size, egui::Sense::hover());
+    if ui.is_rect_visible(rect) {
+        let p = ui.painter();
+        p.circle_filled(rect.center(), 6.0, color);
+        p.circle_stroke(rect.center(), 6.0, egui::Stroke::new(1.0, egui::Color32::from_black_alpha(160)));
+    }
+    response.on_hover_text(tooltip)
+}
+
+/// An LED that is on (`on_color`) or off (grey).
+pub fn on_off_led(ui: &mut egui::Ui, on: bool, on_color: egui::Color32, label: &str) -> egui::Response {
+    let c = if on { on_color } else { egui::Color32::from_gray(70) };
+    let r = led(ui, c, format!("{label}: {}", if on { "yes" } else { "no" }));
+    ui.label(label);
+    r
+}

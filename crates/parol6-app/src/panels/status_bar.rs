@@ -1,0 +1,52 @@
+//! Bottom status bar: FPS, CPU time of the UI pass, physics rate and step time, command
+//! latency, and where the shown state comes from.
+
+use super::{Panel, PanelContext, StateSource};
+use eframe::egui;
+
+/// The status bar.
+#[derive(Debug, Default)]
+pub struct StatusBar;
+
+impl Panel for StatusBar {
+    fn title(&self) -> &'static str {
+        "Status"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let p = ctx.perf;
+        ui.horizontal(|ui| {
+            let (src, color) = match ctx.robot.source {
+                StateSource::Simulation => ("SIM", ui.visuals().selection.bg_fill),
+                StateSource::Robot => ("ROBOT", ui.visuals().warn_fg_color),
+            };
+            ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(match ctx.robot.source {
+                StateSource::Simulation => "the 3D arm shows the simulation",
+                StateSource::Robot => "the 3D arm mirrors the measured robot pose; the ghost is the commanded pose",
+            });
+            ui.separator();
+            ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
+            ui.separator();
+            ui.monospace(format!("UI {:.2} ms", p.ui_cpu_ms)).on_hover_text("CPU time of the last UI pass");
+            ui.separator();
+            ui.monospace(format!("physics {:6.0} Hz, step {:5.1} µs", p.physics_rate_hz, p.physics_step_us))
+                .on_hover_text("simulation steps per second of wall time, and the duration of the last step");
+            ui.separator();
+            let lat = match p.command_latency_ms {
+                Some(ms) => format!("cmd latency {ms:.2} ms"),
+                None => "cmd latency –".to_string(),
+            };
+            ui.monospace(lat).on_hover_text("time from sending the last command to the simulation applying it");
+            ui.separator();
+            ui.monospace(format!("t = {:.1} s", p.sim_time_s)).on_hover_text("simulated time");
+            if ctx.robot.moving {
+                ui.separator();
+                ui.label(egui::RichText::new("moving").color(ui.visuals().warn_fg_color));
+            }
+            if let Some(link) = ctx.link {
+                ui.separator();
+                ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
+            }
+        });
+    }
+}

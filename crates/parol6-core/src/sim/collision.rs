@@ -1,0 +1,224 @@
+//! Self-collision guard: convex shapes per link, tested pairwise at a configuration or along
+//! the swept path of a move, plus the ground plane (z = 0) as an obstacle.
+//!
+//! Skipped pairs: links on the same chain frame (rigidly joined), links on neighbouring chain
+//! frames (adjacent), the model's [`RobotModel::disabled_collision_pairs`] (from an SRDF), and
+//! for the embedded PAROL6 (its own primitive geometry) the pairs [`PAROL6_NEVER_COLLIDE`] (derived by sampling, see the
+//! tests). Links on the root frame are not tested against the ground (they stand on it).
+
+use nalgebra::Isometry3;
+use rapier3d::parry::query;
+use rapier3d::prelude::SharedShape;
+
+use super::multibody::{convex_shape, pose_from_iso};
+use crate::model::RobotModel;
+use crate::profile::JointMove;
+
+/// Name used for the ground plane in reports.
+pub const GROUND: &str = "ground";
+
+/// Link pairs of the embedded PAROL6 that cannot touch anywhere inside the joint limits,
+/// found by testing every non-adjacent pair over 200 000 random in-limit configurations
+/// (`derived_never_colliding_pairs_hold` re-checks them).
+pub const PAROL6_NEVER_COLLIDE: &[(&str, &str)] = &[
+    ("base_link", "L2"),
+    ("base_link", "L3"),
+    ("base_link", "L4"),
+    ("L1", "L3"),
+    ("L1", "L4"),
+    ("L1", "L5"),
+    ("L2", "L4"),
+    ("L2", "L5"),
+    ("L2", "L6"),
+    ("L3", "L5"),
+    ("L3", "L6"),
+    ("L4", "L6"),
+];
+
+/// True when `model` has the embedded PAROL6's links (same geometry), so that
+/// [`PAROL6_NEVER_COLLIDE`] applies. Another PAROL6 description (e.g. with meshes) does not.
+pub fn is_embedded_parol6(model: &RobotModel) -> bool {
+    model.is_parol6 && model.links == RobotModel::parol6().links
+}
+
+/// Largest joint step between two tested samples of a move, rad (or m).
+pub const SWEEP_STEP: f64 = 0.005;
+
+/// Two bodies in contact.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub struct CollisionReport {
+    /// First link.
+    pub link_a: String,
+    /// Second link, or [`GROUND`].
+    pub link_b: String,
+}
+
+impl std::fmt::Display for CollisionReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} collides with {}", self.link_a, self.link_b)
+    }
+}
+
+/// One convex piece of a link, in the link frame.
+#[derive(Clone)]
+struct Piece {
+    link: usize,
+    local: Isometry3<f64>,
+    shape: SharedShape,
+}
+
+/// Pairwise collision checks of a robot's links and the ground.
+#[derive(Clone)]
+pub struct CollisionGuard {
+    pieces: Vec<Piece>,
+    /// Pairs of link indices (into [`RobotModel::links`]) that are tested, a < b.
+    pairs: Vec<(usize, usize)>,
+    /// Links tested against the ground.
+    ground_links: Vec<usize>,
+    link_names: Vec<String>,
+}
+
+impl std::fmt::Debug for CollisionGuard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionGuard")
+            .field("pieces", &self.pieces.len())
+            .field("pairs", &self.pair_names())
+            .field("ground_links", &self.ground_links.len())
+            .finish()
+    }
+}
+
+impl CollisionGuard {
+    /// The guard of `model`, with the skip rules of the module docs.
+    pub fn new(model: &RobotModel) -> Self {
+        let mut extra: Vec<(String, String)> = model.disabled_collision_pairs.clone();
+        if is_embedded_parol6(model) {
+            extra.extend(PAROL6_NEVER_COLLIDE.iter().map(|(a, b)| (a.to_string(), b.to_string())));
+        }
+        Self::with_disabled_pairs(model, &extra)
+    }
+
+    /// The guard of `model` skipping only same-frame, adjacent and the given pairs (by link name).
+    pub fn with_disabled_pairs(model: &RobotModel, disabled: &[(String, String)]) -> Self {
+        let mut pieces = Vec::new();
+        for (li, link) in model.links.iter().enumerate() {
+            for g in &link.collisions {
+                if let Some((shape, local)) = convex_shape(&g.shape) {
+                    pieces.push(Piece { link: li, local: g.origin * local, shape });
+                }
+            }
+        }
+        let has_shape = |li: usize| pieces.iter().any(|p| p.link == li);
+        let is_disabled = |a: &str, b: &str| disabled.iter().any(|(x, y)| (x == a && y == b) || (x == b && y == a));
+        let mut pairs = Vec::new();
+        for a in 0..model.links.len() {
+            for b in a + 1..model.links.len() {
+                let (la, lb) = (&model.links[a], &model.links[b]);
+                if la.frame.abs_diff(lb.frame) <= 1 || !has_shape(a) || !has_shape(b) || is_disabled(&la.name, &lb.name)
+                {
+                    continue;
+                }
+                pairs.push((a, b));
+            }
+        }
+        let ground_links = (0..model.links.len())
+            .filter(|&l| model.links[l].frame > 0 && has_shape(l) && !is_disabled(&model.links[l].name, GROUND))
+            .collect();
+        Self { pieces, pairs, ground_links, link_names: model.links.iter().map(|l| l.name.clone()).collect() }
+    }
+
+    /// The tested link pairs, by name.
+    pub fn pair_names(&self) -> Vec<(String, String)> {
+        self.pairs.iter().map(|&(a, b)| (self.link_names[a].clone(), self.link_names[b].clone())).collect()
+    }
+
+    /// Names of the links tested against the ground.
+    pub fn ground_link_names(&self) -> Vec<String> {
+        self.ground_links.iter().map(|&l| self.link_names[l].clone()).collect()
+    }
+
+    fn links_touch(&self, poses: &[Isometry3<f64>], a: usize, b: usize) -> bool {
+        for pa in self.pieces.iter().filter(|p| p.link == a) {
+            let Some(wa) = poses.get(a) else { continue };
+            let ia = pose_from_iso(&(wa * pa.local));
+            for pb in self.pieces.iter().filter(|p| p.link == b) {
+                let Some(wb) = poses.get(b) else { continue };
+                let ib = pose_from_iso(&(wb * pb.local));
+                if query::intersection_test(&ia, pa.shape.as_ref(), &ib, pb.shape.as_ref())
+                    .is_ok_and(|r| r.intersecting)
+                {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    fn below_ground(&self, poses: &[Isometry3<f64>], l: usize) -> bool {
+        self.pieces.iter().filter(|p| p.link == l).any(|p| {
+            poses.get(l).is_some_and(|w| {
+                let aabb = p.shape.compute_aabb(&pose_from_iso(&(w * p.local)));
+                aabb.mins.z < 0.0
+            })
+        })
+    }
+
+    /// First collision at joint values `q` (link pairs first, then the ground), or `None`.
+    pub fn check(&self, model: &RobotModel, q: &[f64]) -> Option<CollisionReport> {
+        let poses = model.link_poses(q);
+        self.check_poses(&poses)
+    }
+
+    /// Like [`CollisionGuard::check`] from link poses (order of [`RobotModel::links`]).
+    pub fn check_poses(&self, poses: &[Isometry3<f64>]) -> Option<CollisionReport> {
+        for &(a, b) in &self.pairs {
+            if self.links_touch(poses, a, b) {
+                return Some(CollisionReport {
+                    link_a: self.link_names[a].clone(),
+                    link_b: self.link_names[b].clone(),
+                });
+            }
+        }
+        for &l in &self.ground_links {
+            if self.below_ground(poses, l) {
+                return Some(CollisionReport { link_a: self.link_names[l].clone(), link_b: GROUND.to_string() });
+            }
+        }
+        None
+    }
+
+    /// Every colliding pair at `q` (for diagnostics and tests).
+    pub fn all_contacts(&self, model: &RobotModel, q: &[f64]) -> Vec<CollisionReport> {
+        let poses = model.link_poses(q);
+        let mut out: Vec<CollisionReport> = self
+            .pairs
+            .iter()
+            .filter(|&&(a, b)| self.links_touch(&poses, a, b))
+            .map(|&(a, b)| CollisionReport { link_a: self.link_names[a].clone(), link_b: self.link_names[b].clone() })
+            .collect();
+        out.extend(
+            self.ground_links
+                .iter()
+                .filter(|&&l| self.below_ground(&poses, l))
+                .map(|&l| CollisionReport { link_a: self.link_names[l].clone(), link_b: GROUND.to_string() }),
+        );
+        out
+    }
+
+    /// First collision along the swept path of `mv` with the time (s from its start) at which
+    /// it occurs. Samples are spaced so no joint moves more than about [`SWEEP_STEP`] between two.
+    pub fn check_move(&self, model: &RobotModel, mv: &JointMove) -> Option<(CollisionReport, f64)> {
+        let dist = mv.start().iter().zip(mv.goal()).map(|(a, b)| (b - a).abs()).fold(0.0, f64::max);
+        // the peak speed of either profile is below twice the mean speed
+        let samples = ((2.0 * dist / SWEEP_STEP).ceil() as usize).clamp(1, 1_000_000);
+        let duration = mv.duration_s();
+        for i in 0..=samples {
+            let t = duration * i as f64 / samples as f64;
+            let s = mv.sample(t);
+            if let Some(c) = self.check(model, &s.q) {
+                return Some((c, t));
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,668 @@
+//! Unit tests of the simulation core (deterministic: no thread, no wall-clock assertions).
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use rand::{Rng, SeedableRng};
+
+use super::dynamics::body_inertials;
+use super::*;
+use crate::limits::LimitSide;
+use crate::model::JointKind;
+use crate::parol6::standby_rad;
+
+fn parol6() -> RobotModel {
+    RobotModel::parol6()
+}
+
+fn sim(mode: SimMode) -> Simulation {
+    let config = SimConfig { mode, ..SimConfig::default() };
+    Simulation::new(parol6(), config).expect("embedded model builds")
+}
+
+fn run_s(sim: &mut Simulation, seconds: f64) {
+    let steps = (seconds / sim.dt_s()).round() as usize;
+    for _ in 0..steps {
+        sim.step();
+    }
+}
+
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+fn random_free_config(model: &RobotModel, guard: &CollisionGuard, rng: &mut impl Rng, margin: f64) -> Vec<f64> {
+    loop {
+        let q: Vec<f64> = model.limits.iter().map(|l| rng.random_range(l.min + margin..=l.max - margin)).collect();
+        if guard.check(model, &q).is_none() {
+            return q;
+        }
+    }
+}
+
+/// A configuration where L6 hits L1 (found by sampling the joint space).
+const Q_L1_L6: [f64; 6] = [-0.3594746, -0.3803705, 1.8966812, -0.1275214, -1.4898114, 2.1549427];
+/// A configuration where L5 and L6 hit the base.
+const Q_BASE_L5: [f64; 6] = [0.6721034, -0.2145956, 1.9471948, 0.7005027, -1.2785315, 2.0326010];
+/// A configuration where the wrist is below the ground plane.
+const Q_GROUND: [f64; 6] = [1.2781498, -0.0653485, 2.6772428, 0.3309554, 0.6916926, 1.1726027];
+
+// ---------------------------------------------------------------- multibody
+
+#[test]
+fn multibody_has_one_dof_per_joint_and_colliders() {
+    let p = Physics::build(&parol6(), 1e-3).expect("builds");
+    assert_eq!(p.ndofs(), 6);
+    assert_eq!(p.collider_count(), parol6().links.iter().map(|l| l.collisions.len()).sum::<usize>());
+}
+
+#[test]
+fn multibody_limits_are_the_model_limits_j6_included() {
+    let model = parol6();
+    let p = Physics::build(&model, 1e-3).expect("builds");
+    let lims = p.multibody_limits();
+    assert_eq!(lims.len(), 6);
+    for (l, m) in model.limits.iter().zip(&lims) {
+        let [lo, hi] = m.unwrap_or_else(|| panic!("joint {} has no multibody limit", l.name));
+        assert!((lo - l.min).abs() < 1e-6 && (hi - l.max).abs() < 1e-6, "{}: {lo}..{hi}", l.name);
+    }
+}
+
+#[test]
+fn multibody_joint_values_equal_the_model_kinematics() {
+    let model = parol6();
+    let mut p = Physics::build(&model, 1e-3).expect("builds");
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    for _ in 0..50 {
+        let q: Vec<f64> = model.limits.iter().map(|l| rng.random_range(l.min..=l.max)).collect();
+        p.teleport(&q);
+        let (mut q_read, mut qd) = (vec![0.0; 6], vec![0.0; 6]);
+        p.read_state(&mut q_read, &mut qd);
+        assert!(max_abs_diff(&q, &q_read) < 1e-6, "{q:?} vs {q_read:?}");
+        let frames = model.chain_frames(&q);
+        for (k, f) in frames.iter().enumerate() {
+            let b = p.body_pose(k).expect("body");
+            assert!((b.translation.vector - f.translation.vector).norm() < 1e-5, "body {k} position");
+            assert!(b.rotation.angle_to(&f.rotation) < 1e-5, "body {k} rotation");
+        }
+    }
+}
+
+/// Motors alone (no feedforward) hold every sampled configuration within 1 mrad.
+#[test]
+fn motors_alone_hold_against_gravity_within_1_mrad() {
+    let model = parol6();
+    let guard = CollisionGuard::new(&model);
+    let mut p = Physics::build(&model, 1e-3).expect("builds");
+    let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+    let mut configs = vec![standby_rad().to_vec()];
+    configs.extend((0..10).map(|_| random_free_config(&model, &guard, &mut rng, 0.05)));
+    for q0 in configs {
+        p.teleport(&q0);
+        p.set_motor_targets(&q0, &[0.0; 6]);
+        for _ in 0..1000 {
+            p.step();
+        }
+        let (mut q, mut qd) = (vec![0.0; 6], vec![0.0; 6]);
+        p.read_state(&mut q, &mut qd);
+        let err = max_abs_diff(&q, &q0);
+        assert!(err <= 1e-3, "steady error {err} rad at {q0:?}");
+    }
+}
+
+/// The simulation (motors + inverse-dynamics feedforward) holds within 1 mrad (≈ 1e-6 in practice).
+#[test]
+fn simulation_holds_standby_under_gravity() {
+    let mut s = sim(SimMode::Dynamic);
+    run_s(&mut s, 1.0);
+    let err = max_abs_diff(s.q(), &standby_rad());
+    assert!(err <= 1e-3, "steady error {err}");
+}
+
+/// A 0.5 rad step on every joint, ending exactly on its limit, settles within 2 mrad in
+/// 0.3 s and never passes the limit by more than 1 mrad.
+#[test]
+fn half_radian_step_settles_in_0_3_s_without_passing_the_limit() {
+    let model = parol6();
+    let guard = CollisionGuard::new(&model);
+    let mut p = Physics::build(&model, 1e-3).expect("builds");
+    let mut rng = rand::rngs::StdRng::seed_from_u64(17);
+    for j in 0..6 {
+        for upper in [true, false] {
+            let l = model.limits.get(j).expect("joint");
+            let (start_v, goal_v) = if upper { (l.max - 0.5, l.max) } else { (l.min + 0.5, l.min) };
+            // other joints anywhere, as long as the step sweeps nothing into the ground or the arm
+            let (start, goal) = loop {
+                let mut start = random_free_config(&model, &guard, &mut rng, 0.1);
+                start[j] = start_v;
+                let mut goal = start.clone();
+                goal[j] = goal_v;
+                let clear = (0..=50).all(|i| {
+                    let mut q = start.clone();
+                    q[j] = start_v + (goal_v - start_v) * f64::from(i) / 50.0;
+                    guard.check(&model, &q).is_none()
+                });
+                if clear {
+                    break (start, goal);
+                }
+            };
+            p.teleport(&start);
+            p.set_motor_targets(&goal, &[0.0; 6]);
+            let (mut q, mut qd) = (vec![0.0; 6], vec![0.0; 6]);
+            let mut settled_at = None;
+            let mut worst_pass = 0.0f64;
+            for step in 1..=600 {
+                p.step();
+                p.read_state(&mut q, &mut qd);
+                worst_pass = worst_pass.max(q[j] - l.max).max(l.min - q[j]);
+                let err = (q[j] - goal_v).abs();
+                if err > 2e-3 {
+                    settled_at = None;
+                } else if settled_at.is_none() {
+                    settled_at = Some(step);
+                }
+            }
+            let t = settled_at.map(|s| s as f64 * 1e-3);
+            assert!(t.is_some_and(|t| t <= 0.3), "J{} to {goal_v}: settled at {t:?}, q {q:?}", j + 1);
+            assert!(worst_pass <= 1e-3, "J{} passed its limit by {worst_pass}", j + 1);
+        }
+    }
+}
+
+// ---------------------------------------------------------------- commands and limits
+
+#[test]
+fn new_simulation_rests_at_standby() {
+    let s = sim(SimMode::Dynamic);
+    let snap = s.snapshot();
+    assert!(max_abs_diff(&snap.q, &standby_rad()) < 1e-6);
+    assert_eq!(snap.link_poses.len(), parol6().links.len());
+    assert_eq!(snap.zones.len(), 6);
+    assert!(snap.collision.is_none());
+    assert!(!snap.moving);
+}
+
+#[test]
+fn kinematic_move_follows_the_profile_exactly() {
+    let mut s = sim(SimMode::Kinematic);
+    let start = standby_rad().to_vec();
+    let goal = vec![1.2, -1.2, 2.8, 0.3, -0.4, 2.0];
+    s.apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 0.8, kind: ProfileKind::JerkLimited })
+        .expect("free move");
+    let mv = JointMove::parol6(&start, &goal, 0.8, ProfileKind::JerkLimited).expect("plans");
+    for k in 1..=200 {
+        s.step();
+        let expect = mv.sample(k as f64 * 1e-3);
+        assert!(max_abs_diff(s.q(), &expect.q) < 1e-12, "step {k}");
+    }
+    run_s(&mut s, mv.duration_s());
+    assert!(max_abs_diff(s.q(), &goal) < 1e-12);
+    assert!(!s.is_moving());
+}
+
+#[test]
+fn dynamic_move_tracks_the_profile_and_reaches_the_goal() {
+    let mut s = sim(SimMode::Dynamic);
+    let goal = vec![1.2, -1.2, 2.8, 0.3, -0.4, 2.0];
+    s.apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 1.0, kind: ProfileKind::Trapezoidal })
+        .expect("free move");
+    let mv = JointMove::parol6(&standby_rad(), &goal, 1.0, ProfileKind::Trapezoidal).expect("plans");
+    let steps = (mv.duration_s() / 1e-3).ceil() as usize;
+    let mut worst = 0.0f64;
+    for k in 1..=steps {
+        s.step();
+        worst = worst.max(max_abs_diff(s.q(), &mv.sample(k as f64 * 1e-3).q));
+    }
+    run_s(&mut s, 0.3);
+    assert!(worst < 5e-3, "tracking error {worst}");
+    assert!(max_abs_diff(s.q(), &goal) < 1e-3);
+}
+
+#[test]
+fn home_returns_to_standby() {
+    for mode in [SimMode::Kinematic, SimMode::Dynamic] {
+        let mut s = sim(mode);
+        s.apply(SimCommand::Teleport(vec![0.5, -1.0, 2.5, 0.5, 0.5, 1.0])).expect("free teleport");
+        s.apply(SimCommand::Home).expect("home");
+        assert!(s.is_moving());
+        run_s(&mut s, 6.0);
+        assert!(max_abs_diff(s.q(), &standby_rad()) < 1e-3, "{mode:?}: {:?}", s.q());
+        assert!(!s.snapshot().moving);
+    }
+}
+
+#[test]
+fn jog_targets_move_at_the_speed_limit() {
+    let mut s = sim(SimMode::Kinematic);
+    let mut goal = standby_rad().to_vec();
+    goal[0] += 0.5;
+    s.apply(SimCommand::SetJointTargets(goal.clone())).expect("in range");
+    s.step();
+    let v = s.model().limits.get(0).expect("J1").max_velocity;
+    assert!((s.qd()[0] - v).abs() < 1e-9, "{} vs {v}", s.qd()[0]);
+    run_s(&mut s, 0.5 / v + 0.01);
+    assert!(max_abs_diff(s.q(), &goal) < 1e-12);
+}
+
+#[test]
+fn stop_holds_where_the_robot_is() {
+    let mut s = sim(SimMode::Kinematic);
+    s.apply(SimCommand::MoveTo {
+        goal: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
+        speed_fraction: 1.0,
+        kind: ProfileKind::Trapezoidal,
+    })
+    .expect("move");
+    run_s(&mut s, 0.2);
+    s.apply(SimCommand::Stop).expect("stop");
+    let here = s.q().to_vec();
+    run_s(&mut s, 0.2);
+    assert!(max_abs_diff(s.q(), &here) < 1e-12);
+    assert!(!s.is_moving());
+}
+
+#[test]
+fn reject_policy_names_the_joint_and_limit() {
+    let mut s = sim(SimMode::Dynamic);
+    let mut q = standby_rad().to_vec();
+    q[1] = 0.5; // J2 above its upper limit
+    let err = s.apply(SimCommand::SetJointTargets(q.clone())).expect_err("out of range");
+    match &err {
+        SimError::Limit(LimitViolation::OutOfRange { joint_index, side, .. }) => {
+            assert_eq!(*joint_index, 2);
+            assert_eq!(*side, LimitSide::Upper);
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    assert!(err.to_string().contains("J2"), "{err}");
+    for cmd in [
+        SimCommand::MoveTo { goal: q.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal },
+        SimCommand::Teleport(q.clone()),
+    ] {
+        assert!(matches!(s.apply(cmd), Err(SimError::Limit(_))));
+    }
+    // refused commands leave the target unchanged
+    assert!(max_abs_diff(&s.snapshot().target_q, &standby_rad()) < 1e-12);
+}
+
+#[test]
+fn clamp_policy_clamps_into_range() {
+    let config = SimConfig { policy: LimitPolicy::Clamp, mode: SimMode::Kinematic, ..SimConfig::default() };
+    let mut s = Simulation::new(parol6(), config).expect("builds");
+    let mut q = standby_rad().to_vec();
+    q[5] = 9.0; // J6 above 2π
+    s.apply(SimCommand::SetJointTargets(q)).expect("clamped");
+    assert!((s.snapshot().target_q[5] - std::f64::consts::TAU).abs() < 1e-12);
+}
+
+#[test]
+fn malformed_commands_are_refused_without_panicking() {
+    let mut s = sim(SimMode::Dynamic);
+    let bad = [
+        SimCommand::SetJointTargets(vec![0.0; 3]),
+        SimCommand::SetJointTargets(vec![f64::NAN; 6]),
+        SimCommand::Teleport(vec![f64::INFINITY; 6]),
+        SimCommand::Teleport(vec![]),
+        SimCommand::MoveTo { goal: standby_rad().to_vec(), speed_fraction: f64::NAN, kind: ProfileKind::Trapezoidal },
+        SimCommand::MoveTo { goal: standby_rad().to_vec(), speed_fraction: -1.0, kind: ProfileKind::JerkLimited },
+        SimCommand::MoveTo { goal: vec![1.0; 7], speed_fraction: 0.5, kind: ProfileKind::JerkLimited },
+        SimCommand::ApplyJointTorques(vec![0.0; 5]),
+        SimCommand::ApplyJointTorques(vec![f64::NAN; 6]),
+    ];
+    for cmd in bad {
+        assert!(s.apply(cmd.clone()).is_err(), "{cmd:?} accepted");
+    }
+    run_s(&mut s, 0.05);
+    assert!(max_abs_diff(s.q(), &standby_rad()) < 1e-3);
+    let mut k = sim(SimMode::Kinematic);
+    assert!(matches!(k.apply(SimCommand::ApplyJointTorques(vec![0.0; 6])), Err(SimError::InvalidCommand(_))));
+}
+
+#[test]
+fn bad_configs_are_refused() {
+    for rate_hz in [0.0, -5.0, f64::NAN, 1e9] {
+        let c = SimConfig { rate_hz, ..SimConfig::default() };
+        assert!(matches!(Simulation::new(parol6(), c), Err(SimError::Config(_))));
+    }
+}
+
+#[test]
+fn mode_switch_keeps_the_pose() {
+    let mut s = sim(SimMode::Kinematic);
+    let q = vec![0.4, -1.0, 2.6, 0.2, 0.3, 1.0];
+    s.apply(SimCommand::Teleport(q.clone())).expect("free");
+    s.apply(SimCommand::SetMode(SimMode::Dynamic)).expect("switch");
+    run_s(&mut s, 0.5);
+    assert_eq!(s.mode(), SimMode::Dynamic);
+    assert!(max_abs_diff(s.q(), &q) < 1e-3);
+    s.apply(SimCommand::SetMode(SimMode::Kinematic)).expect("switch back");
+    run_s(&mut s, 0.1);
+    assert!(max_abs_diff(s.q(), &q) < 1e-3);
+}
+
+// ---------------------------------------------------------------- collision guard
+
+#[test]
+fn guard_skips_adjacent_and_never_colliding_pairs() {
+    let model = parol6();
+    let pairs = CollisionGuard::new(&model).pair_names();
+    let has = |a: &str, b: &str| pairs.iter().any(|(x, y)| (x == a && y == b) || (x == b && y == a));
+    for (a, b) in [("base_link", "L1"), ("L1", "L2"), ("L2", "L3"), ("L3", "L4"), ("L4", "L5"), ("L5", "L6")] {
+        assert!(!has(a, b), "adjacent {a}-{b} tested");
+    }
+    for (a, b) in collision::PAROL6_NEVER_COLLIDE {
+        assert!(!has(a, b), "never-colliding {a}-{b} tested");
+    }
+    for (a, b) in [("L1", "L6"), ("base_link", "L5"), ("base_link", "L6")] {
+        assert!(has(a, b), "{a}-{b} not tested");
+    }
+}
+
+#[test]
+fn known_collisions_are_found_and_named() {
+    let model = parol6();
+    let guard = CollisionGuard::new(&model);
+    let all = guard.all_contacts(&model, &Q_L1_L6);
+    assert!(all.iter().any(|c| c.link_a == "L1" && c.link_b == "L6"), "{all:?}");
+    assert!(guard.check(&model, &Q_L1_L6).is_some());
+    let all = guard.all_contacts(&model, &Q_BASE_L5);
+    assert!(all.iter().any(|c| c.link_a == "base_link" && c.link_b == "L5"), "{all:?}");
+    let g = guard.check(&model, &Q_GROUND).expect("below ground");
+    assert_eq!(g.link_b, collision::GROUND);
+    assert!(guard.check(&model, &standby_rad()).is_none());
+    assert!(guard.check(&model, &crate::parol6::park_rad()).is_none());
+}
+
+#[test]
+fn colliding_targets_are_refused() {
+    let mut s = sim(SimMode::Dynamic);
+    for q in [Q_L1_L6, Q_BASE_L5, Q_GROUND] {
+        for cmd in [SimCommand::SetJointTargets(q.to_vec()), SimCommand::Teleport(q.to_vec())] {
+            match s.apply(cmd) {
+                Err(SimError::Collision { at_s, .. }) => assert_eq!(at_s, 0.0),
+                other => panic!("expected a collision refusal, got {other:?}"),
+            }
+        }
+    }
+    let free = vec![0.3, -1.1, 2.9, 0.1, 0.2, 1.0];
+    s.apply(SimCommand::SetJointTargets(free)).expect("free target accepted");
+}
+
+#[test]
+fn a_move_through_a_collision_is_refused_with_the_time() {
+    let mut s = sim(SimMode::Kinematic);
+    // from a free start, J2 forward with the wrist folded down sweeps the wrist into the ground
+    let start = vec![1.2781498, -1.2, 2.6772428, 0.3309554, 0.6916926, 1.1726027];
+    assert!(s.guard().check(s.model(), &start).is_none(), "start must be free");
+    s.apply(SimCommand::Teleport(start.clone())).expect("free start");
+    let mut goal = start.clone();
+    goal[1] = -0.0653485;
+    let err = s
+        .apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal })
+        .expect_err("sweeps through the ground");
+    let SimError::Collision { link_a, link_b, at_s } = err else { panic!("expected a collision") };
+    let mv = JointMove::parol6(&start, &goal, 0.5, ProfileKind::Trapezoidal).expect("plans");
+    assert!(at_s > 0.0 && at_s < mv.duration_s(), "at {at_s} of {}", mv.duration_s());
+    assert_eq!(link_b, collision::GROUND);
+    assert!(!link_a.is_empty());
+    // the state just before the reported time is free, the one at it is not
+    assert!(s.guard().check(s.model(), &mv.sample(at_s).q).is_some());
+    assert!(s.guard().check(s.model(), &mv.sample(at_s - 0.02).q).is_none());
+    assert!(!s.is_moving(), "the refused move must not start");
+    // a move that stays clear is accepted
+    let mut back = start.clone();
+    back[1] = -1.0;
+    s.apply(SimCommand::MoveTo { goal: back, speed_fraction: 0.5, kind: ProfileKind::Trapezoidal }).expect("free");
+}
+
+#[test]
+fn collision_checks_can_be_turned_off() {
+    let config = SimConfig { check_collisions: false, mode: SimMode::Kinematic, ..SimConfig::default() };
+    let mut s = Simulation::new(parol6(), config).expect("builds");
+    s.apply(SimCommand::Teleport(Q_L1_L6.to_vec())).expect("accepted without the guard");
+    run_s(&mut s, 0.02);
+    assert!(s.snapshot().collision.is_some(), "the status still reports the contact");
+}
+
+/// The derived never-colliding pairs hold on a fresh sample (another seed than the derivation).
+#[test]
+fn derived_never_colliding_pairs_hold() {
+    let model = parol6();
+    let all = CollisionGuard::with_disabled_pairs(&model, &[]);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(2024);
+    for _ in 0..20_000 {
+        let q: Vec<f64> = model.limits.iter().map(|l| rng.random_range(l.min..=l.max)).collect();
+        for c in all.all_contacts(&model, &q) {
+            let listed = collision::PAROL6_NEVER_COLLIDE
+                .iter()
+                .any(|(a, b)| (c.link_a == *a && c.link_b == *b) || (c.link_a == *b && c.link_b == *a));
+            assert!(!listed, "{c} at {q:?}");
+        }
+    }
+}
+
+#[test]
+fn srdf_pairs_are_skipped() {
+    let mut model = parol6();
+    model.is_parol6 = false; // only the SRDF list, not the embedded one
+    let before = CollisionGuard::new(&model).pair_names().len();
+    let n = model.apply_srdf(r#"<robot><disable_collisions link1="L1" link2="L6" reason="Never"/></robot>"#);
+    assert_eq!(n, 1);
+    let pairs = CollisionGuard::new(&model).pair_names();
+    assert_eq!(pairs.len(), before - 1);
+    assert!(!pairs.iter().any(|(a, b)| a == "L1" && b == "L6"));
+}
+
+// ---------------------------------------------------------------- dynamics
+
+/// Independent inverse dynamics: Lagrange's equations with the mass matrix from COM Jacobians,
+/// gravity from the potential energy, Coriolis terms by central differences of the mass matrix.
+fn lagrange_torques(model: &RobotModel, q: &[f64], qd: &[f64], qdd: &[f64]) -> Vec<f64> {
+    let n = model.dof();
+    let bodies = body_inertials(model);
+    let jacobians = |q: &[f64]| {
+        let frames = model.chain_frames(q);
+        let mut out = Vec::new();
+        for k in 1..=n {
+            let Some(b) = &bodies[k] else { continue };
+            let p = frames[k] * b.com_m;
+            let r = frames[k].rotation.to_rotation_matrix().into_inner();
+            let mut jv = DMatrix::zeros(3, n);
+            let mut jw = DMatrix::zeros(3, n);
+            for j in 0..k {
+                let a = frames[j + 1].rotation * model.joints[j].axis.into_inner();
+                if model.joints[j].kind == JointKind::Prismatic {
+                    jv.fixed_view_mut::<3, 1>(0, j).copy_from(&a);
+                } else {
+                    let o = frames[j + 1].translation.vector;
+                    jv.fixed_view_mut::<3, 1>(0, j).copy_from(&a.cross(&(p.coords - o)));
+                    jw.fixed_view_mut::<3, 1>(0, j).copy_from(&a);
+                }
+            }
+            out.push((b.mass_kg, jv, jw, r * b.inertia_kg_m2 * r.transpose()));
+        }
+        out
+    };
+    let mass_matrix = |q: &[f64]| {
+        let mut m = DMatrix::zeros(n, n);
+        for (mass, jv, jw, i_w) in jacobians(q) {
+            let i_w = DMatrix::from_iterator(3, 3, Matrix3::iter(&i_w).copied());
+            m += jv.transpose() * &jv * mass + jw.transpose() * i_w * &jw;
+        }
+        m
+    };
+    let g_vec = DVector::from_column_slice(&[0.0, 0.0, 9.81]);
+    let mut gravity = DVector::zeros(n);
+    for (mass, jv, _, _) in jacobians(q) {
+        gravity += jv.transpose() * &g_vec * mass;
+    }
+    let qd_v = DVector::from_column_slice(qd);
+    let h = 1e-6;
+    let shifted =
+        |dir: &DVector<f64>, s: f64| -> Vec<f64> { q.iter().zip(dir.iter()).map(|(a, d)| a + s * d).collect() };
+    let m_dot = (mass_matrix(&shifted(&qd_v, h)) - mass_matrix(&shifted(&qd_v, -h))) / (2.0 * h);
+    let mut half_grad = DVector::zeros(n);
+    for k in 0..n {
+        let e = DVector::from_fn(n, |i, _| if i == k { 1.0 } else { 0.0 });
+        let plus = (qd_v.transpose() * mass_matrix(&shifted(&e, h)) * &qd_v)[(0, 0)];
+        let minus = (qd_v.transpose() * mass_matrix(&shifted(&e, -h)) * &qd_v)[(0, 0)];
+        half_grad[k] = 0.5 * (plus - minus) / (2.0 * h);
+    }
+    let tau = mass_matrix(q) * DVector::from_column_slice(qdd) + m_dot * &qd_v - half_grad + gravity;
+    tau.iter().copied().collect()
+}
+
+#[test]
+fn newton_euler_matches_lagrange_within_1_percent() {
+    let model = parol6();
+    let mut id = InverseDynamics::new(&model);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+    for _ in 0..100 {
+        let q: Vec<f64> = model.limits.iter().map(|l| rng.random_range(l.min..=l.max)).collect();
+        let qd: Vec<f64> = (0..6).map(|_| rng.random_range(-2.0..2.0)).collect();
+        let qdd: Vec<f64> = (0..6).map(|_| rng.random_range(-10.0..10.0)).collect();
+        let rnea = id.compute(&model, &q, &qd, &qdd).expect("valid").total_nm;
+        let lag = lagrange_torques(&model, &q, &qd, &qdd);
+        let scale = lag.iter().map(|t| t.abs()).fold(0.0, f64::max);
+        for j in 0..6 {
+            assert!(
+                (rnea[j] - lag[j]).abs() <= 0.01 * scale.max(1e-3),
+                "J{}: {} vs {} at {q:?}",
+                j + 1,
+                rnea[j],
+                lag[j]
+            );
+        }
+    }
+}
+
+#[test]
+fn gravity_torques_of_a_single_known_case() {
+    // Only J2 and J3 carry gravity at standby with the arm up; J1's axis is vertical.
+    let model = parol6();
+    let mut id = InverseDynamics::new(&model);
+    let t = id.compute(&model, &standby_rad(), &[0.0; 6], &[0.0; 6]).expect("valid");
+    assert!(t.gravity_nm[0].abs() < 1e-9, "J1 gravity torque {}", t.gravity_nm[0]);
+    assert_eq!(t.total_nm, t.gravity_nm);
+    assert!(t.inertial_coriolis_nm.iter().all(|v| v.abs() < 1e-12));
+    // the mass of the whole arm: a pure vertical acceleration of the base is not possible here,
+    // but scaling gravity scales the gravity torques linearly
+    let mut half = vec![0.0; 6];
+    id.compute_scaled_into(&model, &standby_rad(), &[0.0; 6], &[0.0; 6], 0.5, &mut half);
+    for (h, g) in half.iter().zip(&t.gravity_nm) {
+        assert!((2.0 * h - g).abs() < 1e-12);
+    }
+    assert!(id.compute(&model, &[0.0; 5], &[0.0; 6], &[0.0; 6]).is_err());
+    assert!(id.compute(&model, &[f64::NAN; 6], &[0.0; 6], &[0.0; 6]).is_err());
+}
+
+/// Forward dynamics in rapier: the inverse-dynamics torques of an acceleration, applied with
+/// the motors off, produce that acceleration (the multibody and the RNEA agree).
+#[test]
+fn rapier_forward_dynamics_agrees_with_newton_euler() {
+    let model = parol6();
+    let guard = CollisionGuard::new(&model);
+    let mut id = InverseDynamics::new(&model);
+    let mut p = Physics::build(&model, 1e-3).expect("builds");
+    let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+    for _ in 0..20 {
+        let q0 = random_free_config(&model, &guard, &mut rng, 0.2);
+        let qdd: Vec<f64> = (0..6).map(|_| rng.random_range(-5.0..5.0)).collect();
+        let mut tau = vec![0.0; 6];
+        id.compute_into(&model, &q0, &[0.0; 6], &qdd, &mut tau);
+        p.teleport(&q0);
+        p.set_motors_enabled(false);
+        p.set_joint_torques(&tau);
+        p.step();
+        let (mut q, mut qd) = (vec![0.0; 6], vec![0.0; 6]);
+        p.read_state(&mut q, &mut qd);
+        let measured: Vec<f64> = qd.iter().map(|v| v / 1e-3).collect();
+        // compare in torque space: the torques that the measured acceleration needs
+        let mut tau_measured = vec![0.0; 6];
+        id.compute_into(&model, &q0, &[0.0; 6], &measured, &mut tau_measured);
+        let scale = tau.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for j in 0..6 {
+            assert!(
+                (tau_measured[j] - tau[j]).abs() <= 0.01 * scale,
+                "J{}: {} vs {} N·m (qdd {:?} vs {qdd:?})",
+                j + 1,
+                tau_measured[j],
+                tau[j],
+                measured
+            );
+        }
+        // and the heavy proximal joints reach the commanded acceleration itself within 1 %
+        let acc_scale = qdd.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for j in 0..3 {
+            assert!((measured[j] - qdd[j]).abs() <= 0.01 * acc_scale, "J{}: {} vs {}", j + 1, measured[j], qdd[j]);
+        }
+        p.set_motors_enabled(true);
+    }
+}
+
+#[test]
+fn applied_torques_move_the_arm_and_gravity_compensation_holds_it() {
+    let mut s = sim(SimMode::Dynamic);
+    let q0 = vec![0.5, -1.2, 2.8, 0.2, 0.3, 1.0];
+    s.apply(SimCommand::Teleport(q0.clone())).expect("free");
+    let mut id = InverseDynamics::new(s.model());
+    let hold = id.compute(s.model(), &q0, &[0.0; 6], &[0.0; 6]).expect("valid").total_nm;
+    s.apply(SimCommand::ApplyJointTorques(hold.clone())).expect("dynamic mode");
+    run_s(&mut s, 0.05);
+    assert!(max_abs_diff(s.q(), &q0) < 2e-3, "gravity compensation drifts: {:?}", s.q());
+    assert_eq!(s.snapshot().torques_nm, hold);
+    // an extra 0.05 N·m on J1 (vertical axis, no gravity) spins it up
+    let mut push = hold.clone();
+    push[0] += 0.05;
+    s.apply(SimCommand::ApplyJointTorques(push)).expect("dynamic mode");
+    run_s(&mut s, 0.2);
+    assert!(s.qd()[0] > 0.05, "J1 speed {}", s.qd()[0]);
+    assert!(s.q()[0] > q0[0] + 0.005);
+    // a position command takes the motors back
+    s.apply(SimCommand::Stop).expect("stop");
+    let here = s.q().to_vec();
+    run_s(&mut s, 0.5);
+    assert!(max_abs_diff(s.q(), &here) < 0.05);
+    assert!(s.qd().iter().all(|v| v.abs() < 1e-2), "{:?}", s.qd());
+}
+
+#[test]
+fn snapshot_torques_equal_the_inverse_dynamics_when_holding() {
+    for mode in [SimMode::Kinematic, SimMode::Dynamic] {
+        let mut s = sim(mode);
+        run_s(&mut s, 0.5);
+        let mut id = InverseDynamics::new(s.model());
+        let g = id.compute(s.model(), &standby_rad(), &[0.0; 6], &[0.0; 6]).expect("valid").gravity_nm;
+        let snap = s.snapshot();
+        let scale = g.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        assert!(max_abs_diff(&snap.torques_nm, &g) <= 0.01 * scale, "{mode:?}: {:?} vs {g:?}", snap.torques_nm);
+    }
+}
+
+#[test]
+fn stepping_is_deterministic() {
+    let run = || {
+        let mut s = sim(SimMode::Dynamic);
+        s.apply(SimCommand::MoveTo {
+            goal: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
+            speed_fraction: 1.0,
+            kind: ProfileKind::JerkLimited,
+        })
+        .expect("move");
+        run_s(&mut s, 0.4);
+        s.snapshot()
+    };
+    let (a, b) = (run(), run());
+    assert_eq!(a.q, b.q);
+    assert_eq!(a.qd, b.qd);
+    assert_eq!(a.seq, 400);
+    assert!((a.sim_time_s - 0.4).abs() < 1e-12);
+}
+
+#[test]
+fn inertials_merge_links_on_the_same_frame() {
+    let model = parol6();
+    let b = body_inertials(&model);
+    let total: f64 = b.iter().flatten().map(|i| i.mass_kg).sum();
+    let urdf: f64 = model.links.iter().filter_map(|l| l.inertial.as_ref()).map(|i| i.mass_kg).sum();
+    assert!((total - urdf).abs() < 1e-12);
+    let _ = Vector3::<f64>::zeros();
+}

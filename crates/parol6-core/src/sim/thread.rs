@@ -1,0 +1,233 @@
+//! [`SimHandle`]: a [`Simulation`] on its own thread, stepping at a fixed rate of simulated
+//! time locked to wall-clock time. Commands arrive through a bounded channel and are applied
+//! as soon as they arrive (between steps); the latest state is published lock-free after every
+//! step.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use arc_swap::ArcSwap;
+use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, TrySendError};
+
+use super::{SimCommand, SimConfig, SimError, SimSnapshot, Simulation};
+use crate::model::RobotModel;
+
+/// Capacity of the command channel.
+pub const COMMAND_QUEUE: usize = 1024;
+/// Capacity of the latency log read by [`SimHandle::drain_latencies_ns`].
+pub const LATENCY_LOG: usize = 65_536;
+/// When the thread falls this many steps behind wall-clock time it gives up catching up.
+const MAX_CATCH_UP_STEPS: u32 = 20;
+
+struct Envelope {
+    cmd: SimCommand,
+    created: Instant,
+}
+
+/// Counters of the simulation thread.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SimStats {
+    /// Steps taken.
+    pub steps: u64,
+    /// Times the thread fell more than 20 steps behind and dropped the backlog.
+    pub overruns: u64,
+    /// Commands applied (accepted or refused).
+    pub commands: u64,
+    /// CPU time the simulation thread has used, ns (`None` where the OS gives no per-thread
+    /// CPU clock).
+    pub thread_cpu_ns: Option<u64>,
+    /// Wall time since the thread started, ns.
+    pub wall_ns: u64,
+}
+
+impl SimStats {
+    /// Fraction of one core the thread used (CPU time / wall time).
+    pub fn cpu_fraction(&self) -> Option<f64> {
+        let cpu = self.thread_cpu_ns?;
+        (self.wall_ns > 0).then(|| cpu as f64 / self.wall_ns as f64)
+    }
+}
+
+#[derive(Default)]
+struct Counters {
+    steps: AtomicU64,
+    overruns: AtomicU64,
+    commands: AtomicU64,
+    cpu_ns: AtomicU64,
+    has_cpu: AtomicBool,
+    wall_ns: AtomicU64,
+}
+
+struct Shared {
+    snapshot: ArcSwap<SimSnapshot>,
+    stop: AtomicBool,
+    counters: Counters,
+}
+
+/// A simulation running on its own thread. Dropping it stops the thread.
+pub struct SimHandle {
+    tx: Sender<Envelope>,
+    shared: Arc<Shared>,
+    latency_rx: Receiver<u64>,
+    join: Option<JoinHandle<()>>,
+    model: RobotModel,
+}
+
+impl std::fmt::Debug for SimHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SimHandle").field("robot", &self.model.name).finish_non_exhaustive()
+    }
+}
+
+/// CPU time of the calling thread, ns.
+pub fn thread_cpu_time_ns() -> Option<u64> {
+    #[cfg(target_os = "linux")]
+    {
+        let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+        // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the kernel knows.
+        let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+        if rc == 0 {
+            return Some((ts.tv_sec as u64).saturating_mul(1_000_000_000).saturating_add(ts.tv_nsec as u64));
+        }
+        None
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}
+
+impl SimHandle {
+    /// Builds the simulation (errors are returned here) and starts its thread.
+    pub fn spawn(model: RobotModel, config: SimConfig) -> Result<SimHandle, SimError> {
+        let sim = Simulation::new(model.clone(), config)?;
+        let (tx, rx) = crossbeam_channel::bounded(COMMAND_QUEUE);
+        let (latency_tx, latency_rx) = crossbeam_channel::bounded(LATENCY_LOG);
+        let shared = Arc::new(Shared {
+            snapshot: ArcSwap::from_pointee(sim.snapshot()),
+            stop: AtomicBool::new(false),
+            counters: Counters::default(),
+        });
+        let thread_shared = Arc::clone(&shared);
+        let join = std::thread::Builder::new()
+            .name("parol6-sim".into())
+            .spawn(move || run(sim, &rx, &latency_tx, &thread_shared))
+            .map_err(|e| SimError::Build(format!("cannot start the simulation thread: {e}")))?;
+        Ok(SimHandle { tx, shared, latency_rx, join: Some(join), model })
+    }
+
+    /// Queues a command, stamped with the current instant. Never blocks.
+    pub fn send(&self, cmd: SimCommand) -> Result<(), SimError> {
+        match self.tx.try_send(Envelope { cmd, created: Instant::now() }) {
+            Ok(()) => Ok(()),
+            Err(TrySendError::Full(_)) => Err(SimError::ChannelFull),
+            Err(TrySendError::Disconnected(_)) => Err(SimError::ChannelClosed),
+        }
+    }
+
+    /// The latest published state (lock-free).
+    pub fn snapshot(&self) -> Arc<SimSnapshot> {
+        self.shared.snapshot.load_full()
+    }
+
+    /// The robot model the simulation was built from.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// Thread counters (steps, overruns, CPU time).
+    pub fn stats(&self) -> SimStats {
+        let c = &self.shared.counters;
+        SimStats {
+            steps: c.steps.load(Ordering::Relaxed),
+            overruns: c.overruns.load(Ordering::Relaxed),
+            commands: c.commands.load(Ordering::Relaxed),
+            thread_cpu_ns: c.has_cpu.load(Ordering::Relaxed).then(|| c.cpu_ns.load(Ordering::Relaxed)),
+            wall_ns: c.wall_ns.load(Ordering::Relaxed),
+        }
+    }
+
+    /// Creation → applied latencies (ns) of the commands applied since the last call, oldest
+    /// first (at most [`LATENCY_LOG`] are kept).
+    pub fn drain_latencies_ns(&self) -> Vec<u64> {
+        self.latency_rx.try_iter().collect()
+    }
+
+    /// Stops the thread and waits for it.
+    pub fn shutdown(mut self) {
+        self.stop_thread();
+    }
+
+    fn stop_thread(&mut self) {
+        self.shared.stop.store(true, Ordering::Release);
+        if let Some(j) = self.join.take() {
+            let _ = j.join();
+        }
+    }
+}
+
+impl Drop for SimHandle {
+    fn drop(&mut self) {
+        self.stop_thread();
+    }
+}
+
+fn run(mut sim: Simulation, rx: &Receiver<Envelope>, latency_tx: &Sender<u64>, shared: &Shared) {
+    let dt = Duration::from_secs_f64(sim.dt_s());
+    let started = Instant::now();
+    let cpu_start = thread_cpu_time_ns();
+    let mut next = started + dt;
+    let mut rate_window = (started, 0u64);
+    let c = &shared.counters;
+    loop {
+        if shared.stop.load(Ordering::Acquire) {
+            break;
+        }
+        // wait for the next tick, applying commands the moment they arrive
+        loop {
+            match rx.recv_deadline(next) {
+                Ok(env) => {
+                    if let Err(e) = sim.apply(env.cmd) {
+                        sim.record_error(&e);
+                    }
+                    let applied = Instant::now();
+                    sim.record_latency(env.created, applied);
+                    let ns =
+                        u64::try_from(applied.saturating_duration_since(env.created).as_nanos()).unwrap_or(u64::MAX);
+                    let _ = latency_tx.try_send(ns);
+                    c.commands.fetch_add(1, Ordering::Relaxed);
+                }
+                Err(RecvTimeoutError::Timeout) => break,
+                // every handle is gone: nobody can read the state any more
+                Err(RecvTimeoutError::Disconnected) => return,
+            }
+        }
+        let now = Instant::now();
+        let mut n = 0;
+        while next <= now && n < MAX_CATCH_UP_STEPS {
+            sim.step();
+            next += dt;
+            n += 1;
+        }
+        if next <= now {
+            next = now + dt;
+            c.overruns.fetch_add(1, Ordering::Relaxed);
+        }
+        let steps = c.steps.fetch_add(u64::from(n), Ordering::Relaxed) + u64::from(n);
+        // measured step rate over windows of about half a second
+        let since = now.saturating_duration_since(rate_window.0);
+        if since >= Duration::from_millis(500) {
+            sim.set_step_rate_hz((steps - rate_window.1) as f64 / since.as_secs_f64());
+            rate_window = (now, steps);
+            c.wall_ns
+                .store(u64::try_from(now.duration_since(started).as_nanos()).unwrap_or(u64::MAX), Ordering::Relaxed);
+            if let (Some(a), Some(b)) = (cpu_start, thread_cpu_time_ns()) {
+                c.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);
+                c.has_cpu.store(true, Ordering::Relaxed);
+            }
+        }
+        shared.snapshot.store(Arc::new(sim.snapshot()));
+    }
+}

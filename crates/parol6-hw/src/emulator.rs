@@ -1,0 +1,675 @@
+//! A PAROL6 controller emulator that behaves like the public firmware (PROTOCOL.md §5):
+//! the MOVE control law, JOG, IDLE, the ENABLE / DISABLE latch, HOME with homed bits (time
+//! compressed), one status reply per accepted frame, no timeout, no limit checks. The E-stop
+//! and input pins can be toggled from tests.
+//!
+//! [`ControllerModel`] is the pure state machine; [`EmulatorHandle::spawn`] serves it on the
+//! master side of a pseudo-terminal and exposes the slave path for a [`crate::Session`].
+//!
+//! Not emulated: the test routine (code 69 is accepted and answered but does not move the
+//! arm, and is logged), the homing trajectory itself (joints hold still while the stages run
+//! and the counters are then set to standby), and CAN details of the gripper.
+
+use std::io::{Read, Write};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use arc_swap::ArcSwap;
+use parol6_core::parol6::JOINT_COUNT;
+
+use crate::frame::{
+    CommandCode, IO_ALWAYS_SET, IO_ESTOP_RELEASED, IO_IN1, IO_IN2, IO_OUT1, IO_OUT2, JOINT_BITS_ALWAYS_SET,
+    ReceivedCommand, StatusFrame, TIMING_TICKS_PER_S, joint_flags_byte,
+};
+use crate::parser::CommandParser;
+use crate::units::{FW_MAX_SPEED_STEPS_S, STANDBY_STEPS};
+
+/// The firmware's hard-coded MOVE period, s.
+const FW_MOVE_PERIOD_S: f64 = 0.01;
+/// Integration sub-step, s (the firmware loop runs much faster than the host rate).
+const SUBSTEP_S: f64 = 0.0005;
+/// Seek speeds shown while each homing stage runs, steps/s (ROBOT.md §8).
+const HOMING_SEEK_STEPS_S: [i32; JOINT_COUNT] = [-2050, -2550, -2550, 5550, -5050, -9550];
+
+/// Emulator settings.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct EmulatorConfig {
+    /// Duration of the whole (compressed) homing sequence, s.
+    pub home_duration_s: f64,
+    /// Step counters at power-up (the firmware boots at 0).
+    pub initial_steps: [i32; JOINT_COUNT],
+    /// Start with all homed bits set.
+    pub start_homed: bool,
+    /// Keep a log of received commands for [`EmulatorHandle::take_received`] (capped).
+    pub log_commands: bool,
+}
+
+impl Default for EmulatorConfig {
+    fn default() -> Self {
+        Self { home_duration_s: 1.0, initial_steps: [0; JOINT_COUNT], start_homed: false, log_commands: true }
+    }
+}
+
+impl EmulatorConfig {
+    /// Powered up already homed at the standby pose (handy for demos and the GUI's fake robot).
+    pub fn homed_at_standby() -> Self {
+        Self { initial_steps: STANDBY_STEPS, start_homed: true, ..Self::default() }
+    }
+}
+
+/// Progress of the emulated homing sequence.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct HomingRun {
+    elapsed_s: f64,
+}
+
+/// The firmware's state machine without any I/O.
+#[derive(Debug, Clone)]
+pub struct ControllerModel {
+    config: EmulatorConfig,
+    position_steps: [f64; JOINT_COUNT],
+    speed_steps_s: [f64; JOINT_COUNT],
+    homed: [bool; JOINT_COUNT],
+    disabled: bool,
+    homing: Option<HomingRun>,
+    last: Option<ReceivedCommand>,
+    out_bits: u8,
+    /// E-stop input pressed.
+    pub estop_pressed: bool,
+    /// INPUT1 level.
+    pub in1: bool,
+    /// INPUT2 level.
+    pub in2: bool,
+    last_accept: Option<Instant>,
+    timing_ticks: u16,
+    gripper_position: i16,
+    gripper_current_ma: i16,
+    gripper_status: u8,
+}
+
+impl ControllerModel {
+    /// A board at power-up.
+    pub fn new(config: EmulatorConfig) -> Self {
+        let homed = [config.start_homed; JOINT_COUNT];
+        Self {
+            position_steps: config.initial_steps.map(f64::from),
+            config,
+            speed_steps_s: [0.0; JOINT_COUNT],
+            homed,
+            disabled: false,
+            homing: None,
+            last: None,
+            out_bits: 0,
+            estop_pressed: false,
+            in1: false,
+            in2: false,
+            last_accept: None,
+            timing_ticks: 0,
+            gripper_position: 0,
+            gripper_current_ma: 2,
+            gripper_status: 1,
+        }
+    }
+
+    /// Step counters, rounded.
+    pub fn position_steps(&self) -> [i32; JOINT_COUNT] {
+        self.position_steps.map(|p| p.round() as i32)
+    }
+
+    /// Current speed set points, steps/s.
+    pub fn speed_steps_s(&self) -> [i32; JOINT_COUNT] {
+        self.speed_steps_s.map(|v| v.trunc() as i32)
+    }
+
+    /// True while the DISABLE latch is set.
+    pub fn is_disabled(&self) -> bool {
+        self.disabled
+    }
+
+    /// True while the homing sequence runs.
+    pub fn is_homing(&self) -> bool {
+        self.homing.is_some()
+    }
+
+    /// Homed flags.
+    pub fn homed(&self) -> [bool; JOINT_COUNT] {
+        self.homed
+    }
+
+    /// Code of the last accepted frame.
+    pub fn last_code(&self) -> Option<u8> {
+        self.last.map(|c| c.code)
+    }
+
+    /// Accepts one command frame at `now` and returns the status reply (PROTOCOL.md §5).
+    pub fn accept(&mut self, cmd: ReceivedCommand, now: Instant) -> StatusFrame {
+        if let Some(prev) = self.last_accept {
+            let ticks = now.duration_since(prev).as_secs_f64() * TIMING_TICKS_PER_S;
+            self.timing_ticks = (ticks as u64 & 0xFFFF) as u16;
+        }
+        self.last_accept = Some(now);
+        self.out_bits = cmd.fields.io_bits & (IO_OUT1 | IO_OUT2);
+        match CommandCode::from_byte(cmd.code) {
+            Some(CommandCode::Enable) => {
+                self.disabled = false;
+                self.homing = None;
+            }
+            Some(CommandCode::Disable) => {
+                self.disabled = true;
+                self.homing = None;
+            }
+            Some(CommandCode::ClearError) => self.homing = None,
+            Some(CommandCode::Home) => {
+                if !self.disabled && self.homing.is_none() {
+                    self.start_homing();
+                }
+            }
+            Some(CommandCode::Idle) => {}
+            Some(CommandCode::Jog) | Some(CommandCode::Move) => self.homing = None,
+            None => {
+                if cmd.code == 69 {
+                    tracing::warn!("emulator: received code 69 (test routine); not emulated");
+                }
+                self.homing = None;
+            }
+        }
+        self.update_gripper(&cmd);
+        self.last = Some(cmd);
+        self.apply_speeds();
+        self.status()
+    }
+
+    fn start_homing(&mut self) {
+        self.homing = Some(HomingRun { elapsed_s: 0.0 });
+        self.homed = [false; JOINT_COUNT];
+    }
+
+    fn update_gripper(&mut self, cmd: &ReceivedCommand) {
+        let g = &cmd.fields.gripper;
+        if g.id != 0 {
+            return;
+        }
+        match g.mode {
+            1 => self.gripper_status |= 0x01,
+            2 => self.gripper_status &= !0x02,
+            _ => {
+                if g.command_bits & 0x80 != 0 {
+                    self.gripper_position = g.position.clamp(0, 255);
+                    self.gripper_current_ma = g.current_ma;
+                    // activated, at target position, calibrated
+                    self.gripper_status = 0x80 | 0x30 | (self.gripper_status & 0x01);
+                }
+            }
+        }
+    }
+
+    /// Sets the speed set points the current command implies (called on accept and each sub-step).
+    fn apply_speeds(&mut self) {
+        let Some(cmd) = self.last else { return };
+        let fw_max = f64::from(FW_MAX_SPEED_STEPS_S);
+        if let Some(run) = self.homing {
+            let stage = self.homing_stage(run.elapsed_s);
+            for (i, (v, seek)) in self.speed_steps_s.iter_mut().zip(HOMING_SEEK_STEPS_S).enumerate() {
+                *v = if stage_moves(stage, i) { f64::from(seek) } else { 0.0 };
+            }
+            return;
+        }
+        match CommandCode::from_byte(cmd.code) {
+            Some(CommandCode::Idle) => {
+                for i in 0..JOINT_COUNT {
+                    self.speed_steps_s[i] = f64::from(cmd.fields.speeds_steps_s[i]);
+                }
+            }
+            Some(CommandCode::Jog) if !self.disabled => {
+                for i in 0..JOINT_COUNT {
+                    self.speed_steps_s[i] = f64::from(cmd.fields.speeds_steps_s[i]).clamp(-fw_max, fw_max);
+                }
+            }
+            Some(CommandCode::Move) if !self.disabled => {
+                for i in 0..JOINT_COUNT {
+                    let pos = self.position_steps[i].round();
+                    let err = f64::from(cmd.fields.positions_steps[i]) - pos;
+                    let p = (err / FW_MOVE_PERIOD_S).trunc();
+                    let v = ((f64::from(cmd.fields.speeds_steps_s[i]) + p) / 2.0).trunc();
+                    self.speed_steps_s[i] = v.clamp(-fw_max, fw_max);
+                }
+            }
+            _ => self.speed_steps_s = [0.0; JOINT_COUNT],
+        }
+    }
+
+    /// Homing stage for the elapsed time: 0 = J1–J3, 1 = J4, 2 = J6 and J5, 3 = done.
+    fn homing_stage(&self, elapsed_s: f64) -> u8 {
+        let d = self.config.home_duration_s.max(1e-3);
+        if elapsed_s < 0.4 * d {
+            0
+        } else if elapsed_s < 0.6 * d {
+            1
+        } else if elapsed_s < d {
+            2
+        } else {
+            3
+        }
+    }
+
+    /// Lets `dt_s` seconds of firmware main loop pass.
+    pub fn advance(&mut self, dt_s: f64) {
+        if !(dt_s.is_finite() && dt_s > 0.0) {
+            return;
+        }
+        let mut left = dt_s.min(1.0);
+        while left > 0.0 {
+            let h = left.min(SUBSTEP_S);
+            left -= h;
+            if let Some(run) = self.homing.as_mut() {
+                run.elapsed_s += h;
+                let elapsed = run.elapsed_s;
+                let stage = self.homing_stage(elapsed);
+                if stage >= 1 {
+                    self.homed[0..3].fill(true);
+                }
+                if stage >= 2 {
+                    self.homed[3] = true;
+                }
+                if stage >= 3 {
+                    self.homed = [true; JOINT_COUNT];
+                    self.position_steps = STANDBY_STEPS.map(f64::from);
+                    self.homing = None;
+                    // FW restarts homing when the last command is still HOME.
+                    if self.last.map(|c| c.code) == Some(CommandCode::Home.byte()) {
+                        self.start_homing();
+                    }
+                }
+                self.apply_speeds();
+                continue;
+            }
+            self.apply_speeds();
+            let stepping = matches!(
+                self.last.and_then(|c| CommandCode::from_byte(c.code)),
+                Some(CommandCode::Jog) | Some(CommandCode::Move)
+            ) && !self.disabled;
+            if stepping {
+                for i in 0..JOINT_COUNT {
+                    self.position_steps[i] += self.speed_steps_s[i] * h;
+                }
+            }
+        }
+    }
+
+    /// The status frame the board would send now.
+    pub fn status(&self) -> StatusFrame {
+        let mut io = IO_ALWAYS_SET | self.out_bits;
+        if !self.estop_pressed {
+            io |= IO_ESTOP_RELEASED;
+        }
+        if self.in1 {
+            io |= IO_IN1;
+        }
+        if self.in2 {
+            io |= IO_IN2;
+        }
+        StatusFrame {
+            positions_steps: self.position_steps(),
+            speeds_steps_s: self.speed_steps_s(),
+            homed_bits: joint_flags_byte(&self.homed),
+            io_bits: io,
+            temperature_error_bits: JOINT_BITS_ALWAYS_SET,
+            position_error_bits: JOINT_BITS_ALWAYS_SET,
+            timing_ticks: self.timing_ticks,
+            timeout_error: 100,
+            echoed_command: self.last.map_or(CommandCode::Idle.byte(), |c| c.code),
+            gripper_id: 0,
+            gripper_position: self.gripper_position,
+            gripper_speed: 1,
+            gripper_current_ma: self.gripper_current_ma,
+            gripper_status: self.gripper_status,
+            gripper_object_byte: 1,
+        }
+    }
+}
+
+fn stage_moves(stage: u8, joint: usize) -> bool {
+    match stage {
+        0 => joint < 3,
+        1 => joint == 3,
+        2 => joint >= 4,
+        _ => false,
+    }
+}
+
+/// One command frame as the emulator received it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReceivedFrame {
+    /// When the last byte of the frame was read.
+    pub at: Instant,
+    /// The decoded frame.
+    pub command: ReceivedCommand,
+}
+
+/// Emulator state published after every accepted frame.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct EmulatorSnapshot {
+    /// Step counters.
+    pub position_steps: [i32; JOINT_COUNT],
+    /// Speed set points, steps/s.
+    pub speed_steps_s: [i32; JOINT_COUNT],
+    /// Homed flags.
+    pub homed: [bool; JOINT_COUNT],
+    /// DISABLE latch set.
+    pub disabled: bool,
+    /// Homing sequence running.
+    pub homing: bool,
+    /// Code of the last accepted frame.
+    pub last_code: Option<u8>,
+    /// Frames accepted so far.
+    pub frames_accepted: u64,
+    /// Frames stored but rejected by the firmware parser.
+    pub frames_rejected: u64,
+}
+
+/// Most received frames kept in the log.
+const LOG_CAP: usize = 200_000;
+
+struct Shared {
+    stop: AtomicBool,
+    estop_pressed: AtomicBool,
+    in1: AtomicBool,
+    in2: AtomicBool,
+    /// Extra latency added before each reply, µs (tests of link loss).
+    reply_delay_us: AtomicU64,
+    /// When set, frames are accepted but not answered (a silent board).
+    mute: AtomicBool,
+    log: Mutex<Vec<ReceivedFrame>>,
+    snapshot: ArcSwap<EmulatorSnapshot>,
+}
+
+/// A running emulator on a pseudo-terminal. Dropping it stops the thread and closes the pty.
+pub struct EmulatorHandle {
+    path: String,
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for EmulatorHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EmulatorHandle").field("path", &self.path).finish()
+    }
+}
+
+impl EmulatorHandle {
+    /// Opens a pty pair and serves the firmware model on its master side.
+    #[cfg(unix)]
+    pub fn spawn(config: EmulatorConfig) -> Result<EmulatorHandle, crate::HwError> {
+        let (mut master, slave) = serialport::TTYPort::pair()
+            .map_err(|e| crate::HwError::Emulator(format!("cannot open a pseudo-terminal: {e}")))?;
+        let path = serialport::SerialPort::name(&slave)
+            .ok_or_else(|| crate::HwError::Emulator("pseudo-terminal has no path".into()))?;
+        serialport::SerialPort::set_timeout(&mut master, Duration::from_millis(2))
+            .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
+        let model = ControllerModel::new(config.clone());
+        let shared = Arc::new(Shared {
+            stop: AtomicBool::new(false),
+            estop_pressed: AtomicBool::new(false),
+            in1: AtomicBool::new(false),
+            in2: AtomicBool::new(false),
+            reply_delay_us: AtomicU64::new(0),
+            mute: AtomicBool::new(false),
+            log: Mutex::new(Vec::new()),
+            snapshot: ArcSwap::from_pointee(snapshot_of(&model, 0, 0)),
+        });
+        let sh = Arc::clone(&shared);
+        let log_commands = config.log_commands;
+        let thread = std::thread::Builder::new()
+            .name("parol6-emulator".into())
+            .spawn(move || {
+                // Keep the slave open so the master never sees a hang-up between host sessions.
+                let _slave = slave;
+                serve(master, model, &sh, log_commands);
+            })
+            .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
+        Ok(EmulatorHandle { path, shared, thread: Some(thread) })
+    }
+
+    /// Path of the slave side: open it as the serial port.
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    /// Presses (true) or releases (false) the E-stop input.
+    pub fn set_estop_pressed(&self, pressed: bool) {
+        self.shared.estop_pressed.store(pressed, Ordering::Relaxed);
+    }
+
+    /// Sets the INPUT1 / INPUT2 levels.
+    pub fn set_inputs(&self, in1: bool, in2: bool) {
+        self.shared.in1.store(in1, Ordering::Relaxed);
+        self.shared.in2.store(in2, Ordering::Relaxed);
+    }
+
+    /// Accept frames but stop answering them (true), or answer again (false).
+    pub fn set_mute(&self, mute: bool) {
+        self.shared.mute.store(mute, Ordering::Relaxed);
+    }
+
+    /// Delay added before every reply.
+    pub fn set_reply_delay(&self, delay: Duration) {
+        self.shared.reply_delay_us.store(delay.as_micros() as u64, Ordering::Relaxed);
+    }
+
+    /// Latest emulator state.
+    pub fn snapshot(&self) -> Arc<EmulatorSnapshot> {
+        self.shared.snapshot.load_full()
+    }
+
+    /// Takes (and clears) the log of received frames.
+    pub fn take_received(&self) -> Vec<ReceivedFrame> {
+        match self.shared.log.lock() {
+            Ok(mut log) => std::mem::take(&mut *log),
+            Err(poisoned) => std::mem::take(&mut *poisoned.into_inner()),
+        }
+    }
+
+    /// Stops the emulator and closes the pty (a host sees the port vanish).
+    pub fn stop(mut self) {
+        self.shutdown();
+    }
+
+    fn shutdown(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for EmulatorHandle {
+    fn drop(&mut self) {
+        self.shutdown();
+    }
+}
+
+fn snapshot_of(m: &ControllerModel, accepted: u64, rejected: u64) -> EmulatorSnapshot {
+    EmulatorSnapshot {
+        position_steps: m.position_steps(),
+        speed_steps_s: m.speed_steps_s(),
+        homed: m.homed(),
+        disabled: m.is_disabled(),
+        homing: m.is_homing(),
+        last_code: m.last_code(),
+        frames_accepted: accepted,
+        frames_rejected: rejected,
+    }
+}
+
+#[cfg(unix)]
+fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Shared, log_commands: bool) {
+    let mut parser = CommandParser::new();
+    let mut buf = [0u8; 4096];
+    let mut last = Instant::now();
+    while !sh.stop.load(Ordering::Relaxed) {
+        let n = match master.read(&mut buf) {
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
+            Err(e) => {
+                tracing::debug!("emulator read: {e}");
+                std::thread::sleep(Duration::from_millis(2));
+                0
+            }
+        };
+        model.estop_pressed = sh.estop_pressed.load(Ordering::Relaxed);
+        model.in1 = sh.in1.load(Ordering::Relaxed);
+        model.in2 = sh.in2.load(Ordering::Relaxed);
+        for &b in &buf[..n] {
+            let Some(cmd) = parser.push_byte(b) else { continue };
+            let now = Instant::now();
+            model.advance(now.duration_since(last).as_secs_f64());
+            last = now;
+            let status = model.accept(cmd, now);
+            if log_commands {
+                let mut log = match sh.log.lock() {
+                    Ok(l) => l,
+                    Err(p) => p.into_inner(),
+                };
+                if log.len() < LOG_CAP {
+                    log.push(ReceivedFrame { at: now, command: cmd });
+                }
+            }
+            let st = parser.stats();
+            sh.snapshot.store(Arc::new(snapshot_of(&model, st.accepted, st.rejected)));
+            if sh.mute.load(Ordering::Relaxed) {
+                continue;
+            }
+            let delay = sh.reply_delay_us.load(Ordering::Relaxed);
+            if delay > 0 {
+                std::thread::sleep(Duration::from_micros(delay));
+            }
+            if let Err(e) = master.write_all(&status.encode()) {
+                tracing::debug!("emulator write: {e}");
+            }
+        }
+        let now = Instant::now();
+        model.advance(now.duration_since(last).as_secs_f64());
+        last = now;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::{CommandFields, CommandFrame};
+
+    fn cmd(code: CommandCode, fields: CommandFields) -> ReceivedCommand {
+        let bytes = CommandFrame { command: code, fields }.encode().unwrap();
+        ReceivedCommand::decode(&bytes).unwrap()
+    }
+
+    fn at_standby() -> ControllerModel {
+        ControllerModel::new(EmulatorConfig::homed_at_standby())
+    }
+
+    #[test]
+    fn move_law_converges_and_reports_speed() {
+        let mut m = at_standby();
+        let mut f = CommandFields { positions_steps: STANDBY_STEPS, ..Default::default() };
+        f.positions_steps[0] += 1000;
+        let now = Instant::now();
+        let s = m.accept(cmd(CommandCode::Move, f), now);
+        // v = trunc((0 + trunc(1000 / 0.01)) / 2) = 50 000 (clamped to 50 000).
+        assert_eq!(s.speeds_steps_s[0], 50_000);
+        m.advance(0.2);
+        let p = m.position_steps()[0];
+        assert!((p - (STANDBY_STEPS[0] + 1000)).abs() <= 1, "{p}");
+        assert_eq!(s.echoed_command, 156);
+    }
+
+    #[test]
+    fn move_with_feedforward_settles_past_target() {
+        let mut m = at_standby();
+        let mut f = CommandFields { positions_steps: STANDBY_STEPS, ..Default::default() };
+        f.speeds_steps_s[1] = 1000;
+        m.accept(cmd(CommandCode::Move, f), Instant::now());
+        m.advance(0.5);
+        // Settles about v_ff/100 = 10 steps past the target.
+        let over = m.position_steps()[1] - STANDBY_STEPS[1];
+        assert!((9..=11).contains(&over), "{over}");
+    }
+
+    #[test]
+    fn jog_runs_forever_without_new_frames() {
+        let mut m = at_standby();
+        let mut f = CommandFields::default();
+        f.speeds_steps_s[2] = -2000;
+        f.speeds_steps_s[3] = 90_000;
+        let s = m.accept(cmd(CommandCode::Jog, f), Instant::now());
+        assert_eq!(s.speeds_steps_s[3], 50_000);
+        m.advance(1.0);
+        assert_eq!(m.position_steps()[2], STANDBY_STEPS[2] - 2000);
+        m.advance(1.0);
+        assert_eq!(m.position_steps()[2], STANDBY_STEPS[2] - 4000);
+    }
+
+    #[test]
+    fn disable_latches_until_enable() {
+        let mut m = at_standby();
+        m.accept(cmd(CommandCode::Disable, CommandFields::default()), Instant::now());
+        let mut f = CommandFields::default();
+        f.speeds_steps_s[0] = 1000;
+        m.accept(cmd(CommandCode::Jog, f), Instant::now());
+        m.advance(0.5);
+        assert_eq!(m.position_steps(), STANDBY_STEPS);
+        m.accept(cmd(CommandCode::Enable, CommandFields::default()), Instant::now());
+        m.accept(cmd(CommandCode::Jog, f), Instant::now());
+        m.advance(0.5);
+        assert_eq!(m.position_steps()[0], STANDBY_STEPS[0] + 500);
+    }
+
+    #[test]
+    fn idle_does_not_step_but_shows_speeds() {
+        let mut m = at_standby();
+        let mut f = CommandFields::default();
+        f.speeds_steps_s[0] = 1234;
+        let s = m.accept(cmd(CommandCode::Idle, f), Instant::now());
+        assert_eq!(s.speeds_steps_s[0], 1234);
+        m.advance(0.5);
+        assert_eq!(m.position_steps(), STANDBY_STEPS);
+    }
+
+    #[test]
+    fn homing_sets_bits_in_stages_then_standby() {
+        let mut m = ControllerModel::new(EmulatorConfig::default());
+        assert_eq!(m.status().homed_bits, 0x03);
+        m.accept(cmd(CommandCode::Home, CommandFields::default()), Instant::now());
+        m.accept(cmd(CommandCode::Idle, CommandFields::default()), Instant::now());
+        assert!(m.is_homing());
+        m.advance(0.5);
+        assert_eq!(m.homed(), [true, true, true, false, false, false]);
+        m.advance(0.2);
+        assert_eq!(m.homed(), [true, true, true, true, false, false]);
+        m.advance(0.4);
+        assert!(!m.is_homing());
+        assert_eq!(m.status().homed_bits, 0xFF);
+        assert_eq!(m.position_steps(), STANDBY_STEPS);
+    }
+
+    #[test]
+    fn homing_restarts_when_home_is_still_the_last_command_and_move_aborts_it() {
+        let mut m = ControllerModel::new(EmulatorConfig::default());
+        m.accept(cmd(CommandCode::Home, CommandFields::default()), Instant::now());
+        m.advance(1.2);
+        assert!(m.is_homing(), "restarted");
+        m.accept(cmd(CommandCode::Move, CommandFields::default()), Instant::now());
+        assert!(!m.is_homing());
+    }
+
+    #[test]
+    fn estop_and_outputs_are_reported() {
+        let mut m = at_standby();
+        m.estop_pressed = true;
+        m.in1 = true;
+        let f = CommandFields { io_bits: IO_OUT1, ..Default::default() };
+        let s = m.accept(cmd(CommandCode::Idle, f), Instant::now());
+        assert!(s.estop_pressed() && s.in1() && s.out1() && !s.out2());
+    }
+}

@@ -1,0 +1,245 @@
+//! The real `parol6_hw::Session` against the firmware emulator over a pseudo-terminal.
+//! Timeouts are generous: these tests must pass on a loaded 2-core CI machine.
+
+use std::time::{Duration, Instant};
+
+use parol6_core::parol6::standby_rad;
+use parol6_core::profile::ProfileKind;
+use parol6_hw::emulator::{EmulatorConfig, EmulatorHandle, ReceivedFrame};
+use parol6_hw::frame::CommandCode;
+use parol6_hw::session::{HomingState, LinkState, MotionState, Session, SessionConfig};
+use parol6_hw::units::{STANDBY_STEPS, limits_steps, max_speed_steps_s};
+
+const LONG: Duration = Duration::from_secs(10);
+
+fn start(config: EmulatorConfig) -> (EmulatorHandle, Session) {
+    let emu = EmulatorHandle::spawn(config).expect("emulator");
+    let session = Session::open(emu.path(), SessionConfig::default()).expect("session");
+    session.wait_connected(LONG).expect("connected");
+    (emu, session)
+}
+
+/// Every frame the host ever sent: targets within limits, zero speeds, never 69 / JOG.
+fn assert_safe(frames: &[ReceivedFrame]) {
+    let lim = limits_steps();
+    let vmax = max_speed_steps_s();
+    assert!(!frames.is_empty());
+    for f in frames {
+        let c = &f.command;
+        assert_ne!(c.code, 69);
+        assert_ne!(c.code, CommandCode::Jog.byte(), "jogging must stream MOVE targets");
+        assert!(c.command().is_some(), "unknown code {}", c.code);
+        for i in 0..6 {
+            let p = c.fields.positions_steps[i];
+            assert!((lim[i].0..=lim[i].1).contains(&p), "J{} target {p} outside {:?}", i + 1, lim[i]);
+            assert!(c.fields.speeds_steps_s[i].abs() <= vmax[i]);
+            assert_eq!(c.fields.speeds_steps_s[i], 0, "zero feed-forward");
+        }
+    }
+}
+
+fn hold_jog(session: &Session, joint: usize, fraction: f64, for_s: f64) {
+    let end = Instant::now() + Duration::from_secs_f64(for_s);
+    while Instant::now() < end {
+        session.jog(joint, fraction).expect("jog");
+        std::thread::sleep(Duration::from_millis(40));
+    }
+}
+
+/// Waits until the emulator's counters stop changing.
+fn settled(emu: &EmulatorHandle) -> [i32; 6] {
+    let mut last = emu.snapshot().position_steps;
+    let end = Instant::now() + LONG;
+    loop {
+        std::thread::sleep(Duration::from_millis(100));
+        let now = emu.snapshot().position_steps;
+        if now == last || Instant::now() > end {
+            return now;
+        }
+        last = now;
+    }
+}
+
+#[test]
+fn connects_and_reports_boot_status() {
+    let (emu, session) = start(EmulatorConfig::default());
+    let s = session.wait_until(LONG, |s| s.status_frames >= 5).expect("status");
+    assert_eq!(s.joint_steps, [0; 6]);
+    assert!(!s.all_homed());
+    assert!(!s.estop_pressed);
+    assert_eq!(s.link, LinkState::Connected);
+    assert!(s.loop_rate_hz > 0.0);
+    assert!(s.status_age().is_some());
+    // Unhomed at 0 steps: J3 is outside its limits, so motion is refused with a reason.
+    let err = session.jog(0, 0.5).expect_err("outside limits");
+    assert!(err.to_string().contains("home"), "{err}");
+    drop(session);
+    assert_safe(&emu.take_received());
+}
+
+#[test]
+fn homes_then_moves_along_the_profile() {
+    let (emu, session) = start(EmulatorConfig::default());
+    session.home_blocking().expect("homing");
+    let s = session.wait_until(LONG, |s| s.all_homed() && s.joint_steps == STANDBY_STEPS).expect("at standby");
+    assert_eq!(s.homing, HomingState::Done);
+    let mut goal = standby_rad().to_vec();
+    goal[0] += 0.3;
+    goal[1] -= 0.2;
+    goal[4] += 0.25;
+    let s = session.move_to_blocking(&goal, 0.8, ProfileKind::Trapezoidal, LONG).expect("move");
+    assert_eq!(s.motion, MotionState::Holding);
+    let expected = parol6_hw::units::joints_rad_to_steps(&goal).expect("steps");
+    let at = settled(&emu);
+    for i in 0..6 {
+        assert!((at[i] - expected[i]).abs() <= 3, "J{} {} vs {}", i + 1, at[i], expected[i]);
+    }
+    let frames = emu.take_received();
+    assert!(frames.iter().filter(|f| f.command.code == CommandCode::Home.byte()).count() >= 1);
+    assert!(frames.iter().any(|f| f.command.code == CommandCode::Move.byte()));
+    assert_safe(&frames);
+    // A goal outside the limits is refused before anything is sent.
+    let mut bad = standby_rad().to_vec();
+    bad[1] = 0.5;
+    assert!(session.move_to(&bad, 0.5, ProfileKind::JerkLimited).is_err());
+}
+
+#[test]
+fn jog_moves_and_stops_on_release_and_deadman() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    hold_jog(&session, 0, 0.5, 0.5);
+    assert!(matches!(session.snapshot().motion, MotionState::Jogging { joint: 0, .. }));
+    session.jog_release().expect("release");
+    let after_release = settled(&emu);
+    assert!(after_release[0] > STANDBY_STEPS[0] + 500, "J1 moved: {after_release:?}");
+    assert_eq!(after_release[1..], STANDBY_STEPS[1..], "other joints stay put");
+    session.wait_until(LONG, |s| s.motion == MotionState::Holding).expect("holding");
+    // Dead-man: one jog call and no refresh → stops by itself within ~200 ms.
+    session.jog(0, -1.0).expect("jog");
+    session.wait_until(LONG, |s| s.motion == MotionState::Holding).expect("dead-man stop");
+    let p1 = settled(&emu);
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(emu.snapshot().position_steps, p1, "no motion after the dead-man stop");
+    assert!(p1[0] < after_release[0]);
+    assert_safe(&emu.take_received());
+}
+
+#[test]
+fn jog_stops_at_the_joint_limit() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    // J5 jog max 8000 steps/s; the limit is 6400 steps away.
+    hold_jog(&session, 4, 1.0, 1.5);
+    session.jog_release().expect("release");
+    let at = settled(&emu);
+    assert!(at[4] <= 6400 && at[4] > 6000, "J5 {}", at[4]);
+    assert_safe(&emu.take_received());
+}
+
+#[test]
+fn estop_stops_motion_disables_and_needs_enable() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    session.jog(1, 0.5).expect("jog");
+    emu.set_estop_pressed(true);
+    let s = session.wait_until(LONG, |s| s.estop_pressed).expect("estop seen");
+    assert!(s.needs_enable);
+    session.wait_until(LONG, |s| s.last_command == Some(CommandCode::Disable)).expect("disable sent");
+    let e = emu.snapshot();
+    assert!(e.disabled, "emulator latched DISABLE");
+    assert!(session.jog(1, 0.5).is_err());
+    assert!(session.enable().is_err(), "enable refused while pressed");
+    emu.set_estop_pressed(false);
+    session.wait_until(LONG, |s| !s.estop_pressed).expect("released");
+    let err = session.jog(1, 0.5).expect_err("needs enable");
+    assert!(err.to_string().contains("enable"), "{err}");
+    session.enable().expect("enable");
+    session.wait_until(LONG, |s| !s.needs_enable && s.enabled == Some(true)).expect("enabled");
+    session.wait_until(LONG, |_| !emu.snapshot().disabled).expect("board enabled");
+    let before = settled(&emu);
+    hold_jog(&session, 1, 0.5, 0.4);
+    session.jog_release().expect("release");
+    let after = settled(&emu);
+    assert!(after[1] > before[1], "jog works again after enable");
+    assert_safe(&emu.take_received());
+}
+
+#[test]
+fn silent_board_is_link_loss_and_recovers() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    session.jog(0, 0.5).expect("jog");
+    emu.set_mute(true);
+    let s = session.wait_until(LONG, |s| s.link == LinkState::Lost).expect("lost");
+    assert!(s.fault.as_deref().unwrap_or("").contains("link lost"), "{:?}", s.fault);
+    assert!(matches!(s.motion, MotionState::Idle), "motion stopped: {:?}", s.motion);
+    assert!(session.jog(0, 0.5).is_err());
+    emu.set_mute(false);
+    session.wait_until(LONG, |s| s.link == LinkState::Connected).expect("recovered");
+    // Motion was cancelled, not resumed.
+    assert_eq!(session.snapshot().motion, MotionState::Idle);
+    assert_safe(&emu.take_received());
+}
+
+#[test]
+fn port_closed_mid_jog_is_reported_without_panic() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    session.jog(2, 0.5).expect("jog");
+    std::thread::sleep(Duration::from_millis(100));
+    emu.stop();
+    let s = session.wait_until(LONG, |s| s.link == LinkState::Lost).expect("lost");
+    assert!(s.fault.is_some());
+    assert_eq!(s.motion, MotionState::Idle);
+    assert!(session.jog(2, 0.5).is_err());
+    // Still alive and retrying; closing is clean.
+    std::thread::sleep(Duration::from_millis(1200));
+    assert_ne!(session.snapshot().link, LinkState::Closed);
+    session.close();
+}
+
+#[test]
+fn closing_leaves_the_board_with_a_zero_speed_idle_frame() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    hold_jog(&session, 5, 0.3, 0.3);
+    session.close();
+    let frames = emu.take_received();
+    let last = frames.last().expect("frames");
+    assert_eq!(last.command.code, CommandCode::Idle.byte());
+    assert_eq!(last.command.fields.speeds_steps_s, [0; 6]);
+    assert_safe(&frames);
+}
+
+#[test]
+fn outputs_and_gripper_reach_the_board() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    session.set_output(1, true).expect("out1");
+    session.set_gripper(200, 128, 500).expect("gripper");
+    let s = session.wait_until(LONG, |s| s.io[2] && s.gripper_position == 200).expect("echo");
+    assert!(!s.io[3]);
+    assert_eq!(s.gripper_current_ma, 500);
+    assert!(session.set_output(3, true).is_err());
+    assert!(session.set_gripper(10, 10, 5000).is_err());
+    emu.set_inputs(true, false);
+    session.wait_until(LONG, |s| s.io[0] && !s.io[1]).expect("inputs");
+}
+
+#[test]
+fn homing_fails_clearly_after_its_timeout() {
+    let emu =
+        EmulatorHandle::spawn(EmulatorConfig { home_duration_s: 60.0, ..EmulatorConfig::default() }).expect("emulator");
+    let cfg = SessionConfig { home_timeout: Duration::from_millis(500), ..SessionConfig::default() };
+    let session = Session::open(emu.path(), cfg).expect("session");
+    session.wait_connected(LONG).expect("connected");
+    let err = session.home_blocking().expect_err("timeout");
+    assert!(err.to_string().contains("homing failed"), "{err}");
+    assert!(matches!(session.snapshot().homing, HomingState::Failed(_)));
+}
+
+#[test]
+fn rate_is_configurable_and_checked() {
+    let emu = EmulatorHandle::spawn(EmulatorConfig::default()).expect("emulator");
+    assert!(Session::open(emu.path(), SessionConfig { rate_hz: 20.0, ..SessionConfig::default() }).is_err());
+    let session =
+        Session::open(emu.path(), SessionConfig { rate_hz: 250.0, ..SessionConfig::default() }).expect("session");
+    session.wait_connected(LONG).expect("connected");
+    let s = session.wait_until(LONG, |s| s.frames_sent >= 300).expect("frames");
+    // Loose bound only: the exact rate is measured by `parol6 bench serial`.
+    assert!(s.loop_rate_hz > 100.0, "{}", s.loop_rate_hz);
+}

@@ -46,12 +46,6 @@ const JOG_REFRESH: Duration = Duration::from_millis(60);
 /// A ghost is drawn only when the target differs from the pose by more than this (rad).
 const GHOST_MIN_DIFF_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
-/// `PAROL6_MSAA=1|2|4`: the window's multisample count instead of the viewport's default
-/// ([`crate::viewport::MSAA_SAMPLES`]); 1 is much cheaper on software rasterizers.
-pub fn msaa_override() -> Option<u32> {
-    std::env::var("PAROL6_MSAA").ok().and_then(|v| v.trim().parse::<u32>().ok()).filter(|m| matches!(m, 1 | 2 | 4))
-}
-
 /// Which robot to connect to at start.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ConnectTarget {
@@ -74,6 +68,8 @@ pub struct LaunchOptions {
     pub test_script: Option<TestScript>,
     /// When the process started (for the cold-start report).
     pub started: Instant,
+    /// MSAA sample count of the render target the 3D view draws into (the window's).
+    pub msaa_samples: u32,
 }
 
 /// The default settings file: `$PAROL6_SETTINGS`, else `$XDG_CONFIG_HOME/parol6-studio/settings.json`,
@@ -301,10 +297,8 @@ impl Parol6App {
         let sim = SimHandle::spawn(model.clone(), SimConfig::default()).context("starting the simulation")?;
         let settings = load_settings(opts.settings_path.as_deref());
         let (viewport, viewport_error) = match render_state {
-            Some(rs) => match msaa_override().map_or_else(
-                || Viewport::new(rs, &model),
-                |m| Viewport::with_target(rs, &model, m, Some(crate::viewport::DEPTH_FORMAT)),
-            ) {
+            Some(rs) => match Viewport::with_target(rs, &model, opts.msaa_samples, Some(crate::viewport::DEPTH_FORMAT))
+            {
                 Ok(mut v) => {
                     v.options = settings.view;
                     (Some(v), None)
@@ -970,6 +964,10 @@ impl eframe::App for Parol6App {
         self.frame(ui);
     }
 
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        crate::theme::clear_color()
+    }
+
     fn on_exit(&mut self) {
         self.save_settings();
         self.disconnect();
@@ -1049,6 +1047,7 @@ mod tests {
             settings_path: None,
             test_script: None,
             started: Instant::now(),
+            msaa_samples: 1,
         };
         Parol6App::new(opts, None).expect("app")
     }

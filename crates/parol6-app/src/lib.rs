@@ -8,5 +8,6 @@
 pub mod app;
 pub mod cli;
 pub mod panels;
+pub mod theme;
 pub mod ui_screenshot;
 pub mod viewport;

@@ -16,7 +16,7 @@ use crate::cli::{CliError, CliResult, print_json};
 use crate::viewport::{OffscreenRenderer, RgbaImage, write_png};
 
 /// Clear colour behind the panels (egui's dark panel fill).
-const CLEAR_SRGB: [u8; 3] = [27, 27, 27];
+const CLEAR_SRGB: [u8; 3] = crate::theme::PANEL_BG_SRGB;
 
 /// Writes RGBA8 pixels (rows top to bottom) as a PNG.
 pub fn write_rgba_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> anyhow::Result<()> {
@@ -52,10 +52,17 @@ impl HeadlessApp {
         let started = Instant::now();
         let renderer = OffscreenRenderer::new(&model, width, height).map_err(|e| anyhow::anyhow!("{e}"))?;
         let render_state = renderer.egui_render_state();
-        let opts = LaunchOptions { model, connect: None, settings_path: None, test_script: None, started };
+        let opts = LaunchOptions {
+            model,
+            connect: None,
+            settings_path: None,
+            test_script: None,
+            started,
+            msaa_samples: renderer.sample_count(),
+        };
         let app = Parol6App::new(opts, Some(&render_state))?;
         let ctx = egui::Context::default();
-        ctx.set_visuals(egui::Visuals::dark());
+        ctx.set_visuals(crate::theme::visuals());
         Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started })
     }
 
@@ -81,12 +88,8 @@ impl HeadlessApp {
             app_ms = app.perf().ui_cpu_ms;
         });
         let ppp = out.pixels_per_point;
-        let ui_pass_ms = start.elapsed().as_secs_f64() * 1000.0;
         let prims = self.ctx.tessellate(out.shapes, ppp);
         let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
-        if std::env::var_os("PAROL6_BENCH_TRACE").is_some() {
-            eprintln!("pass {ui_pass_ms:.2} ms, tessellate {:.2} ms, prims {}", ui_cpu_ms - ui_pass_ms, prims.len());
-        }
         let img = self
             .renderer
             .render_egui(&self.render_state, &prims, &out.textures_delta, ppp, CLEAR_SRGB)

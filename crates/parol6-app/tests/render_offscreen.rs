@@ -347,3 +347,91 @@ fn viewport_paint_callback_draws_the_robot_inside_egui() {
     vp.clear_trail();
     assert_eq!(vp.trail_len(), 0);
 }
+
+/// Mouse and keyboard reach the camera: left drag orbits, right drag pans, the wheel zooms,
+/// R resets.
+#[test]
+fn viewport_input_orbits_pans_zooms_and_resets() {
+    use eframe::egui;
+    let model = RobotModel::parol6();
+    let Some(r) = renderer(&model, "viewport_input") else { return };
+    let rs = r.egui_render_state();
+    let mut vp = match Viewport::with_target(&rs, &model, r.sample_count(), Some(DEPTH_FORMAT)) {
+        Ok(v) => v,
+        Err(e) => panic!("{e}"),
+    };
+    let ctx = egui::Context::default();
+    let scene = SceneFrame::from_joints(&model, &standby(), None);
+    let mut t = 0.0;
+    let mut step = |events: Vec<egui::Event>, vp: &mut Viewport| {
+        t += 1.0 / 60.0;
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+            time: Some(t),
+            focused: true,
+            events,
+            ..Default::default()
+        };
+        let out = ctx.run_ui(input, |ui| {
+            egui::CentralPanel::no_frame().show(ui, |ui| {
+                vp.ui(ui, &scene);
+            });
+        });
+        let _ = ctx.tessellate(out.shapes, out.pixels_per_point);
+    };
+    let c = egui::pos2(W as f32 / 2.0, H as f32 / 2.0);
+    let button =
+        |pos, button, pressed| egui::Event::PointerButton { pos, button, pressed, modifiers: Default::default() };
+    let drag = |step: &mut dyn FnMut(Vec<egui::Event>, &mut Viewport), vp: &mut Viewport, b| {
+        step(vec![egui::Event::PointerMoved(c)], vp);
+        step(vec![button(c, b, true)], vp);
+        for i in 1..=5 {
+            step(vec![egui::Event::PointerMoved(c + egui::vec2(12.0 * i as f32, 6.0 * i as f32))], vp);
+        }
+        step(vec![button(c + egui::vec2(60.0, 30.0), b, false)], vp);
+    };
+    let cam0 = *vp.camera();
+    drag(&mut step, &mut vp, egui::PointerButton::Primary);
+    let cam1 = *vp.camera();
+    assert!((cam1.yaw_rad - cam0.yaw_rad).abs() > 0.1, "left drag must orbit: {cam0:?} → {cam1:?}");
+    assert!((cam1.pitch_rad - cam0.pitch_rad).abs() > 0.05);
+    assert_eq!(cam1.target_m, cam0.target_m, "orbiting keeps the target");
+
+    drag(&mut step, &mut vp, egui::PointerButton::Secondary);
+    let cam2 = *vp.camera();
+    assert!((cam2.target_m - cam1.target_m).norm() > 0.01, "right drag must pan");
+    assert_eq!(cam2.yaw_rad, cam1.yaw_rad, "panning keeps the orientation");
+
+    for _ in 0..10 {
+        let wheel = egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, 40.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: Default::default(),
+        };
+        step(vec![egui::Event::PointerMoved(c), wheel], &mut vp);
+    }
+    // Let egui's smooth scrolling run out.
+    for _ in 0..90 {
+        step(vec![], &mut vp);
+    }
+    let cam3 = *vp.camera();
+    assert!(
+        cam3.distance_m < cam2.distance_m * 0.95,
+        "wheel up must zoom in: {} → {}",
+        cam2.distance_m,
+        cam3.distance_m
+    );
+
+    let key = |pressed| egui::Event::Key {
+        key: egui::Key::R,
+        physical_key: None,
+        pressed,
+        repeat: false,
+        modifiers: Default::default(),
+    };
+    step(vec![egui::Event::PointerMoved(c), key(true)], &mut vp);
+    step(vec![key(false)], &mut vp);
+    assert_eq!(*vp.camera(), cam0, "R must reset the view");
+}

@@ -49,7 +49,6 @@ pub fn run(args: &GuiArgs) -> CliResult {
         (None, false) => None,
     };
     let title = if model.is_parol6 { WINDOW_TITLE.to_string() } else { format!("{WINDOW_TITLE} — {}", model.name) };
-    let opts = LaunchOptions { model, connect, settings_path: settings_path(), test_script, started };
 
     let mut native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
@@ -61,11 +60,8 @@ pub fn run(args: &GuiArgs) -> CliResult {
         renderer: eframe::Renderer::Wgpu,
         ..Default::default()
     };
-    crate::viewport::configure_native_options(&mut native);
-    let msaa = crate::app::msaa_override();
-    if let Some(m) = msaa {
-        native.multisampling = m as u16;
-    }
+    let msaa_samples = crate::viewport::configure_native_options(&mut native);
+    let opts = LaunchOptions { model, connect, settings_path: settings_path(), test_script, started, msaa_samples };
 
     let exit_code = std::sync::Arc::new(std::sync::atomic::AtomicI32::new(0));
     let exit_slot = std::sync::Arc::clone(&exit_code);
@@ -73,7 +69,7 @@ pub fn run(args: &GuiArgs) -> CliResult {
         &title,
         native,
         Box::new(move |cc| {
-            cc.egui_ctx.set_visuals(egui::Visuals::dark());
+            cc.egui_ctx.set_visuals(crate::theme::visuals());
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
             Ok(Box::new(app))

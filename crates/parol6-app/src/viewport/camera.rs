@@ -16,6 +16,9 @@ const DEFAULT_DISTANCE_M: f32 = 0.85;
 const DISTANCE_RANGE_M: (f32, f32) = (0.05, 20.0);
 /// Pitch limit, rad (just short of the poles).
 const PITCH_LIMIT_RAD: f32 = 1.55;
+/// Views narrower than this (width / height) widen their vertical field of view so that the
+/// horizontal one stays that of this aspect: a tall, narrow view still shows the whole arm.
+const MIN_FIT_ASPECT: f32 = 1.3;
 
 /// An orbit camera looking at `target_m` from `distance_m` away.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,13 +83,24 @@ impl OrbitCamera {
         }
     }
 
+    /// Vertical field of view used for a view of `aspect` (width / height), rad: [`Self::fov_y_rad`],
+    /// widened for views narrower than 1.3 so that the horizontal field stays the same.
+    pub fn effective_fov_y_rad(&self, aspect: f32) -> f32 {
+        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        if aspect >= MIN_FIT_ASPECT {
+            return self.fov_y_rad;
+        }
+        (2.0 * ((0.5 * self.fov_y_rad).tan() * MIN_FIT_ASPECT / aspect).atan()).min(170f32.to_radians())
+    }
+
     /// Moves the target so that the scene follows a mouse drag of (`dx_px`, `dy_px`) in a view
-    /// `view_height_px` tall.
-    pub fn pan_px(&mut self, dx_px: f32, dy_px: f32, view_height_px: f32) {
-        if !(dx_px.is_finite() && dy_px.is_finite()) || view_height_px <= 0.0 {
+    /// of `view_width_px` × `view_height_px`.
+    pub fn pan_px(&mut self, dx_px: f32, dy_px: f32, view_width_px: f32, view_height_px: f32) {
+        if !(dx_px.is_finite() && dy_px.is_finite()) || view_height_px <= 0.0 || view_width_px <= 0.0 {
             return;
         }
-        let m_per_px = 2.0 * self.distance_m * (0.5 * self.fov_y_rad).tan() / view_height_px;
+        let fov = self.effective_fov_y_rad(view_width_px / view_height_px);
+        let m_per_px = 2.0 * self.distance_m * (0.5 * fov).tan() / view_height_px;
         let (right, up) = self.right_up();
         self.target_m += (-right * dx_px + up * dy_px) * m_per_px;
     }
@@ -107,9 +121,9 @@ impl OrbitCamera {
 
     /// View → clip projection for wgpu (depth 0 at near, 1 at far).
     pub fn projection(&self, aspect: f32) -> Matrix4<f32> {
-        let f = 1.0 / (0.5 * self.fov_y_rad).tan();
-        let (n, fa) = (self.near_m, self.far_m);
         let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let f = 1.0 / (0.5 * self.effective_fov_y_rad(aspect)).tan();
+        let (n, fa) = (self.near_m, self.far_m);
         Matrix4::new(
             f / aspect,
             0.0,
@@ -187,10 +201,19 @@ mod tests {
         cam.orbit(0.0, 10.0);
         assert!(cam.pitch_rad <= PITCH_LIMIT_RAD);
         let t0 = cam.target_m;
-        cam.pan_px(100.0, 0.0, 500.0);
+        cam.pan_px(100.0, 0.0, 800.0, 500.0);
         assert!((cam.target_m - t0).norm() > 1e-3);
         assert!(cam.target_m.z.is_finite());
         cam.reset();
         assert_eq!(cam, OrbitCamera::default());
+    }
+
+    #[test]
+    fn narrow_views_keep_the_horizontal_field() {
+        let cam = OrbitCamera::default();
+        assert_eq!(cam.effective_fov_y_rad(1.6), cam.fov_y_rad);
+        let half_w = |aspect: f32| (0.5 * cam.effective_fov_y_rad(aspect)).tan() * aspect;
+        assert!((half_w(0.6) - half_w(MIN_FIT_ASPECT)).abs() < 1e-5);
+        assert!(cam.effective_fov_y_rad(0.01) < std::f32::consts::PI);
     }
 }

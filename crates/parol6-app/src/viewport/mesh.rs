@@ -531,6 +531,51 @@ mod tests {
         assert!(m.visual.iter().all(|r| r.index_count == 36), "placeholders are cubes");
     }
 
+    const TETRA_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+    const TRIANGLE_DAE: &str = r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="tri" name="tri"><mesh>
+      <source id="tri-pos"><float_array id="tri-pos-array" count="9">0 0 0 2 0 0 0 2 0</float_array>
+        <technique_common><accessor source="#tri-pos-array" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="tri-vtx"><input semantic="POSITION" source="#tri-pos"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#tri-vtx" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#tri"/></node></visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"##;
+
+    #[test]
+    fn obj_and_dae_files_load_scaled_with_normals() {
+        let dir = std::env::temp_dir().join(format!("parol6-mesh-formats-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let obj = dir.join("tetra.obj");
+        let dae = dir.join("tri.dae");
+        let _ = std::fs::write(&obj, TETRA_OBJ);
+        let _ = std::fs::write(&dae, TRIANGLE_DAE);
+        let o = load_mesh_file(&obj, [0.001, 0.002, 0.003], [1.0; 4]);
+        let d = load_mesh_file(&dae, [1.0, 1.0, 1.0], [1.0; 4]);
+        let _ = std::fs::remove_dir_all(&dir);
+        let o = o.unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(o.triangle_count(), 4);
+        let (lo, hi) = bounds(&o);
+        assert!((hi[0] - 0.001).abs() < 1e-7 && (hi[1] - 0.002).abs() < 1e-7 && (hi[2] - 0.003).abs() < 1e-7);
+        assert!(lo.iter().all(|v| v.abs() < 1e-9));
+        for v in &o.vertices {
+            let n = v.normal;
+            assert!(((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-4, "{n:?}");
+        }
+        let d = d.unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(d.triangle_count(), 1);
+        let (_, hi) = bounds(&d);
+        assert!((hi[0] - 2.0).abs() < 1e-6 && (hi[1] - 2.0).abs() < 1e-6);
+    }
+
     #[test]
     fn official_stl_urdf_loads_its_meshes_when_present() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/parol6/urdf/python-api/PAROL6.urdf");
@@ -546,7 +591,8 @@ mod tests {
         assert!(m.warnings.is_empty(), "{:?}", m.warnings);
         assert!(m.visual_triangle_count() > 10_000, "{}", m.visual_triangle_count());
         // STL in metres: the base fits in a 0.3 m box.
-        let r = m.visual[0];
+        let base = model.link_index("base_link").unwrap_or_else(|| panic!("no base_link"));
+        let r = m.visual[base];
         let idx = &m.indices[r.first_index as usize..(r.first_index + r.index_count) as usize];
         let span = idx
             .iter()

@@ -34,9 +34,41 @@ pub use trail::DEFAULT_TRAIL_CAPACITY;
 
 use renderer::{FrameData, SceneGpu, SharedFrame, ViewportCallback, ViewportGpuResources};
 
-/// MSAA sample count of the 3D view. The egui window must use the same
+/// MSAA sample count of the 3D view on a GPU. The egui window must use the same
 /// (`NativeOptions::multisampling`), because the view draws into egui's render pass.
 pub const MSAA_SAMPLES: u32 = 4;
+
+/// MSAA sample count on a software rasterizer (lavapipe, llvmpipe). There 4× MSAA costs about
+/// 14 ms per 1280×800 frame for the clear and resolve alone, more than a third of the frame
+/// budget, so CPU adapters render without it unless `PAROL6_MSAA` asks for it.
+pub const MSAA_SAMPLES_CPU_ADAPTER: u32 = 1;
+
+/// The sample count for an adapter of `device_type`: `PAROL6_MSAA` when set, else
+/// [`MSAA_SAMPLES`] on GPUs and [`MSAA_SAMPLES_CPU_ADAPTER`] on software rasterizers.
+pub fn msaa_for(device_type: eframe::wgpu::DeviceType) -> u32 {
+    msaa_from_env().unwrap_or(if device_type == eframe::wgpu::DeviceType::Cpu {
+        MSAA_SAMPLES_CPU_ADAPTER
+    } else {
+        MSAA_SAMPLES
+    })
+}
+
+/// Asks wgpu which adapter a window would get (same environment rules) and returns its sample
+/// count per [`msaa_for`]. Used before the window exists, when the sample count must be fixed.
+pub fn probe_window_msaa() -> u32 {
+    use eframe::wgpu;
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+        force_fallback_adapter: false,
+        compatible_surface: None,
+        apply_limit_buckets: false,
+    }));
+    match adapter {
+        Ok(a) => msaa_for(a.get_info().device_type),
+        Err(_) => msaa_from_env().unwrap_or(MSAA_SAMPLES),
+    }
+}
 
 /// Depth buffer bits the egui window must request (`NativeOptions::depth_buffer`); egui-wgpu
 /// turns 32 into [`DEPTH_FORMAT`].
@@ -51,11 +83,17 @@ pub fn msaa_from_env() -> Option<u32> {
     std::env::var("PAROL6_MSAA").ok().and_then(|v| v.trim().parse::<u32>().ok()).filter(|m| matches!(m, 1 | 2 | 4))
 }
 
-/// Sets the window options the viewport needs: [`MSAA_SAMPLES`] and a [`DEPTH_BUFFER_BITS`]
-/// depth buffer. Call it on the `NativeOptions` before `eframe::run_native`.
-pub fn configure_native_options(options: &mut eframe::NativeOptions) {
-    options.multisampling = MSAA_SAMPLES as u16;
+/// Sets the window options the viewport needs: the sample count of [`probe_window_msaa`] and a
+/// [`DEPTH_BUFFER_BITS`] depth buffer. Call it on the `NativeOptions` before
+/// `eframe::run_native`; returns the sample count, which the [`Viewport`] must be built with.
+pub fn configure_native_options(options: &mut eframe::NativeOptions) -> u32 {
+    let samples = probe_window_msaa();
+    options.multisampling = samples as u16;
     options.depth_buffer = DEPTH_BUFFER_BITS;
+    // Dithering costs per-pixel noise math in egui's shader for a barely visible gain; on
+    // software rasterizers it is a measurable part of the frame.
+    options.dithering = false;
+    samples
 }
 
 /// Errors of the viewport and the offscreen renderer.
@@ -197,9 +235,10 @@ impl Viewport {
     /// egui's renderer. Missing or broken meshes become placeholders listed in
     /// [`Self::warnings`]; this never panics on bad files.
     ///
-    /// The window must have been created with [`configure_native_options`].
+    /// The window must have been created with [`configure_native_options`] (both honour
+    /// `PAROL6_MSAA`, see [`msaa_from_env`]).
     pub fn new(render_state: &egui_wgpu::RenderState, model: &RobotModel) -> Result<Self, ViewportError> {
-        Self::with_target(render_state, model, MSAA_SAMPLES, Some(DEPTH_FORMAT))
+        Self::with_target(render_state, model, msaa_from_env().unwrap_or(MSAA_SAMPLES), Some(DEPTH_FORMAT))
     }
 
     /// Like [`Self::new`] for a window with another sample count or depth format
@@ -216,8 +255,14 @@ impl Viewport {
         for w in &warnings {
             tracing::warn!("viewport: {w}");
         }
-        let gpu =
-            SceneGpu::new(&render_state.device, render_state.target_format, sample_count.max(1), depth_format, &meshes);
+        let gpu = SceneGpu::new(
+            &render_state.device,
+            render_state.target_format,
+            sample_count.max(1),
+            depth_format,
+            &meshes,
+            true,
+        );
         let mut frame = FrameData::new(&meshes);
         frame.set_encode_srgb(!render_state.target_format.is_srgb());
         let id = NEXT_VIEWPORT_ID.fetch_add(1, Ordering::Relaxed);
@@ -305,7 +350,6 @@ impl Viewport {
         }
 
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, renderer::BACKGROUND_EGUI);
         painter.add(egui_wgpu::Callback::new_paint_callback(
             rect,
             ViewportCallback { id: self.id, frame: Arc::clone(&self.shared) },
@@ -323,7 +367,7 @@ impl Viewport {
             || response.dragged_by(egui::PointerButton::Middle)
             || (response.dragged_by(egui::PointerButton::Primary) && shift)
         {
-            self.camera.pan_px(delta.x, delta.y, rect.height());
+            self.camera.pan_px(delta.x, delta.y, rect.width(), rect.height());
         }
         if response.double_clicked() {
             self.camera.reset();

@@ -13,7 +13,7 @@ use parol6_core::RobotModel;
 use super::camera::OrbitCamera;
 use super::mesh::ModelMeshes;
 use super::renderer::{BACKGROUND_SRGB, FrameData, SceneGpu};
-use super::{DEPTH_FORMAT, MSAA_SAMPLES, SceneFrame, ViewportError, ViewportOptions};
+use super::{DEPTH_FORMAT, SceneFrame, ViewportError, ViewportOptions};
 
 /// Colour format of the offscreen target (gamma-space bytes, like egui's usual window format).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -110,13 +110,14 @@ pub struct OffscreenRenderer {
 impl OffscreenRenderer {
     /// Opens a headless device (any backend wgpu finds; `WGPU_BACKEND` and `WGPU_ADAPTER_NAME`
     /// narrow it), uploads the model's meshes and creates `width`×`height` targets with
-    /// [`MSAA_SAMPLES`] (or `PAROL6_MSAA`, see [`super::msaa_from_env`]).
+    /// the adapter's sample count ([`super::msaa_for`]: `PAROL6_MSAA`, else [`super::MSAA_SAMPLES`] on
+    /// a GPU and 1 on a software rasterizer).
     pub fn new(model: &RobotModel, width: u32, height: u32) -> Result<Self, ViewportError> {
-        Self::with_sample_count(model, width, height, super::msaa_from_env().unwrap_or(MSAA_SAMPLES))
+        Self::with_sample_count(model, width, height, 0)
     }
 
     /// Like [`Self::new`] with `samples` MSAA samples (1, 2 or 4; falls back to 1 where the
-    /// adapter cannot). [`Self::sample_count`] tells what was used.
+    /// adapter cannot; 0 = the adapter's default). [`Self::sample_count`] tells what was used.
     pub fn with_sample_count(model: &RobotModel, width: u32, height: u32, samples: u32) -> Result<Self, ViewportError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
@@ -137,10 +138,11 @@ impl OffscreenRenderer {
         check_size(width, height, max)?;
         let flags = adapter.get_texture_format_features(OFFSCREEN_FORMAT).flags;
         let depth_flags = adapter.get_texture_format_features(DEPTH_FORMAT).flags;
+        let samples = if samples == 0 { super::msaa_for(adapter.get_info().device_type) } else { samples };
         let supported = flags.sample_count_supported(samples) && depth_flags.sample_count_supported(samples);
         let samples = if samples > 1 && supported { samples } else { 1 };
         let meshes = ModelMeshes::build(model);
-        let scene = SceneGpu::new(&device, OFFSCREEN_FORMAT, samples, Some(DEPTH_FORMAT), &meshes);
+        let scene = SceneGpu::new(&device, OFFSCREEN_FORMAT, samples, Some(DEPTH_FORMAT), &meshes, false);
         let mut frame = FrameData::new(&meshes);
         frame.set_encode_srgb(!OFFSCREEN_FORMAT.is_srgb());
         let targets = Targets::new(&device, width, height, samples);
@@ -179,7 +181,7 @@ impl OffscreenRenderer {
         &self.queue
     }
 
-    /// MSAA samples of the targets ([`MSAA_SAMPLES`], or 1 where the adapter cannot).
+    /// MSAA samples of the targets ([`super::MSAA_SAMPLES`], or 1 where the adapter cannot).
     pub fn sample_count(&self) -> u32 {
         self.samples
     }
@@ -302,7 +304,9 @@ impl OffscreenRenderer {
                 msaa_samples: self.samples,
                 depth_stencil_format: Some(DEPTH_FORMAT),
                 dithering: false,
-                predictable_texture_filtering: false,
+                // Filtering in egui's shader: reproducible images, and on llvmpipe about half
+                // the cost of its sRGB hardware sampling (measured on a full-window panel).
+                predictable_texture_filtering: true,
             },
         );
         egui_wgpu::RenderState {

@@ -67,8 +67,24 @@ struct Globals {
     // x: newest trail slot, y: trail points, z: trail capacity
     trail: vec4<u32>,
     trail_rgba: vec4<f32>,
+    // The view's background, already in the target's encoding.
+    background: vec4<f32>,
 };
 @group(0) @binding(0) var<uniform> g: Globals;
+
+// Background: one triangle covering the viewport, a constant colour (cheap on software
+// rasterizers, unlike a textured egui rectangle).
+@vertex
+fn vs_background(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    let x = f32(i32(vi & 1u) * 4 - 1);
+    let y = f32(i32(vi >> 1u) * 4 - 1);
+    return vec4<f32>(x, y, 1.0, 1.0);
+}
+
+@fragment
+fn fs_background() -> @location(0) vec4<f32> {
+    return g.background;
+}
 
 // Linear → sRGB with three square roots instead of pow (within ~0.5 % of the exact curve;
 // pow is expensive on software rasterizers).
@@ -194,6 +210,7 @@ pub struct Globals {
     params: [f32; 4],
     trail: [u32; 4],
     trail_rgba: [f32; 4],
+    background: [f32; 4],
 }
 
 /// Per-draw instance: model matrix (columns), tint (rgb linear, a = strength), style (x = alpha).
@@ -340,6 +357,11 @@ impl FrameData {
             params: [if self.encode_srgb { 1.0 } else { 0.0 }, GRID_HALF_EXTENT_M, 0.0, 0.0],
             trail: [self.trail.newest_slot() as u32, self.trail.len() as u32, self.trail.capacity() as u32, 0],
             trail_rgba: [tr[0], tr[1], tr[2], TRAIL_ALPHA],
+            background: {
+                let c = BACKGROUND_SRGB.map(|v| v as f32 / 255.0);
+                let c = if self.encode_srgb { c } else { srgb3_to_linear(c) };
+                [c[0], c[1], c[2], 1.0]
+            },
         };
         self.draw = DrawFlags {
             ghost,
@@ -358,6 +380,8 @@ fn c_trail() -> [f32; 3] {
 /// GPU resources of one viewport's scene. Created once; `prepare` only writes into its
 /// buffers.
 pub struct SceneGpu {
+    /// Draws the background itself (inside egui); `None` when the render pass clears to it.
+    background_pipeline: Option<wgpu::RenderPipeline>,
     mesh_pipeline: wgpu::RenderPipeline,
     overlay_pipeline: wgpu::RenderPipeline,
     axes_pipeline: wgpu::RenderPipeline,
@@ -431,13 +455,16 @@ const ALPHA_BLEND: wgpu::BlendState = wgpu::BlendState {
 
 impl SceneGpu {
     /// Creates the pipelines for a `color_format` target with `sample_count` samples and an
-    /// optional depth buffer, and uploads `meshes` once.
+    /// optional depth buffer, and uploads `meshes` once. With `draw_background` the scene
+    /// paints its own background (inside egui); without, the caller clears to
+    /// [`BACKGROUND_SRGB`].
     pub fn new(
         device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
         sample_count: u32,
         depth_format: Option<wgpu::TextureFormat>,
         meshes: &ModelMeshes,
+        draw_background: bool,
     ) -> Self {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("parol6 viewport shader"),
@@ -599,6 +626,21 @@ impl SceneGpu {
             Topo::LineStrip,
         );
 
+        let background_pipeline = draw_background.then(|| {
+            make(
+                PipelineKind {
+                    label: "parol6 background",
+                    depth_write: false,
+                    depth_compare: Cmp::Always,
+                    blend: None,
+                    cull: None,
+                },
+                "vs_background",
+                "fs_background",
+                &[],
+                Topo::TriangleList,
+            )
+        });
         let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("parol6 mesh vertices"),
             contents: bytemuck::cast_slice(&meshes.vertices),
@@ -630,6 +672,7 @@ impl SceneGpu {
             mapped_at_creation: false,
         });
         Self {
+            background_pipeline,
             mesh_pipeline,
             overlay_pipeline,
             axes_pipeline,
@@ -685,6 +728,10 @@ impl SceneGpu {
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         let l = self.visual.len() as u32;
         pass.set_bind_group(0, &self.bind_group, &[]);
+        if let Some(bg) = &self.background_pipeline {
+            pass.set_pipeline(bg);
+            pass.draw(0..3, 0..1);
+        }
         pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
         pass.set_vertex_buffer(1, self.instance_buffer.slice(..));
         pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);

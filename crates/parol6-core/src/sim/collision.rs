@@ -7,8 +7,9 @@
 //! tests). Links on the root frame are not tested against the ground (they stand on it).
 
 use nalgebra::Isometry3;
+use rapier3d::parry::bounding_volume::{Aabb, BoundingVolume};
 use rapier3d::parry::query;
-use rapier3d::prelude::SharedShape;
+use rapier3d::prelude::{Pose, SharedShape};
 
 use super::multibody::{convex_shape, pose_from_iso};
 use crate::model::RobotModel;
@@ -137,15 +138,26 @@ impl CollisionGuard {
         self.ground_links.iter().map(|&l| self.link_names[l].clone()).collect()
     }
 
-    fn links_touch(&self, poses: &[Isometry3<f64>], a: usize, b: usize) -> bool {
-        for pa in self.pieces.iter().filter(|p| p.link == a) {
-            let Some(wa) = poses.get(a) else { continue };
-            let ia = pose_from_iso(&(wa * pa.local));
-            for pb in self.pieces.iter().filter(|p| p.link == b) {
-                let Some(wb) = poses.get(b) else { continue };
-                let ib = pose_from_iso(&(wb * pb.local));
-                if query::intersection_test(&ia, pa.shape.as_ref(), &ib, pb.shape.as_ref())
-                    .is_ok_and(|r| r.intersecting)
+    /// World pose and bounding box of every piece at link poses `poses`.
+    fn place(&self, poses: &[Isometry3<f64>]) -> Vec<Option<(Pose, Aabb)>> {
+        self.pieces
+            .iter()
+            .map(|p| {
+                let w = pose_from_iso(&(poses.get(p.link)? * p.local));
+                Some((w, p.shape.compute_aabb(&w)))
+            })
+            .collect()
+    }
+
+    fn links_touch(&self, placed: &[Option<(Pose, Aabb)>], a: usize, b: usize) -> bool {
+        for (i, pa) in self.pieces.iter().enumerate().filter(|(_, p)| p.link == a) {
+            let Some((wa, ba)) = &placed[i] else { continue };
+            for (j, pb) in self.pieces.iter().enumerate().filter(|(_, p)| p.link == b) {
+                let Some((wb, bb)) = &placed[j] else { continue };
+                // cheap box test first; the exact convex test only for overlapping boxes
+                if ba.intersects(bb)
+                    && query::intersection_test(wa, pa.shape.as_ref(), wb, pb.shape.as_ref())
+                        .is_ok_and(|r| r.intersecting)
                 {
                     return true;
                 }
@@ -154,13 +166,12 @@ impl CollisionGuard {
         false
     }
 
-    fn below_ground(&self, poses: &[Isometry3<f64>], l: usize) -> bool {
-        self.pieces.iter().filter(|p| p.link == l).any(|p| {
-            poses.get(l).is_some_and(|w| {
-                let aabb = p.shape.compute_aabb(&pose_from_iso(&(w * p.local)));
-                aabb.mins.z < 0.0
-            })
-        })
+    fn below_ground(&self, placed: &[Option<(Pose, Aabb)>], l: usize) -> bool {
+        // parry's boxes of convex primitives are tight, so the lowest point is exact
+        self.pieces
+            .iter()
+            .enumerate()
+            .any(|(i, p)| p.link == l && placed[i].as_ref().is_some_and(|(_, bb)| bb.mins.z < 0.0))
     }
 
     /// First collision at joint values `q` (link pairs first, then the ground), or `None`.
@@ -171,8 +182,9 @@ impl CollisionGuard {
 
     /// Like [`CollisionGuard::check`] from link poses (order of [`RobotModel::links`]).
     pub fn check_poses(&self, poses: &[Isometry3<f64>]) -> Option<CollisionReport> {
+        let placed = self.place(poses);
         for &(a, b) in &self.pairs {
-            if self.links_touch(poses, a, b) {
+            if self.links_touch(&placed, a, b) {
                 return Some(CollisionReport {
                     link_a: self.link_names[a].clone(),
                     link_b: self.link_names[b].clone(),
@@ -180,7 +192,7 @@ impl CollisionGuard {
             }
         }
         for &l in &self.ground_links {
-            if self.below_ground(poses, l) {
+            if self.below_ground(&placed, l) {
                 return Some(CollisionReport { link_a: self.link_names[l].clone(), link_b: GROUND.to_string() });
             }
         }
@@ -189,17 +201,17 @@ impl CollisionGuard {
 
     /// Every colliding pair at `q` (for diagnostics and tests).
     pub fn all_contacts(&self, model: &RobotModel, q: &[f64]) -> Vec<CollisionReport> {
-        let poses = model.link_poses(q);
+        let placed = self.place(&model.link_poses(q));
         let mut out: Vec<CollisionReport> = self
             .pairs
             .iter()
-            .filter(|&&(a, b)| self.links_touch(&poses, a, b))
+            .filter(|&&(a, b)| self.links_touch(&placed, a, b))
             .map(|&(a, b)| CollisionReport { link_a: self.link_names[a].clone(), link_b: self.link_names[b].clone() })
             .collect();
         out.extend(
             self.ground_links
                 .iter()
-                .filter(|&&l| self.below_ground(&poses, l))
+                .filter(|&&l| self.below_ground(&placed, l))
                 .map(|&l| CollisionReport { link_a: self.link_names[l].clone(), link_b: GROUND.to_string() }),
         );
         out
@@ -216,6 +228,41 @@ impl CollisionGuard {
             let t = duration * i as f64 / samples as f64;
             let s = mv.sample(t);
             if let Some(c) = self.check(model, &s.q) {
+                return Some((c, t));
+            }
+        }
+        None
+    }
+
+    /// First collision along a jog from `from` to `to` where each joint moves independently at
+    /// `speed[k]` (rad/s) until it arrives, with the time (s) at which it occurs.
+    pub fn check_jog(
+        &self,
+        model: &RobotModel,
+        from: &[f64],
+        to: &[f64],
+        speed: &[f64],
+    ) -> Option<(CollisionReport, f64)> {
+        let n = from.len().min(to.len()).min(speed.len());
+        let dist = (0..n).map(|k| (to[k] - from[k]).abs()).fold(0.0, f64::max);
+        let duration = (0..n)
+            .filter(|&k| speed[k] > 0.0 && speed[k].is_finite())
+            .map(|k| (to[k] - from[k]).abs() / speed[k])
+            .fold(0.0, f64::max);
+        // every moving joint advances at most SWEEP_STEP between two samples
+        let travel = (0..n)
+            .filter(|&k| to[k] != from[k])
+            .map(|k| if speed[k] > 0.0 && speed[k].is_finite() { speed[k] * duration } else { dist })
+            .fold(0.0, f64::max);
+        let samples = ((travel / SWEEP_STEP).ceil() as usize).clamp(1, 1_000_000);
+        let mut q = to.to_vec();
+        for i in 0..=samples {
+            let t = duration * i as f64 / samples as f64;
+            for k in 0..n {
+                let reach = speed[k] * t;
+                q[k] = from[k] + (to[k] - from[k]).clamp(-reach, reach);
+            }
+            if let Some(c) = self.check(model, &q) {
                 return Some((c, t));
             }
         }

@@ -30,7 +30,7 @@ mod thread;
 pub use collision::{CollisionGuard, CollisionReport};
 pub use dynamics::{InverseDynamics, JointTorques};
 pub use multibody::{MotorGains, Physics};
-pub use thread::{SimHandle, SimStats};
+pub use thread::{SimHandle, SimStats, thread_cpu_time_ns};
 
 /// How the joints move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -75,7 +75,8 @@ impl Default for SimConfig {
 /// A command to the simulation. Joint vectors are in chain order, rad.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SimCommand {
-    /// Move toward these joint values at each joint's speed limit (jogging).
+    /// Move toward these joint values, each joint at its speed limit (jogging); the path is
+    /// checked for collisions like a move's.
     SetJointTargets(Vec<f64>),
     /// A synchronised profiled move to `goal`.
     MoveTo {
@@ -214,6 +215,8 @@ pub struct Simulation {
     qd_prev: Vec<f64>,
     /// Actuator speed saturation per joint, rad/s ([`speed_caps`]).
     speed_cap: Vec<f64>,
+    /// Speed at which jog targets are approached, rad/s (each joint's speed limit).
+    jog_speed: Vec<f64>,
     /// Measured joint acceleration, low-passed.
     qdd_filt: Vec<f64>,
     steps: u64,
@@ -312,6 +315,7 @@ impl Simulation {
             ff: vec![0.0; n],
             qd_prev: vec![0.0; n],
             speed_cap: speed_caps(&model),
+            jog_speed: motion_caps(&model).0,
             qdd_filt: vec![0.0; n],
             steps: 0,
             collision: None,
@@ -409,11 +413,20 @@ impl Simulation {
         Ok(t)
     }
 
+    /// Where a new move or jog starts: the setpoint, or under torque control the joints.
+    fn start_q(&self) -> Vec<f64> {
+        if matches!(self.control, Control::Torque) {
+            self.model.limits.iter().zip(&self.q).map(|(l, &v)| l.clamp(v)).collect()
+        } else {
+            self.sp_q.clone()
+        }
+    }
+
     /// Plans and checks a profiled move from the current setpoint to `goal`.
     fn plan_move(&self, goal: &[f64], speed_fraction: f64, kind: ProfileKind) -> Result<JointMove, SimError> {
         let goal = self.model.limits.enforce(goal, self.config.policy)?;
         let (v, a) = motion_caps(&self.model);
-        let start = self.model.limits.enforce(&self.sp_q, LimitPolicy::Clamp)?;
+        let start = self.model.limits.enforce(&self.start_q(), LimitPolicy::Clamp)?;
         let mv = JointMove::plan(&start, &goal, &v, &a, speed_fraction, kind)?;
         if self.config.check_collisions
             && let Some((c, at_s)) = self.guard.check_move(&self.model, &mv)
@@ -427,7 +440,12 @@ impl Simulation {
     pub fn apply(&mut self, cmd: SimCommand) -> Result<(), SimError> {
         match cmd {
             SimCommand::SetJointTargets(q) => {
-                let t = self.check_target(&q)?;
+                let t = self.model.limits.enforce(&q, self.config.policy)?;
+                if self.config.check_collisions
+                    && let Some((c, at_s)) = self.guard.check_jog(&self.model, &self.start_q(), &t, &self.jog_speed)
+                {
+                    return Err(SimError::Collision { link_a: c.link_a, link_b: c.link_b, at_s });
+                }
                 self.leave_torque_control();
                 self.target_q = t;
                 self.control = Control::Jog;
@@ -530,7 +548,7 @@ impl Simulation {
             Control::Jog => {
                 let dt = self.dt_s;
                 for (i, l) in self.model.limits.iter().enumerate() {
-                    let vmax = if l.max_velocity.is_finite() && l.max_velocity > 0.0 { l.max_velocity } else { 2.0 };
+                    let vmax = self.jog_speed[i];
                     let step = (self.target_q[i] - self.sp_q[i]).clamp(-vmax * dt, vmax * dt);
                     let new_qd = step / dt;
                     self.sp_qdd[i] = (new_qd - self.sp_qd[i]) / dt;
@@ -577,7 +595,6 @@ impl Simulation {
                 }
                 self.physics.stop_at_limits(&self.speed_cap, self.dt_s);
                 self.physics.step();
-                self.physics.project_into_limits();
                 self.physics.clamp_joint_velocities(&self.speed_cap);
                 self.qd_prev.copy_from_slice(&self.qd);
                 self.physics.read_state(&mut self.q, &mut self.qd);

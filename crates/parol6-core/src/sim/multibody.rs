@@ -17,9 +17,10 @@ use crate::model::{JointKind, RobotModel, Shape};
 pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Solver iterations per step. The multibody's own dynamics are exact in reduced coordinates;
-/// the iterations only resolve motors, limits and ground contacts, which converge in one at
-/// 1 kHz (rapier's default of 4 costs 3× the step time for no measurable gain here).
-pub const SOLVER_ITERATIONS: usize = 2;
+/// the iterations only resolve motors, limits and ground contacts. One keeps the step cheap
+/// (rapier's default of 4 costs about 3×); the few mrad a hard push can then pass a limit by
+/// are taken back by the end stops ([`Physics::project_into_limits`]).
+pub const SOLVER_ITERATIONS: usize = 1;
 
 /// Position-motor gains (rapier's acceleration-based model: per unit of effective inertia).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -253,6 +254,11 @@ impl Physics {
     /// Sets the number of solver iterations per step (at least 1).
     pub fn set_solver_iterations(&mut self, n: usize) {
         self.world.integration_parameters.num_solver_iterations = n.max(1);
+    }
+
+    /// rapier's integration parameters (solver tuning).
+    pub fn integration_parameters_mut(&mut self) -> &mut IntegrationParameters {
+        &mut self.world.integration_parameters
     }
 
     /// Motor gains in use.
@@ -521,9 +527,10 @@ impl Physics {
         moved
     }
 
-    /// One physics step.
+    /// One physics step, then the rigid end stops ([`Physics::project_into_limits`]).
     pub fn step(&mut self) {
         self.world.step();
+        self.project_into_limits();
     }
 
     /// World pose of chain body `k` (0 = root), as rapier sees it.

@@ -1,6 +1,6 @@
 //! Unit tests of the simulation core (deterministic: no thread, no wall-clock assertions).
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3};
 use rand::{Rng, SeedableRng};
 
 use super::dynamics::body_inertials;
@@ -236,7 +236,7 @@ fn jog_targets_move_at_the_speed_limit() {
     goal[0] += 0.5;
     s.apply(SimCommand::SetJointTargets(goal.clone())).expect("in range");
     s.step();
-    let v = s.model().limits.get(0).expect("J1").max_velocity;
+    let v = motion_caps(s.model()).0[0];
     assert!((s.qd()[0] - v).abs() < 1e-9, "{} vs {v}", s.qd()[0]);
     run_s(&mut s, 0.5 / v + 0.01);
     assert!(max_abs_diff(s.q(), &goal) < 1e-12);
@@ -375,11 +375,14 @@ fn known_collisions_are_found_and_named() {
 fn colliding_targets_are_refused() {
     let mut s = sim(SimMode::Dynamic);
     for q in [Q_L1_L6, Q_BASE_L5, Q_GROUND] {
-        for cmd in [SimCommand::SetJointTargets(q.to_vec()), SimCommand::Teleport(q.to_vec())] {
-            match s.apply(cmd) {
-                Err(SimError::Collision { at_s, .. }) => assert_eq!(at_s, 0.0),
-                other => panic!("expected a collision refusal, got {other:?}"),
-            }
+        match s.apply(SimCommand::Teleport(q.to_vec())) {
+            Err(SimError::Collision { at_s, .. }) => assert_eq!(at_s, 0.0),
+            other => panic!("expected a collision refusal, got {other:?}"),
+        }
+        // a jog target: refused at the latest when the path reaches it
+        match s.apply(SimCommand::SetJointTargets(q.to_vec())) {
+            Err(SimError::Collision { at_s, .. }) => assert!(at_s >= 0.0),
+            other => panic!("expected a collision refusal, got {other:?}"),
         }
     }
     let free = vec![0.3, -1.1, 2.9, 0.1, 0.2, 1.0];
@@ -411,6 +414,22 @@ fn a_move_through_a_collision_is_refused_with_the_time() {
     let mut back = start.clone();
     back[1] = -1.0;
     s.apply(SimCommand::MoveTo { goal: back, speed_fraction: 0.5, kind: ProfileKind::Trapezoidal }).expect("free");
+}
+
+#[test]
+fn a_jog_through_a_collision_is_refused() {
+    let mut s = sim(SimMode::Kinematic);
+    let start = vec![1.2781498, -1.2, 2.6772428, 0.3309554, 0.6916926, 1.1726027];
+    s.apply(SimCommand::Teleport(start.clone())).expect("free start");
+    let mut through = start.clone();
+    through[1] = -0.0653485; // the wrist ends below the ground
+    let err = s.apply(SimCommand::SetJointTargets(through)).expect_err("collides");
+    let SimError::Collision { link_b, at_s, .. } = err else { panic!("expected a collision") };
+    assert_eq!(link_b, collision::GROUND);
+    assert!(at_s > 0.0);
+    let mut near = start.clone();
+    near[1] = -1.1;
+    s.apply(SimCommand::SetJointTargets(near)).expect("clear jog");
 }
 
 #[test]
@@ -616,6 +635,12 @@ fn applied_torques_move_the_arm_and_gravity_compensation_holds_it() {
     run_s(&mut s, 0.2);
     assert!(s.qd()[0] > 0.05, "J1 speed {}", s.qd()[0]);
     assert!(s.q()[0] > q0[0] + 0.005);
+    // a move planned now starts where the arm is, not where the motors last were
+    let here = s.q().to_vec();
+    s.apply(SimCommand::MoveTo { goal: q0.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal })
+        .expect("move");
+    s.step();
+    assert!(max_abs_diff(s.q(), &here) < 0.01, "jumped from {here:?} to {:?}", s.q());
     // a position command takes the motors back
     s.apply(SimCommand::Stop).expect("stop");
     let here = s.q().to_vec();
@@ -664,5 +689,4 @@ fn inertials_merge_links_on_the_same_frame() {
     let total: f64 = b.iter().flatten().map(|i| i.mass_kg).sum();
     let urdf: f64 = model.links.iter().filter_map(|l| l.inertial.as_ref()).map(|i| i.mass_kg).sum();
     assert!((total - urdf).abs() < 1e-12);
-    let _ = Vector3::<f64>::zeros();
 }

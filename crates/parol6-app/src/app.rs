@@ -26,7 +26,7 @@ use crate::panels::joints::JointsPanel;
 use crate::panels::status_bar::StatusBar;
 use crate::panels::tcp::TcpPanel;
 use crate::panels::{
-    AppCommand, LinkCommand, Notice, Panel, PanelContext, PerfStats, RobotState, Settings, StateSource,
+    AppCommand, LinkCommand, Notice, Panel, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource,
 };
 use crate::viewport::{SceneFrame, Viewport};
 
@@ -277,6 +277,8 @@ pub struct Parol6App {
     connection: ConnectionPanel,
     status: StatusBar,
     perf: PerfStats,
+    /// Readout state and perf figures, and when they were taken (see `PanelContext::readout`).
+    readout: Option<(Instant, RobotState, PerfStats)>,
     frame_starts: VecDeque<Instant>,
     notices: Vec<Notice>,
     last_sim_error_id: u64,
@@ -322,6 +324,7 @@ impl Parol6App {
             connection: ConnectionPanel::default(),
             status: StatusBar,
             perf: PerfStats::default(),
+            readout: None,
             frame_starts: VecDeque::new(),
             notices: Vec::new(),
             last_sim_error_id: 0,
@@ -520,6 +523,19 @@ impl Parol6App {
         }
         self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);
 
+        let refresh = match &self.readout {
+            None => true,
+            Some((at, shown, _)) => {
+                !robot.moving || shown.source != robot.source || at.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
+            }
+        };
+        if refresh {
+            self.readout = Some((t0, robot.clone(), self.perf.clone()));
+        }
+        let (readout, readout_perf) = match &self.readout {
+            Some((_, r, p)) => (r, p),
+            None => (&robot, &self.perf),
+        };
         let mut preview: Option<Vec<f64>> = None;
         let mut commands = std::mem::take(&mut self.commands);
         let mut notices = std::mem::take(&mut self.notices);
@@ -527,10 +543,11 @@ impl Parol6App {
             let mut pctx = PanelContext {
                 model: &self.model,
                 robot: &robot,
+                readout,
                 settings: &mut self.settings,
                 commands: &mut commands,
                 notices: &mut notices,
-                perf: &self.perf,
+                perf: readout_perf,
                 link: link_view.as_ref(),
                 preview: &mut preview,
             };
@@ -1068,6 +1085,7 @@ mod tests {
             let mut pctx = PanelContext {
                 model: &app.model,
                 robot: &robot,
+                readout: &robot,
                 settings: &mut app.settings,
                 commands: &mut commands,
                 notices: &mut notices,

@@ -1,8 +1,10 @@
 //! # parol6-core
 //!
 //! The robot itself, without GUI or serial: URDF → [`model::RobotModel`], forward kinematics,
-//! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones
-//! ([`limits`]), PAROL6 facts ([`parol6`]).
+//! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones with
+//! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
+//! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
+//! the PAROL6 facts of the reference pack ([`parol6`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.

@@ -151,7 +151,7 @@ impl ConnectionPanel {
                 }
                 let zone = ctx.robot.zones.get(i).map(|z| z.zone).unwrap_or(LimitZone::Safe);
                 ui.label(
-                    egui::RichText::new(ctx.settings.unit.fmt(ctx.robot.q.get(i).copied().unwrap_or(0.0)))
+                    egui::RichText::new(ctx.settings.unit.fmt(ctx.readout.q.get(i).copied().unwrap_or(0.0)))
                         .monospace()
                         .color(zone_color(zone)),
                 );

@@ -146,12 +146,18 @@ impl JointsPanel {
         if let Some(v) = changed {
             self.set_joint(i, v, ctx);
         }
+        // numeric text from the readout state (see `PanelContext::readout`)
+        let q_text = ctx.readout.q.get(i).copied().unwrap_or(q);
+        let qd_text = ctx.readout.qd.get(i).copied().unwrap_or(qd);
+        let report_text = ctx.readout.zones.get(i).copied();
         ui.horizontal(|ui| {
             ui.add_space(20.0);
             let w = (ui.available_width() - 150.0).max(60.0);
             protection_bar(ui, w, limit.as_ref(), q, self.edit[i]);
-            ui.label(egui::RichText::new(unit.fmt(q)).monospace().small()).on_hover_text("measured position");
-            if let Some(t) = report.and_then(|r| r.time_to_limit_s).filter(|t| *t < TTL_SHOW_MAX_S && qd.abs() > 1e-4) {
+            ui.label(egui::RichText::new(unit.fmt(q_text)).monospace().small()).on_hover_text("measured position");
+            if let Some(t) =
+                report_text.and_then(|r| r.time_to_limit_s).filter(|t| *t < TTL_SHOW_MAX_S && qd_text.abs() > 1e-4)
+            {
                 ui.label(egui::RichText::new(format!("limit in {t:.1} s")).small().color(zone_color(zone)))
                     .on_hover_text("predicted time to reach the limit at the current speed");
             }

@@ -234,6 +234,9 @@ pub enum LinkCommand {
     Jog(Option<(usize, i8)>),
 }
 
+/// Refresh rate of numeric readouts while the arm moves, Hz.
+pub const READOUT_HZ: f64 = 15.0;
+
 /// Performance figures shown in the status bar.
 #[derive(Debug, Clone, Default)]
 pub struct PerfStats {
@@ -266,15 +269,19 @@ pub struct Notice {
 pub struct PanelContext<'a> {
     /// The robot.
     pub model: &'a RobotModel,
-    /// Shown state.
+    /// Shown state (live: sliders, LEDs, bars, the 3D view).
     pub robot: &'a RobotState,
+    /// The state for numeric readouts: `robot`, refreshed at [`READOUT_HZ`] while the arm
+    /// moves and at once when it stops. Text that changes every frame costs a fresh text layout
+    /// every frame; nobody reads digits faster than this anyway.
+    pub readout: &'a RobotState,
     /// Persistent settings.
     pub settings: &'a mut Settings,
     /// Commands to execute after the UI pass.
     pub commands: &'a mut Vec<AppCommand>,
     /// Notices to show.
     pub notices: &'a mut Vec<Notice>,
-    /// Performance figures.
+    /// Performance figures (refreshed with [`PanelContext::readout`]).
     pub perf: &'a PerfStats,
     /// Serial link status, when a hardware session is open.
     pub link: Option<&'a connection::LinkView>,

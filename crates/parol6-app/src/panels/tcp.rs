@@ -18,12 +18,12 @@ pub struct TcpPanel {
 impl TcpPanel {
     fn manipulability(&mut self, ctx: &PanelContext<'_>) -> Manipulability {
         if let Some((q, m)) = &self.cache
-            && q == &ctx.robot.q
+            && q == &ctx.readout.q
         {
             return *m;
         }
-        let m = ctx.model.manipulability(&ctx.robot.q);
-        self.cache = Some((ctx.robot.q.clone(), m));
+        let m = ctx.model.manipulability(&ctx.readout.q);
+        self.cache = Some((ctx.readout.q.clone(), m));
         m
     }
 
@@ -66,7 +66,7 @@ impl Panel for TcpPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let tcp = ctx.robot.tcp;
+        let tcp = ctx.readout.tcp;
         let unit = ctx.settings.unit;
         ui.heading(self.title());
         egui::Grid::new("tcp_pose").num_columns(4).spacing([12.0, 2.0]).show(ui, |ui| {

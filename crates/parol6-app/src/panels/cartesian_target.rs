@@ -32,8 +32,9 @@ fn solution_label(s: &IkSolution) -> String {
 
 impl CartesianTargetPanel {
     fn load_from_tcp(&mut self, ctx: &PanelContext<'_>) {
-        self.xyz_mm = ctx.robot.tcp.position_m.map(|v| v * 1000.0);
-        self.rpy = ctx.robot.tcp.rpy_rad;
+        // 2 decimals are shown: mm, and degrees (5e-3° ≈ 8.7e-5 rad)
+        self.xyz_mm = ctx.robot.tcp.position_m.map(|v| super::zero_if_below(v * 1000.0, 5e-3));
+        self.rpy = ctx.robot.tcp.rpy_rad.map(|v| super::zero_if_below(v, 8.7e-5));
         self.initialised = true;
         self.dirty = true;
     }

@@ -234,6 +234,12 @@ pub enum LinkCommand {
     Jog(Option<(usize, i8)>),
 }
 
+/// `v`, or exactly 0 when `|v| < eps`: values that print as zero then print without a sign
+/// (no "-0.00").
+pub fn zero_if_below(v: f64, eps: f64) -> f64 {
+    if v.abs() < eps { 0.0 } else { v }
+}
+
 /// Refresh rate of numeric readouts while the arm moves, Hz.
 pub const READOUT_HZ: f64 = 15.0;
 

@@ -39,9 +39,9 @@ impl TcpPanel {
     }
 }
 
-/// Hides the sign of values that print as zero (no "-0.0000").
+/// Hides the sign of values that print as zero with 4 decimals (no "-0.0000").
 fn clean(v: f64) -> f64 {
-    if v.abs() < 5e-5 { 0.0 } else { v }
+    super::zero_if_below(v, 5e-5)
 }
 
 fn matrix_grid(ui: &mut egui::Ui, id: &str, rows: &[&[f64]], fmt: impl Fn(usize, f64) -> String) {

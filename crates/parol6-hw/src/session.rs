@@ -462,13 +462,20 @@ impl Session {
         if !fraction.is_finite() {
             return Err(HwError::Refused("jog fraction must be a finite number".into()));
         }
+        self.motion_preconditions()?;
+        self.send(Request::Jog { joint, fraction: fraction.clamp(-1.0, 1.0), at: Instant::now() })
+    }
+
+    /// The latest snapshot, when motion may start: the link allows it and the arm is inside its
+    /// joint limits (the counters read 0 before homing, which is outside J2/J3's ranges).
+    fn motion_preconditions(&self) -> Result<Arc<Snapshot>, HwError> {
         let s = self.snapshot();
         s.motion_allowed()?;
         self.config
             .limits
             .check(&s.joint_rad)
             .map_err(|e| HwError::Refused(format!("arm is outside its joint limits ({e}); home it first")))?;
-        self.send(Request::Jog { joint, fraction: fraction.clamp(-1.0, 1.0), at: Instant::now() })
+        Ok(s)
     }
 
     /// Releases the jog: the arm holds where the jog target is.
@@ -480,12 +487,7 @@ impl Session {
     /// The goal must lie within the joint limits (it is rejected, not clamped).
     pub fn move_to(&self, goal_rad: &[f64], speed_fraction: f64, kind: ProfileKind) -> Result<(), HwError> {
         let goal = self.config.limits.enforce(goal_rad, LimitPolicy::Reject)?;
-        let s = self.snapshot();
-        s.motion_allowed()?;
-        self.config
-            .limits
-            .check(&s.joint_rad)
-            .map_err(|e| HwError::Refused(format!("arm is outside its joint limits ({e}); home it first")))?;
+        let s = self.motion_preconditions()?;
         // Plan once here to report bad input synchronously; the thread re-plans from where the
         // arm is when the request arrives.
         JointMove::parol6(&s.joint_rad, &goal, speed_fraction, kind)?;

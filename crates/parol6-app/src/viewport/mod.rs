@@ -53,9 +53,10 @@ pub fn msaa_for(device_type: eframe::wgpu::DeviceType) -> u32 {
     })
 }
 
-/// Asks wgpu which adapter a window would get (same environment rules) and returns its sample
-/// count per [`msaa_for`]. Used before the window exists, when the sample count must be fixed.
-pub fn probe_window_msaa() -> u32 {
+/// A wgpu instance and adapter without a window (any backend wgpu finds; `WGPU_BACKEND`,
+/// `WGPU_ADAPTER_NAME` and `WGPU_POWER_PREF` narrow it).
+pub fn headless_adapter() -> (eframe::wgpu::Instance, Result<eframe::wgpu::Adapter, eframe::wgpu::RequestAdapterError>)
+{
     use eframe::wgpu;
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
@@ -64,7 +65,13 @@ pub fn probe_window_msaa() -> u32 {
         compatible_surface: None,
         apply_limit_buckets: false,
     }));
-    match adapter {
+    (instance, adapter)
+}
+
+/// Asks wgpu which adapter a window would get (same environment rules) and returns its sample
+/// count per [`msaa_for`]. Used before the window exists, when the sample count must be fixed.
+pub fn probe_window_msaa() -> u32 {
+    match headless_adapter().1 {
         Ok(a) => msaa_for(a.get_info().device_type),
         Err(_) => msaa_from_env().unwrap_or(MSAA_SAMPLES),
     }

@@ -119,14 +119,8 @@ impl OffscreenRenderer {
     /// Like [`Self::new`] with `samples` MSAA samples (1, 2 or 4; falls back to 1 where the
     /// adapter cannot; 0 = the adapter's default). [`Self::sample_count`] tells what was used.
     pub fn with_sample_count(model: &RobotModel, width: u32, height: u32, samples: u32) -> Result<Self, ViewportError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| ViewportError::NoAdapter(e.to_string()))?;
+        let (instance, adapter) = super::headless_adapter();
+        let adapter = adapter.map_err(|e| ViewportError::NoAdapter(e.to_string()))?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("parol6 offscreen"),
             required_features: wgpu::Features::empty(),

@@ -110,11 +110,18 @@ pub fn run(args: &ScreenshotArgs) -> CliResult {
     let mut headless = HeadlessApp::new(model, w, h).map_err(CliError::from)?;
     headless.app.teleport(q.clone()).map_err(CliError::from)?;
     // Let the simulation take the pose, then let egui settle its layout (a few passes).
+    let refusals_before = headless.app.sim().snapshot().last_error.as_ref().map(|(id, _)| *id);
     let deadline = Instant::now() + Duration::from_secs(5);
     loop {
         let s = headless.app.sim().snapshot();
         if s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-3) {
             break;
+        }
+        // the simulation refuses poses that collide (with itself or the ground)
+        if let Some((id, msg)) = &s.last_error
+            && Some(*id) != refusals_before
+        {
+            return Err(CliError::usage(format!("--joints: the simulation refused the pose: {msg}")));
         }
         if Instant::now() > deadline {
             return Err(CliError::runtime("the simulation did not take the requested pose within 5 s"));

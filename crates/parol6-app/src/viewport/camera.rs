@@ -5,13 +5,13 @@ use eframe::egui;
 use parol6_core::na::{Matrix4, Point3, Vector3, Vector4};
 
 /// Default orbit target, m (about the middle of the PAROL6's working height).
-const DEFAULT_TARGET_M: [f32; 3] = [0.0, 0.0, 0.18];
+const DEFAULT_TARGET_M: [f32; 3] = [0.0, 0.0, 0.21];
 /// Default yaw, rad (camera in front-right of the robot).
 const DEFAULT_YAW_RAD: f32 = -0.65;
 /// Default pitch, rad (looking slightly down).
 const DEFAULT_PITCH_RAD: f32 = 0.38;
 /// Default distance from the target, m.
-const DEFAULT_DISTANCE_M: f32 = 0.85;
+const DEFAULT_DISTANCE_M: f32 = 0.95;
 /// Closest and farthest zoom, m.
 const DISTANCE_RANGE_M: (f32, f32) = (0.05, 20.0);
 /// Pitch limit, rad (just short of the poles).

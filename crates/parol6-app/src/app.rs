@@ -39,8 +39,11 @@ const COMMAND_REPAINT_WINDOW: Duration = Duration::from_millis(600);
 /// While idle, repaint this seldom (refreshes the status figures). Each frame costs tens of
 /// milliseconds of CPU on a software rasterizer, so idle means (almost) no frames.
 const IDLE_REPAINT: Duration = Duration::from_secs(30);
-/// While the serial link is open, repaint at most this often (the session runs at 100 Hz).
-const LINK_REPAINT: Duration = Duration::from_millis(16);
+/// While the serial link is open and the arm is still, repaint this often: enough for the
+/// link, E-stop and homing LEDs and the link health figures (the session itself reacts to the
+/// E-stop within one period, whatever the UI does). Faster idle repaints would compete with
+/// the serial thread for the CPU on software-rendered machines. Motion repaints continuously.
+const LINK_REPAINT: Duration = Duration::from_millis(100);
 /// Jog refresh period (the session's dead-man is 200 ms).
 const JOG_REFRESH: Duration = Duration::from_millis(60);
 /// A ghost is drawn only when the target differs from the pose by more than this (rad).

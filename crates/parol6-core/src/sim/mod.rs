@@ -607,7 +607,6 @@ impl Simulation {
             }
         }
         self.steps += 1;
-        self.update_torques();
         if self.steps.is_multiple_of(self.collision_every) {
             self.collision = self.guard.check(&self.model, &self.q);
         }
@@ -626,8 +625,10 @@ impl Simulation {
         }
     }
 
-    /// The current state.
-    pub fn snapshot(&self) -> SimSnapshot {
+    /// The current state. The joint torques are computed here (inverse dynamics of the current
+    /// motion), not on every step: the real-time thread publishes every few steps.
+    pub fn snapshot(&mut self) -> SimSnapshot {
+        self.update_torques();
         let link_poses = self.model.link_poses(&self.q);
         let tcp = self.model.fk(&self.q);
         SimSnapshot {

@@ -171,7 +171,7 @@ fn half_radian_step_settles_in_0_3_s_without_passing_the_limit() {
 
 #[test]
 fn new_simulation_rests_at_standby() {
-    let s = sim(SimMode::Dynamic);
+    let mut s = sim(SimMode::Dynamic);
     let snap = s.snapshot();
     assert!(max_abs_diff(&snap.q, &standby_rad()) < 1e-6);
     assert_eq!(snap.link_poses.len(), parol6().links.len());

@@ -108,7 +108,7 @@ pub fn thread_cpu_time_ns() -> Option<u64> {
 impl SimHandle {
     /// Builds the simulation (errors are returned here) and starts its thread.
     pub fn spawn(model: RobotModel, config: SimConfig) -> Result<SimHandle, SimError> {
-        let sim = Simulation::new(model.clone(), config)?;
+        let mut sim = Simulation::new(model.clone(), config)?;
         let (tx, rx) = crossbeam_channel::bounded(COMMAND_QUEUE);
         let (latency_tx, latency_rx) = crossbeam_channel::bounded(LATENCY_LOG);
         let shared = Arc::new(Shared {

@@ -14,10 +14,17 @@ pub fn shared_dir() -> Option<PathBuf> {
             return Some(c);
         }
     }
-    eprintln!(
-        "SKIPPED: reference pack ../shared/parol6 not found beside the repository (set PAROL6_SHARED to its path)"
+    skip_notice(
+        "SKIPPED: reference pack ../shared/parol6 not found beside the repository (set PAROL6_SHARED to its path)",
     );
     None
+}
+
+/// Prints a skip notice on the process's real stderr. The test harness captures `eprintln!`
+/// of passing tests, and a skipped test must say so in the CI log.
+pub fn skip_notice(message: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "{message}");
 }
 
 /// Reads and parses a JSON file of the reference pack.

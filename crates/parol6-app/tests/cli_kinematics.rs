@@ -132,11 +132,5 @@ fn bench_fk_and_ik_print_json() {
 }
 
 fn shared() -> Option<std::path::PathBuf> {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/parol6");
-    if p.join("ROBOT.md").is_file() {
-        Some(p)
-    } else {
-        eprintln!("SKIPPED: reference pack ../shared/parol6 not found beside the repository");
-        None
-    }
+    parol6_tests::shared_dir()
 }

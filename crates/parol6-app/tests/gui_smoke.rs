@@ -38,7 +38,7 @@ fn gui_starts_moves_joint_1_and_takes_a_screenshot() {
         if std::env::var_os("CI").is_some() {
             panic!("xvfb-run is missing (install xvfb xauth) and CI is set");
         }
-        println!("SKIPPED: no DISPLAY and no xvfb-run");
+        parol6_tests::skip_notice("SKIPPED: no DISPLAY and no xvfb-run");
         return;
     }
     let dir = std::env::temp_dir().join(format!("parol6-gui-smoke-{}", std::process::id()));

@@ -23,7 +23,7 @@ fn renderer(model: &RobotModel, test: &str) -> Option<OffscreenRenderer> {
             if std::env::var_os("CI").is_some() {
                 panic!("{test}: no usable graphics adapter in CI: {e}");
             }
-            eprintln!("SKIPPED {test}: {e}");
+            parol6_tests::skip_notice(&format!("SKIPPED {test}: {e}"));
             None
         }
         Err(e) => panic!("{test}: {e}"),
@@ -256,7 +256,7 @@ fn official_stl_description_renders_with_its_meshes() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/parol6/urdf/python-api/PAROL6.urdf");
     if !path.is_file() {
-        eprintln!("SKIPPED official_stl_description: {} not present", path.display());
+        parol6_tests::skip_notice(&format!("SKIPPED official_stl_description: {} not present", path.display()));
         return;
     }
     let model = match RobotModel::from_urdf_file(&path, None) {
@@ -284,7 +284,7 @@ fn bad_sizes_are_errors_not_panics() {
             if std::env::var_os("CI").is_some() {
                 panic!("no usable graphics adapter in CI: {e}");
             }
-            eprintln!("SKIPPED bad_sizes: {e}");
+            parol6_tests::skip_notice(&format!("SKIPPED bad_sizes: {e}"));
         }
         Err(e) => panic!("unexpected error {e}"),
         Ok(_) => panic!("a 0-pixel-wide image must be refused"),

@@ -580,7 +580,7 @@ mod tests {
     fn official_stl_urdf_loads_its_meshes_when_present() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/parol6/urdf/python-api/PAROL6.urdf");
         if !path.is_file() {
-            eprintln!("SKIPPED: {} not present", path.display());
+            parol6_tests::skip_notice(&format!("SKIPPED: {} not present", path.display()));
             return;
         }
         let model = match RobotModel::from_urdf_file(&path, None) {

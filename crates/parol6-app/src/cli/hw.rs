@@ -158,22 +158,8 @@ pub fn run(args: &HwArgs) -> CliResult {
             print_json(&s.to_json());
             Ok(())
         }
-        HwCommand::Enable(p) => {
-            let session = open(p)?;
-            let before = session.snapshot().frames_sent;
-            session.enable().map_err(hw_err)?;
-            wait_sent(&session, CommandCode::Enable, before)?;
-            print_json(&json!({"command": "enable", "ok": true, "state": summary(&session.snapshot())}));
-            Ok(())
-        }
-        HwCommand::Disable(p) => {
-            let session = open(p)?;
-            let before = session.snapshot().frames_sent;
-            session.disable().map_err(hw_err)?;
-            wait_sent(&session, CommandCode::Disable, before)?;
-            print_json(&json!({"command": "disable", "ok": true, "state": summary(&session.snapshot())}));
-            Ok(())
-        }
+        HwCommand::Enable(p) => send_latch(p, "enable", CommandCode::Enable, Session::enable),
+        HwCommand::Disable(p) => send_latch(p, "disable", CommandCode::Disable, Session::disable),
         HwCommand::Home(p) => {
             let session = open(p)?;
             let t0 = Instant::now();
@@ -246,6 +232,17 @@ pub fn run(args: &HwArgs) -> CliResult {
         }
         HwCommand::Emulate { homed, home_seconds } => emulate(*homed, *home_seconds),
     }
+}
+
+/// `hw enable` / `hw disable`: sends the latch command, waits until it is on the wire, prints
+/// the resulting state.
+fn send_latch(p: &PortArgs, name: &str, code: CommandCode, op: fn(&Session) -> Result<(), HwError>) -> CliResult {
+    let session = open(p)?;
+    let before = session.snapshot().frames_sent;
+    op(&session).map_err(hw_err)?;
+    wait_sent(&session, code, before)?;
+    print_json(&json!({"command": name, "ok": true, "state": summary(&session.snapshot())}));
+    Ok(())
 }
 
 fn emulate(homed: bool, home_seconds: f64) -> CliResult {

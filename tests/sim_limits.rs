@@ -4,6 +4,7 @@
 
 use parol6_core::RobotModel;
 use parol6_core::limits::LimitPolicy;
+use parol6_core::motion::MotionCommand;
 use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{SimCommand, SimConfig, SimMode, Simulation};
 use proptest::prelude::*;
@@ -17,19 +18,19 @@ fn joint_vec() -> impl Strategy<Value = Vec<f64>> {
 
 fn command() -> impl Strategy<Value = SimCommand> {
     prop_oneof![
-        3 => joint_vec().prop_map(SimCommand::SetJointTargets),
-        3 => (joint_vec(), 0.05f64..1.0, any::<bool>()).prop_map(|(goal, f, jerk)| SimCommand::MoveTo {
-            goal,
+        3 => joint_vec().prop_map(|q| SimCommand::Motion(MotionCommand::follow(q))),
+        3 => (joint_vec(), 0.05f64..1.0, any::<bool>()).prop_map(|(goal, f, jerk)| SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: goal,
             speed_fraction: f,
-            kind: if jerk { ProfileKind::JerkLimited } else { ProfileKind::Trapezoidal },
-        }),
+            profile: if jerk { ProfileKind::JerkLimited } else { ProfileKind::Trapezoidal },
+        })),
         1 => joint_vec().prop_map(SimCommand::Teleport),
-        1 => Just(SimCommand::Stop),
-        1 => Just(SimCommand::Home),
+        1 => Just(SimCommand::Motion(MotionCommand::Stop)),
+        1 => Just(SimCommand::Motion(MotionCommand::home())),
         1 => prop_oneof![Just(SimMode::Kinematic), Just(SimMode::Dynamic)].prop_map(SimCommand::SetMode),
         1 => proptest::collection::vec(-3.0f64..3.0, 6).prop_map(SimCommand::ApplyJointTorques),
-        1 => proptest::collection::vec(-7.0f64..7.0, 0..9).prop_map(SimCommand::SetJointTargets),
-        1 => Just(SimCommand::SetJointTargets(vec![f64::NAN; 6])),
+        1 => proptest::collection::vec(-7.0f64..7.0, 0..9).prop_map(|q| SimCommand::Motion(MotionCommand::follow(q))),
+        1 => Just(SimCommand::Motion(MotionCommand::follow(vec![f64::NAN; 6]))),
     ]
 }
 

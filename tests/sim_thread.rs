@@ -2,6 +2,7 @@
 //! snapshot with increasing ids, the snapshot advances on its own, shutdown is clean. Waits are
 //! generous (a loaded CI machine); no timing thresholds here (those are in `parol6 bench`).
 
+use parol6_core::motion::MotionCommand;
 use std::time::{Duration, Instant};
 
 use parol6_core::RobotModel;
@@ -32,8 +33,12 @@ fn the_thread_steps_and_applies_commands() {
     let first = h.snapshot();
     wait_for(&h, "time to advance", |s| s.seq > first.seq + 10);
     let goal = vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0];
-    h.send(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 1.0, kind: ProfileKind::JerkLimited })
-        .expect("queued");
+    h.send(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 1.0,
+        profile: ProfileKind::JerkLimited,
+    }))
+    .expect("queued");
     let s = wait_for(&h, "the move to start", |s| s.moving || max_abs_diff(&s.q, &goal) < 1e-3);
     assert_eq!(s.target_q, goal);
     let s = wait_for(&h, "the goal", |s| !s.moving && max_abs_diff(&s.q, &goal) < 1e-3);
@@ -51,11 +56,11 @@ fn refusals_surface_in_the_snapshot_with_increasing_ids() {
     let h = SimHandle::spawn(RobotModel::parol6(), SimConfig::default()).expect("spawns");
     let mut bad = standby_rad().to_vec();
     bad[1] = 1.0; // J2 far above its limit
-    h.send(SimCommand::SetJointTargets(bad.clone())).expect("queued");
+    h.send(SimCommand::Motion(MotionCommand::follow(bad.clone()))).expect("queued");
     let s1 = wait_for(&h, "the first refusal", |s| s.last_error.is_some());
     let (id1, msg1) = s1.last_error.clone().expect("error");
     assert!(msg1.contains("J2"), "{msg1}");
-    h.send(SimCommand::SetJointTargets(vec![1.0; 2])).expect("queued");
+    h.send(SimCommand::Motion(MotionCommand::follow(vec![1.0; 2]))).expect("queued");
     let s2 = wait_for(&h, "the second refusal", |s| s.last_error.as_ref().is_some_and(|(id, _)| *id > id1));
     let (_, msg2) = s2.last_error.clone().expect("error");
     assert!(msg2.contains("expected 6"), "{msg2}");
@@ -72,7 +77,7 @@ fn kinematic_mode_and_teleport_through_the_handle() {
     h.send(SimCommand::Teleport(q.clone())).expect("queued");
     wait_for(&h, "the teleport", |s| max_abs_diff(&s.q, &q) < 1e-12 && s.mode == SimMode::Kinematic);
     h.send(SimCommand::SetMode(SimMode::Dynamic)).expect("queued");
-    h.send(SimCommand::Home).expect("queued");
+    h.send(SimCommand::Motion(MotionCommand::home())).expect("queued");
     wait_for(&h, "home", |s| s.mode == SimMode::Dynamic && !s.moving && max_abs_diff(&s.q, &standby_rad()) < 1e-3);
     h.shutdown();
 }
@@ -82,7 +87,7 @@ fn every_accepted_command_is_applied_and_a_full_queue_is_reported() {
     let h = SimHandle::spawn(RobotModel::parol6(), SimConfig::default()).expect("spawns");
     let (mut ok, mut full) = (0u64, 0u64);
     for _ in 0..20_000 {
-        match h.send(SimCommand::Stop) {
+        match h.send(SimCommand::Motion(MotionCommand::Stop)) {
             Ok(()) => ok += 1,
             Err(SimError::ChannelFull) => full += 1,
             Err(e) => panic!("unexpected {e}"),

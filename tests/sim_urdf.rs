@@ -2,6 +2,7 @@
 //! convex hulls) with its SRDF's disabled pairs.
 
 use parol6_core::RobotModel;
+use parol6_core::motion::MotionCommand;
 use parol6_core::sim::{CollisionGuard, SimCommand, SimConfig, SimMode, Simulation};
 
 #[test]
@@ -32,7 +33,12 @@ fn mesh_robot_with_srdf_builds_and_steps() {
     let drift = sim.q().iter().zip(&start).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(drift < 1e-3, "holds its pose under gravity, drift {drift}");
     let goal: Vec<f64> = model.limits.iter().map(|l| l.clamp(0.5 * (l.min + l.max) + 0.1)).collect();
-    sim.apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 1.0, kind: Default::default() }).expect("move");
+    sim.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 1.0,
+        profile: Default::default(),
+    }))
+    .expect("move");
     for _ in 0..10_000 {
         sim.step();
         if !sim.is_moving() {

@@ -175,10 +175,9 @@ pub fn bench_render(model: RobotModel, seconds: f64, width: u32, height: u32, ch
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
     let mut headless = HeadlessApp::new(model, width, height).map_err(CliError::from)?;
-    if !headless.app.demos_mut().start_by_name("Joint sweep") {
+    if !headless.app.start_demo("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
     }
-    headless.app.demos_mut().runner.looping = true;
     // Warm-up: pipelines, fonts, first uploads.
     for _ in 0..5 {
         headless.frame().map_err(CliError::from)?;

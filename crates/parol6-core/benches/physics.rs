@@ -2,6 +2,7 @@
 //! dynamics, the collision guard at one configuration and along a move, and a snapshot.
 use criterion::{Criterion, criterion_group, criterion_main};
 use parol6_core::RobotModel;
+use parol6_core::motion::MotionCommand;
 use parol6_core::profile::{JointMove, ProfileKind};
 use parol6_core::sim::{CollisionGuard, InverseDynamics, SimCommand, SimConfig, SimMode, Simulation};
 use std::hint::black_box;
@@ -19,7 +20,11 @@ fn physics(c: &mut Criterion) {
                 if !sim.is_moving() {
                     let goal = if to_b { b.clone() } else { a.clone() };
                     to_b = !to_b;
-                    let _ = sim.apply(SimCommand::MoveTo { goal, speed_fraction: 1.0, kind: ProfileKind::Trapezoidal });
+                    let _ = sim.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+                        goal_rad: goal,
+                        speed_fraction: 1.0,
+                        profile: ProfileKind::Trapezoidal,
+                    }));
                 }
                 sim.step();
             })

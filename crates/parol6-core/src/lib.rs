@@ -4,7 +4,9 @@
 //! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones with
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
-//! the PAROL6 facts of the reference pack ([`parol6`]).
+//! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
+//! planner, the [`motion::RobotBackend`] trait), and the PAROL6 facts of the reference pack
+//! ([`parol6`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -15,6 +17,7 @@ pub mod ik;
 pub mod kinematics;
 pub mod limits;
 pub mod model;
+pub mod motion;
 pub mod parol6;
 pub mod profile;
 pub mod sim;

@@ -12,6 +12,7 @@
 //! in `parol6-core`'s simulation). Motion profiles come from [`parol6_core::profile`], joint
 //! limits from [`parol6_core::limits`].
 
+pub mod backend;
 pub mod emulator;
 pub mod frame;
 pub mod parser;

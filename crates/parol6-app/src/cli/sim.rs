@@ -1,6 +1,7 @@
 //! `parol6 dynamics` (inverse dynamics as JSON) and the simulation benchmarks
 //! `parol6 bench physics` and `parol6 bench latency`.
 
+use parol6_core::motion::MotionCommand;
 use std::time::{Duration, Instant};
 
 use parol6_core::profile::ProfileKind;
@@ -92,8 +93,12 @@ pub fn bench_physics(n: usize, cpu_seconds: f64) -> CliResult {
         if !sim.is_moving() {
             let goal = if go_to_b { b.clone() } else { a.clone() };
             go_to_b = !go_to_b;
-            sim.apply(SimCommand::MoveTo { goal, speed_fraction: 1.0, kind: ProfileKind::Trapezoidal })
-                .map_err(sim_error)?;
+            sim.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+                goal_rad: goal,
+                speed_fraction: 1.0,
+                profile: ProfileKind::Trapezoidal,
+            }))
+            .map_err(sim_error)?;
         }
         let t0 = Instant::now();
         sim.step();
@@ -111,7 +116,11 @@ pub fn bench_physics(n: usize, cpu_seconds: f64) -> CliResult {
                 let goal = if go_to_b { b.clone() } else { a.clone() };
                 go_to_b = !go_to_b;
                 handle
-                    .send(SimCommand::MoveTo { goal, speed_fraction: 1.0, kind: ProfileKind::Trapezoidal })
+                    .send(SimCommand::Motion(MotionCommand::MoveJoints {
+                        goal_rad: goal,
+                        speed_fraction: 1.0,
+                        profile: ProfileKind::Trapezoidal,
+                    }))
                     .map_err(sim_error)?;
             }
             std::thread::sleep(Duration::from_millis(20));
@@ -167,7 +176,7 @@ pub fn bench_latency(n: usize, interval_us: u64) -> CliResult {
                 q[0] += 0.2 * ((i as f64) * 0.01).sin();
                 q[4] += 0.2 * ((i as f64) * 0.013).cos();
                 loop {
-                    match handle.send(SimCommand::SetJointTargets(q.clone())) {
+                    match handle.send(SimCommand::Motion(MotionCommand::follow(q.clone()))) {
                         Ok(()) => break,
                         Err(SimError::ChannelFull) => {
                             rejected_full += 1;

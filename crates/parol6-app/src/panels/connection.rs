@@ -117,7 +117,6 @@ impl ConnectionPanel {
             let can = !self.port_text.trim().is_empty();
             if ui.add_enabled(can, egui::Button::new("Connect")).clicked() {
                 let p = self.port_text.trim().to_string();
-                ctx.settings.last_port = p.clone();
                 ctx.send(AppCommand::Link(LinkCommand::Connect(p)));
             }
         });
@@ -187,7 +186,7 @@ impl ConnectionPanel {
         }
         if held != self.jog || held.is_some() {
             // Sent every frame while held: the session's dead-man needs a steady refresh.
-            ctx.send(AppCommand::Link(LinkCommand::Jog(held)));
+            ctx.send(AppCommand::Jog(held));
         }
         self.jog = held;
     }
@@ -249,7 +248,7 @@ impl Panel for ConnectionPanel {
             Some(link) => self.connected_ui(ui, ctx, &link),
             None => {
                 if self.jog.take().is_some() {
-                    ctx.send(AppCommand::Link(LinkCommand::Jog(None)));
+                    ctx.send(AppCommand::Jog(None));
                 }
                 self.disconnected_ui(ui, ctx);
             }

@@ -1,17 +1,19 @@
 //! Right panel: the old HMI's demo trajectories (pick & place, inspection, dodge),
-//! re-expressed as joint waypoints inside the PAROL6 limits and run as profiled moves, plus a
-//! joint sweep that works for any robot (also used by `parol6 bench render`).
+//! re-expressed as joint waypoints inside the PAROL6 limits, plus a joint sweep that works for
+//! any robot (also used by `parol6 bench render`).
 //!
-//! A demo is a list of waypoints; [`DemoRunner`] sends one profiled move at a time and sends
-//! the next when the arm has arrived. STOP (or any refused move) cancels it.
+//! A demo is a list of profiled joint moves. The panel asks the app to run it as a sequence:
+//! the core's `SequenceRunner` sends one move after another on its own thread, on whichever
+//! backend is active, so a demo keeps its pace with the window minimised or slow. STOP (or any
+//! refused move) ends it.
 
 use eframe::egui;
-use std::time::{Duration, Instant};
 
 use parol6_core::RobotModel;
+use parol6_core::motion::{MotionCommand, SequenceState};
 use parol6_core::profile::ProfileKind;
 
-use super::{AppCommand, Panel, PanelContext, RobotState};
+use super::{AppCommand, Panel, PanelContext};
 
 /// One waypoint of a demo.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,13 +37,6 @@ pub struct Demo {
     pub waypoints: Vec<Waypoint>,
 }
 
-/// Arrival tolerance per joint, rad (0.5°).
-const ARRIVAL_TOL_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
-/// A segment that has not arrived after this long is abandoned.
-const SEGMENT_TIMEOUT: Duration = Duration::from_secs(30);
-/// A segment is not judged before this long after it was sent (the simulation must see it).
-const SEGMENT_MIN_TIME: Duration = Duration::from_millis(40);
-
 const STANDBY: [f64; 6] = parol6_core::parol6::STANDBY_DEG;
 
 fn wp(deg: [f64; 6], speed_fraction: f64, kind: ProfileKind) -> Waypoint {
@@ -52,12 +47,13 @@ fn wp(deg: [f64; 6], speed_fraction: f64, kind: ProfileKind) -> Waypoint {
 /// self-collision (checked by the tests against the simulation).
 pub fn parol6_demos() -> Vec<Demo> {
     use ProfileKind::{JerkLimited as J, Trapezoidal as T};
-    // Tool pointing down; J1 swings the arm between a pick spot at x ≈ +150 mm and a place spot
-    // at x ≈ −150 mm (y ≈ 260 mm), lowering the TCP from z ≈ 300 mm to z ≈ 150 mm at each.
-    let above_pick = [60.0, -80.0, 170.0, 0.0, 80.0, 150.0];
-    let pick = [60.0, -55.0, 160.0, 0.0, 75.0, 150.0];
-    let above_place = [120.0, -80.0, 170.0, 0.0, 80.0, 210.0];
-    let place = [120.0, -55.0, 160.0, 0.0, 75.0, 210.0];
+    // Tool pointing down; J1 swings the arm between a pick spot on the right (J1 = 45°) and a
+    // place spot straight ahead (J1 = 85°), lowering the TCP from z ≈ 300 mm to z ≈ 150 mm at
+    // each. J1 stays over 38° from both of its limits (±123°): in its green zone throughout.
+    let above_pick = [45.0, -80.0, 170.0, 0.0, 80.0, 135.0];
+    let pick = [45.0, -55.0, 160.0, 0.0, 75.0, 135.0];
+    let above_place = [85.0, -80.0, 170.0, 0.0, 80.0, 175.0];
+    let place = [85.0, -55.0, 160.0, 0.0, 75.0, 175.0];
     let pick_place = Demo {
         name: "Pick & place",
         description: "approach, descend, grip, lift, carry across, descend, release, lift, home",
@@ -120,90 +116,18 @@ pub fn joint_sweep(model: &RobotModel, speed_fraction: f64) -> Demo {
     }
 }
 
-/// Runs a demo: one profiled move at a time.
-#[derive(Debug, Default)]
-pub struct DemoRunner {
-    demo: Option<Demo>,
-    step: usize,
-    sent_at: Option<Instant>,
-    /// Restart from the first waypoint when finished.
-    pub looping: bool,
-    /// Global speed scale applied on top of each waypoint's speed (0, 1].
-    pub speed_scale: f64,
-}
-
-impl DemoRunner {
-    /// Starts `demo` (replacing any running one).
-    pub fn start(&mut self, demo: Demo) {
-        self.demo = Some(demo);
-        self.step = 0;
-        self.sent_at = None;
-    }
-
-    /// Cancels the running demo.
-    pub fn cancel(&mut self) {
-        self.demo = None;
-        self.sent_at = None;
-    }
-
-    /// Name of the running demo and the current step (1-based) / total.
-    pub fn progress(&self) -> Option<(&'static str, usize, usize)> {
-        self.demo.as_ref().map(|d| (d.name, (self.step + 1).min(d.waypoints.len()), d.waypoints.len()))
-    }
-
-    /// True while a demo runs.
-    pub fn is_running(&self) -> bool {
-        self.demo.is_some()
-    }
-
-    fn arrived(goal: &[f64], robot: &RobotState) -> bool {
-        !robot.moving
-            && goal.len() == robot.q.len()
-            && goal.iter().zip(&robot.q).all(|(g, q)| (g - q).abs() < ARRIVAL_TOL_RAD)
-    }
-
-    /// Advances the demo: returns the next move to send, if it is time for one. Call every frame.
-    pub fn tick(&mut self, robot: &RobotState) -> Result<Option<AppCommand>, String> {
-        let Some(demo) = &self.demo else {
-            return Ok(None);
-        };
-        let scale = if self.speed_scale > 0.0 { self.speed_scale.min(1.0) } else { 1.0 };
-        if let Some(sent) = self.sent_at {
-            let Some(w) = demo.waypoints.get(self.step) else {
-                self.cancel();
-                return Ok(None);
-            };
-            if sent.elapsed() < SEGMENT_MIN_TIME || !Self::arrived(&w.goal, robot) {
-                if sent.elapsed() > SEGMENT_TIMEOUT {
-                    let msg = format!("demo \"{}\" stopped: waypoint {} not reached in time", demo.name, self.step + 1);
-                    self.cancel();
-                    return Err(msg);
-                }
-                return Ok(None);
-            }
-            self.step += 1;
-            if self.step >= demo.waypoints.len() {
-                if self.looping {
-                    self.step = 0;
-                } else {
-                    self.cancel();
-                    return Ok(None);
-                }
-            }
-        }
-        let Some(demo) = &self.demo else {
-            return Ok(None);
-        };
-        let Some(w) = demo.waypoints.get(self.step) else {
-            self.cancel();
-            return Ok(None);
-        };
-        self.sent_at = Some(Instant::now());
-        Ok(Some(AppCommand::MoveTo {
-            goal: w.goal.clone(),
-            speed_fraction: (w.speed_fraction * scale).clamp(0.01, 1.0),
-            kind: w.kind,
-        }))
+impl Demo {
+    /// The demo as motion commands, each waypoint's speed scaled by `speed_scale` (0, 1].
+    pub fn steps(&self, speed_scale: f64) -> Vec<MotionCommand> {
+        let scale = if speed_scale.is_finite() && speed_scale > 0.0 { speed_scale.min(1.0) } else { 1.0 };
+        self.waypoints
+            .iter()
+            .map(|w| MotionCommand::MoveJoints {
+                goal_rad: w.goal.clone(),
+                speed_fraction: (w.speed_fraction * scale).clamp(0.01, 1.0),
+                profile: w.kind,
+            })
+            .collect()
     }
 }
 
@@ -211,8 +135,10 @@ impl DemoRunner {
 #[derive(Debug)]
 pub struct DemosPanel {
     demos: Vec<Demo>,
-    /// The runner (ticked by the app every frame, shown here).
-    pub runner: DemoRunner,
+    /// Start over after the last waypoint.
+    pub looping: bool,
+    /// Speed scale applied on top of each waypoint's speed (0, 1].
+    pub speed_scale: f64,
 }
 
 impl DemosPanel {
@@ -220,18 +146,17 @@ impl DemosPanel {
     pub fn new(model: &RobotModel) -> Self {
         let mut demos = if model.is_parol6 { parol6_demos() } else { Vec::new() };
         demos.push(joint_sweep(model, 0.5));
-        Self { demos, runner: DemoRunner { speed_scale: 1.0, ..Default::default() } }
+        Self { demos, looping: false, speed_scale: 1.0 }
     }
 
-    /// Starts the demo called `name`; false when there is none.
-    pub fn start_by_name(&mut self, name: &str) -> bool {
-        match self.demos.iter().find(|d| d.name.eq_ignore_ascii_case(name)) {
-            Some(d) => {
-                self.runner.start(d.clone());
-                true
-            }
-            None => false,
-        }
+    /// The command that runs the demo called `name` (with this panel's loop and speed settings).
+    pub fn run_command(&self, name: &str) -> Option<AppCommand> {
+        let d = self.demos.iter().find(|d| d.name.eq_ignore_ascii_case(name))?;
+        Some(AppCommand::RunSequence {
+            name: d.name.to_string(),
+            steps: d.steps(self.speed_scale),
+            looping: self.looping,
+        })
     }
 }
 
@@ -242,31 +167,46 @@ impl Panel for DemosPanel {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.heading(self.title());
+        let running = ctx.sequence.is_some_and(|p| p.state == SequenceState::Running);
         ui.horizontal_wrapped(|ui| {
             for d in &self.demos {
                 if ui.button(d.name).on_hover_text(d.description).clicked() {
-                    self.runner.start(d.clone());
+                    ctx.send(AppCommand::RunSequence {
+                        name: d.name.to_string(),
+                        steps: d.steps(self.speed_scale),
+                        looping: self.looping,
+                    });
                 }
             }
         });
         ui.horizontal(|ui| {
-            ui.checkbox(&mut self.runner.looping, "Loop");
+            ui.checkbox(&mut self.looping, "Loop");
             ui.label("Speed ×");
-            ui.add(egui::Slider::new(&mut self.runner.speed_scale, 0.1..=1.0).max_decimals(2));
+            ui.add(egui::Slider::new(&mut self.speed_scale, 0.1..=1.0).max_decimals(2));
         });
-        match self.runner.progress() {
-            Some((name, step, total)) => {
-                ui.horizontal(|ui| {
-                    ui.label(format!("Running {name}: waypoint {step}/{total}"));
-                    if ui.button("Stop demo").clicked() {
-                        ctx.send(AppCommand::Stop);
-                    }
-                });
-                ui.ctx().request_repaint();
+        // One line, always present, so nothing below moves when a demo starts or ends.
+        ui.horizontal(|ui| match ctx.sequence {
+            Some(p) if p.state == SequenceState::Running => {
+                ui.label(format!("Running {}: waypoint {}/{}", p.name, p.step + 1, p.steps));
+                if ui.button("Stop demo").clicked() {
+                    ctx.stop();
+                }
+            }
+            Some(p) => {
+                let what = match &p.state {
+                    SequenceState::Done => "done".to_string(),
+                    SequenceState::Cancelled => "stopped".to_string(),
+                    SequenceState::Failed(why) => format!("stopped: {why}"),
+                    SequenceState::Running => String::new(),
+                };
+                ui.weak(format!("{}: {what}", p.name));
             }
             None => {
-                ui.weak("Idle. STOP (Esc) cancels a running demo.");
+                ui.weak("Idle. STOP (Esc) ends a running demo.");
             }
+        });
+        if running {
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
     }
 }
@@ -283,14 +223,19 @@ mod tests {
         sim.apply(SimCommand::Teleport(parol6_core::parol6::standby_rad().to_vec())).expect("teleport");
         for (i, w) in demo.waypoints.iter().enumerate() {
             assert!(model.limits.contains(&w.goal), "{} waypoint {} outside the limits", demo.name, i + 1);
-            sim.apply(SimCommand::MoveTo { goal: w.goal.clone(), speed_fraction: w.speed_fraction, kind: w.kind })
+            let cmd = MotionCommand::MoveJoints {
+                goal_rad: w.goal.clone(),
+                speed_fraction: w.speed_fraction,
+                profile: w.kind,
+            };
+            sim.apply(SimCommand::Motion(cmd))
                 .unwrap_or_else(|e| panic!("{} waypoint {} refused: {e}", demo.name, i + 1));
             let mut steps = 0;
             loop {
                 sim.step();
                 steps += 1;
                 let s = sim.snapshot();
-                if !s.moving && w.goal.iter().zip(&s.q).all(|(g, q)| (g - q).abs() < ARRIVAL_TOL_RAD) {
+                if !s.moving && w.goal.iter().zip(&s.q).all(|(g, q)| (g - q).abs() < 0.5f64.to_radians()) {
                     break;
                 }
                 assert!(steps < 20_000, "{} waypoint {} not reached in 20 s: {:?}", demo.name, i + 1, s.q);
@@ -310,32 +255,30 @@ mod tests {
     }
 
     #[test]
-    fn runner_waits_for_arrival_then_advances() {
+    fn pick_and_place_keeps_j1_out_of_the_red_zone() {
         let model = RobotModel::parol6();
-        let demo = joint_sweep(&model, 1.0);
-        let mut r = DemoRunner { speed_scale: 1.0, ..Default::default() };
-        r.start(demo.clone());
-        let mut robot = RobotState {
-            source: super::super::StateSource::Simulation,
-            q: parol6_core::parol6::standby_rad().to_vec(),
-            qd: vec![0.0; 6],
-            target_q: vec![0.0; 6],
-            zones: Vec::new(),
-            tcp: model.fk(&parol6_core::parol6::standby_rad()),
-            moving: false,
-        };
-        let first = r.tick(&robot).expect("ok");
-        assert!(matches!(first, Some(AppCommand::MoveTo { ref goal, .. }) if goal == &demo.waypoints[0].goal));
-        // Not arrived: nothing new.
-        std::thread::sleep(SEGMENT_MIN_TIME);
-        assert_eq!(r.tick(&robot).expect("ok"), None);
-        // Arrived: the second waypoint is sent.
-        robot.q = demo.waypoints[0].goal.clone();
-        let second = r.tick(&robot).expect("ok");
-        assert!(matches!(second, Some(AppCommand::MoveTo { ref goal, .. }) if goal == &demo.waypoints[1].goal));
-        assert_eq!(r.progress().map(|p| p.1), Some(2));
-        r.cancel();
-        assert!(!r.is_running());
-        assert_eq!(r.tick(&robot).expect("ok"), None);
+        let t = parol6_core::limits::ZoneThresholds::default();
+        let demos = parol6_demos();
+        let pp = demos.iter().find(|d| d.name == "Pick & place").expect("demo");
+        let j1 = model.limits.get(0).expect("J1");
+        for w in &pp.waypoints {
+            assert_eq!(
+                t.zone(j1, w.goal[0]),
+                parol6_core::limits::LimitZone::Safe,
+                "J1 at {}°",
+                w.goal[0].to_degrees()
+            );
+        }
+    }
+
+    #[test]
+    fn steps_scale_the_speed() {
+        let model = RobotModel::parol6();
+        let d = joint_sweep(&model, 0.8);
+        let steps = d.steps(0.5);
+        assert_eq!(steps.len(), d.waypoints.len());
+        assert!(steps.iter().all(
+            |s| matches!(s, MotionCommand::MoveJoints { speed_fraction, .. } if (*speed_fraction - 0.4).abs() < 1e-12)
+        ));
     }
 }

@@ -4,7 +4,9 @@
 use eframe::egui;
 use parol6_core::limits::{JointLimit, LimitZone, ZoneThresholds};
 
-use super::{AngleUnit, AppCommand, Panel, PanelContext, ProfileKindSetting, zone_color};
+use parol6_core::motion::MotionCommand;
+
+use super::{AngleUnit, Panel, PanelContext, ProfileKindSetting, zone_color};
 
 /// Slider range used for a joint without finite limits (rad).
 const UNBOUNDED_RANGE_RAD: f64 = std::f64::consts::PI;
@@ -55,7 +57,7 @@ impl JointsPanel {
         let (lo, hi) = slider_range(ctx.model.limits.get(joint));
         self.edit[joint] = value_rad.clamp(lo, hi);
         match ctx.model.limits.enforce(&self.edit, parol6_core::LimitPolicy::Clamp) {
-            Ok(q) => ctx.send(AppCommand::SetJointTargets(q)),
+            Ok(q) => ctx.motion(MotionCommand::follow(q)),
             Err(e) => ctx.error(format!("joint target refused: {e}")),
         }
     }
@@ -227,13 +229,13 @@ impl Panel for JointsPanel {
         ui.horizontal(|ui| {
             let home = egui::Button::new(egui::RichText::new("HOME").strong()).min_size(egui::vec2(90.0, 28.0));
             if ui.add(home).on_hover_text("Profiled move to the standby pose (H)").clicked() {
-                ctx.send(AppCommand::Home);
+                ctx.home();
             }
             let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(egui::Color32::WHITE))
                 .fill(egui::Color32::from_rgb(170, 30, 30))
                 .min_size(egui::vec2(90.0, 28.0));
             if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
-                ctx.send(AppCommand::Stop);
+                ctx.stop();
             }
         });
         ui.horizontal(|ui| {

@@ -9,8 +9,8 @@ use eframe::egui;
 use std::time::Instant;
 
 use parol6_core::RobotModel;
-use parol6_core::kinematics::TcpPose;
-use parol6_core::limits::{LimitZone, ZoneReport};
+use parol6_core::limits::LimitZone;
+use parol6_core::motion::MotionCommand;
 use parol6_core::profile::ProfileKind;
 use serde::{Deserialize, Serialize};
 
@@ -145,68 +145,26 @@ impl ProfileKindSetting {
     }
 }
 
-/// Where the shown robot state comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StateSource {
-    /// The in-process simulation.
-    Simulation,
-    /// Measured by the controller over the serial link (the 3D arm mirrors the robot).
-    Robot,
-}
-
-/// The robot state all panels show this frame (from the simulation or the serial link).
-#[derive(Debug, Clone)]
-pub struct RobotState {
-    /// Source of the values.
-    pub source: StateSource,
-    /// Joint positions, rad.
-    pub q: Vec<f64>,
-    /// Joint velocities, rad/s.
-    pub qd: Vec<f64>,
-    /// Commanded joint targets, rad.
-    pub target_q: Vec<f64>,
-    /// Per-joint limit zone with prediction.
-    pub zones: Vec<ZoneReport>,
-    /// TCP pose.
-    pub tcp: TcpPose,
-    /// True while the arm moves (or a move is in progress).
-    pub moving: bool,
-}
-
-impl RobotState {
-    /// Worst zone over all joints, with the joint index.
-    pub fn worst_zone(&self) -> Option<(usize, ZoneReport)> {
-        self.zones
-            .iter()
-            .copied()
-            .enumerate()
-            .filter(|(_, z)| z.zone != LimitZone::Safe)
-            .max_by(|a, b| a.1.zone.cmp(&b.1.zone).then_with(|| cmp_ttl(b.1.time_to_limit_s, a.1.time_to_limit_s)))
-    }
-}
-
-fn cmp_ttl(a: Option<f64>, b: Option<f64>) -> std::cmp::Ordering {
-    a.unwrap_or(f64::INFINITY).total_cmp(&b.unwrap_or(f64::INFINITY))
-}
+pub use parol6_core::motion::{RobotState, SequenceProgress, StateSource};
 
 /// Something a panel asks the app to do after the UI pass.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AppCommand {
-    /// Follow these joint targets directly (sliders; rad, already within the limits).
-    SetJointTargets(Vec<f64>),
-    /// Profiled point-to-point move.
-    MoveTo {
-        /// Goal, rad.
-        goal: Vec<f64>,
-        /// Speed fraction (0, 1].
-        speed_fraction: f64,
-        /// Profile shape.
-        kind: ProfileKind,
+    /// A motion command for the active backend (simulation or robot; the same meaning on
+    /// both). STOP also cancels a running sequence.
+    Motion(MotionCommand),
+    /// Hold-to-run jog of joint `joint` (0-based) in `direction` (±1) while `Some`; `None`
+    /// releases. The app repeats the jog command within the dead-man time while held.
+    Jog(Option<(usize, i8)>),
+    /// Run a sequence of motion commands off the UI thread (the demos).
+    RunSequence {
+        /// Name shown in the progress line.
+        name: String,
+        /// The steps.
+        steps: Vec<MotionCommand>,
+        /// Start over after the last step.
+        looping: bool,
     },
-    /// Stop now (also cancels a running demo).
-    Stop,
-    /// Go to the home (standby) pose.
-    Home,
     /// Clear the TCP trail of the 3D view.
     ClearTrail,
     /// Reset the 3D camera.
@@ -228,10 +186,8 @@ pub enum LinkCommand {
     Enable,
     /// Disable the drives.
     Disable,
-    /// Run the homing sequence.
+    /// Run the controller's homing routine.
     Home,
-    /// Jog joint `joint` (0-based) in `direction` (±1) while held; `None` releases.
-    Jog(Option<(usize, i8)>),
 }
 
 /// `v`, or exactly 0 when `|v| < eps`: values that print as zero then print without a sign
@@ -293,6 +249,8 @@ pub struct PanelContext<'a> {
     pub link: Option<&'a connection::LinkView>,
     /// Ghost pose to preview in the 3D view (e.g. an IK solution); the app shows it this frame.
     pub preview: &'a mut Option<Vec<f64>>,
+    /// Progress of the running (or last) motion sequence.
+    pub sequence: Option<&'a SequenceProgress>,
 }
 
 impl PanelContext<'_> {
@@ -311,14 +269,31 @@ impl PanelContext<'_> {
         self.notices.push(Notice { text: text.into(), error: false, at: Instant::now() });
     }
 
+    /// Queues a motion command for the active backend.
+    pub fn motion(&mut self, command: MotionCommand) {
+        self.send(AppCommand::Motion(command));
+    }
+
     /// A profiled move to `goal` with the current speed and profile settings.
     pub fn move_to(&mut self, goal: Vec<f64>) {
-        let cmd = AppCommand::MoveTo {
-            goal,
+        let cmd = MotionCommand::MoveJoints {
+            goal_rad: goal,
             speed_fraction: self.settings.speed_fraction,
-            kind: self.settings.profile.kind(),
+            profile: self.settings.profile.kind(),
         };
-        self.send(cmd);
+        self.motion(cmd);
+    }
+
+    /// STOP: hold the commanded position now (also cancels a running sequence).
+    pub fn stop(&mut self) {
+        self.motion(MotionCommand::Stop);
+    }
+
+    /// HOME: the profiled move to standby with the current speed and profile settings.
+    pub fn home(&mut self) {
+        let cmd =
+            MotionCommand::Home { speed_fraction: self.settings.speed_fraction, profile: self.settings.profile.kind() };
+        self.motion(cmd);
     }
 }
 

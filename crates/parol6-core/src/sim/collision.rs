@@ -234,6 +234,29 @@ impl CollisionGuard {
         None
     }
 
+    /// Checks the rest of a planner's current motion, from `from_s` on its clock to its end,
+    /// in steps small enough that no joint moves more than the sweep step between two checks.
+    /// Returns the first contact and its time after `from_s`.
+    pub fn check_planned(
+        &self,
+        model: &RobotModel,
+        planner: &crate::motion::MotionPlanner,
+        from_s: f64,
+    ) -> Option<(CollisionReport, f64)> {
+        let end_s = planner.path_end_s().max(from_s);
+        let (a, b) = (planner.path_q(from_s), planner.path_q(end_s));
+        let travel = a.iter().zip(&b).map(|(x, y)| (y - x).abs()).fold(0.0, f64::max);
+        // profiled moves peak below twice their mean speed
+        let samples = ((2.0 * travel / SWEEP_STEP).ceil() as usize).clamp(1, 1_000_000);
+        for i in 0..=samples {
+            let t = from_s + (end_s - from_s) * i as f64 / samples as f64;
+            if let Some(c) = self.check(model, &planner.path_q(t)) {
+                return Some((c, t - from_s));
+            }
+        }
+        None
+    }
+
     /// First collision along a jog from `from` to `to` where each joint moves independently at
     /// `speed[k]` (rad/s) until it arrives, with the time (s) at which it occurs.
     pub fn check_jog(

@@ -1,5 +1,8 @@
 //! Unit tests of the simulation core (deterministic: no thread, no wall-clock assertions).
 
+use crate::limits::LimitViolation;
+use crate::motion::MotionCommand;
+use crate::profile::{JointMove, ProfileKind};
 use nalgebra::{DMatrix, DVector, Matrix3};
 use rand::{Rng, SeedableRng};
 
@@ -185,8 +188,12 @@ fn kinematic_move_follows_the_profile_exactly() {
     let mut s = sim(SimMode::Kinematic);
     let start = standby_rad().to_vec();
     let goal = vec![1.2, -1.2, 2.8, 0.3, -0.4, 2.0];
-    s.apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 0.8, kind: ProfileKind::JerkLimited })
-        .expect("free move");
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 0.8,
+        profile: ProfileKind::JerkLimited,
+    }))
+    .expect("free move");
     let mv = JointMove::parol6(&start, &goal, 0.8, ProfileKind::JerkLimited).expect("plans");
     for k in 1..=200 {
         s.step();
@@ -202,8 +209,12 @@ fn kinematic_move_follows_the_profile_exactly() {
 fn dynamic_move_tracks_the_profile_and_reaches_the_goal() {
     let mut s = sim(SimMode::Dynamic);
     let goal = vec![1.2, -1.2, 2.8, 0.3, -0.4, 2.0];
-    s.apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 1.0, kind: ProfileKind::Trapezoidal })
-        .expect("free move");
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 1.0,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free move");
     let mv = JointMove::parol6(&standby_rad(), &goal, 1.0, ProfileKind::Trapezoidal).expect("plans");
     let steps = (mv.duration_s() / 1e-3).ceil() as usize;
     let mut worst = 0.0f64;
@@ -221,7 +232,7 @@ fn home_returns_to_standby() {
     for mode in [SimMode::Kinematic, SimMode::Dynamic] {
         let mut s = sim(mode);
         s.apply(SimCommand::Teleport(vec![0.5, -1.0, 2.5, 0.5, 0.5, 1.0])).expect("free teleport");
-        s.apply(SimCommand::Home).expect("home");
+        s.apply(SimCommand::Motion(MotionCommand::home())).expect("home");
         assert!(s.is_moving());
         run_s(&mut s, 6.0);
         assert!(max_abs_diff(s.q(), &standby_rad()) < 1e-3, "{mode:?}: {:?}", s.q());
@@ -234,7 +245,7 @@ fn jog_targets_move_at_the_speed_limit() {
     let mut s = sim(SimMode::Kinematic);
     let mut goal = standby_rad().to_vec();
     goal[0] += 0.5;
-    s.apply(SimCommand::SetJointTargets(goal.clone())).expect("in range");
+    s.apply(SimCommand::Motion(MotionCommand::follow(goal.clone()))).expect("in range");
     s.step();
     let v = motion_caps(s.model()).0[0];
     assert!((s.qd()[0] - v).abs() < 1e-9, "{} vs {v}", s.qd()[0]);
@@ -245,14 +256,14 @@ fn jog_targets_move_at_the_speed_limit() {
 #[test]
 fn stop_holds_where_the_robot_is() {
     let mut s = sim(SimMode::Kinematic);
-    s.apply(SimCommand::MoveTo {
-        goal: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
         speed_fraction: 1.0,
-        kind: ProfileKind::Trapezoidal,
-    })
+        profile: ProfileKind::Trapezoidal,
+    }))
     .expect("move");
     run_s(&mut s, 0.2);
-    s.apply(SimCommand::Stop).expect("stop");
+    s.apply(SimCommand::Motion(MotionCommand::Stop)).expect("stop");
     let here = s.q().to_vec();
     run_s(&mut s, 0.2);
     assert!(max_abs_diff(s.q(), &here) < 1e-12);
@@ -264,7 +275,7 @@ fn reject_policy_names_the_joint_and_limit() {
     let mut s = sim(SimMode::Dynamic);
     let mut q = standby_rad().to_vec();
     q[1] = 0.5; // J2 above its upper limit
-    let err = s.apply(SimCommand::SetJointTargets(q.clone())).expect_err("out of range");
+    let err = s.apply(SimCommand::Motion(MotionCommand::follow(q.clone()))).expect_err("out of range");
     match &err {
         SimError::Limit(LimitViolation::OutOfRange { joint_index, side, .. }) => {
             assert_eq!(*joint_index, 2);
@@ -274,7 +285,11 @@ fn reject_policy_names_the_joint_and_limit() {
     }
     assert!(err.to_string().contains("J2"), "{err}");
     for cmd in [
-        SimCommand::MoveTo { goal: q.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal },
+        SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: q.clone(),
+            speed_fraction: 0.5,
+            profile: ProfileKind::Trapezoidal,
+        }),
         SimCommand::Teleport(q.clone()),
     ] {
         assert!(matches!(s.apply(cmd), Err(SimError::Limit(_))));
@@ -289,7 +304,7 @@ fn clamp_policy_clamps_into_range() {
     let mut s = Simulation::new(parol6(), config).expect("builds");
     let mut q = standby_rad().to_vec();
     q[5] = 9.0; // J6 above 2π
-    s.apply(SimCommand::SetJointTargets(q)).expect("clamped");
+    s.apply(SimCommand::Motion(MotionCommand::follow(q))).expect("clamped");
     assert!((s.snapshot().target_q[5] - std::f64::consts::TAU).abs() < 1e-12);
 }
 
@@ -297,13 +312,25 @@ fn clamp_policy_clamps_into_range() {
 fn malformed_commands_are_refused_without_panicking() {
     let mut s = sim(SimMode::Dynamic);
     let bad = [
-        SimCommand::SetJointTargets(vec![0.0; 3]),
-        SimCommand::SetJointTargets(vec![f64::NAN; 6]),
+        SimCommand::Motion(MotionCommand::follow(vec![0.0; 3])),
+        SimCommand::Motion(MotionCommand::follow(vec![f64::NAN; 6])),
         SimCommand::Teleport(vec![f64::INFINITY; 6]),
         SimCommand::Teleport(vec![]),
-        SimCommand::MoveTo { goal: standby_rad().to_vec(), speed_fraction: f64::NAN, kind: ProfileKind::Trapezoidal },
-        SimCommand::MoveTo { goal: standby_rad().to_vec(), speed_fraction: -1.0, kind: ProfileKind::JerkLimited },
-        SimCommand::MoveTo { goal: vec![1.0; 7], speed_fraction: 0.5, kind: ProfileKind::JerkLimited },
+        SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: standby_rad().to_vec(),
+            speed_fraction: f64::NAN,
+            profile: ProfileKind::Trapezoidal,
+        }),
+        SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: standby_rad().to_vec(),
+            speed_fraction: -1.0,
+            profile: ProfileKind::JerkLimited,
+        }),
+        SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: vec![1.0; 7],
+            speed_fraction: 0.5,
+            profile: ProfileKind::JerkLimited,
+        }),
         SimCommand::ApplyJointTorques(vec![0.0; 5]),
         SimCommand::ApplyJointTorques(vec![f64::NAN; 6]),
     ];
@@ -380,13 +407,13 @@ fn colliding_targets_are_refused() {
             other => panic!("expected a collision refusal, got {other:?}"),
         }
         // a jog target: refused at the latest when the path reaches it
-        match s.apply(SimCommand::SetJointTargets(q.to_vec())) {
+        match s.apply(SimCommand::Motion(MotionCommand::follow(q.to_vec()))) {
             Err(SimError::Collision { at_s, .. }) => assert!(at_s >= 0.0),
             other => panic!("expected a collision refusal, got {other:?}"),
         }
     }
     let free = vec![0.3, -1.1, 2.9, 0.1, 0.2, 1.0];
-    s.apply(SimCommand::SetJointTargets(free)).expect("free target accepted");
+    s.apply(SimCommand::Motion(MotionCommand::follow(free))).expect("free target accepted");
 }
 
 #[test]
@@ -399,7 +426,11 @@ fn a_move_through_a_collision_is_refused_with_the_time() {
     let mut goal = start.clone();
     goal[1] = -0.0653485;
     let err = s
-        .apply(SimCommand::MoveTo { goal: goal.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal })
+        .apply(SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: goal.clone(),
+            speed_fraction: 0.5,
+            profile: ProfileKind::Trapezoidal,
+        }))
         .expect_err("sweeps through the ground");
     let SimError::Collision { link_a, link_b, at_s } = err else { panic!("expected a collision") };
     let mv = JointMove::parol6(&start, &goal, 0.5, ProfileKind::Trapezoidal).expect("plans");
@@ -413,7 +444,12 @@ fn a_move_through_a_collision_is_refused_with_the_time() {
     // a move that stays clear is accepted
     let mut back = start.clone();
     back[1] = -1.0;
-    s.apply(SimCommand::MoveTo { goal: back, speed_fraction: 0.5, kind: ProfileKind::Trapezoidal }).expect("free");
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: back,
+        speed_fraction: 0.5,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free");
 }
 
 #[test]
@@ -423,13 +459,13 @@ fn a_jog_through_a_collision_is_refused() {
     s.apply(SimCommand::Teleport(start.clone())).expect("free start");
     let mut through = start.clone();
     through[1] = -0.0653485; // the wrist ends below the ground
-    let err = s.apply(SimCommand::SetJointTargets(through)).expect_err("collides");
+    let err = s.apply(SimCommand::Motion(MotionCommand::follow(through))).expect_err("collides");
     let SimError::Collision { link_b, at_s, .. } = err else { panic!("expected a collision") };
     assert_eq!(link_b, collision::GROUND);
     assert!(at_s > 0.0);
     let mut near = start.clone();
     near[1] = -1.1;
-    s.apply(SimCommand::SetJointTargets(near)).expect("clear jog");
+    s.apply(SimCommand::Motion(MotionCommand::follow(near))).expect("clear jog");
 }
 
 #[test]
@@ -637,12 +673,16 @@ fn applied_torques_move_the_arm_and_gravity_compensation_holds_it() {
     assert!(s.q()[0] > q0[0] + 0.005);
     // a move planned now starts where the arm is, not where the motors last were
     let here = s.q().to_vec();
-    s.apply(SimCommand::MoveTo { goal: q0.clone(), speed_fraction: 0.5, kind: ProfileKind::Trapezoidal })
-        .expect("move");
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: q0.clone(),
+        speed_fraction: 0.5,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("move");
     s.step();
     assert!(max_abs_diff(s.q(), &here) < 0.01, "jumped from {here:?} to {:?}", s.q());
     // a position command takes the motors back
-    s.apply(SimCommand::Stop).expect("stop");
+    s.apply(SimCommand::Motion(MotionCommand::Stop)).expect("stop");
     let here = s.q().to_vec();
     run_s(&mut s, 0.5);
     assert!(max_abs_diff(s.q(), &here) < 0.05);
@@ -666,11 +706,11 @@ fn snapshot_torques_equal_the_inverse_dynamics_when_holding() {
 fn stepping_is_deterministic() {
     let run = || {
         let mut s = sim(SimMode::Dynamic);
-        s.apply(SimCommand::MoveTo {
-            goal: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
+        s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+            goal_rad: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
             speed_fraction: 1.0,
-            kind: ProfileKind::JerkLimited,
-        })
+            profile: ProfileKind::JerkLimited,
+        }))
         .expect("move");
         run_s(&mut s, 0.4);
         s.snapshot()

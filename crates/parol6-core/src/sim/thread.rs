@@ -14,6 +14,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, TrySendError};
 
 use super::{SimCommand, SimConfig, SimError, SimSnapshot, Simulation};
 use crate::model::RobotModel;
+use crate::motion::{BackendError, MotionCommand, MotionSample, RobotBackend, RobotState};
 
 /// Capacity of the command channel.
 pub const COMMAND_QUEUE: usize = 1024;
@@ -67,6 +68,7 @@ struct Counters {
 
 struct Shared {
     snapshot: ArcSwap<SimSnapshot>,
+    state: ArcSwap<RobotState>,
     stop: AtomicBool,
     counters: Counters,
 }
@@ -108,11 +110,24 @@ pub fn thread_cpu_time_ns() -> Option<u64> {
 impl SimHandle {
     /// Builds the simulation (errors are returned here) and starts its thread.
     pub fn spawn(model: RobotModel, config: SimConfig) -> Result<SimHandle, SimError> {
+        Self::spawn_with_tap(model, config, None)
+    }
+
+    /// [`SimHandle::spawn`] with a tap that receives a [`MotionSample`] of every step
+    /// (dropped, never waited for, when full).
+    pub fn spawn_with_tap(
+        model: RobotModel,
+        config: SimConfig,
+        tap: Option<Sender<MotionSample>>,
+    ) -> Result<SimHandle, SimError> {
         let mut sim = Simulation::new(model.clone(), config)?;
+        sim.set_tap(tap);
+        let first = sim.snapshot();
         let (tx, rx) = crossbeam_channel::bounded(COMMAND_QUEUE);
         let (latency_tx, latency_rx) = crossbeam_channel::bounded(LATENCY_LOG);
         let shared = Arc::new(Shared {
-            snapshot: ArcSwap::from_pointee(sim.snapshot()),
+            state: ArcSwap::from_pointee(first.robot_state()),
+            snapshot: ArcSwap::from_pointee(first),
             stop: AtomicBool::new(false),
             counters: Counters::default(),
         });
@@ -246,6 +261,27 @@ fn run(mut sim: Simulation, rx: &Receiver<Envelope>, latency_tx: &Sender<u64>, s
                 c.has_cpu.store(true, Ordering::Relaxed);
             }
         }
-        shared.snapshot.store(Arc::new(sim.snapshot()));
+        let snap = sim.snapshot();
+        shared.state.store(Arc::new(snap.robot_state()));
+        shared.snapshot.store(Arc::new(snap));
+    }
+}
+
+impl RobotBackend for SimHandle {
+    fn submit(&self, cmd: MotionCommand, at_s: Option<f64>) -> Result<(), BackendError> {
+        cmd.validate(&self.model.limits)?;
+        let sc = match at_s {
+            None => SimCommand::Motion(cmd),
+            Some(at_s) => SimCommand::MotionAt { cmd, at_s },
+        };
+        self.send(sc).map_err(|e| match e {
+            SimError::ChannelFull => BackendError::QueueFull,
+            SimError::ChannelClosed => BackendError::Closed,
+            other => BackendError::Refused(other.to_string()),
+        })
+    }
+
+    fn state(&self) -> Arc<RobotState> {
+        self.shared.state.load_full()
     }
 }

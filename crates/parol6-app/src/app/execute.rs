@@ -1,0 +1,167 @@
+//! Executing the commands the panels queued: motion on the active backend (the same call for
+//! the simulation and the robot), sequences, jog refresh, link operations, and the notices
+//! that report what happened.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use parol6_core::motion::{MotionCommand, RobotBackend, SequenceRunner};
+
+use super::{ConnectTarget, JOG_REFRESH, Parol6App};
+use crate::panels::{AppCommand, LinkCommand, RobotState};
+
+/// A port that has not answered within this long is reported as "no controller answers".
+const ANSWER_TIMEOUT_S: f64 = 3.0;
+
+impl Parol6App {
+    pub(super) fn execute(&mut self, cmd: AppCommand) {
+        match cmd {
+            AppCommand::ClearTrail => {
+                if let Some(v) = &mut self.viewport {
+                    v.clear_trail();
+                }
+            }
+            AppCommand::ResetView => {
+                if let Some(v) = &mut self.viewport {
+                    v.reset_view();
+                }
+            }
+            AppCommand::Link(l) => self.execute_link(l),
+            AppCommand::Motion(m) => {
+                if matches!(m, MotionCommand::Stop) {
+                    self.cancel_sequence();
+                }
+                if let Err(e) = self.backend().send(m) {
+                    self.cancel_sequence();
+                    self.notice(format!("command refused: {e}"), true);
+                }
+            }
+            AppCommand::Jog(held) => self.jog(held),
+            AppCommand::RunSequence { name, steps, looping } => {
+                self.cancel_sequence();
+                match SequenceRunner::start(self.backend(), name.clone(), steps, looping) {
+                    Ok(r) => {
+                        self.sequence_progress = Some(r.progress());
+                        self.sequence = Some(r);
+                    }
+                    Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
+                }
+            }
+        }
+    }
+
+    /// Hold-to-run jog: sends the jog command when it changes and refreshes it within the
+    /// backend's dead-man time while held; releases it when let go.
+    fn jog(&mut self, held: Option<(usize, i8)>) {
+        let backend: Arc<dyn RobotBackend> = self.backend();
+        let res = match held {
+            None => match self.jog_held.take() {
+                Some(_) => backend.send(MotionCommand::JogRelease),
+                None => Ok(()),
+            },
+            Some((joint, dir)) => {
+                let due = match self.jog_held {
+                    Some((j, d, at)) => j != joint || d != dir || at.elapsed() >= JOG_REFRESH,
+                    None => true,
+                };
+                if due {
+                    self.jog_held = Some((joint, dir, Instant::now()));
+                    let fraction = f64::from(dir) * self.settings.jog_speed_fraction;
+                    backend.send(MotionCommand::JogJoint { joint, fraction })
+                } else {
+                    Ok(())
+                }
+            }
+        };
+        if let Err(e) = res {
+            self.jog_held = None;
+            self.notice(format!("jog refused: {e}"), true);
+        }
+    }
+
+    fn execute_link(&mut self, cmd: LinkCommand) {
+        let res: Result<(), String> = match (&self.hw, cmd) {
+            (_, LinkCommand::Connect(p)) => {
+                self.connect(&ConnectTarget::Port(p));
+                Ok(())
+            }
+            (_, LinkCommand::ConnectEmulator) => {
+                self.connect(&ConnectTarget::Emulator);
+                Ok(())
+            }
+            (_, LinkCommand::Disconnect) => {
+                self.disconnect();
+                Ok(())
+            }
+            (None, _) => Err("no robot connected".to_string()),
+            (Some(l), LinkCommand::Enable) => l.session.enable().map_err(|e| e.to_string()),
+            (Some(l), LinkCommand::Disable) => l.session.disable().map_err(|e| e.to_string()),
+            (Some(l), LinkCommand::Home) => l.session.home().map_err(|e| e.to_string()),
+        };
+        if let Err(e) = res {
+            self.notice(format!("robot: {e}"), true);
+        }
+    }
+
+    /// Tells the operator when the link changes: the controller answered (the port is then
+    /// remembered), no controller answers, the link was lost or came back; and new faults.
+    pub(super) fn link_notices(&mut self) {
+        let Some(link) = &mut self.hw else { return };
+        let snap = link.session.snapshot();
+        let mut out: Vec<(String, bool)> = Vec::new();
+        let mut remember_port = None;
+        if snap.fault != link.last_fault {
+            link.last_fault.clone_from(&snap.fault);
+            if let Some(f) = &snap.fault {
+                out.push((format!("robot: {f}"), true));
+            }
+        }
+        let state = snap.link;
+        if link.told != Some(state) {
+            use parol6_hw::LinkState as L;
+            let waited_s = link.opened_at.elapsed().as_secs_f64();
+            let msg = match (state, snap.status_frames) {
+                (L::Connected, _) => {
+                    if !link.emulated {
+                        remember_port = Some(snap.port.clone());
+                    }
+                    Some((format!("PAROL6 answered on {}", snap.port), false))
+                }
+                (L::Connecting | L::Lost, 0) if waited_s >= ANSWER_TIMEOUT_S => Some((
+                    format!(
+                        "no PAROL6 answered on {} within {ANSWER_TIMEOUT_S:.0} s: check the port and the power",
+                        snap.port
+                    ),
+                    true,
+                )),
+                (L::Connecting | L::Lost, 0) => None,
+                (L::Lost, _) => Some((format!("link to {} lost: motion stopped", snap.port), true)),
+                (L::Connecting, _) => None,
+                (L::Closed, _) => Some((format!("link to {} closed", snap.port), true)),
+            };
+            if let Some(m) = msg {
+                link.told = Some(state);
+                out.push(m);
+            }
+        }
+        if let Some(p) = remember_port {
+            self.settings.last_port = p;
+        }
+        for (text, error) in out {
+            self.notice(text, error);
+        }
+    }
+
+    /// Shows refusals of the active backend (each once) and ends a running sequence.
+    pub(super) fn refusal_notices(&mut self, robot: &RobotState) {
+        let Some((id, msg)) = &robot.last_refusal else { return };
+        if self.last_refusal_seen.0 == robot.backend && *id <= self.last_refusal_seen.1 {
+            return;
+        }
+        let first_look = self.last_refusal_seen.0 != robot.backend;
+        self.last_refusal_seen = (robot.backend.clone(), *id);
+        if !first_look {
+            self.notice(format!("{} refused a command: {msg}", robot.backend), true);
+        }
+    }
+}

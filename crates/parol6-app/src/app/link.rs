@@ -1,0 +1,80 @@
+//! The serial link to a controller (a real port or the built-in emulator): opening it, and the
+//! connection panel's view of it. Motion goes through the session's `RobotBackend` like the
+//! simulation's; only link operations (enable, disable, the homing routine) are link-specific.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use parol6_core::RobotModel;
+
+use super::ConnectTarget;
+use crate::panels::connection::LinkView;
+
+/// An open serial session (real port or the built-in emulator).
+pub(super) struct HwLink {
+    pub(super) session: Arc<parol6_hw::Session>,
+    /// Kept alive while connected; dropping it stops the emulator.
+    pub(super) _emulator: Option<parol6_hw::EmulatorHandle>,
+    pub(super) emulated: bool,
+    pub(super) last_fault: Option<String>,
+    /// When the port was opened (to say when no controller answers).
+    pub(super) opened_at: Instant,
+    /// The link state the operator was last told about.
+    pub(super) told: Option<parol6_hw::LinkState>,
+}
+
+impl HwLink {
+    pub(super) fn connect(target: &ConnectTarget, model: &RobotModel) -> anyhow::Result<Self> {
+        if !model.is_parol6 {
+            anyhow::bail!("the serial link drives a PAROL6 only; this model is \"{}\"", model.name);
+        }
+        let config = parol6_hw::SessionConfig::default();
+        match target {
+            ConnectTarget::Port(p) => {
+                let session = parol6_hw::Session::open(p, config)?;
+                Ok(Self::new(session, None))
+            }
+            ConnectTarget::Emulator => Self::connect_emulator(config),
+        }
+    }
+
+    fn new(session: parol6_hw::Session, emulator: Option<parol6_hw::EmulatorHandle>) -> Self {
+        Self {
+            session: Arc::new(session),
+            emulated: emulator.is_some(),
+            _emulator: emulator,
+            last_fault: None,
+            opened_at: Instant::now(),
+            told: None,
+        }
+    }
+
+    #[cfg(unix)]
+    fn connect_emulator(config: parol6_hw::SessionConfig) -> anyhow::Result<Self> {
+        let emu = parol6_hw::EmulatorHandle::spawn(parol6_hw::EmulatorConfig::homed_at_standby())?;
+        let session = parol6_hw::Session::open(emu.path(), config)?;
+        Ok(Self::new(session, Some(emu)))
+    }
+
+    #[cfg(not(unix))]
+    fn connect_emulator(_config: parol6_hw::SessionConfig) -> anyhow::Result<Self> {
+        anyhow::bail!("the built-in emulator needs a pseudo-terminal (Unix only)")
+    }
+
+    pub(super) fn view(&self, snap: &parol6_hw::Snapshot) -> LinkView {
+        LinkView {
+            port: snap.port.clone(),
+            emulated: self.emulated,
+            link_ok: snap.link == parol6_hw::LinkState::Connected,
+            link_state: format!("{:?}", snap.link),
+            enabled: snap.status.is_some() && snap.enabled.unwrap_or(true) && !snap.needs_enable,
+            estop: snap.estop_pressed,
+            homing: matches!(snap.homing, parol6_hw::HomingState::Sending | parol6_hw::HomingState::Waiting),
+            homed: snap.homed.to_vec(),
+            loop_rate_hz: snap.loop_rate_hz,
+            jitter_ms: snap.period_jitter_p99_ms,
+            dropped_frames: snap.invalid_frames + snap.missing_replies,
+            last_error: snap.fault.clone(),
+        }
+    }
+}

@@ -1,0 +1,486 @@
+//! The eframe application (`layout`: menu, panels and the 3D view; `link`: the serial link;
+//! `settings_store`: settings on disk; `test_hooks`: the GUI smoke and sweep scripts): owns the simulation, the optional serial session, the 3D viewport
+//! and the panels. Reads one snapshot per frame, lets the panels queue [`AppCommand`]s and
+//! executes them after the UI pass. Rendering never waits on physics (the snapshot is a
+//! lock-free `Arc`) and repaints are requested only while something moves or the link is live.
+//!
+//! [`Parol6App::frame`] is the whole UI of one frame; the window ([`eframe::App`]) and the
+//! offscreen renderer ([`crate::ui_screenshot`]) both call it.
+
+use eframe::egui;
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicI32;
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use eframe::egui_wgpu;
+use parol6_core::RobotModel;
+use parol6_core::limits::LimitZone;
+use parol6_core::motion::{MotionCommand, RobotBackend, SequenceProgress, SequenceRunner};
+use parol6_core::sim::{SimCommand, SimConfig, SimHandle, SimSnapshot};
+
+use crate::panels::cartesian_target::CartesianTargetPanel;
+use crate::panels::connection::ConnectionPanel;
+use crate::panels::demos::DemosPanel;
+use crate::panels::joints::JointsPanel;
+use crate::panels::status_bar::StatusBar;
+use crate::panels::tcp::TcpPanel;
+use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource};
+use crate::viewport::{SceneFrame, Viewport};
+
+mod execute;
+mod icon;
+mod layout;
+mod link;
+mod settings_store;
+mod test_hooks;
+#[cfg(test)]
+mod tests;
+
+pub use icon::window_icon;
+use link::HwLink;
+use settings_store::save_settings;
+pub use settings_store::{load_settings, settings_path};
+pub use test_hooks::TestScript;
+use test_hooks::{SmokeStep, SweepRun, TestRunner};
+
+/// Window title.
+pub const WINDOW_TITLE: &str = "PAROL6 Studio";
+/// Notices disappear after this long.
+const NOTICE_TTL: Duration = Duration::from_secs(8);
+/// After any command, keep repainting this long so its effect (or refusal) shows up.
+const COMMAND_REPAINT_WINDOW: Duration = Duration::from_millis(600);
+/// While idle, repaint this seldom, so the status figures stay true. Each frame costs tens of
+/// milliseconds of CPU on a software rasterizer, so idle means one frame a second.
+const IDLE_REPAINT: Duration = Duration::from_secs(1);
+/// While the serial link is open and the arm is still, repaint this often: enough for the
+/// link, E-stop and homing LEDs and the link health figures (the session itself reacts to the
+/// E-stop within one period, whatever the UI does). Faster idle repaints would compete with
+/// the serial thread for the CPU on software-rendered machines. Motion repaints continuously.
+const LINK_REPAINT: Duration = Duration::from_millis(100);
+/// Jog refresh period (the session's dead-man is 200 ms).
+const JOG_REFRESH: Duration = Duration::from_millis(60);
+/// A ghost is drawn only when the target differs from the pose by more than this (rad).
+const GHOST_MIN_DIFF_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// Which robot to connect to at start.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ConnectTarget {
+    /// A serial port.
+    Port(String),
+    /// The built-in controller emulator.
+    Emulator,
+}
+
+/// What the app starts with.
+#[derive(Debug, Clone)]
+pub struct LaunchOptions {
+    /// The robot.
+    pub model: RobotModel,
+    /// Connect to a controller at start.
+    pub connect: Option<ConnectTarget>,
+    /// Settings file (`None`: defaults, nothing saved).
+    pub settings_path: Option<PathBuf>,
+    /// Test hook (see [`TestScript::from_env`]).
+    pub test_script: Option<TestScript>,
+    /// When the process started (for the cold-start report).
+    pub started: Instant,
+    /// MSAA sample count of the render target the 3D view draws into (the window's).
+    pub msaa_samples: u32,
+}
+
+/// The application state.
+pub struct Parol6App {
+    model: RobotModel,
+    sim: Arc<SimHandle>,
+    hw: Option<HwLink>,
+    /// The running (or last) motion sequence, on the backend that was active when it started.
+    sequence: Option<SequenceRunner>,
+    /// Its last progress, kept after it ends.
+    sequence_progress: Option<SequenceProgress>,
+    /// The jog being held: joint, direction, when the jog command was last sent.
+    jog_held: Option<(usize, i8, Instant)>,
+    /// Refusal id last shown, per backend (`backend` name, id).
+    last_refusal_seen: (String, u64),
+    viewport: Option<Viewport>,
+    viewport_error: Option<String>,
+    settings: Settings,
+    settings_path: Option<PathBuf>,
+    joints: JointsPanel,
+    tcp: TcpPanel,
+    target: CartesianTargetPanel,
+    demos: DemosPanel,
+    connection: ConnectionPanel,
+    status: StatusBar,
+    perf: PerfStats,
+    /// Readout state and perf figures, and when they were taken (see `PanelContext::readout`).
+    readout: Option<(Instant, RobotState, PerfStats)>,
+    frame_starts: VecDeque<Instant>,
+    notices: Vec<Notice>,
+    commands: Vec<AppCommand>,
+    repaint_until: Instant,
+    test: Option<TestRunner>,
+    sweep: Option<SweepRun>,
+    exit_code: Arc<AtomicI32>,
+    started: Instant,
+    show_help: bool,
+}
+
+impl Parol6App {
+    /// Builds the app: spawns the simulation, creates the 3D viewport on `render_state` (a
+    /// plain placeholder without one), connects to a controller if asked.
+    pub fn new(opts: LaunchOptions, render_state: Option<&egui_wgpu::RenderState>) -> anyhow::Result<Self> {
+        let model = opts.model;
+        let sim = Arc::new(SimHandle::spawn(model.clone(), SimConfig::default()).context("starting the simulation")?);
+        let settings = load_settings(opts.settings_path.as_deref());
+        let (viewport, viewport_error) = match render_state {
+            Some(rs) => match Viewport::with_target(rs, &model, opts.msaa_samples, Some(crate::viewport::DEPTH_FORMAT))
+            {
+                Ok(mut v) => {
+                    v.options = settings.view;
+                    (Some(v), None)
+                }
+                Err(e) => (None, Some(format!("3D view unavailable: {e}"))),
+            },
+            None => (None, Some("3D view unavailable: no wgpu renderer".to_string())),
+        };
+        let mut app = Self {
+            demos: DemosPanel::new(&model),
+            model,
+            sim,
+            hw: None,
+            sequence: None,
+            sequence_progress: None,
+            jog_held: None,
+            last_refusal_seen: (String::new(), 0),
+            viewport,
+            viewport_error,
+            settings,
+            settings_path: opts.settings_path,
+            joints: JointsPanel::default(),
+            tcp: TcpPanel::default(),
+            target: CartesianTargetPanel::default(),
+            connection: ConnectionPanel::default(),
+            status: StatusBar,
+            perf: PerfStats::default(),
+            readout: None,
+            frame_starts: VecDeque::new(),
+            notices: Vec::new(),
+            commands: Vec::new(),
+            repaint_until: Instant::now() + COMMAND_REPAINT_WINDOW,
+            test: match &opts.test_script {
+                Some(TestScript::Smoke(out)) => Some(TestRunner {
+                    out: out.clone(),
+                    step: SmokeStep::Warmup,
+                    frames: 0,
+                    q_before: 0.0,
+                    target: 0.0,
+                    first_frame_ms: None,
+                }),
+                _ => None,
+            },
+            sweep: match opts.test_script {
+                Some(TestScript::Sweep(seconds)) => Some(SweepRun { seconds, ..Default::default() }),
+                _ => None,
+            },
+            exit_code: Arc::new(AtomicI32::new(0)),
+            started: opts.started,
+            show_help: false,
+        };
+        if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
+            for w in w {
+                app.notice(format!("3D view: {w}"), true);
+            }
+        }
+        for w in &app.model.warnings {
+            let text = format!("model: {w}");
+            app.notices.push(Notice { text, error: false, at: Instant::now() });
+        }
+        if let Some(target) = opts.connect {
+            app.connect(&target);
+        }
+        Ok(app)
+    }
+
+    /// Shares the slot where the test hook stores the process exit status (0 = success).
+    pub fn set_exit_code(&mut self, slot: Arc<AtomicI32>) {
+        self.exit_code = slot;
+    }
+
+    /// The simulation (the bench drives it).
+    pub fn sim(&self) -> &SimHandle {
+        &self.sim
+    }
+
+    /// Starts the demo called `name` as a sequence on the active backend (the bench and the
+    /// sweep script use it); false when there is no such demo.
+    pub fn start_demo(&mut self, name: &str, looping: bool) -> bool {
+        self.demos.looping = looping;
+        match self.demos.run_command(name) {
+            Some(cmd) => {
+                self.execute(cmd);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// True while a motion sequence (a demo) runs.
+    pub fn sequence_running(&self) -> bool {
+        self.sequence.as_ref().is_some_and(SequenceRunner::is_running)
+    }
+
+    /// The backend that motion commands go to: the robot when connected, else the simulation.
+    pub fn backend(&self) -> Arc<dyn RobotBackend> {
+        match &self.hw {
+            Some(link) => Arc::clone(&link.session) as Arc<dyn RobotBackend>,
+            None => Arc::clone(&self.sim) as Arc<dyn RobotBackend>,
+        }
+    }
+
+    /// The figures of the last frame.
+    pub fn perf(&self) -> &PerfStats {
+        &self.perf
+    }
+
+    /// Teleports the simulated arm (screenshots at given joints).
+    pub fn teleport(&mut self, q: Vec<f64>) -> anyhow::Result<()> {
+        self.sim.send(SimCommand::Teleport(q))?;
+        Ok(())
+    }
+
+    fn notice(&mut self, text: impl Into<String>, error: bool) {
+        let text = text.into();
+        if error {
+            tracing::warn!("{text}");
+        }
+        self.notices.push(Notice { text, error, at: Instant::now() });
+    }
+
+    fn connect(&mut self, target: &ConnectTarget) {
+        self.disconnect();
+        match HwLink::connect(target, &self.model) {
+            Ok(link) => {
+                let what = match target {
+                    ConnectTarget::Port(p) => format!("opened {p}: waiting for the controller to answer"),
+                    ConnectTarget::Emulator => "started the built-in emulator: waiting for it to answer".to_string(),
+                };
+                self.notice(what, false);
+                self.hw = Some(link);
+            }
+            Err(e) => self.notice(format!("connect failed: {e:#}"), true),
+        }
+    }
+
+    fn disconnect(&mut self) {
+        self.cancel_sequence();
+        if let Some(link) = self.hw.take() {
+            // Hand the view back to the simulation where the robot last was (when that pose
+            // is valid), so the arm does not jump back to its pose from before connecting.
+            let measured = link.session.snapshot();
+            let q = if measured.status.is_some() && self.model.limits.contains(&measured.joint_rad) {
+                measured.joint_rad.to_vec()
+            } else {
+                self.sim.snapshot().q.clone()
+            };
+            drop(link);
+            if let Err(e) = self.sim.send(SimCommand::Teleport(q)) {
+                self.notice(format!("simulation: {e}"), true);
+            }
+        }
+    }
+
+    fn cancel_sequence(&mut self) {
+        if let Some(seq) = self.sequence.take() {
+            seq.cancel();
+            self.sequence_progress = Some(seq.join());
+        }
+    }
+
+    /// The state shown this frame: the active backend's, computed on its own thread.
+    fn robot_state(&self) -> Arc<RobotState> {
+        self.backend().state()
+    }
+
+    fn update_perf(&mut self, now: Instant, snap: &SimSnapshot) {
+        self.frame_starts.push_back(now);
+        while self.frame_starts.front().is_some_and(|t| now.duration_since(*t) > Duration::from_secs(1)) {
+            self.frame_starts.pop_front();
+        }
+        let n = self.frame_starts.len();
+        self.perf.fps = match (self.frame_starts.front(), n) {
+            (Some(first), n) if n > 1 => (n - 1) as f64 / now.duration_since(*first).as_secs_f64().max(1e-6),
+            _ => 0.0,
+        };
+        self.perf.physics_rate_hz = snap.step_rate_hz;
+        self.perf.physics_step_us = snap.last_step_ns as f64 / 1000.0;
+        self.perf.command_latency_ms = snap.last_command_latency_ns.map(|ns| ns as f64 / 1e6);
+        self.perf.sim_time_s = snap.sim_time_s;
+    }
+
+    fn keyboard(&mut self, ctx: &egui::Context) {
+        let typing = ctx.memory(|m| m.focused().is_some());
+        let (esc, home, ctrl_home, quit, help) = ctx.input_mut(|i| {
+            (
+                i.consume_key(egui::Modifiers::NONE, egui::Key::Escape),
+                !typing && i.consume_key(egui::Modifiers::NONE, egui::Key::H),
+                i.consume_key(egui::Modifiers::COMMAND, egui::Key::H),
+                i.consume_key(egui::Modifiers::COMMAND, egui::Key::Q),
+                i.consume_key(egui::Modifiers::NONE, egui::Key::F1),
+            )
+        });
+        if esc {
+            self.commands.push(AppCommand::Motion(MotionCommand::Stop));
+        }
+        if home || ctrl_home {
+            let (speed_fraction, profile) = (self.settings.speed_fraction, self.settings.profile.kind());
+            self.commands.push(AppCommand::Motion(MotionCommand::Home { speed_fraction, profile }));
+        }
+        if quit {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+        if help {
+            self.show_help = !self.show_help;
+        }
+    }
+
+    /// Draws one frame of the whole UI into `ui` and executes the commands it produced.
+    pub fn frame(&mut self, ui: &mut egui::Ui) {
+        let t0 = Instant::now();
+        let ctx = ui.ctx().clone();
+        let snap = self.sim.snapshot();
+        self.update_perf(t0, &snap);
+
+        let link_view = self.hw.as_ref().map(|l| l.view(&l.session.snapshot()));
+        self.link_notices();
+        let robot_arc = self.robot_state();
+        let robot: &RobotState = &robot_arc;
+        self.refusal_notices(robot);
+        if let Some(seq) = &self.sequence {
+            let p = seq.progress();
+            if let parol6_core::motion::SequenceState::Failed(why) = &p.state
+                && self.sequence_progress.as_ref().map(|q| &q.state) != Some(&p.state)
+            {
+                self.notice(format!("{} stopped: {why}", p.name), true);
+            }
+            self.sequence_progress = Some(p);
+        }
+        self.sweep_step(&ctx, t0, robot.moving);
+
+        self.keyboard(&ctx);
+        self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);
+
+        let refresh = match &self.readout {
+            None => true,
+            Some((at, shown, _)) => {
+                !robot.moving || shown.source != robot.source || at.elapsed().as_secs_f64() >= 1.0 / READOUT_HZ
+            }
+        };
+        if refresh {
+            self.readout = Some((t0, robot.clone(), self.perf.clone()));
+        }
+        let (readout, readout_perf) = match &self.readout {
+            Some((_, r, p)) => (r, p),
+            None => (robot, &self.perf),
+        };
+        let mut preview: Option<Vec<f64>> = None;
+        let mut commands = std::mem::take(&mut self.commands);
+        let mut notices = std::mem::take(&mut self.notices);
+        {
+            let mut pctx = PanelContext {
+                model: &self.model,
+                robot,
+                readout,
+                settings: &mut self.settings,
+                commands: &mut commands,
+                notices: &mut notices,
+                perf: readout_perf,
+                link: link_view.as_ref(),
+                preview: &mut preview,
+                sequence: self.sequence_progress.as_ref(),
+            };
+            if let Some(t) = &mut self.test {
+                t.frames += 1;
+                Self::test_step(t, &ctx, &mut self.joints, &mut pctx, &self.exit_code, self.started);
+            }
+            Self::layout(
+                ui,
+                &mut pctx,
+                &mut self.joints,
+                &mut self.tcp,
+                &mut self.target,
+                &mut self.demos,
+                &mut self.connection,
+                &mut self.status,
+                self.viewport.as_mut(),
+                self.viewport_error.as_deref(),
+                &mut self.show_help,
+            );
+        }
+        self.notices = notices;
+
+        // 3D view in the remaining space.
+        let ghost: Option<Vec<f64>> = preview.or_else(|| {
+            let differs = robot.target_q.len() == robot.q.len()
+                && robot.target_q.iter().zip(&robot.q).any(|(t, q)| (t - q).abs() > GHOST_MIN_DIFF_RAD);
+            differs.then(|| robot.target_q.clone())
+        });
+        let zones: Vec<LimitZone> = robot.zones.iter().map(|z| z.zone).collect();
+        let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
+        let snap = self.sim.snapshot();
+        if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
+            scene.link_poses = snap.link_poses.clone();
+        }
+        self.central(ui, &scene);
+
+        for c in &commands {
+            self.execute(c.clone());
+        }
+        self.commands.clear();
+        if !commands.is_empty() {
+            self.repaint_until = Instant::now() + COMMAND_REPAINT_WINDOW;
+        }
+        if let Some(v) = &self.viewport
+            && v.options != self.settings.view
+        {
+            self.settings.view = v.options;
+        }
+
+        // Repaint policy: continuous only while something moves or the link is live.
+        let busy = robot.moving || self.sequence_running() || Instant::now() < self.repaint_until;
+        if busy || self.test.is_some() || self.sweep.is_some() {
+            ctx.request_repaint();
+        } else if self.hw.is_some() {
+            ctx.request_repaint_after(LINK_REPAINT);
+        } else {
+            ctx.request_repaint_after(IDLE_REPAINT);
+        }
+        self.perf.ui_cpu_ms = t0.elapsed().as_secs_f64() * 1000.0;
+    }
+
+    /// Saves the settings (also done on exit).
+    pub fn save_settings(&self) {
+        if let Some(p) = &self.settings_path
+            && let Err(e) = save_settings(p, &self.settings)
+        {
+            tracing::warn!("settings not saved: {e:#}");
+        }
+    }
+}
+
+impl eframe::App for Parol6App {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.frame(ui);
+    }
+
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        crate::theme::clear_color()
+    }
+
+    fn on_exit(&mut self) {
+        self.save_settings();
+        self.disconnect();
+    }
+}

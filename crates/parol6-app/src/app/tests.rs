@@ -1,0 +1,110 @@
+use super::*;
+use crate::panels::LinkCommand;
+use parol6_core::motion::MotionCommand;
+
+fn run_frame(app: &mut Parol6App, ctx: &egui::Context) {
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0))),
+        ..Default::default()
+    };
+    let _ = ctx.run_ui(input, |ui| app.frame(ui));
+}
+
+fn wait_for(app: &mut Parol6App, ctx: &egui::Context, what: &str, mut done: impl FnMut(&RobotState) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs(15);
+    loop {
+        run_frame(app, ctx);
+        let state = app.robot_state();
+        if done(&state) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}: {state:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn launch(connect: Option<ConnectTarget>) -> Parol6App {
+    let opts = LaunchOptions {
+        model: RobotModel::parol6(),
+        connect,
+        settings_path: None,
+        test_script: None,
+        started: Instant::now(),
+        msaa_samples: 1,
+    };
+    Parol6App::new(opts, None).expect("app")
+}
+
+#[test]
+fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
+    let mut app = launch(None);
+    let ctx = egui::Context::default();
+    run_frame(&mut app, &ctx);
+    let robot = app.robot_state();
+    assert_eq!(robot.source, StateSource::Simulation);
+    let target = robot.q[0] + 0.3;
+    {
+        let mut commands = Vec::new();
+        let mut notices = Vec::new();
+        let mut preview = None;
+        let mut pctx = PanelContext {
+            model: &app.model,
+            robot: &robot,
+            readout: &robot,
+            settings: &mut app.settings,
+            commands: &mut commands,
+            notices: &mut notices,
+            perf: &app.perf,
+            link: None,
+            preview: &mut preview,
+            sequence: None,
+        };
+        app.joints.set_joint(0, target, &mut pctx);
+        // A value beyond the limit is clamped to it, never passed on.
+        app.joints.set_joint(1, 10.0, &mut pctx);
+        app.commands = commands;
+    }
+    match app.commands.last() {
+        Some(AppCommand::Motion(MotionCommand::Follow { target_rad: q, .. })) => {
+            let lim = app.model.limits.get(1).expect("J2");
+            assert!((q[1] - lim.max).abs() < 1e-12, "J2 target {} not clamped to {}", q[1], lim.max);
+            assert!((q[0] - target).abs() < 1e-12);
+        }
+        other => panic!("expected joint targets, got {other:?}"),
+    }
+    wait_for(&mut app, &ctx, "joint 1 to follow the slider", |s| (s.q[0] - target).abs() < 0.01 && !s.moving);
+
+    assert!(app.start_demo("Joint sweep", false));
+    run_frame(&mut app, &ctx);
+    assert!(app.sequence_running());
+    app.commands.push(AppCommand::Motion(MotionCommand::Stop));
+    run_frame(&mut app, &ctx);
+    assert!(!app.sequence_running(), "STOP must cancel the demo");
+}
+
+#[cfg(unix)]
+#[test]
+fn fake_robot_is_mirrored_and_moves() {
+    let mut app = launch(Some(ConnectTarget::Emulator));
+    assert!(app.hw.is_some(), "emulator did not connect: {:?}", app.notices);
+    let ctx = egui::Context::default();
+    let standby = parol6_core::parol6::standby_rad();
+    wait_for(&mut app, &ctx, "the first status", |s| {
+        s.source == StateSource::Robot && s.q.iter().zip(&standby).all(|(a, b)| (a - b).abs() < 1e-3)
+    });
+    let mut goal = standby.to_vec();
+    goal[0] -= 0.2;
+    app.execute(AppCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 1.0,
+        profile: parol6_core::profile::ProfileKind::Trapezoidal,
+    }));
+    assert!(app.notices.iter().all(|n| !n.error), "{:?}", app.notices);
+    wait_for(&mut app, &ctx, "the robot to reach the goal", |s| (s.q[0] - goal[0]).abs() < 0.01);
+    let view = app.hw.as_ref().map(|l| l.view(&l.session.snapshot())).expect("link");
+    assert!(view.link_ok && view.emulated && view.homed.iter().all(|h| *h), "{view:?}");
+    app.execute(AppCommand::Link(LinkCommand::Disconnect));
+    assert!(app.hw.is_none());
+    run_frame(&mut app, &ctx);
+    assert_eq!(app.robot_state().source, StateSource::Simulation);
+}

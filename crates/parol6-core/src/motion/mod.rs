@@ -1,0 +1,195 @@
+//! The motion layer: one command type and one planner for every backend.
+//!
+//! A [`MotionCommand`] means the same thing whether it drives the simulation or the robot:
+//! - [`MotionCommand::Follow`]: slew toward a target at each joint's speed cap × fraction (a
+//!   slider being dragged);
+//! - [`MotionCommand::MoveJoints`]: a synchronised, profiled point-to-point move (a typed value,
+//!   a demo step);
+//! - [`MotionCommand::Home`]: the same profiled move to the home pose (PAROL6 standby);
+//! - [`MotionCommand::JogJoint`] / [`MotionCommand::JogRelease`]: hold-to-run jog with a
+//!   dead-man ([`DEADMAN_S`]);
+//! - [`MotionCommand::Stop`]: hold the commanded position of this instant.
+//!
+//! [`MotionPlanner`] turns commands into the commanded joint trajectory. It is a pure function
+//! of the commands and the times they apply at: the simulation samples it every 1 ms step, the
+//! serial session every 10 ms frame, and both get the same numbers at the same instants.
+//! Commands may be scheduled for an exact time on the backend's motion clock
+//! ([`RobotBackend::submit`]), so a scripted sequence gives identical commanded trajectories on
+//! both backends.
+//!
+//! Joint limits are enforced here, once, for every command (policy *reject*: the error names
+//! the joint and the limit). From at or beyond a limit, motion back toward the inside is always
+//! allowed. The serial session keeps its last-line check in motor steps.
+//!
+//! [`RobotBackend`] is the one trait the app, the demo/sequence runner and the tests talk to;
+//! the simulation handle and the serial session implement it and publish a [`RobotState`]
+//! computed on their own threads.
+
+use serde::{Deserialize, Serialize};
+
+use crate::limits::LimitViolation;
+use crate::model::RobotModel;
+use crate::profile::{ProfileError, ProfileKind};
+
+mod backend;
+mod planner;
+mod sequence;
+
+pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};
+pub use planner::{MotionPlanner, PlannerMode};
+pub use sequence::{SequenceProgress, SequenceRunner, SequenceState};
+
+/// A jog stops unless refreshed within this time of its motion clock, s.
+pub const DEADMAN_S: f64 = 0.2;
+
+/// A command to a robot backend (simulation or real robot). Joint vectors are in chain order,
+/// rad.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum MotionCommand {
+    /// Slew toward `target_rad`, each joint at `speed_fraction` × its speed cap, without an
+    /// acceleration phase (what a dragged slider does).
+    Follow {
+        /// Target joint values, rad.
+        target_rad: Vec<f64>,
+        /// Fraction of each joint's speed cap (0 < f ≤ 1).
+        speed_fraction: f64,
+    },
+    /// A synchronised, speed- and acceleration-limited move to `goal_rad`.
+    MoveJoints {
+        /// Goal joint values, rad.
+        goal_rad: Vec<f64>,
+        /// Fraction of the speed / acceleration caps (0 < f ≤ 1).
+        speed_fraction: f64,
+        /// Profile shape.
+        profile: ProfileKind,
+    },
+    /// The same profiled move to the home pose (PAROL6 standby). Not the controller's homing
+    /// routine, which is a link operation of the serial session.
+    Home {
+        /// Fraction of the speed / acceleration caps (0 < f ≤ 1).
+        speed_fraction: f64,
+        /// Profile shape.
+        profile: ProfileKind,
+    },
+    /// Jog one joint (0-based) at `fraction` (−1…1) of its speed cap while held: repeat the
+    /// command at least every [`DEADMAN_S`] or the joint stops. Stops at the limit.
+    JogJoint {
+        /// 0-based joint index.
+        joint: usize,
+        /// Signed fraction of the joint's speed cap, −1…1.
+        fraction: f64,
+    },
+    /// Release a jog: hold where the jog is now.
+    JogRelease,
+    /// Stop: hold the commanded position of this instant.
+    Stop,
+}
+
+impl MotionCommand {
+    /// Follow `target_rad` at each joint's full speed cap (a dragged slider).
+    pub fn follow(target_rad: Vec<f64>) -> Self {
+        MotionCommand::Follow { target_rad, speed_fraction: 1.0 }
+    }
+
+    /// The profiled move home at half speed, trapezoidal (the HOME button's defaults).
+    pub fn home() -> Self {
+        MotionCommand::Home { speed_fraction: 0.5, profile: ProfileKind::Trapezoidal }
+    }
+
+    /// Short name for logs and refusals.
+    pub fn name(&self) -> &'static str {
+        match self {
+            MotionCommand::Follow { .. } => "follow",
+            MotionCommand::MoveJoints { .. } => "move",
+            MotionCommand::Home { .. } => "home",
+            MotionCommand::JogJoint { .. } => "jog",
+            MotionCommand::JogRelease => "jog release",
+            MotionCommand::Stop => "stop",
+        }
+    }
+
+    /// Checks the arguments and targets against `limits` (what every backend does before
+    /// queueing a command).
+    pub fn validate(&self, limits: &crate::limits::JointLimits) -> Result<(), MotionError> {
+        planner::validate(limits, self)
+    }
+
+    /// True for commands that start motion (everything but stop and jog release).
+    pub fn starts_motion(&self) -> bool {
+        !matches!(self, MotionCommand::Stop | MotionCommand::JogRelease)
+    }
+}
+
+/// The commanded state of every joint at one instant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Setpoint {
+    /// Positions, rad.
+    pub q: Vec<f64>,
+    /// Velocities, rad/s.
+    pub qd: Vec<f64>,
+    /// Accelerations, rad/s².
+    pub qdd: Vec<f64>,
+}
+
+impl Setpoint {
+    /// At rest at `q`.
+    pub fn at_rest(q: &[f64]) -> Self {
+        Self { q: q.to_vec(), qd: vec![0.0; q.len()], qdd: vec![0.0; q.len()] }
+    }
+}
+
+/// Per-joint speed (rad/s) and acceleration (rad/s²) caps of profiled motion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MotionCaps {
+    /// Speed caps, rad/s.
+    pub speed_rad_s: Vec<f64>,
+    /// Acceleration caps, rad/s².
+    pub accel_rad_s2: Vec<f64>,
+    /// Jerk caps of jerk-limited profiles, rad/s³.
+    pub jerk_rad_s3: Vec<f64>,
+}
+
+impl MotionCaps {
+    /// The caps of a model: the PAROL6 API caps (ROBOT.md §5), or for other robots the URDF
+    /// velocity (2 rad/s when absent), 3 × that per second, and a jerk of 10 × the acceleration.
+    pub fn of(model: &RobotModel) -> Self {
+        if model.is_parol6 && model.dof() == crate::parol6::JOINT_COUNT {
+            return Self {
+                speed_rad_s: crate::parol6::max_speed_rad_s().to_vec(),
+                accel_rad_s2: crate::parol6::max_accel_rad_s2().to_vec(),
+                jerk_rad_s3: crate::parol6::max_jerk_rad_s3().to_vec(),
+            };
+        }
+        let v: Vec<f64> = model
+            .limits
+            .iter()
+            .map(|l| if l.max_velocity.is_finite() && l.max_velocity > 0.0 { l.max_velocity } else { 2.0 })
+            .collect();
+        let a: Vec<f64> = v.iter().map(|v| 3.0 * v).collect();
+        let j = a.iter().map(|a| 10.0 * a).collect();
+        Self { speed_rad_s: v, accel_rad_s2: a, jerk_rad_s3: j }
+    }
+}
+
+/// Why a motion command was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MotionError {
+    /// The target breaks a joint limit, or has the wrong length or a non-finite value.
+    #[error(transparent)]
+    Limit(#[from] LimitViolation),
+    /// The move cannot be planned.
+    #[error(transparent)]
+    Profile(#[from] ProfileError),
+    /// A bad argument (joint index, fraction, a time that is not finite).
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// The home pose of a model: the PAROL6 standby for the PAROL6, else each joint's mid-range (0
+/// for unbounded joints).
+pub fn home_position(model: &RobotModel) -> Vec<f64> {
+    if model.is_parol6 && model.dof() == crate::parol6::JOINT_COUNT {
+        return crate::parol6::standby_rad().to_vec();
+    }
+    model.limits.iter().map(|l| if l.is_bounded() { 0.5 * (l.min + l.max) } else { 0.0 }).collect()
+}

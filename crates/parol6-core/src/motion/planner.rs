@@ -1,0 +1,413 @@
+//! [`MotionPlanner`]: commands in, the commanded joint trajectory out, as a pure function of
+//! time on the backend's motion clock.
+
+use crate::limits::{JointLimits, LimitPolicy};
+use crate::profile::JointMove;
+
+use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
+
+/// What the planner is doing (a summary for states and tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum PlannerMode {
+    /// Holding a position.
+    Hold,
+    /// Slewing toward a target (slider).
+    Follow,
+    /// A profiled move.
+    Move,
+    /// A hold-to-run jog.
+    Jog,
+}
+
+#[derive(Debug, Clone)]
+enum Motion {
+    Hold,
+    Follow { t0: f64, start: Vec<f64>, target: Vec<f64>, speed: Vec<f64>, end_s: f64 },
+    Move { t0: f64, mv: JointMove },
+    Jog { t0: f64, start: Vec<f64>, joint: usize, vel: f64, stop_at: f64, refreshed: f64 },
+}
+
+/// A command waiting for its time on the motion clock.
+#[derive(Debug, Clone)]
+struct Scheduled {
+    at_s: f64,
+    order: u64,
+    cmd: MotionCommand,
+}
+
+/// Turns [`MotionCommand`]s into the commanded trajectory. Deterministic: the setpoint at time
+/// `t` depends only on the commands and the times they were applied at, never on how often
+/// [`MotionPlanner::sample`] is called.
+#[derive(Debug, Clone)]
+pub struct MotionPlanner {
+    limits: JointLimits,
+    caps: MotionCaps,
+    home: Vec<f64>,
+    motion: Motion,
+    hold_q: Vec<f64>,
+    goal: Vec<f64>,
+    pending: Vec<Scheduled>,
+    order: u64,
+    applied: u64,
+    refusal_seq: u64,
+    last_refusal: Option<(u64, String)>,
+}
+
+impl MotionPlanner {
+    /// A planner holding `q0`. `home` is the target of [`MotionCommand::Home`].
+    pub fn new(limits: JointLimits, caps: MotionCaps, home: Vec<f64>, q0: &[f64]) -> Self {
+        Self {
+            limits,
+            caps,
+            home,
+            motion: Motion::Hold,
+            hold_q: q0.to_vec(),
+            goal: q0.to_vec(),
+            pending: Vec::new(),
+            order: 0,
+            applied: 0,
+            refusal_seq: 0,
+            last_refusal: None,
+        }
+    }
+
+    /// The joint limits every command passes.
+    pub fn limits(&self) -> &JointLimits {
+        &self.limits
+    }
+
+    /// The speed / acceleration caps.
+    pub fn caps(&self) -> &MotionCaps {
+        &self.caps
+    }
+
+    /// Holds `q` from now on and forgets scheduled commands (teleport, re-sync to a measured
+    /// position, link loss).
+    pub fn reset(&mut self, q: &[f64]) {
+        self.motion = Motion::Hold;
+        self.hold_q = q.to_vec();
+        self.goal = q.to_vec();
+        self.pending.clear();
+    }
+
+    /// Checks a command against the limits and its own arguments without applying it.
+    pub fn validate(&self, cmd: &MotionCommand) -> Result<(), MotionError> {
+        validate(&self.limits, cmd)
+    }
+
+    /// Applies `cmd` at time `t_s` (an immediate command). An immediate STOP also drops every
+    /// scheduled command. A refused command leaves the planner unchanged.
+    pub fn apply(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
+        if matches!(cmd, MotionCommand::Stop) {
+            self.pending.clear();
+        }
+        self.apply_at(cmd, t_s)
+    }
+
+    /// Schedules `cmd` for `at_s` on the motion clock; it is applied at exactly that time
+    /// during the first [`MotionPlanner::sample`] at or after it (refusals then show in
+    /// [`MotionPlanner::last_refusal`]). Checked against the limits now.
+    pub fn schedule(&mut self, cmd: MotionCommand, at_s: f64) -> Result<(), MotionError> {
+        if !at_s.is_finite() {
+            return Err(MotionError::Invalid(format!("schedule time {at_s} is not a finite number")));
+        }
+        self.validate(&cmd)?;
+        self.order += 1;
+        let s = Scheduled { at_s, order: self.order, cmd };
+        let pos = self.pending.partition_point(|p| (p.at_s, p.order) <= (s.at_s, s.order));
+        self.pending.insert(pos, s);
+        Ok(())
+    }
+
+    /// Applies `cmd` at `t_s` as a scheduled command does (scheduled commands are kept).
+    pub fn apply_scheduled(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
+        self.apply_at(cmd, t_s)
+    }
+
+    /// Takes the earliest scheduled command due by `t_s`, with its time, for a backend that
+    /// checks more before applying it (the simulation's collision guard); the backend then
+    /// calls [`MotionPlanner::apply_scheduled`] with that time.
+    pub fn pop_due(&mut self, t_s: f64) -> Option<(f64, MotionCommand)> {
+        if self.pending.first().is_some_and(|p| p.at_s <= t_s) {
+            let s = self.pending.remove(0);
+            return Some((s.at_s, s.cmd));
+        }
+        None
+    }
+
+    /// When the current motion ends if nothing stops it (a jog: when it would reach its
+    /// limit), s on the motion clock.
+    pub fn path_end_s(&self) -> f64 {
+        match &self.motion {
+            Motion::Hold => 0.0,
+            Motion::Follow { t0, end_s, .. } => t0 + end_s,
+            Motion::Move { t0, mv } => t0 + mv.duration_s(),
+            Motion::Jog { t0, start, joint, vel, stop_at, .. } => t0 + ((stop_at - start[*joint]) / vel).abs(),
+        }
+    }
+
+    /// Position along the current motion at `t_s`, ignoring the jog dead-man (what the path
+    /// would be if the jog were held to its limit).
+    pub fn path_q(&self, t_s: f64) -> Vec<f64> {
+        match &self.motion {
+            Motion::Jog { t0, start, joint, vel, stop_at, .. } => {
+                let mut q = start.clone();
+                let free = start[*joint] + vel * (t_s - t0).max(0.0);
+                q[*joint] = if *vel > 0.0 { free.min(*stop_at) } else { free.max(*stop_at) };
+                q
+            }
+            _ => self.setpoint_at(t_s).q,
+        }
+    }
+
+    /// Number of scheduled commands not yet applied.
+    pub fn pending(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// Commands applied so far (immediate and scheduled, refused ones not counted).
+    pub fn applied(&self) -> u64 {
+        self.applied
+    }
+
+    /// The last refusal of a scheduled command: increasing id and message.
+    pub fn last_refusal(&self) -> Option<&(u64, String)> {
+        self.last_refusal.as_ref()
+    }
+
+    /// Where the current motion is going (the hold position when holding).
+    pub fn goal(&self) -> &[f64] {
+        &self.goal
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> PlannerMode {
+        match self.motion {
+            Motion::Hold => PlannerMode::Hold,
+            Motion::Follow { .. } => PlannerMode::Follow,
+            Motion::Move { .. } => PlannerMode::Move,
+            Motion::Jog { .. } => PlannerMode::Jog,
+        }
+    }
+
+    /// True while the commanded trajectory moves at `t_s`, or scheduled commands wait.
+    pub fn is_moving(&self, t_s: f64) -> bool {
+        if !self.pending.is_empty() {
+            return true;
+        }
+        match &self.motion {
+            Motion::Hold => false,
+            Motion::Follow { t0, end_s, .. } => t_s - t0 < *end_s,
+            Motion::Move { t0, mv } => !mv.is_finished(t_s - t0),
+            Motion::Jog { refreshed, .. } => t_s <= refreshed + DEADMAN_S,
+        }
+    }
+
+    /// Applies the scheduled commands due by `t_s`, retires finished motions and returns the
+    /// setpoint at `t_s`.
+    pub fn sample(&mut self, t_s: f64) -> Setpoint {
+        while self.pending.first().is_some_and(|p| p.at_s <= t_s) {
+            let s = self.pending.remove(0);
+            if let Err(e) = self.apply_at(&s.cmd, s.at_s) {
+                self.refusal_seq += 1;
+                self.last_refusal =
+                    Some((self.refusal_seq, format!("{} at t = {:.3} s refused: {e}", s.cmd.name(), s.at_s)));
+            }
+        }
+        self.retire(t_s);
+        self.setpoint_at(t_s)
+    }
+
+    /// The setpoint of the current motion at `t_s` (no side effects).
+    pub fn setpoint_at(&self, t_s: f64) -> Setpoint {
+        match &self.motion {
+            Motion::Hold => Setpoint::at_rest(&self.hold_q),
+            Motion::Follow { t0, start, target, speed, .. } => {
+                let dt = (t_s - t0).max(0.0);
+                let n = start.len();
+                let mut sp = Setpoint { q: Vec::with_capacity(n), qd: vec![0.0; n], qdd: vec![0.0; n] };
+                for i in 0..n {
+                    let d = target[i] - start[i];
+                    let reach = speed[i] * dt;
+                    if d.abs() <= reach {
+                        sp.q.push(target[i]);
+                    } else {
+                        sp.q.push(start[i] + d.signum() * reach);
+                        sp.qd[i] = d.signum() * speed[i];
+                    }
+                }
+                sp
+            }
+            Motion::Move { t0, mv } => {
+                let s = mv.sample(t_s - t0);
+                Setpoint { q: s.q, qd: s.qd, qdd: s.qdd }
+            }
+            Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
+                let t_end = t_s.min(refreshed + DEADMAN_S);
+                let dt = (t_end - t0).max(0.0);
+                let mut sp = Setpoint::at_rest(start);
+                let free = start[*joint] + vel * dt;
+                let reached = if *vel > 0.0 { free >= *stop_at } else { free <= *stop_at };
+                if reached {
+                    sp.q[*joint] = *stop_at;
+                } else {
+                    sp.q[*joint] = free;
+                    if t_s < refreshed + DEADMAN_S {
+                        sp.qd[*joint] = *vel;
+                    }
+                }
+                sp
+            }
+        }
+    }
+
+    /// Turns a finished motion into a hold at its end.
+    fn retire(&mut self, t_s: f64) {
+        let done_at = match &self.motion {
+            Motion::Hold => None,
+            Motion::Follow { t0, end_s, .. } => (t_s - t0 >= *end_s).then_some(t_s),
+            Motion::Move { t0, mv } => mv.is_finished(t_s - t0).then_some(t_s),
+            Motion::Jog { refreshed, .. } => (t_s > refreshed + DEADMAN_S).then_some(refreshed + DEADMAN_S),
+        };
+        if let Some(t) = done_at {
+            self.hold(t);
+        }
+    }
+
+    fn hold(&mut self, t_s: f64) {
+        let q = self.setpoint_at(t_s).q;
+        self.goal.clone_from(&q);
+        self.hold_q = q;
+        self.motion = Motion::Hold;
+    }
+
+    fn apply_at(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
+        if !t_s.is_finite() {
+            return Err(MotionError::Invalid(format!("command time {t_s} is not a finite number")));
+        }
+        self.validate(cmd)?;
+        self.retire(t_s);
+        let here = self.setpoint_at(t_s).q;
+        match cmd {
+            MotionCommand::Follow { target_rad, speed_fraction } => {
+                let target = self.limits.enforce(target_rad, LimitPolicy::Reject)?;
+                let f = speed_fraction.min(1.0);
+                let speed: Vec<f64> = self.caps.speed_rad_s.iter().map(|v| v * f).collect();
+                let end_s =
+                    here.iter().zip(&target).zip(&speed).map(|((a, b), v)| (b - a).abs() / v).fold(0.0, f64::max);
+                self.goal.clone_from(&target);
+                self.motion = Motion::Follow { t0: t_s, start: here, target, speed, end_s };
+            }
+            MotionCommand::MoveJoints { goal_rad, speed_fraction, profile } => {
+                let goal = self.limits.enforce(goal_rad, LimitPolicy::Reject)?;
+                self.start_move(here, goal, *speed_fraction, *profile, t_s)?;
+            }
+            MotionCommand::Home { speed_fraction, profile } => {
+                let goal = self.limits.enforce(&self.home, LimitPolicy::Clamp)?;
+                self.start_move(here, goal, *speed_fraction, *profile, t_s)?;
+            }
+            MotionCommand::JogJoint { joint, fraction } => {
+                let (joint, fraction) = (*joint, fraction.clamp(-1.0, 1.0));
+                let vel = fraction * self.caps.speed_rad_s[joint];
+                if let Motion::Jog { joint: j, vel: v, refreshed, .. } = &mut self.motion
+                    && *j == joint
+                    && *v == vel
+                {
+                    *refreshed = t_s;
+                    self.applied += 1;
+                    return Ok(());
+                }
+                if vel == 0.0 {
+                    self.hold(t_s);
+                    self.applied += 1;
+                    return Ok(());
+                }
+                let lim = self.limits.get(joint).ok_or_else(|| MotionError::Invalid(format!("no joint {joint}")))?;
+                let stop_at = if vel > 0.0 { lim.max } else { lim.min };
+                let blocked = if vel > 0.0 { here[joint] >= stop_at } else { here[joint] <= stop_at };
+                if blocked {
+                    return Err(MotionError::Invalid(format!(
+                        "joint {} ({}) is at its {} limit ({:.3}°): jog the other way",
+                        joint + 1,
+                        lim.name,
+                        if vel > 0.0 { "upper" } else { "lower" },
+                        stop_at.to_degrees()
+                    )));
+                }
+                let mut goal = here.clone();
+                goal[joint] = stop_at;
+                self.goal = goal;
+                self.motion = Motion::Jog { t0: t_s, start: here, joint, vel, stop_at, refreshed: t_s };
+            }
+            MotionCommand::JogRelease => {
+                if matches!(self.motion, Motion::Jog { .. }) {
+                    self.hold(t_s);
+                }
+            }
+            MotionCommand::Stop => self.hold(t_s),
+        }
+        self.applied += 1;
+        Ok(())
+    }
+
+    fn start_move(
+        &mut self,
+        start: Vec<f64>,
+        goal: Vec<f64>,
+        speed_fraction: f64,
+        profile: crate::profile::ProfileKind,
+        t_s: f64,
+    ) -> Result<(), MotionError> {
+        let mv = JointMove::plan_with_jerk(
+            &start,
+            &goal,
+            &self.caps.speed_rad_s,
+            &self.caps.accel_rad_s2,
+            &self.caps.jerk_rad_s3,
+            speed_fraction,
+            profile,
+        )?;
+        self.goal = goal;
+        self.motion = Motion::Move { t0: t_s, mv };
+        Ok(())
+    }
+}
+
+fn check_fraction(what: &str, f: f64) -> Result<(), MotionError> {
+    if f.is_finite() && f > 0.0 && f <= 1.0 {
+        Ok(())
+    } else {
+        Err(MotionError::Invalid(format!("{what} speed fraction must lie in (0, 1], got {f}")))
+    }
+}
+
+/// Checks a command's arguments and targets against `limits`.
+pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), MotionError> {
+    match cmd {
+        MotionCommand::Follow { target_rad, speed_fraction } => {
+            check_fraction("follow", *speed_fraction)?;
+            limits.check(target_rad)?;
+        }
+        MotionCommand::MoveJoints { goal_rad, speed_fraction, .. } => {
+            check_fraction("move", *speed_fraction)?;
+            limits.check(goal_rad)?;
+        }
+        MotionCommand::Home { speed_fraction, .. } => check_fraction("home", *speed_fraction)?,
+        MotionCommand::JogJoint { joint, fraction } => {
+            if *joint >= limits.len() {
+                return Err(MotionError::Invalid(format!(
+                    "joint index {joint} out of range (the robot has {} joints)",
+                    limits.len()
+                )));
+            }
+            if !fraction.is_finite() {
+                return Err(MotionError::Invalid("jog fraction must be a finite number".into()));
+            }
+        }
+        MotionCommand::JogRelease | MotionCommand::Stop => {}
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;

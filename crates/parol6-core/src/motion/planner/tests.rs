@@ -1,0 +1,172 @@
+use super::*;
+use crate::model::RobotModel;
+use crate::motion::{MotionCaps, home_position};
+use crate::profile::ProfileKind;
+use proptest::prelude::*;
+
+fn planner() -> MotionPlanner {
+    let model = RobotModel::parol6();
+    let home = home_position(&model);
+    MotionPlanner::new(model.limits.clone(), MotionCaps::of(&model), home.clone(), &home)
+}
+
+fn mv(goal: Vec<f64>) -> MotionCommand {
+    MotionCommand::MoveJoints { goal_rad: goal, speed_fraction: 0.5, profile: ProfileKind::Trapezoidal }
+}
+
+/// Samples a scheduled script at `rate_hz` until `end_s`; returns (t, q) pairs.
+fn run_script(script: &[(f64, MotionCommand)], rate_hz: f64, end_s: f64) -> Vec<(f64, Vec<f64>)> {
+    let mut p = planner();
+    for (t, c) in script {
+        p.schedule(c.clone(), *t).expect("valid script");
+    }
+    let n = (end_s * rate_hz).round() as u64;
+    (0..=n)
+        .map(|k| {
+            let t = k as f64 / rate_hz;
+            (t, p.sample(t).q)
+        })
+        .collect()
+}
+
+#[test]
+fn the_trajectory_does_not_depend_on_the_sampling_rate() {
+    let home = crate::parol6::standby_rad().to_vec();
+    let mut a = home.clone();
+    a[0] += 0.4;
+    let mut b = home.clone();
+    b[1] -= 0.3;
+    b[4] += 0.5;
+    let script = vec![
+        (0.05, MotionCommand::Follow { target_rad: a, speed_fraction: 1.0 }),
+        (1.0, mv(b)),
+        (1.5, MotionCommand::Stop),
+        (1.8, MotionCommand::Home { speed_fraction: 0.8, profile: ProfileKind::JerkLimited }),
+        (4.0, MotionCommand::JogJoint { joint: 2, fraction: -0.5 }),
+        (4.1, MotionCommand::JogJoint { joint: 2, fraction: -0.5 }),
+    ];
+    let fast = run_script(&script, 1000.0, 5.0);
+    let slow = run_script(&script, 100.0, 5.0);
+    for (t, q) in &slow {
+        let k = (t * 1000.0).round() as usize;
+        let (tf, qf) = &fast[k];
+        assert!((t - tf).abs() < 1e-12);
+        for (x, y) in q.iter().zip(qf) {
+            assert!((x - y).abs() <= 1e-9, "at t = {t}: {q:?} vs {qf:?}");
+        }
+    }
+}
+
+#[test]
+fn out_of_limit_targets_are_refused_naming_the_joint() {
+    let mut p = planner();
+    let mut bad = crate::parol6::standby_rad().to_vec();
+    bad[1] = 3.0;
+    let e = p.apply(&mv(bad), 0.0).expect_err("refused");
+    assert!(e.to_string().contains("joint 2"), "{e}");
+    assert_eq!(p.mode(), PlannerMode::Hold);
+}
+
+#[test]
+fn a_jog_stops_at_the_limit_and_after_the_deadman() {
+    let mut p = planner();
+    p.apply(&MotionCommand::JogJoint { joint: 0, fraction: 1.0 }, 0.0).expect("jog");
+    let q = p.sample(0.1).q[0];
+    assert!(q > crate::parol6::standby_rad()[0]);
+    // not refreshed: stops at DEADMAN_S
+    let held = p.sample(1.0).q[0];
+    let at_deadman = p.setpoint_at(DEADMAN_S).q[0];
+    assert!((held - at_deadman).abs() < 1e-12);
+    assert_eq!(p.mode(), PlannerMode::Hold);
+    // refreshed long enough it stops exactly at the limit
+    let lim = p.limits().get(0).expect("J1").max;
+    for k in 0..200 {
+        p.apply(&MotionCommand::JogJoint { joint: 0, fraction: 1.0 }, 1.0 + k as f64 * 0.1).expect("jog");
+    }
+    assert!((p.sample(21.0).q[0] - lim).abs() < 1e-12);
+    // at the limit, jogging further out is refused, back in is allowed
+    p.sample(30.0);
+    assert!(p.apply(&MotionCommand::JogJoint { joint: 0, fraction: 1.0 }, 30.0).is_err());
+    p.apply(&MotionCommand::JogJoint { joint: 0, fraction: -1.0 }, 30.0).expect("back inside");
+    assert!(p.sample(30.1).q[0] < lim);
+}
+
+#[test]
+fn motion_from_beyond_a_limit_back_inside_is_allowed() {
+    let mut p = planner();
+    let mut outside = crate::parol6::standby_rad().to_vec();
+    outside[1] = p.limits().get(1).expect("J2").min - 0.01;
+    p.reset(&outside);
+    p.apply(&mv(crate::parol6::standby_rad().to_vec()), 0.0).expect("move back inside");
+    p.reset(&outside);
+    p.apply(&MotionCommand::JogJoint { joint: 1, fraction: 0.3 }, 0.0).expect("jog back inside");
+    assert!(p.apply(&MotionCommand::JogJoint { joint: 1, fraction: -0.3 }, 0.0).is_err());
+}
+
+#[test]
+fn an_immediate_stop_drops_scheduled_commands_a_scheduled_one_does_not() {
+    let mut p = planner();
+    let mut a = crate::parol6::standby_rad().to_vec();
+    a[0] += 0.2;
+    p.schedule(MotionCommand::Stop, 1.0).expect("stop");
+    p.schedule(mv(a.clone()), 2.0).expect("move");
+    p.sample(1.5);
+    assert_eq!(p.pending(), 1);
+    p.apply(&MotionCommand::Stop, 1.6).expect("stop");
+    assert_eq!(p.pending(), 0);
+}
+
+#[test]
+fn a_refused_scheduled_command_is_reported() {
+    let mut p = planner();
+    let lim = p.limits().get(0).expect("J1").max;
+    let mut at = crate::parol6::standby_rad().to_vec();
+    at[0] = lim;
+    p.reset(&at);
+    p.schedule(MotionCommand::JogJoint { joint: 0, fraction: 1.0 }, 0.5).expect("scheduled");
+    p.sample(1.0);
+    let (id, msg) = p.last_refusal().expect("refusal").clone();
+    assert_eq!(id, 1);
+    assert!(msg.contains("upper limit"), "{msg}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Whatever the commands, the commanded trajectory stays within the limits and never
+    /// moves a joint faster than its speed cap.
+    #[test]
+    fn commanded_motion_respects_limits_and_speed(
+        cmds in proptest::collection::vec((0u8..5, 0usize..6, -1.5f64..1.5, 0.05f64..1.0, 0.0f64..0.6), 1..12)
+    ) {
+        let mut p = planner();
+        let caps = p.caps().clone();
+        let limits = p.limits().clone();
+        let mut t = 0.0;
+        let mut prev = p.sample(0.0).q;
+        let dt = 0.001;
+        for (kind, joint, delta, frac, wait) in cmds {
+            let here = p.setpoint_at(t).q;
+            let mut goal = here.clone();
+            goal[joint] = limits.get(joint).map_or(goal[joint], |l| l.clamp(goal[joint] + delta));
+            let cmd = match kind {
+                0 => MotionCommand::Follow { target_rad: goal, speed_fraction: frac },
+                1 => mv(goal),
+                2 => MotionCommand::JogJoint { joint, fraction: delta.clamp(-1.0, 1.0) },
+                3 => MotionCommand::Stop,
+                _ => MotionCommand::Home { speed_fraction: frac, profile: ProfileKind::JerkLimited },
+            };
+            let _ = p.apply(&cmd, t);
+            let steps = (wait / dt) as usize;
+            for _ in 0..steps {
+                t += dt;
+                let q = p.sample(t).q;
+                for i in 0..q.len() {
+                    let l = limits.get(i).expect("joint");
+                    prop_assert!(l.contains(q[i]), "joint {} at {} outside", i + 1, q[i]);
+                    prop_assert!((q[i] - prev[i]).abs() <= caps.speed_rad_s[i] * dt * (1.0 + 1e-9) + 1e-12);
+                }
+                prev = q;
+            }
+        }
+    }
+}

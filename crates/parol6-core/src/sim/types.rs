@@ -1,0 +1,183 @@
+//! The simulation's settings, commands, errors and published snapshot.
+
+use nalgebra::Isometry3;
+use serde::{Deserialize, Serialize};
+
+use crate::kinematics::TcpPose;
+use crate::limits::{LimitPolicy, LimitViolation, ZoneReport, ZoneThresholds};
+use crate::motion::{MotionCommand, MotionError, PlannerMode, Setpoint};
+use crate::profile::ProfileError;
+
+use super::CollisionReport;
+
+/// How the joints move.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum SimMode {
+    /// Joints follow the commanded setpoint exactly (no physics; torques from inverse dynamics).
+    Kinematic,
+    /// The rapier multibody is stepped under gravity; position motors track the setpoint.
+    #[default]
+    Dynamic,
+}
+
+/// Settings of a [`Simulation`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimConfig {
+    /// What to do with a target outside the joint limits.
+    pub policy: LimitPolicy,
+    /// Limit-zone thresholds for [`SimSnapshot::zones`].
+    pub thresholds: ZoneThresholds,
+    /// Step rate, Hz (1000). The time step is `1 / rate_hz` of simulated time.
+    pub rate_hz: f64,
+    /// Mode at start.
+    pub mode: SimMode,
+    /// Refuse targets and moves that collide (self-collision and ground).
+    pub check_collisions: bool,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        Self {
+            policy: LimitPolicy::Reject,
+            thresholds: ZoneThresholds::default(),
+            rate_hz: 1000.0,
+            mode: SimMode::Dynamic,
+            check_collisions: true,
+        }
+    }
+}
+
+/// A command to the simulation. Motion is a [`MotionCommand`], the same type the serial
+/// session takes; the rest are simulation-only. Joint vectors are in chain order, rad.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SimCommand {
+    /// A motion command, applied when the simulation thread sees it.
+    Motion(MotionCommand),
+    /// A motion command applied at exactly `at_s` of simulated time.
+    MotionAt {
+        /// The command.
+        cmd: MotionCommand,
+        /// Simulated time at which it applies, s.
+        at_s: f64,
+    },
+    /// Put the joints at these values instantly, at rest.
+    Teleport(Vec<f64>),
+    /// Switch between kinematic and dynamic stepping.
+    SetMode(SimMode),
+    /// Dynamic mode: drive the joints with these torques (N·m), motors off, until a motion
+    /// command. Kinematic mode refuses it.
+    ApplyJointTorques(Vec<f64>),
+}
+
+impl From<MotionCommand> for SimCommand {
+    fn from(cmd: MotionCommand) -> Self {
+        SimCommand::Motion(cmd)
+    }
+}
+
+/// Why a command was refused or the simulation could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The target breaks a joint limit (policy [`LimitPolicy::Reject`]) or is malformed.
+    #[error("limit: {0}")]
+    Limit(#[from] LimitViolation),
+    /// The target, or the swept path of a move, collides.
+    #[error("collision: {link_a} hits {link_b} at t = {at_s:.3} s along the move")]
+    Collision {
+        /// First link.
+        link_a: String,
+        /// Second link (or `ground`).
+        link_b: String,
+        /// Time along the move at which the first contact occurs, s (0 for a plain target).
+        at_s: f64,
+    },
+    /// The move cannot be planned.
+    #[error("profile: {0}")]
+    Profile(#[from] ProfileError),
+    /// The motion command was refused by the planner.
+    #[error("{0}")]
+    Motion(#[from] MotionError),
+    /// A command that is not valid now, e.g. torques of the wrong length or in kinematic mode.
+    #[error("invalid command: {0}")]
+    InvalidCommand(String),
+    /// The command channel is full (the simulation is not keeping up).
+    #[error("simulation command queue is full")]
+    ChannelFull,
+    /// The simulation thread has stopped.
+    #[error("simulation thread has stopped")]
+    ChannelClosed,
+    /// The multibody could not be built from the model.
+    #[error("cannot build the multibody: {0}")]
+    Build(String),
+    /// The settings are invalid (e.g. a rate that is not a positive number).
+    #[error("invalid simulation config: {0}")]
+    Config(String),
+}
+
+/// The state of the simulation after a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimSnapshot {
+    /// Number of steps taken.
+    pub seq: u64,
+    /// Simulated time, s.
+    pub sim_time_s: f64,
+    /// Joint positions, rad.
+    pub q: Vec<f64>,
+    /// Joint velocities, rad/s.
+    pub qd: Vec<f64>,
+    /// Joint torques, N·m: the inverse dynamics (gravity + inertial + Coriolis) of the motion
+    /// taking place — measured state with its low-passed acceleration in dynamic mode, the
+    /// commanded motion in kinematic mode; under torque control, the applied torques.
+    pub torques_nm: Vec<f64>,
+    /// Where the joints are going: the goal of the move or the jog target, rad.
+    pub target_q: Vec<f64>,
+    /// The commanded setpoint of this step.
+    pub commanded: Setpoint,
+    /// What the motion planner does.
+    pub planner_mode: PlannerMode,
+    /// Motion commands applied so far.
+    pub commands_applied: u64,
+    /// World pose of every link (order of [`RobotModel::links`]).
+    pub link_poses: Vec<Isometry3<f64>>,
+    /// TCP pose.
+    pub tcp: TcpPose,
+    /// Limit zone of every joint.
+    pub zones: Vec<ZoneReport>,
+    /// A collision in the current configuration, if any.
+    pub collision: Option<CollisionReport>,
+    /// True while a move or jog is under way.
+    pub moving: bool,
+    /// Current mode.
+    pub mode: SimMode,
+    /// Wall time of the last step, ns.
+    pub last_step_ns: u64,
+    /// Steps per second of wall time (threaded), or `rate_hz` when stepped by hand.
+    pub step_rate_hz: f64,
+    /// Creation → applied time of the last command, ns (threaded runs).
+    pub last_command_latency_ns: Option<u64>,
+    /// The last refused command: increasing id and message.
+    pub last_error: Option<(u64, String)>,
+}
+
+impl SimSnapshot {
+    /// The backend-neutral state of this snapshot.
+    pub fn robot_state(&self) -> crate::motion::RobotState {
+        crate::motion::RobotState {
+            source: crate::motion::StateSource::Simulation,
+            backend: "simulation".to_string(),
+            seq: self.seq,
+            time_s: self.sim_time_s,
+            q: self.q.clone(),
+            qd: self.qd.clone(),
+            commanded: self.commanded.clone(),
+            target_q: self.target_q.clone(),
+            mode: self.planner_mode,
+            zones: self.zones.clone(),
+            tcp: self.tcp,
+            moving: self.moving,
+            commands_applied: self.commands_applied,
+            last_refusal: self.last_error.clone(),
+            blocked: None,
+        }
+    }
+}

@@ -7,6 +7,7 @@
 
 pub mod app;
 pub mod cli;
+pub mod palette;
 pub mod panels;
 pub mod theme;
 pub mod ui_screenshot;

@@ -1,5 +1,5 @@
 //! The window's look: egui visuals and the background the window is cleared to.
-//! (Limit-zone / LED colours are not here: they live in `parol6_core::limits`.)
+//! (Colours come from [`crate::palette`]; limit-zone / LED colours live in `parol6_core::limits`.)
 //!
 //! Panels are drawn without a fill, over a window cleared to the panel colour. On a software
 //! rasterizer every full-window textured fill costs tens of milliseconds per frame at
@@ -7,8 +7,8 @@
 
 use eframe::egui;
 
-/// Panel background, sRGB (egui's dark theme panel colour).
-pub const PANEL_BG_SRGB: [u8; 3] = [27, 27, 27];
+/// Panel background, sRGB (from the palette).
+pub const PANEL_BG_SRGB: [u8; 3] = crate::palette::PANEL_BG;
 
 /// The app's visuals: egui's dark theme with transparent panel fills.
 pub fn visuals() -> egui::Visuals {

@@ -108,3 +108,23 @@ fn fake_robot_is_mirrored_and_moves() {
     run_frame(&mut app, &ctx);
     assert_eq!(app.robot_state().source, StateSource::Simulation);
 }
+
+/// A demo runs on its own thread: with no frames drawn at all (a minimised window) it still
+/// advances through its waypoints.
+#[test]
+fn a_demo_advances_with_no_frames_drawn() {
+    let mut app = launch(None);
+    let ctx = egui::Context::default();
+    run_frame(&mut app, &ctx);
+    app.demos.speed_scale = 1.0;
+    assert!(app.start_demo("Joint sweep", false));
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        let p = app.sequence.as_ref().map(|s| s.progress()).expect("sequence");
+        if p.step >= 1 {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no progress without frames: {p:?}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}

@@ -32,6 +32,8 @@ use crate::model::RobotModel;
 use crate::profile::{ProfileError, ProfileKind};
 
 mod backend;
+pub mod cartesian;
+pub mod path;
 mod planner;
 mod sequence;
 

@@ -186,3 +186,59 @@ fn run_step(backend: &dyn RobotBackend, cmd: &MotionCommand, cancel: &AtomicBool
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::RobotModel;
+    use crate::profile::ProfileKind;
+    use crate::sim::{SimConfig, SimHandle};
+
+    /// A sequence keeps its pace on its own thread: nobody polls or draws frames while it runs.
+    #[test]
+    fn a_sequence_runs_without_anyone_driving_it() {
+        let model = RobotModel::parol6();
+        let sim = Arc::new(SimHandle::spawn(model.clone(), SimConfig::default()).expect("sim"));
+        let home = crate::parol6::standby_rad().to_vec();
+        let mut a = home.clone();
+        a[0] -= 0.3;
+        a[2] -= 0.2;
+        let steps = vec![
+            MotionCommand::MoveJoints { goal_rad: a.clone(), speed_fraction: 1.0, profile: ProfileKind::Trapezoidal },
+            MotionCommand::MoveJoints {
+                goal_rad: home.clone(),
+                speed_fraction: 1.0,
+                profile: ProfileKind::JerkLimited,
+            },
+        ];
+        let planned: f64 = [(&home, &a, ProfileKind::Trapezoidal), (&a, &home, ProfileKind::JerkLimited)]
+            .iter()
+            .map(|(s, g, k)| crate::profile::JointMove::parol6(s, g, 1.0, *k).expect("plan").duration_s())
+            .sum();
+        let t0 = Instant::now();
+        let runner = SequenceRunner::start(sim.clone(), "test", steps, false).expect("thread");
+        let done = runner.join();
+        let took = t0.elapsed().as_secs_f64();
+        assert_eq!(done.state, SequenceState::Done, "{done:?}");
+        assert_eq!(done.passes, 1);
+        // the planned time plus settling and polling, never stalled
+        assert!(took >= planned && took < planned + 1.5, "took {took:.3} s for {planned:.3} s of motion");
+        let q = sim.state().q.clone();
+        assert!(q.iter().zip(&home).all(|(a, b)| (a - b).abs() < 2e-3), "{q:?}");
+    }
+
+    #[test]
+    fn a_refused_step_fails_the_sequence_with_the_reason() {
+        let model = RobotModel::parol6();
+        let sim = Arc::new(SimHandle::spawn(model, SimConfig::default()).expect("sim"));
+        let mut bad = crate::parol6::standby_rad().to_vec();
+        bad[1] = 3.0;
+        let steps =
+            vec![MotionCommand::MoveJoints { goal_rad: bad, speed_fraction: 1.0, profile: ProfileKind::Trapezoidal }];
+        let p = SequenceRunner::start(sim, "bad", steps, false).expect("thread").join();
+        match p.state {
+            SequenceState::Failed(why) => assert!(why.contains("step 1") && why.contains("joint 2"), "{why}"),
+            other => panic!("expected a failure, got {other:?}"),
+        }
+    }
+}

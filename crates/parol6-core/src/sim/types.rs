@@ -69,6 +69,16 @@ pub enum SimCommand {
     ApplyJointTorques(Vec<f64>),
 }
 
+impl From<MotionError> for SimError {
+    fn from(e: MotionError) -> Self {
+        match e {
+            MotionError::Limit(v) => SimError::Limit(v),
+            MotionError::Profile(p) => SimError::Profile(p),
+            MotionError::Invalid(m) => SimError::InvalidCommand(m),
+        }
+    }
+}
+
 impl From<MotionCommand> for SimCommand {
     fn from(cmd: MotionCommand) -> Self {
         SimCommand::Motion(cmd)
@@ -94,9 +104,7 @@ pub enum SimError {
     /// The move cannot be planned.
     #[error("profile: {0}")]
     Profile(#[from] ProfileError),
-    /// The motion command was refused by the planner.
-    #[error("{0}")]
-    Motion(#[from] MotionError),
+
     /// A command that is not valid now, e.g. torques of the wrong length or in kinematic mode.
     #[error("invalid command: {0}")]
     InvalidCommand(String),

@@ -1,0 +1,324 @@
+//! Cartesian motion: a [`TcpPath`] timed under TCP speed / acceleration / jerk caps and the
+//! joint caps (whichever binds), then turned into joint values at the control rate by IK that
+//! keeps the branch of the start pose (no branch flip, no J6 wrap jump mid-move).
+
+use std::sync::Arc;
+
+use crate::ik::{self, Branch, IkError};
+use crate::model::RobotModel;
+use crate::profile::{JointMove, ProfileKind};
+
+use super::path::TcpPath;
+use super::{MotionCaps, Setpoint};
+
+/// TCP caps of a Cartesian move.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CartesianCaps {
+    /// TCP speed, m/s.
+    pub speed_m_s: f64,
+    /// TCP acceleration, m/s².
+    pub accel_m_s2: f64,
+    /// TCP jerk, m/s³.
+    pub jerk_m_s3: f64,
+}
+
+impl Default for CartesianCaps {
+    /// 100 mm/s, 500 mm/s², 5 000 mm/s³.
+    fn default() -> Self {
+        Self { speed_m_s: 0.1, accel_m_s2: 0.5, jerk_m_s3: 5.0 }
+    }
+}
+
+/// Why a Cartesian move cannot be planned.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CartesianError {
+    /// A cap that is not a positive finite number.
+    #[error("{0}")]
+    Invalid(String),
+    /// A point of the path has no IK solution in the start pose's branch.
+    #[error(
+        "TCP ({x_mm:.1}, {y_mm:.1}, {z_mm:.1}) mm at t = {t_s:.3} s is not reachable in the start branch: {reason}"
+    )]
+    Unreachable {
+        /// Time along the move, s.
+        t_s: f64,
+        /// TCP position, mm.
+        x_mm: f64,
+        /// TCP position, mm.
+        y_mm: f64,
+        /// TCP position, mm.
+        z_mm: f64,
+        /// The IK error.
+        reason: String,
+    },
+    /// The joints would jump between two samples (a singularity or a branch change).
+    #[error("joint {joint} jumps {jump_deg:.2}° in one step at t = {t_s:.3} s (a singularity on the path)")]
+    Discontinuous {
+        /// 1-based joint.
+        joint: usize,
+        /// The jump, deg.
+        jump_deg: f64,
+        /// Time along the move, s.
+        t_s: f64,
+    },
+}
+
+/// A joint trajectory sampled at a fixed rate; sampled in between by linear interpolation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampledTrajectory {
+    dt_s: f64,
+    q: Vec<Vec<f64>>,
+}
+
+impl SampledTrajectory {
+    /// From samples every `dt_s`, starting at t = 0.
+    pub fn new(dt_s: f64, q: Vec<Vec<f64>>) -> Self {
+        Self { dt_s, q }
+    }
+
+    /// Duration, s.
+    pub fn duration_s(&self) -> f64 {
+        self.dt_s * self.q.len().saturating_sub(1) as f64
+    }
+
+    /// Sample period, s.
+    pub fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+
+    /// The samples.
+    pub fn samples(&self) -> &[Vec<f64>] {
+        &self.q
+    }
+
+    /// Joint values at the end.
+    pub fn goal(&self) -> &[f64] {
+        self.q.last().map_or(&[], Vec::as_slice)
+    }
+
+    /// The setpoint at `t_s` (held at the ends); velocity and acceleration by differences.
+    pub fn sample(&self, t_s: f64) -> Setpoint {
+        let n = self.q.len();
+        if n == 0 {
+            return Setpoint::at_rest(&[]);
+        }
+        let x = (t_s / self.dt_s).clamp(0.0, (n - 1) as f64);
+        let k = (x.floor() as usize).min(n.saturating_sub(2));
+        if n == 1 || t_s >= self.duration_s() {
+            return Setpoint::at_rest(&self.q[n - 1]);
+        }
+        let f = x - k as f64;
+        let (a, b) = (&self.q[k], &self.q[k + 1]);
+        let q = a.iter().zip(b).map(|(a, b)| a + (b - a) * f).collect();
+        let qd: Vec<f64> = a.iter().zip(b).map(|(a, b)| (b - a) / self.dt_s).collect();
+        let qdd = if k + 2 < n {
+            let c = &self.q[k + 2];
+            a.iter().zip(b).zip(c).map(|((a, b), c)| (c - 2.0 * b + a) / (self.dt_s * self.dt_s)).collect()
+        } else {
+            vec![0.0; qd.len()]
+        };
+        Setpoint { q, qd, qdd }
+    }
+}
+
+/// The planned joint trajectory of a Cartesian move, and the branch it keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CartesianMove {
+    /// The joint trajectory at the sample rate.
+    pub trajectory: Arc<SampledTrajectory>,
+    /// The closed-form branch held throughout (PAROL6), `None` for numeric IK.
+    pub branch: Option<Branch>,
+}
+
+/// A joint may move at most this multiple of its speed cap × dt between two samples before
+/// the path counts as discontinuous (a singularity or a branch change).
+const JUMP_FACTOR: f64 = 3.0;
+
+/// Plans `path` from the joints `start_q` (which must put the TCP at the path's start):
+/// time-scaled (jerk-limited) under `tcp` caps and `joint` caps, sampled every `dt_s`.
+pub fn plan(
+    model: &RobotModel,
+    start_q: &[f64],
+    path: &TcpPath,
+    tcp: &CartesianCaps,
+    joint: &MotionCaps,
+    speed_fraction: f64,
+    dt_s: f64,
+) -> Result<CartesianMove, CartesianError> {
+    for (what, v) in [("TCP speed", tcp.speed_m_s), ("TCP acceleration", tcp.accel_m_s2), ("TCP jerk", tcp.jerk_m_s3)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(CartesianError::Invalid(format!("{what} cap must be > 0, got {v}")));
+        }
+    }
+    if !(speed_fraction.is_finite() && speed_fraction > 0.0 && speed_fraction <= 1.0) {
+        return Err(CartesianError::Invalid(format!("speed fraction must lie in (0, 1], got {speed_fraction}")));
+    }
+    if !(dt_s.is_finite() && dt_s > 0.0) {
+        return Err(CartesianError::Invalid(format!("sample period must be > 0, got {dt_s}")));
+    }
+    let branch = start_branch(model, start_q);
+    let length = path.parameter_length_m();
+    // time scaling along the path; stretched while a joint cap binds
+    let mut stretch = 1.0;
+    for _ in 0..4 {
+        let timing = JointMove::plan_with_jerk(
+            &[0.0],
+            &[length],
+            &[tcp.speed_m_s],
+            &[tcp.accel_m_s2],
+            &[tcp.jerk_m_s3],
+            speed_fraction,
+            ProfileKind::JerkLimited,
+        )
+        .map_err(|e| CartesianError::Invalid(e.to_string()))?;
+        let duration = timing.duration_s() * stretch;
+        let n = (duration / dt_s).ceil().max(1.0) as usize;
+        let mut samples = Vec::with_capacity(n + 1);
+        let mut seed = start_q.to_vec();
+        for k in 0..=n {
+            let t = (k as f64 * dt_s).min(duration);
+            let s = timing.sample(t / stretch).q[0];
+            let pose = path.pose(s);
+            let q = solve_in_branch(model, &pose, &seed, branch).map_err(|e| {
+                let p = pose.translation.vector * 1000.0;
+                CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason: e.to_string() }
+            })?;
+            seed.clone_from(&q);
+            samples.push(q);
+        }
+        // how much faster than its cap does any joint go?
+        let mut worst: f64 = 0.0;
+        for w in samples.windows(2) {
+            for (j, (a, b)) in w[0].iter().zip(&w[1]).enumerate() {
+                let cap = joint.speed_rad_s.get(j).copied().unwrap_or(f64::INFINITY) * speed_fraction;
+                worst = worst.max((b - a).abs() / dt_s / cap);
+            }
+        }
+        if worst <= 1.0 + 1e-9 {
+            check_continuity(&samples, joint, dt_s)?;
+            return Ok(CartesianMove { trajectory: Arc::new(SampledTrajectory::new(dt_s, samples)), branch });
+        }
+        stretch *= worst * 1.02;
+    }
+    Err(CartesianError::Invalid("the joint speed caps cannot be met along this path".into()))
+}
+
+fn start_branch(model: &RobotModel, q: &[f64]) -> Option<Branch> {
+    if !model.is_parol6 {
+        return None;
+    }
+    let pose = model.tcp_isometry(q);
+    let sols = ik::solve_parol6(model, &pose, q).ok()?;
+    sols.into_iter().find(|s| s.distance_to_seed < 1e-6).and_then(|s| s.branch)
+}
+
+/// IK nearest `seed`, staying in `branch` when one is given.
+fn solve_in_branch(
+    model: &RobotModel,
+    pose: &nalgebra::Isometry3<f64>,
+    seed: &[f64],
+    branch: Option<Branch>,
+) -> Result<Vec<f64>, IkError> {
+    let sols = ik::solve(model, pose, seed)?;
+    let pick = match branch {
+        Some(b) => sols.into_iter().find(|s| s.branch == Some(b)),
+        None => sols.into_iter().next(),
+    };
+    pick.map(|s| s.joints_rad).ok_or_else(|| {
+        IkError::Unreachable("no solution in the start pose's branch (front/back, up/down, flip)".into())
+    })
+}
+
+fn check_continuity(samples: &[Vec<f64>], joint: &MotionCaps, dt_s: f64) -> Result<(), CartesianError> {
+    for (k, w) in samples.windows(2).enumerate() {
+        for (j, (a, b)) in w[0].iter().zip(&w[1]).enumerate() {
+            let cap = joint.speed_rad_s.get(j).copied().unwrap_or(f64::INFINITY);
+            if (b - a).abs() > JUMP_FACTOR * cap * dt_s {
+                return Err(CartesianError::Discontinuous {
+                    joint: j + 1,
+                    jump_deg: (b - a).abs().to_degrees(),
+                    t_s: (k + 1) as f64 * dt_s,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Point3, Vector3};
+
+    fn setup() -> (RobotModel, Vec<f64>, MotionCaps) {
+        let model = RobotModel::parol6();
+        let mut q = crate::parol6::standby_rad().to_vec();
+        // away from the standby wrist singularity
+        q[1] += 0.2;
+        q[2] -= 0.3;
+        q[4] = 0.6;
+        let caps = MotionCaps::of(&model);
+        (model, q, caps)
+    }
+
+    /// The commanded TCP stays within 0.05 mm and 0.05° of the ideal line, without a branch
+    /// change, and every joint stays under its speed cap.
+    #[test]
+    fn a_straight_line_is_straight_within_tolerance() {
+        let (model, q0, caps) = setup();
+        let a = model.tcp_isometry(&q0);
+        let mut b = a;
+        b.translation.vector += Vector3::new(0.05, -0.04, 0.03);
+        b.rotation = nalgebra::UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.2) * a.rotation;
+        let path = TcpPath::line(&a, &b);
+        let mv = plan(&model, &q0, &path, &CartesianCaps::default(), &caps, 1.0, 0.001).expect("plans");
+        let traj = &mv.trajectory;
+        assert!(mv.branch.is_some());
+        let dir = (b.translation.vector - a.translation.vector).normalize();
+        let mut t = 0.0;
+        while t <= traj.duration_s() {
+            let q = traj.sample(t).q;
+            let p = model.tcp_isometry(&q);
+            let d = p.translation.vector - a.translation.vector;
+            let off_line = (d - dir * d.dot(&dir)).norm();
+            assert!(off_line < 0.05e-3, "{:.4} mm off the line at t = {t:.4}", off_line * 1e3);
+            // orientation: the slerp at the same fraction of the way
+            let frac = (d.dot(&dir) / (b.translation.vector - a.translation.vector).norm()).clamp(0.0, 1.0);
+            let ideal = a.rotation.slerp(&b.rotation, frac);
+            assert!(p.rotation.angle_to(&ideal).to_degrees() < 0.05, "orientation at t = {t:.4}");
+            t += 0.0007;
+        }
+        let end = model.tcp_isometry(traj.goal());
+        assert!((end.translation.vector - b.translation.vector).norm() < 1e-9);
+        for w in traj.samples().windows(2) {
+            for j in 0..6 {
+                assert!((w[1][j] - w[0][j]).abs() / 0.001 <= caps.speed_rad_s[j] * (1.0 + 1e-6));
+            }
+        }
+    }
+
+    #[test]
+    fn a_circle_is_round() {
+        let (model, q0, caps) = setup();
+        let a = model.tcp_isometry(&q0);
+        let center = Point3::from(a.translation.vector + Vector3::new(0.03, 0.0, 0.0));
+        let path = TcpPath::arc_about(&a, &center, &Vector3::z(), std::f64::consts::TAU).expect("circle");
+        let mv = plan(&model, &q0, &path, &CartesianCaps::default(), &caps, 1.0, 0.001).expect("plans");
+        for q in mv.trajectory.samples() {
+            let p = model.tcp_isometry(q).translation.vector;
+            let r = ((p.x - center.x).powi(2) + (p.y - center.y).powi(2)).sqrt();
+            assert!((r - 0.03).abs() < 0.05e-3 && (p.z - center.z).abs() < 0.05e-3);
+        }
+    }
+
+    #[test]
+    fn an_unreachable_line_names_where() {
+        let (model, q0, caps) = setup();
+        let a = model.tcp_isometry(&q0);
+        let mut b = a;
+        b.translation.vector += Vector3::new(0.0, 0.0, 1.0);
+        let e = plan(&model, &q0, &TcpPath::line(&a, &b), &CartesianCaps::default(), &caps, 1.0, 0.001)
+            .expect_err("out of reach");
+        assert!(e.to_string().contains("mm at t ="), "{e}");
+    }
+}

@@ -73,6 +73,9 @@ impl RobotBackend for Session {
             MotionCommand::JogJoint { joint, fraction } => self.jog(joint, fraction),
             MotionCommand::JogRelease => self.jog_release(),
             MotionCommand::Stop => self.stop(),
+            MotionCommand::Trajectory(_) => {
+                return Err(BackendError::Refused("planned trajectories are not supported by this session yet".into()));
+            }
         };
         r.map_err(backend_error)
     }

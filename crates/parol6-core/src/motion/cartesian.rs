@@ -291,8 +291,8 @@ mod tests {
         let end = model.tcp_isometry(traj.goal());
         assert!((end.translation.vector - b.translation.vector).norm() < 1e-9);
         for w in traj.samples().windows(2) {
-            for j in 0..6 {
-                assert!((w[1][j] - w[0][j]).abs() / 0.001 <= caps.speed_rad_s[j] * (1.0 + 1e-6));
+            for ((a, b), cap) in w[0].iter().zip(&w[1]).zip(&caps.speed_rad_s) {
+                assert!((b - a).abs() / 0.001 <= cap * (1.0 + 1e-6));
             }
         }
     }

@@ -85,6 +85,11 @@ pub enum MotionCommand {
     JogRelease,
     /// Stop: hold the commanded position of this instant.
     Stop,
+    /// Follow a planned joint trajectory (a Cartesian move or a program segment planned off
+    /// the control threads, see [`cartesian::plan`]). It must start where the commanded
+    /// position is when it applies; every sample is checked against the limits and speed caps.
+    #[serde(skip)]
+    Trajectory(std::sync::Arc<cartesian::SampledTrajectory>),
 }
 
 impl MotionCommand {
@@ -107,6 +112,7 @@ impl MotionCommand {
             MotionCommand::JogJoint { .. } => "jog",
             MotionCommand::JogRelease => "jog release",
             MotionCommand::Stop => "stop",
+            MotionCommand::Trajectory(_) => "trajectory",
         }
     }
 

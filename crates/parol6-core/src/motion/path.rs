@@ -330,7 +330,7 @@ fn corner_blend(a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>, radius: f64) 
     }
     let (t1, t2) = (d1 / l1, d2 / l2);
     let turn = t1.dot(&t2).clamp(-1.0, 1.0).acos();
-    if turn < 1e-6 || turn > std::f64::consts::PI - 1e-6 {
+    if !(1e-6..=std::f64::consts::PI - 1e-6).contains(&turn) {
         return None;
     }
     // distance from the corner where the arc starts, limited to half of each line

@@ -1,8 +1,12 @@
 //! [`MotionPlanner`]: commands in, the commanded joint trajectory out, as a pure function of
 //! time on the backend's motion clock.
 
+use std::sync::Arc;
+
 use crate::limits::{JointLimits, LimitPolicy};
 use crate::profile::JointMove;
+
+use super::cartesian::SampledTrajectory;
 
 use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
 
@@ -17,6 +21,8 @@ pub enum PlannerMode {
     Move,
     /// A hold-to-run jog.
     Jog,
+    /// A planned trajectory (Cartesian move, program segment).
+    Trajectory,
 }
 
 #[derive(Debug, Clone)]
@@ -25,7 +31,11 @@ enum Motion {
     Follow { t0: f64, start: Vec<f64>, target: Vec<f64>, speed: Vec<f64>, end_s: f64 },
     Move { t0: f64, mv: JointMove },
     Jog { t0: f64, start: Vec<f64>, joint: usize, vel: f64, stop_at: f64, refreshed: f64 },
+    Trajectory { t0: f64, traj: Arc<SampledTrajectory> },
 }
+
+/// A trajectory must start within this distance of the commanded position, rad.
+pub const TRAJECTORY_START_TOLERANCE_RAD: f64 = 1e-6;
 
 /// A command waiting for its time on the motion clock.
 #[derive(Debug, Clone)]
@@ -143,6 +153,7 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => t0 + end_s,
             Motion::Move { t0, mv } => t0 + mv.duration_s(),
             Motion::Jog { t0, start, joint, vel, stop_at, .. } => t0 + ((stop_at - start[*joint]) / vel).abs(),
+            Motion::Trajectory { t0, traj } => t0 + traj.duration_s(),
         }
     }
 
@@ -187,6 +198,7 @@ impl MotionPlanner {
             Motion::Follow { .. } => PlannerMode::Follow,
             Motion::Move { .. } => PlannerMode::Move,
             Motion::Jog { .. } => PlannerMode::Jog,
+            Motion::Trajectory { .. } => PlannerMode::Trajectory,
         }
     }
 
@@ -200,6 +212,7 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => t_s - t0 < *end_s,
             Motion::Move { t0, mv } => !mv.is_finished(t_s - t0),
             Motion::Jog { refreshed, .. } => t_s <= refreshed + DEADMAN_S,
+            Motion::Trajectory { t0, traj } => t_s - t0 < traj.duration_s(),
         }
     }
 
@@ -242,6 +255,7 @@ impl MotionPlanner {
                 let s = mv.sample(t_s - t0);
                 Setpoint { q: s.q, qd: s.qd, qdd: s.qdd }
             }
+            Motion::Trajectory { t0, traj } => traj.sample(t_s - t0),
             Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
                 let t_end = t_s.min(refreshed + DEADMAN_S);
                 let dt = (t_end - t0).max(0.0);
@@ -268,6 +282,7 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => (t_s - t0 >= *end_s).then_some(t_s),
             Motion::Move { t0, mv } => mv.is_finished(t_s - t0).then_some(t_s),
             Motion::Jog { refreshed, .. } => (t_s > refreshed + DEADMAN_S).then_some(refreshed + DEADMAN_S),
+            Motion::Trajectory { t0, traj } => (t_s - t0 >= traj.duration_s()).then_some(t_s),
         };
         if let Some(t) = done_at {
             self.hold(t);
@@ -345,6 +360,18 @@ impl MotionPlanner {
                 }
             }
             MotionCommand::Stop => self.hold(t_s),
+            MotionCommand::Trajectory(traj) => {
+                let start = traj.samples().first().map(Vec::as_slice).unwrap_or(&[]);
+                let gap = start.iter().zip(&here).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                if start.len() != here.len() || gap > TRAJECTORY_START_TOLERANCE_RAD {
+                    return Err(MotionError::Invalid(format!(
+                        "the trajectory starts {:.4}° away from the commanded position",
+                        gap.to_degrees()
+                    )));
+                }
+                self.goal = traj.goal().to_vec();
+                self.motion = Motion::Trajectory { t0: t_s, traj: Arc::clone(traj) };
+            }
         }
         self.applied += 1;
         Ok(())
@@ -405,6 +432,20 @@ pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), 
             }
         }
         MotionCommand::JogRelease | MotionCommand::Stop => {}
+        MotionCommand::Trajectory(traj) => validate_trajectory(limits, traj)?,
+    }
+    Ok(())
+}
+
+/// Every sample of a trajectory within the limits (with the right number of joints).
+fn validate_trajectory(limits: &JointLimits, traj: &SampledTrajectory) -> Result<(), MotionError> {
+    if traj.samples().is_empty() {
+        return Err(MotionError::Invalid("the trajectory has no samples".into()));
+    }
+    for (k, q) in traj.samples().iter().enumerate() {
+        limits.check(q).map_err(|e| {
+            MotionError::Invalid(format!("trajectory sample {k} (t = {:.3} s): {e}", k as f64 * traj.dt_s()))
+        })?;
     }
     Ok(())
 }

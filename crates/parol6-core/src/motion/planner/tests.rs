@@ -130,6 +130,36 @@ fn a_refused_scheduled_command_is_reported() {
     assert!(msg.contains("upper limit"), "{msg}");
 }
 
+#[test]
+fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() {
+    use crate::motion::cartesian::{CartesianCaps, plan};
+    use crate::motion::path::TcpPath;
+    let model = RobotModel::parol6();
+    let mut p = planner();
+    let mut q0 = crate::parol6::standby_rad().to_vec();
+    q0[4] = 0.6;
+    p.apply(&mv(q0.clone()), 0.0).expect("move");
+    let t1 = 10.0;
+    p.sample(t1);
+    let a = model.tcp_isometry(&q0);
+    let mut b = a;
+    b.translation.vector.x += 0.04;
+    let traj = plan(&model, &q0, &TcpPath::line(&a, &b), &CartesianCaps::default(), p.caps(), 1.0, 0.001)
+        .expect("plans")
+        .trajectory;
+    let end = traj.goal().to_vec();
+    let d = traj.duration_s();
+    p.apply(&MotionCommand::Trajectory(traj.clone()), t1).expect("starts where the arm is");
+    assert_eq!(p.mode(), PlannerMode::Trajectory);
+    let mid = p.sample(t1 + d / 2.0).q;
+    assert!((model.tcp_isometry(&mid).translation.y - a.translation.y).abs() < 1e-6);
+    assert_eq!(p.sample(t1 + d + 0.01).q, end);
+    assert_eq!(p.mode(), PlannerMode::Hold);
+    // now the arm is at the end: the same trajectory no longer starts here
+    let e = p.apply(&MotionCommand::Trajectory(traj), t1 + d + 0.02).expect_err("gap");
+    assert!(e.to_string().contains("away from the commanded position"), "{e}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
     /// Whatever the commands, the commanded trajectory stays within the limits and never

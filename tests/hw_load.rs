@@ -77,7 +77,7 @@ fn session_keeps_its_period_and_link_with_both_cores_busy() {
         }
         if last_jog.elapsed() >= Duration::from_millis(50) {
             let second = started.elapsed().as_secs();
-            let fraction = if second % 2 == 0 { 0.3 } else { -0.3 };
+            let fraction = if second.is_multiple_of(2) { 0.3 } else { -0.3 };
             let _ = RobotBackend::send(&session, MotionCommand::JogJoint { joint: 0, fraction });
             last_jog = Instant::now();
         }

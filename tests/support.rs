@@ -1,7 +1,12 @@
 //! Helpers shared by the cross-crate integration tests: locating the reference pack
-//! `../shared/parol6` beside the repository.
+//! `../shared/parol6` beside the repository, and a fault-injecting serial peer
+//! ([`fault_peer`]) for the adversarial session tests.
 
 use std::path::PathBuf;
+
+#[cfg(unix)]
+#[path = "support/fault_peer.rs"]
+pub mod fault_peer;
 
 /// The reference pack folder (`<repo>/../shared/parol6`), or `None` after printing a clear
 /// skip notice when it is absent. CI always has it.

@@ -17,6 +17,7 @@ pub mod emulator;
 pub mod frame;
 pub mod parser;
 pub mod ports;
+pub mod priority;
 pub mod session;
 pub mod units;
 
@@ -81,7 +82,22 @@ pub enum HwError {
     /// The session thread has ended.
     #[error("the controller session is closed")]
     Closed,
+    /// A motion command was refused.
+    #[error(transparent)]
+    Motion(#[from] parol6_core::motion::MotionError),
     /// The emulator could not start.
     #[error("emulator: {0}")]
     Emulator(String),
+}
+
+impl From<parol6_core::motion::BackendError> for HwError {
+    fn from(e: parol6_core::motion::BackendError) -> Self {
+        use parol6_core::motion::BackendError as B;
+        match e {
+            B::Motion(m) => HwError::Motion(m),
+            B::Refused(r) => HwError::Refused(r),
+            B::QueueFull => HwError::Refused("session command queue is full".into()),
+            B::Closed => HwError::Closed,
+        }
+    }
 }

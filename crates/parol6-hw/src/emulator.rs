@@ -426,6 +426,8 @@ impl EmulatorHandle {
             .spawn(move || {
                 // Keep the slave open so the master never sees a hang-up between host sessions.
                 let _slave = slave;
+                // The emulated board must answer in time on a loaded desktop, like the real one.
+                crate::priority::raise_current_thread();
                 serve(master, model, &sh, log_commands);
             })
             .map_err(|e| crate::HwError::Emulator(e.to_string()))?;

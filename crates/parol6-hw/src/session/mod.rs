@@ -158,7 +158,10 @@ impl Session {
             return Err(BackendError::Refused(format!("schedule time {t} is not a finite number")));
         }
         if cmd.starts_motion() {
-            self.snapshot().motion_allowed().map_err(|e| BackendError::Refused(e.to_string()))?;
+            self.snapshot().motion_allowed().map_err(|e| match e {
+                HwError::Refused(why) => BackendError::Refused(why),
+                other => BackendError::Refused(other.to_string()),
+            })?;
             if let MotionCommand::JogJoint { joint, fraction } = cmd {
                 self.check_jog_direction(joint, fraction)?;
             }

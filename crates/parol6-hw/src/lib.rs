@@ -21,7 +21,7 @@ pub mod priority;
 pub mod session;
 pub mod units;
 
-pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle};
+pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle, StatusCorruptor};
 pub use frame::{CommandCode, CommandFields, CommandFrame, GripperCommand, ReceivedCommand, StatusFrame};
 pub use parser::{CommandParser, StatusParser};
 pub use ports::{PAROL6_PID, PAROL6_VID, PortInfo, find_parol6_port, list_ports};

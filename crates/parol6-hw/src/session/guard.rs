@@ -155,7 +155,11 @@ pub struct PlausibilityFilter {
     last: Option<([i32; JOINT_COUNT], f64)>,
     frames_since: u32,
     in_a_row: u32,
+    accepted_in_a_row: u32,
 }
+
+/// Accepted measurements in a row needed before motion may start from a measured position.
+pub const CONFIRMING_FRAMES: u32 = 3;
 
 impl PlausibilityFilter {
     /// Checks `measured` arriving at `at_s` (any monotonic clock, s). Accepted measurements
@@ -173,6 +177,7 @@ impl PlausibilityFilter {
             let bound = max_plausible_jump(i, elapsed);
             if jump > bound {
                 self.in_a_row = self.in_a_row.saturating_add(1);
+                self.accepted_in_a_row = 0;
                 return Plausibility::Implausible { joint: i, jump_steps: jump, bound_steps: bound, in_a_row: self.in_a_row };
             }
         }
@@ -185,6 +190,13 @@ impl PlausibilityFilter {
         self.last = Some((*measured, at_s));
         self.frames_since = 0;
         self.in_a_row = 0;
+        self.accepted_in_a_row = self.accepted_in_a_row.saturating_add(1);
+    }
+
+    /// True once [`CONFIRMING_FRAMES`] measurements in a row were accepted: motion may start
+    /// from the measured position (a lone garbage frame accepted after a fault never is).
+    pub fn confirmed(&self) -> bool {
+        self.accepted_in_a_row >= CONFIRMING_FRAMES
     }
 
     /// Forgets the reference (the next measurement is taken as it is).

@@ -318,7 +318,8 @@ impl Worker {
                         self.fail_homing("homing stopped");
                     }
                     let blocked = self.snap.motion_allowed().err().map(|e| e.to_string());
-                    let measured = self.measured();
+                    // Motion starts only from a confirmed measurement (never a lone frame).
+                    let measured = if self.plausibility.confirmed() { self.measured() } else { None };
                     if let Err(msg) = self.streamer.apply(cmd, at_s, measured, blocked) {
                         tracing::debug!("parol6 session: {msg}");
                         self.streamer.refuse(msg);

@@ -116,14 +116,19 @@ fn one_script_gives_the_same_commanded_trajectory_on_both_backends() {
             max_sim_lag[j] = max_sim_lag[j].max((a.measured_q[j] - a.commanded.q[j]).abs());
         }
     }
-    assert!(compared > 600, "only {compared} common time stamps (sim {}, robot {})", sim_samples.len(), hw_samples.len());
+    assert!(
+        compared > 600,
+        "only {compared} common time stamps (sim {}, robot {})",
+        sim_samples.len(),
+        hw_samples.len()
+    );
     // End positions: the commanded ends agree, and the emulated arm settles on them within 1 step.
     let (a, b) = (sim_samples.values().last().expect("sim"), hw_samples.values().last().expect("robot"));
-    for j in 0..6 {
+    for (j, &settled) in settled_steps.iter().enumerate() {
         let step = rad_per_step(j);
         assert!((a.commanded.q[j] - b.commanded.q[j]).abs() <= step, "J{} end", j + 1);
         let end = parol6_hw::units::rad_to_steps(j, b.commanded.q[j]).expect("steps");
-        assert!((settled_steps[j] - end).abs() <= 1, "J{} settled at {} steps, commanded {end}", j + 1, settled_steps[j]);
+        assert!((settled - end).abs() <= 1, "J{} settled at {settled} steps, commanded {end}", j + 1);
     }
     eprintln!("parity: {compared} common time stamps (every 10 ms), max commanded difference {max_cmd_diff:e} rad");
     eprintln!("per joint, max |measured sim − measured robot| (rad / steps), robot lag, sim tracking error (rad):");

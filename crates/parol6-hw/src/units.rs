@@ -4,8 +4,8 @@
 //! even (the API's `np.rint`); speed → steps/s truncates toward zero (as the API does).
 
 use parol6_core::parol6::{
-    GEAR_RATIOS, JOINT_COUNT, LIMITS_STEPS, MAX_ACCEL_STEPS_S2, MAX_SPEED_STEPS_S, MICROSTEPS_PER_MOTOR_REV, STANDBY_DEG,
-    rad_per_step,
+    GEAR_RATIOS, JOINT_COUNT, LIMITS_STEPS, MAX_ACCEL_STEPS_S2, MAX_SPEED_STEPS_S, MICROSTEPS_PER_MOTOR_REV,
+    STANDBY_DEG, rad_per_step,
 };
 
 use crate::frame::{I24_MAX, I24_MIN};

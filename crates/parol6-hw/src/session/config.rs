@@ -79,9 +79,7 @@ impl SessionConfig {
             return Err(HwError::BadConfig("timeouts and home_frames must be > 0".into()));
         }
         if self.implausible_frames_fault == 0 || self.disagreement_steps <= 0 {
-            return Err(HwError::BadConfig(
-                "implausible_frames_fault and disagreement_steps must be > 0".into(),
-            ));
+            return Err(HwError::BadConfig("implausible_frames_fault and disagreement_steps must be > 0".into()));
         }
         Ok(())
     }

@@ -85,30 +85,27 @@ pub fn guard_frame(
 ) -> Result<u32, GuardViolation> {
     let lim = limits_steps();
     let vmax = max_speed_steps_s();
-    for i in 0..JOINT_COUNT {
-        let v = frame.fields.speeds_steps_s[i];
-        if v.unsigned_abs() > vmax[i].unsigned_abs() {
-            return Err(GuardViolation::Speed { joint: i + 1, steps_s: v, max: vmax[i] });
+    for (i, (&v, &max)) in frame.fields.speeds_steps_s.iter().zip(&vmax).enumerate() {
+        if v.unsigned_abs() > max.unsigned_abs() {
+            return Err(GuardViolation::Speed { joint: i + 1, steps_s: v, max });
         }
     }
     let mut trips = 0;
     if frame.command == CommandCode::Move {
         let (prev, periods) = reference.ok_or(GuardViolation::NoReference)?;
-        for i in 0..JOINT_COUNT {
-            let (lo, hi) = allowed_target_range(i, prev[i], period_s, periods);
-            let t = frame.fields.positions_steps[i];
-            let c = t.clamp(lo, hi);
-            if c != t {
-                frame.fields.positions_steps[i] = c;
+        for (i, (t, &r)) in frame.fields.positions_steps.iter_mut().zip(prev).enumerate() {
+            let (lo, hi) = allowed_target_range(i, r, period_s, periods);
+            let c = (*t).clamp(lo, hi);
+            if c != *t {
+                *t = c;
                 trips += 1;
             }
         }
         return Ok(trips);
     }
-    for i in 0..JOINT_COUNT {
-        let p = frame.fields.positions_steps[i];
-        if !(lim[i].0..=lim[i].1).contains(&p) {
-            return Err(GuardViolation::Position { joint: i + 1, steps: p, min: lim[i].0, max: lim[i].1 });
+    for (i, (&p, &(min, max))) in frame.fields.positions_steps.iter().zip(&lim).enumerate() {
+        if !(min..=max).contains(&p) {
+            return Err(GuardViolation::Position { joint: i + 1, steps: p, min, max });
         }
     }
     Ok(trips)
@@ -178,7 +175,12 @@ impl PlausibilityFilter {
             if jump > bound {
                 self.in_a_row = self.in_a_row.saturating_add(1);
                 self.accepted_in_a_row = 0;
-                return Plausibility::Implausible { joint: i, jump_steps: jump, bound_steps: bound, in_a_row: self.in_a_row };
+                return Plausibility::Implausible {
+                    joint: i,
+                    jump_steps: jump,
+                    bound_steps: bound,
+                    in_a_row: self.in_a_row,
+                };
             }
         }
         self.accept(measured, at_s);

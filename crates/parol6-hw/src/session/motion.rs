@@ -132,7 +132,8 @@ impl Streamer {
         }
         let was_streaming = self.streaming;
         if !was_streaming {
-            let (q, steps) = measured.ok_or_else(|| format!("{} refused: no consistent status from the board yet", cmd.name()))?;
+            let (q, steps) =
+                measured.ok_or_else(|| format!("{} refused: no consistent status from the board yet", cmd.name()))?;
             self.start(&q, &steps);
         }
         let res = match at_s {

@@ -28,6 +28,8 @@ pub const GRIPPER_ENABLE: u8 = 0x10;
 
 /// Tick intervals kept for the rate / jitter statistics.
 const TIMING_WINDOW: usize = 256;
+/// While nothing answers, one frame in this many is written.
+const NO_ANSWER_PROBE_EVERY: u64 = 10;
 /// Final IDLE frames sent when the session closes.
 const CLOSING_FRAMES: u32 = 3;
 
@@ -78,6 +80,8 @@ pub(super) struct Worker {
     read_buf: Vec<u8>,
     plausibility: PlausibilityFilter,
     disagreement: DisagreementMonitor,
+    /// Frames without a reply that were sent while the link was down (not counted as missing).
+    missing_offset: u64,
     pub(super) write_log: Option<Sender<Instant>>,
     pub(super) tap: Option<Sender<MotionSample>>,
 }
@@ -119,6 +123,7 @@ impl Worker {
             read_buf: vec![0u8; 4096],
             plausibility: PlausibilityFilter::default(),
             disagreement: DisagreementMonitor::default(),
+            missing_offset: 0,
             write_log: None,
             tap: None,
         }
@@ -309,7 +314,8 @@ impl Worker {
                         continue;
                     }
                     self.streamer.stop_streaming();
-                    self.streamer.homing = Homing::Sending { left: self.cfg.home_frames, started: now, seen_unhomed: false };
+                    self.streamer.homing =
+                        Homing::Sending { left: self.cfg.home_frames, started: now, seen_unhomed: false };
                     self.snap.homing = HomingState::Sending;
                 }
                 Request::Motion { cmd, at_s } => {
@@ -452,8 +458,12 @@ impl Worker {
         }
     }
 
-    /// Guards, encodes and writes a frame; returns the MOVE target written.
+    /// Guards, encodes and writes a frame; returns the MOVE target written. While nothing
+    /// answers, only every tenth frame is written (a quiet probe).
     fn write_frame(&mut self, mut frame: CommandFrame) -> Option<[i32; JOINT_COUNT]> {
+        if self.snap.link == LinkState::NoAnswer && !self.streamer.tick().is_multiple_of(NO_ANSWER_PROBE_EVERY) {
+            return None;
+        }
         match guard_frame(&mut frame, self.streamer.reference(), self.cfg.period_s()) {
             Ok(0) => {}
             Ok(n) => self.snap.guard_trips += u64::from(n),
@@ -493,7 +503,6 @@ impl Worker {
             }
         }
     }
-
 }
 
 /// How long [`crate::Session::close`] waits for the thread.

@@ -90,7 +90,9 @@ fn implausible_frames_count_in_a_row_and_time_widens_the_bound() {
     let mut far = STANDBY_STEPS;
     far[1] += 20_000;
     for n in 1..=5 {
-        assert!(matches!(f.check(&far, 0.01 * f64::from(n), PERIOD_S), Plausibility::Implausible { in_a_row, .. } if in_a_row == n));
+        assert!(
+            matches!(f.check(&far, 0.01 * f64::from(n), PERIOD_S), Plausibility::Implausible { in_a_row, .. } if in_a_row == n)
+        );
     }
     // A second later the joint could have got there.
     assert_eq!(f.check(&far, 1.0, PERIOD_S), Plausibility::Accepted);

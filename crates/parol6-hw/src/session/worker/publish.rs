@@ -7,6 +7,7 @@ use std::time::Instant;
 use parol6_core::limits::ZoneThresholds;
 use parol6_core::motion::{MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
 
+use super::super::snapshot::LinkState;
 use super::{TIMING_WINDOW, Worker};
 
 impl Worker {
@@ -23,13 +24,17 @@ impl Worker {
         self.last_tick = Some(now);
     }
 
-
     pub(super) fn publish(&mut self, now: Instant, t_s: f64) {
         let st = self.parser.stats();
         self.snap.status_frames = st.frames;
         self.snap.invalid_frames = st.invalid_frames;
         self.snap.discarded_bytes = st.discarded_bytes;
-        self.snap.missing_replies = self.snap.frames_sent.saturating_sub(st.frames);
+        // Replies missing while the link is up; frames sent while it is down are not "dropped".
+        let unanswered = self.snap.frames_sent.saturating_sub(st.frames);
+        if self.snap.link != LinkState::Connected {
+            self.missing_offset = unanswered.saturating_sub(self.snap.missing_replies);
+        }
+        self.snap.missing_replies = unanswered.saturating_sub(self.missing_offset);
         self.snap.motion = self.streamer.motion_state();
         if !self.intervals_s.is_empty() {
             let nominal = self.cfg.period_s();

@@ -137,7 +137,7 @@ impl Worker {
                 self.snap.link = LinkState::NoAnswer;
                 self.stop_all("no controller answered");
                 self.set_fault(format!(
-                    "no PAROL6 answered on {} within {:.0} s",
+                    "no PAROL6 answered on {} within {:.0} s: check the port and the power",
                     self.port_name,
                     self.cfg.no_answer_timeout.as_secs_f64()
                 ));

@@ -78,7 +78,9 @@ fn a_single_bit_error_in_one_status_frame_makes_a_joint_twitch() {
     let end = Instant::now() + Duration::from_millis(700);
     let mut flipped = false;
     while Instant::now() < end {
-        session.jog(3, 0.5).expect("jog J4");
+        if let Err(e) = session.jog(3, 0.5) {
+            panic!("jog J4: {e}; {:?}", session.snapshot().fault);
+        }
         std::thread::sleep(Duration::from_millis(40));
         if !flipped && Instant::now() + Duration::from_millis(400) > end {
             armed.store(true, Ordering::Relaxed);

@@ -43,7 +43,7 @@ fn hold_jog(session: &Session, joint: usize, fraction: f64, for_s: f64) {
     while Instant::now() < end {
         // At the limit, refreshing the jog further out is refused (and says so).
         if let Err(e) = session.jog(joint, fraction) {
-            assert!(e.to_string().contains("limit"), "{e}");
+            assert!(e.to_string().contains("limit"), "{e}; {:?}", session.snapshot().fault);
         }
         std::thread::sleep(Duration::from_millis(40));
     }

@@ -80,6 +80,8 @@ pub(super) struct Worker {
     read_buf: Vec<u8>,
     plausibility: PlausibilityFilter,
     disagreement: DisagreementMonitor,
+    /// When the first frame written since the last valid status was written.
+    first_unanswered_write: Option<Instant>,
     /// Frames without a reply that were sent while the link was down (not counted as missing).
     missing_offset: u64,
     pub(super) write_log: Option<Sender<Instant>>,
@@ -124,6 +126,7 @@ impl Worker {
             plausibility: PlausibilityFilter::default(),
             disagreement: DisagreementMonitor::default(),
             missing_offset: 0,
+            first_unanswered_write: None,
             write_log: None,
             tap: None,
         }
@@ -491,6 +494,7 @@ impl Worker {
                     let _ = log.try_send(Instant::now());
                 }
                 self.snap.frames_sent += 1;
+                self.first_unanswered_write.get_or_insert_with(Instant::now);
                 self.snap.last_command = Some(frame.command);
                 self.gripper_mode_once = None;
                 let sent = (frame.command == CommandCode::Move).then_some(frame.fields.positions_steps);

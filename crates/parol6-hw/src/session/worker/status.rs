@@ -30,6 +30,7 @@ impl Worker {
         let homing = !matches!(self.streamer.homing, Homing::None);
         // Liveness: a well-formed frame arrived (plausible or not).
         self.snap.last_status_at = Some(now);
+        self.first_unanswered_write = None;
         if self.snap.link != LinkState::Connected {
             if self.snap.link == LinkState::Lost {
                 // The link is back: the old "link lost" text must not stay.
@@ -153,7 +154,12 @@ impl Worker {
         }
         let last_valid = self.snap.last_status_at.unwrap_or(self.connected_at).max(self.connected_at);
         let silent = now.duration_since(last_valid);
-        if silent > self.cfg.status_timeout && self.snap.link == LinkState::Connected {
+        // The board must have had a fair chance to answer: a frame of ours has waited at least
+        // half the timeout (after a stall of this thread, the board has not been asked yet).
+        let asked = self.first_unanswered_write.is_some_and(|t| now.duration_since(t) >= self.cfg.status_timeout / 2);
+        // Checked once per period: reported at most `status_timeout` after the last status.
+        let late = silent + self.cfg.period() > self.cfg.status_timeout;
+        if late && asked && self.snap.link == LinkState::Connected {
             self.snap.link = LinkState::Lost;
             self.snap.link_losses += 1;
             self.stop_all("link lost during homing");

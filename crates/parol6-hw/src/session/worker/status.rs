@@ -17,6 +17,7 @@ impl Worker {
         let was = self.snap.link;
         self.snap.link = if self.ever_answered { LinkState::Lost } else { LinkState::NoAnswer };
         self.stop_all("link lost during homing");
+        self.plausibility.forget();
         if was == LinkState::Connected {
             self.snap.link_losses += 1;
         }
@@ -31,19 +32,7 @@ impl Worker {
         // Liveness: a well-formed frame arrived (plausible or not).
         self.snap.last_status_at = Some(now);
         self.first_unanswered_write = None;
-        if self.snap.link != LinkState::Connected {
-            if self.snap.link == LinkState::Lost {
-                // The link is back: the old "link lost" text must not stay.
-                self.snap.fault = None;
-            }
-            if self.snap.link == LinkState::NoAnswer {
-                self.snap.fault = None;
-            }
-            self.snap.link = LinkState::Connected;
-            self.connected_at = now;
-            self.ever_answered = true;
-            self.plausibility.forget();
-        }
+        self.ever_answered = true;
         if homing {
             // Homing rewrites the step counters: nothing to compare against.
             self.plausibility.accept(&s.positions_steps, at_s);
@@ -65,6 +54,16 @@ impl Worker {
             self.plausibility.accept(&s.positions_steps, at_s);
         }
         self.use_status(s);
+        // (Re)connected once a few plausible frames in a row arrived: motion may start from
+        // the measured position then.
+        if self.snap.link != LinkState::Connected && self.plausibility.confirmed() {
+            if matches!(self.snap.link, LinkState::Lost | LinkState::NoAnswer) {
+                // The link is back: the old "link lost" text must not stay (the count does).
+                self.snap.fault = None;
+            }
+            self.snap.link = LinkState::Connected;
+            self.connected_at = now;
+        }
     }
 
     pub(super) fn use_status(&mut self, s: StatusFrame) {
@@ -163,6 +162,7 @@ impl Worker {
             self.snap.link = LinkState::Lost;
             self.snap.link_losses += 1;
             self.stop_all("link lost during homing");
+            self.plausibility.forget();
             self.set_fault(format!(
                 "link lost: no valid status for {:.0} ms; motion stopped",
                 silent.as_secs_f64() * 1e3

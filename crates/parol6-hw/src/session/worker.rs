@@ -184,6 +184,13 @@ impl Worker {
             self.read_available();
             let now = Instant::now();
             self.record_tick(now);
+            if now.saturating_duration_since(next_tick) > period {
+                // This thread was stalled: the board has not had a fair chance to answer the
+                // frames written before the stall, so they do not count toward link loss.
+                if let Some(t) = self.first_unanswered_write.as_mut() {
+                    *t = now;
+                }
+            }
             if closing.is_none() && self.drain_requests(now) {
                 closing = Some(CLOSING_FRAMES);
                 self.stop_all("session closed");

@@ -26,6 +26,27 @@ fn burner(stop: Arc<AtomicBool>) -> std::thread::JoinHandle<u64> {
     })
 }
 
+/// Scheduling policy (0 normal, 1 FIFO) and nice of this process's threads named `parol6-*`.
+fn thread_policies() -> Vec<(String, String, String)> {
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else { return Vec::new() };
+    let mut out = Vec::new();
+    for e in dir.flatten() {
+        let p = e.path();
+        let (Ok(comm), Ok(stat)) = (std::fs::read_to_string(p.join("comm")), std::fs::read_to_string(p.join("stat")))
+        else {
+            continue;
+        };
+        let comm = comm.trim().to_string();
+        let Some((_, rest)) = stat.rsplit_once(')') else { continue };
+        // after "(comm)" the first field is field 3 (state): nice is field 19, policy field 41
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        if let (true, Some(nice), Some(policy)) = (comm.starts_with("parol6"), f.get(16), f.get(38)) {
+            out.push((comm, policy.to_string(), nice.to_string()));
+        }
+    }
+    out
+}
+
 #[test]
 fn link_holds_with_both_cores_busy() {
     let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
@@ -60,10 +81,10 @@ fn link_holds_with_both_cores_busy() {
     dev_ms.sort_by(f64::total_cmp);
     let p99 = dev_ms.get(((dev_ms.len() as f64 - 1.0) * 0.99).round() as usize).copied().unwrap_or(f64::NAN);
     let max = dev_ms.last().copied().unwrap_or(f64::NAN);
-    let granted = std::thread::spawn(parol6_hw::priority::raise_current_thread).join().ok();
+    let granted = thread_policies();
     eprintln!(
         "load: {} frames in {BURN_S} s with 2 busy threads; period jitter p99 {p99:.3} ms, max {max:.3} ms; \
-         worst status age seen {worst_age_ms:.1} ms; link losses {}; missing replies {}; priority granted here: {granted:?}",
+         worst status age seen {worst_age_ms:.1} ms; link losses {}; missing replies {}; threads (name, policy, nice): {granted:?}",
         writes.len(),
         s.link_losses,
         s.missing_replies

@@ -3,14 +3,15 @@
 //! Everything between PAROL6 Studio and a real PAROL6 controller board:
 //! - the serial wire protocol ([`frame`], [`parser`]) and the step ↔ angle units ([`units`]),
 //! - serial-port discovery ([`ports`]),
-//! - the controller [`session`]: one thread sending one command frame per period, parsing the
-//!   status, publishing lock-free snapshots, and acting as the **safety layer** (the firmware has
-//!   no CRC, no timeout and no limit checks),
+//! - the controller [`session`]: one thread streaming the core motion planner's setpoint as
+//!   one command frame per period, parsing the status, publishing lock-free snapshots and robot
+//!   states, implementing [`parol6_core::motion::RobotBackend`] ([`backend`]), and acting as the
+//!   **safety layer** (the firmware has no CRC, no timeout and no limit checks),
 //! - a controller [`emulator`] that behaves like the public firmware, on a pseudo-terminal.
 //!
 //! This crate must not depend on any GUI, windowing or GPU crate, nor on rapier (physics lives
-//! in `parol6-core`'s simulation). Motion profiles come from [`parol6_core::profile`], joint
-//! limits from [`parol6_core::limits`].
+//! in `parol6-core`'s simulation). Motion comes from [`parol6_core::motion`], joint limits from
+//! [`parol6_core::limits`] and [`parol6_core::parol6::LIMITS_STEPS`].
 
 pub mod backend;
 pub mod emulator;

@@ -41,7 +41,10 @@ fn assert_safe(frames: &[ReceivedFrame]) {
 fn hold_jog(session: &Session, joint: usize, fraction: f64, for_s: f64) {
     let end = Instant::now() + Duration::from_secs_f64(for_s);
     while Instant::now() < end {
-        session.jog(joint, fraction).expect("jog");
+        // At the limit, refreshing the jog further out is refused (and says so).
+        if let Err(e) = session.jog(joint, fraction) {
+            assert!(e.to_string().contains("limit"), "{e}; {:?}", session.snapshot().fault);
+        }
         std::thread::sleep(Duration::from_millis(40));
     }
 }
@@ -242,4 +245,58 @@ fn rate_is_configurable_and_checked() {
     let s = session.wait_until(LONG, |s| s.frames_sent >= 300).expect("frames");
     // Loose bound only: the exact rate is measured by `parol6 bench serial`.
     assert!(s.loop_rate_hz > 100.0, "{}", s.loop_rate_hz);
+}
+
+/// Regression: "jogging J1 (either end), J2 (lower) or J3 (upper) into its limit locks out all
+/// motion until re-homing". The arm ends exactly on the step limit, which is inside the limits,
+/// and motion back inside (and of other joints) is accepted.
+#[test]
+fn jogging_into_the_limit_locks_out_all_motion_until_rehoming() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    let lim = limits_steps();
+    for (joint, dir, seconds) in [(0, 1.0, 0.6), (0, -1.0, 2.2), (1, -1.0, 1.2), (2, 1.0, 1.5)] {
+        hold_jog(&session, joint, dir, seconds);
+        session.jog_release().expect("release");
+        let at = settled(&emu);
+        let limit = if dir > 0.0 { lim[joint].1 } else { lim[joint].0 };
+        assert_eq!(at[joint], limit, "J{} reached its limit exactly", joint + 1);
+        let s = session.wait_until(LONG, |s| s.joint_steps[joint] == limit).expect("measured");
+        assert!(s.motion_allowed().is_ok(), "not locked out: {:?}", s.motion_allowed());
+        // Further out is refused with a reason; back inside works.
+        let err = session.jog(joint, dir).expect_err("further out");
+        assert!(err.to_string().contains("limit"), "{err}");
+        hold_jog(&session, joint, -dir * 0.5, 0.3);
+        session.jog_release().expect("release");
+        let back = settled(&emu);
+        assert!((back[joint] - limit).abs() > 100, "J{} moved back inside: {}", joint + 1, back[joint]);
+        // Other joints move too.
+        hold_jog(&session, 5, 0.3, 0.2);
+        session.jog_release().expect("release");
+    }
+    // ROBOT.md's exact maximum in degrees is accepted (`hw move --joints 123.046875,… --deg`).
+    let mut goal = standby_rad().to_vec();
+    goal[0] = 123.046875f64.to_radians();
+    let s = session.move_to_blocking(&goal, 1.0, ProfileKind::Trapezoidal, LONG).expect("move to J1 max");
+    assert_eq!(s.target_steps.map(|t| t[0]), Some(14_000), "commanded exactly to the step limit");
+    assert!((s.joint_steps[0] - 14_000).abs() <= 3, "{}", s.joint_steps[0]);
+    assert_safe(&emu.take_received());
+}
+
+/// "Connecting to a port where no PAROL6 answers says connected": it now says that no
+/// controller answers, and enabled never reads true without a status.
+#[test]
+fn a_port_where_no_parol6_answers_is_reported_as_such() {
+    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
+    emu.set_mute(true);
+    let session = Session::open(emu.path(), SessionConfig::default()).expect("session");
+    let s = session.wait_until(LONG, |s| s.link == LinkState::NoAnswer).expect("no answer");
+    let fault = s.fault.clone().unwrap_or_default();
+    assert!(fault.contains("no PAROL6 answered on") && fault.contains("within 3 s"), "{fault}");
+    assert!(s.status.is_none());
+    assert_ne!(s.enabled, Some(true));
+    assert!(session.jog(0, 0.5).is_err());
+    // It answers later: connected, and the stale fault is gone.
+    emu.set_mute(false);
+    let s = session.wait_until(LONG, |s| s.link == LinkState::Connected).expect("answered");
+    assert!(s.fault.is_none(), "{:?}", s.fault);
 }

@@ -3,7 +3,7 @@
 //! (`rad = steps · 2π / (6400 · ratio)`), which are also the joint variables of the embedded
 //! URDF (`assets/parol6/parol6.urdf`).
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::PI;
 
 /// Number of joints of the PAROL6.
 pub const JOINT_COUNT: usize = 6;
@@ -11,7 +11,21 @@ pub const JOINT_COUNT: usize = 6;
 /// Joint names used by the embedded URDF, J1 (base) … J6 (flange).
 pub const JOINT_NAMES: [&str; JOINT_COUNT] = ["J1", "J2", "J3", "J4", "J5", "J6"];
 
-/// Joint limits in degrees, ROBOT.md §3 (API / GUI values).
+/// Joint limits in motor steps, ROBOT.md §3 (the API `rint` row): **the one source of truth**
+/// for the joint limits. The degree and radian limits below are derived from it.
+pub const LIMITS_STEPS: [(i32, i32); JOINT_COUNT] =
+    [(-14_000, 14_000), (-51_559, -1_200), (34_700, 92_605), (-7_500, 7_500), (-6_400, 6_400), (0, 64_000)];
+
+/// How far the radian limits reach beyond the step limits, in steps: just under half a step,
+/// the rounding band of `steps = round(rad / rad_per_step)`. Every angle inside the radian
+/// limits rounds to a step count inside [`LIMITS_STEPS`], and every step count inside
+/// [`LIMITS_STEPS`] is strictly inside the radian limits, so an arm standing on (or pushed to)
+/// its step limit never reads as "outside", and ROBOT.md's degree values (which round to the
+/// step limits) are accepted.
+pub const LIMIT_ROUNDING_BAND_STEPS: f64 = 0.499;
+
+/// Joint limits in degrees as ROBOT.md §3 lists them (API / GUI values; they round to
+/// [`LIMITS_STEPS`]). For display and reference only: limits are enforced with [`LIMITS_RAD`].
 pub const LIMITS_DEG: [(f64, f64); JOINT_COUNT] = [
     (-123.046875, 123.046875),
     (-145.0088, -3.375),
@@ -21,15 +35,22 @@ pub const LIMITS_DEG: [(f64, f64); JOINT_COUNT] = [
     (0.0, 360.0),
 ];
 
-/// Joint limits in radians as written in the embedded URDF (ROBOT.md §3 / §6.1).
-pub const LIMITS_RAD: [(f64, f64); JOINT_COUNT] = [
-    (-2.1475731, 2.1475731),
-    (-2.530881, -0.05890486),
-    (1.88261685, 5.02423568),
-    (-1.8407944, 1.8407944),
-    (-FRAC_PI_2, FRAC_PI_2),
-    (0.0, 2.0 * PI),
-];
+/// Joint limits in radians, derived from [`LIMITS_STEPS`]:
+/// `(steps ∓ LIMIT_ROUNDING_BAND_STEPS) · 2π / (6400 · ratio)`. The embedded URDF writes the
+/// limits rounded (within 2e-4 rad, half a step).
+pub const LIMITS_RAD: [(f64, f64); JOINT_COUNT] = {
+    let mut out = [(0.0, 0.0); JOINT_COUNT];
+    let mut j = 0;
+    while j < JOINT_COUNT {
+        let rps = rad_per_step(j);
+        out[j] = (
+            (LIMITS_STEPS[j].0 as f64 - LIMIT_ROUNDING_BAND_STEPS) * rps,
+            (LIMITS_STEPS[j].1 as f64 + LIMIT_ROUNDING_BAND_STEPS) * rps,
+        );
+        j += 1;
+    }
+    out
+};
 
 /// Standby = home pose, degrees (ROBOT.md §4).
 pub const STANDBY_DEG: [f64; JOINT_COUNT] = [90.0, -90.0, 180.0, 0.0, 0.0, 180.0];
@@ -53,7 +74,7 @@ pub const MAX_ACCEL_STEPS_S2: [f64; JOINT_COUNT] = [45000.0, 75000.0, 96000.0, 3
 pub const MAX_JERK_STEPS_S3: [f64; JOINT_COUNT] = [450000.0, 750000.0, 960000.0, 300000.0, 300000.0, 810000.0];
 
 /// Radians per motor step for joint `i` (`2π / (6400 · ratio)`).
-pub fn rad_per_step(joint: usize) -> f64 {
+pub const fn rad_per_step(joint: usize) -> f64 {
     2.0 * PI / (MICROSTEPS_PER_MOTOR_REV * GEAR_RATIOS[joint])
 }
 
@@ -163,8 +184,37 @@ mod tests {
     #[test]
     fn limits_deg_and_rad_agree() {
         for (d, r) in LIMITS_DEG.iter().zip(LIMITS_RAD.iter()) {
-            assert!((d.0.to_radians() - r.0).abs() < 1e-6);
-            assert!((d.1.to_radians() - r.1).abs() < 1e-6);
+            // within half a step (at most 1.3e-4 rad, J4)
+            assert!((d.0.to_radians() - r.0).abs() < 2e-4);
+            assert!((d.1.to_radians() - r.1).abs() < 2e-4);
+        }
+    }
+
+    /// Regression: "jogging J1 (either end), J2 (lower) or J3 (upper) into its limit locks out
+    /// all motion until re-homing" — the radian limits were narrower than the step limits.
+    #[test]
+    fn jogging_into_the_limit_locks_out_motion_every_step_limit_is_inside() {
+        for j in 0..JOINT_COUNT {
+            let (lo, hi) = LIMITS_STEPS[j];
+            for steps in [lo, lo + 1, hi - 1, hi] {
+                let q = f64::from(steps) * rad_per_step(j);
+                assert!(q >= LIMITS_RAD[j].0 && q <= LIMITS_RAD[j].1, "J{} {steps} steps = {q} rad", j + 1);
+            }
+            // Angles inside the radian limits round to step counts inside the step limits.
+            let r = (LIMITS_RAD[j].0 / rad_per_step(j)).round_ties_even() as i32;
+            let s = (LIMITS_RAD[j].1 / rad_per_step(j)).round_ties_even() as i32;
+            assert_eq!((r, s), (lo, hi), "J{}", j + 1);
+        }
+    }
+
+    /// ROBOT.md's degree limits (`hw move --joints 123.046875,… --deg`) are accepted.
+    #[test]
+    fn jogging_into_the_limit_locks_out_motion_robot_md_degrees_are_inside() {
+        for j in 0..JOINT_COUNT {
+            for d in [LIMITS_DEG[j].0, LIMITS_DEG[j].1] {
+                let q = d.to_radians();
+                assert!(q >= LIMITS_RAD[j].0 && q <= LIMITS_RAD[j].1, "J{} {d}°", j + 1);
+            }
         }
     }
 

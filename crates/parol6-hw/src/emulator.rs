@@ -369,6 +369,10 @@ pub struct EmulatorSnapshot {
     pub frames_rejected: u64,
 }
 
+/// Alters status replies before they are sent (fault injection for tests: bit flips, garbage,
+/// delays). Called with the index of the reply; returns an extra delay before sending it.
+pub type StatusCorruptor = Box<dyn FnMut(u64, &mut StatusFrame) -> Duration + Send>;
+
 /// Most received frames kept in the log.
 const LOG_CAP: usize = 200_000;
 
@@ -383,6 +387,7 @@ struct Shared {
     mute: AtomicBool,
     log: Mutex<Vec<ReceivedFrame>>,
     snapshot: ArcSwap<EmulatorSnapshot>,
+    corruptor: Mutex<Option<StatusCorruptor>>,
 }
 
 /// A running emulator on a pseudo-terminal. Dropping it stops the thread and closes the pty.
@@ -418,6 +423,7 @@ impl EmulatorHandle {
             mute: AtomicBool::new(false),
             log: Mutex::new(Vec::new()),
             snapshot: ArcSwap::from_pointee(snapshot_of(&model, 0, 0)),
+            corruptor: Mutex::new(None),
         });
         let sh = Arc::clone(&shared);
         let log_commands = config.log_commands;
@@ -426,6 +432,8 @@ impl EmulatorHandle {
             .spawn(move || {
                 // Keep the slave open so the master never sees a hang-up between host sessions.
                 let _slave = slave;
+                // The emulated board must answer in time on a loaded desktop, like the real one.
+                crate::priority::raise_current_thread();
                 serve(master, model, &sh, log_commands);
             })
             .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
@@ -456,6 +464,14 @@ impl EmulatorHandle {
     /// Delay added before every reply.
     pub fn set_reply_delay(&self, delay: Duration) {
         self.shared.reply_delay_us.store(delay.as_micros() as u64, Ordering::Relaxed);
+    }
+
+    /// Alters every status reply from now on (`None`: answer truthfully again).
+    pub fn set_status_corruptor(&self, corruptor: Option<StatusCorruptor>) {
+        match self.shared.corruptor.lock() {
+            Ok(mut c) => *c = corruptor,
+            Err(p) => *p.into_inner() = corruptor,
+        }
     }
 
     /// Latest emulator state.
@@ -508,6 +524,7 @@ fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Share
     let mut parser = CommandParser::new();
     let mut buf = [0u8; 4096];
     let mut last = Instant::now();
+    let mut replies = 0u64;
     while !sh.stop.load(Ordering::Relaxed) {
         let n = match master.read(&mut buf) {
             Ok(n) => n,
@@ -541,9 +558,19 @@ fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Share
             if sh.mute.load(Ordering::Relaxed) {
                 continue;
             }
-            let delay = sh.reply_delay_us.load(Ordering::Relaxed);
-            if delay > 0 {
-                std::thread::sleep(Duration::from_micros(delay));
+            let mut status = status;
+            let mut delay = Duration::from_micros(sh.reply_delay_us.load(Ordering::Relaxed));
+            if let Some(corrupt) = match sh.corruptor.lock() {
+                Ok(c) => c,
+                Err(p) => p.into_inner(),
+            }
+            .as_mut()
+            {
+                delay += corrupt(replies, &mut status);
+            }
+            replies += 1;
+            if !delay.is_zero() {
+                std::thread::sleep(delay);
             }
             if let Err(e) = master.write_all(&status.encode()) {
                 tracing::debug!("emulator write: {e}");
@@ -556,120 +583,5 @@ fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Share
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::frame::{CommandFields, CommandFrame};
-
-    fn cmd(code: CommandCode, fields: CommandFields) -> ReceivedCommand {
-        let bytes = CommandFrame { command: code, fields }.encode().unwrap();
-        ReceivedCommand::decode(&bytes).unwrap()
-    }
-
-    fn at_standby() -> ControllerModel {
-        ControllerModel::new(EmulatorConfig::homed_at_standby())
-    }
-
-    #[test]
-    fn move_law_converges_and_reports_speed() {
-        let mut m = at_standby();
-        let mut f = CommandFields { positions_steps: STANDBY_STEPS, ..Default::default() };
-        f.positions_steps[0] += 1000;
-        let now = Instant::now();
-        let s = m.accept(cmd(CommandCode::Move, f), now);
-        // v = trunc((0 + trunc(1000 / 0.01)) / 2) = 50 000 (clamped to 50 000).
-        assert_eq!(s.speeds_steps_s[0], 50_000);
-        m.advance(0.2);
-        let p = m.position_steps()[0];
-        assert!((p - (STANDBY_STEPS[0] + 1000)).abs() <= 1, "{p}");
-        assert_eq!(s.echoed_command, 156);
-    }
-
-    #[test]
-    fn move_with_feedforward_settles_past_target() {
-        let mut m = at_standby();
-        let mut f = CommandFields { positions_steps: STANDBY_STEPS, ..Default::default() };
-        f.speeds_steps_s[1] = 1000;
-        m.accept(cmd(CommandCode::Move, f), Instant::now());
-        m.advance(0.5);
-        // Settles about v_ff/100 = 10 steps past the target.
-        let over = m.position_steps()[1] - STANDBY_STEPS[1];
-        assert!((9..=11).contains(&over), "{over}");
-    }
-
-    #[test]
-    fn jog_runs_forever_without_new_frames() {
-        let mut m = at_standby();
-        let mut f = CommandFields::default();
-        f.speeds_steps_s[2] = -2000;
-        f.speeds_steps_s[3] = 90_000;
-        let s = m.accept(cmd(CommandCode::Jog, f), Instant::now());
-        assert_eq!(s.speeds_steps_s[3], 50_000);
-        m.advance(1.0);
-        assert_eq!(m.position_steps()[2], STANDBY_STEPS[2] - 2000);
-        m.advance(1.0);
-        assert_eq!(m.position_steps()[2], STANDBY_STEPS[2] - 4000);
-    }
-
-    #[test]
-    fn disable_latches_until_enable() {
-        let mut m = at_standby();
-        m.accept(cmd(CommandCode::Disable, CommandFields::default()), Instant::now());
-        let mut f = CommandFields::default();
-        f.speeds_steps_s[0] = 1000;
-        m.accept(cmd(CommandCode::Jog, f), Instant::now());
-        m.advance(0.5);
-        assert_eq!(m.position_steps(), STANDBY_STEPS);
-        m.accept(cmd(CommandCode::Enable, CommandFields::default()), Instant::now());
-        m.accept(cmd(CommandCode::Jog, f), Instant::now());
-        m.advance(0.5);
-        assert_eq!(m.position_steps()[0], STANDBY_STEPS[0] + 500);
-    }
-
-    #[test]
-    fn idle_does_not_step_but_shows_speeds() {
-        let mut m = at_standby();
-        let mut f = CommandFields::default();
-        f.speeds_steps_s[0] = 1234;
-        let s = m.accept(cmd(CommandCode::Idle, f), Instant::now());
-        assert_eq!(s.speeds_steps_s[0], 1234);
-        m.advance(0.5);
-        assert_eq!(m.position_steps(), STANDBY_STEPS);
-    }
-
-    #[test]
-    fn homing_sets_bits_in_stages_then_standby() {
-        let mut m = ControllerModel::new(EmulatorConfig::default());
-        assert_eq!(m.status().homed_bits, 0x03);
-        m.accept(cmd(CommandCode::Home, CommandFields::default()), Instant::now());
-        m.accept(cmd(CommandCode::Idle, CommandFields::default()), Instant::now());
-        assert!(m.is_homing());
-        m.advance(0.5);
-        assert_eq!(m.homed(), [true, true, true, false, false, false]);
-        m.advance(0.2);
-        assert_eq!(m.homed(), [true, true, true, true, false, false]);
-        m.advance(0.4);
-        assert!(!m.is_homing());
-        assert_eq!(m.status().homed_bits, 0xFF);
-        assert_eq!(m.position_steps(), STANDBY_STEPS);
-    }
-
-    #[test]
-    fn homing_restarts_when_home_is_still_the_last_command_and_move_aborts_it() {
-        let mut m = ControllerModel::new(EmulatorConfig::default());
-        m.accept(cmd(CommandCode::Home, CommandFields::default()), Instant::now());
-        m.advance(1.2);
-        assert!(m.is_homing(), "restarted");
-        m.accept(cmd(CommandCode::Move, CommandFields::default()), Instant::now());
-        assert!(!m.is_homing());
-    }
-
-    #[test]
-    fn estop_and_outputs_are_reported() {
-        let mut m = at_standby();
-        m.estop_pressed = true;
-        m.in1 = true;
-        let f = CommandFields { io_bits: IO_OUT1, ..Default::default() };
-        let s = m.accept(cmd(CommandCode::Idle, f), Instant::now());
-        assert!(s.estop_pressed() && s.in1() && s.out1() && !s.out2());
-    }
-}
+#[path = "emulator_tests.rs"]
+mod tests;

@@ -3,24 +3,26 @@
 //! Everything between PAROL6 Studio and a real PAROL6 controller board:
 //! - the serial wire protocol ([`frame`], [`parser`]) and the step ↔ angle units ([`units`]),
 //! - serial-port discovery ([`ports`]),
-//! - the controller [`session`]: one thread sending one command frame per period, parsing the
-//!   status, publishing lock-free snapshots, and acting as the **safety layer** (the firmware has
-//!   no CRC, no timeout and no limit checks),
+//! - the controller [`session`]: one thread streaming the core motion planner's setpoint as
+//!   one command frame per period, parsing the status, publishing lock-free snapshots and robot
+//!   states, implementing [`parol6_core::motion::RobotBackend`] ([`backend`]), and acting as the
+//!   **safety layer** (the firmware has no CRC, no timeout and no limit checks),
 //! - a controller [`emulator`] that behaves like the public firmware, on a pseudo-terminal.
 //!
 //! This crate must not depend on any GUI, windowing or GPU crate, nor on rapier (physics lives
-//! in `parol6-core`'s simulation). Motion profiles come from [`parol6_core::profile`], joint
-//! limits from [`parol6_core::limits`].
+//! in `parol6-core`'s simulation). Motion comes from [`parol6_core::motion`], joint limits from
+//! [`parol6_core::limits`] and [`parol6_core::parol6::LIMITS_STEPS`].
 
 pub mod backend;
 pub mod emulator;
 pub mod frame;
 pub mod parser;
 pub mod ports;
+pub mod priority;
 pub mod session;
 pub mod units;
 
-pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle};
+pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle, StatusCorruptor};
 pub use frame::{CommandCode, CommandFields, CommandFrame, GripperCommand, ReceivedCommand, StatusFrame};
 pub use parser::{CommandParser, StatusParser};
 pub use ports::{PAROL6_PID, PAROL6_VID, PortInfo, find_parol6_port, list_ports};
@@ -81,7 +83,22 @@ pub enum HwError {
     /// The session thread has ended.
     #[error("the controller session is closed")]
     Closed,
+    /// A motion command was refused.
+    #[error(transparent)]
+    Motion(#[from] parol6_core::motion::MotionError),
     /// The emulator could not start.
     #[error("emulator: {0}")]
     Emulator(String),
+}
+
+impl From<parol6_core::motion::BackendError> for HwError {
+    fn from(e: parol6_core::motion::BackendError) -> Self {
+        use parol6_core::motion::BackendError as B;
+        match e {
+            B::Motion(m) => HwError::Motion(m),
+            B::Refused(r) => HwError::Refused(r),
+            B::QueueFull => HwError::Refused("session command queue is full".into()),
+            B::Closed => HwError::Closed,
+        }
+    }
 }

@@ -4,8 +4,8 @@
 //! even (the API's `np.rint`); speed → steps/s truncates toward zero (as the API does).
 
 use parol6_core::parol6::{
-    GEAR_RATIOS, JOINT_COUNT, LIMITS_DEG, MAX_ACCEL_STEPS_S2, MAX_SPEED_STEPS_S, MICROSTEPS_PER_MOTOR_REV, STANDBY_DEG,
-    rad_per_step,
+    GEAR_RATIOS, JOINT_COUNT, LIMITS_STEPS, MAX_ACCEL_STEPS_S2, MAX_SPEED_STEPS_S, MICROSTEPS_PER_MOTOR_REV,
+    STANDBY_DEG, rad_per_step,
 };
 
 use crate::frame::{I24_MAX, I24_MIN};
@@ -109,12 +109,10 @@ pub fn joints_rad_to_steps(rad: &[f64]) -> Result<[i32; JOINT_COUNT], UnitError>
     Ok(out)
 }
 
-/// Joint limits in steps, `(min, max)` per joint: the API `rint` row of ROBOT.md §3.
+/// Joint limits in steps, `(min, max)` per joint: the API `rint` row of ROBOT.md §3
+/// ([`LIMITS_STEPS`], the one source of truth of the joint limits).
 pub fn limits_steps() -> [(i32, i32); JOINT_COUNT] {
-    std::array::from_fn(|i| {
-        let conv = |d: f64| (d / DEG_PER_MOTOR_STEP * GEAR_RATIOS[i]).round_ties_even() as i32;
-        (conv(LIMITS_DEG[i].0), conv(LIMITS_DEG[i].1))
-    })
+    LIMITS_STEPS
 }
 
 /// Standby pose computed from its angles (equals [`STANDBY_STEPS`]).

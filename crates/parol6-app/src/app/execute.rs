@@ -138,6 +138,8 @@ impl Parol6App {
                 (L::Lost, _) => Some((format!("link to {} lost: motion stopped", snap.port), true)),
                 (L::Connecting, _) => None,
                 (L::Closed, _) => Some((format!("link to {} closed", snap.port), true)),
+                // The session's fault says it ("no PAROL6 answered on … within 3 s").
+                (L::NoAnswer, _) => None,
             };
             if let Some(m) = msg {
                 link.told = Some(state);

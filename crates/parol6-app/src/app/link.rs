@@ -74,6 +74,7 @@ impl HwLink {
             loop_rate_hz: snap.loop_rate_hz,
             jitter_ms: snap.period_jitter_p99_ms,
             dropped_frames: snap.invalid_frames + snap.missing_replies,
+            implausible_frames: snap.implausible_frames,
             last_error: snap.fault.clone(),
         }
     }

@@ -35,6 +35,8 @@ pub struct LinkView {
     pub jitter_ms: f64,
     /// Frames lost or corrupted.
     pub dropped_frames: u64,
+    /// Status frames with physically impossible positions (rejected, never used).
+    pub implausible_frames: u64,
     /// Last error reported by the session.
     pub last_error: Option<String>,
 }
@@ -225,10 +227,13 @@ impl ConnectionPanel {
             }
         });
         ui.monospace(format!(
-            "loop {:.0} Hz  jitter {:.2} ms  dropped {}",
-            link.loop_rate_hz, link.jitter_ms, link.dropped_frames
+            "loop {:.0} Hz  jitter {:.2} ms  dropped {}  implausible {}",
+            link.loop_rate_hz, link.jitter_ms, link.dropped_frames, link.implausible_frames
         ))
-        .on_hover_text("link health: command/status loop rate, period jitter, frames lost or corrupted");
+        .on_hover_text(
+            "link health: command/status loop rate, period jitter, frames lost or corrupted, status frames \
+             with impossible positions (rejected)",
+        );
         if let Some(e) = &link.last_error {
             ui.colored_label(ui.visuals().error_fg_color, e);
         }

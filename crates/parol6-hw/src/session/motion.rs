@@ -1,0 +1,275 @@
+//! What the session streams: the core [`MotionPlanner`] sampled on the motion clock
+//! (`t = tick × period`, exact, never wall time), converted to steps for MOVE frames, and the
+//! controller's homing routine (HOME frames, then IDLE until the homed bits are set).
+//!
+//! Motion starts from IDLE (after connecting, homing, an E-stop or a link loss) with the
+//! planner reset to the *measured* position, so the first MOVE target is where the arm is.
+//! Stopping streaming (E-stop, link loss, DISABLE, faults) resets the planner and sends IDLE;
+//! no motion resumes by itself.
+
+use std::time::Instant;
+
+use parol6_core::limits::JointLimits;
+use parol6_core::motion::{MotionCaps, MotionCommand, MotionPlanner, PlannerMode, Setpoint};
+use parol6_core::parol6::JOINT_COUNT;
+
+use super::snapshot::MotionState;
+use crate::units::joints_rad_to_steps;
+
+/// Progress of the controller's homing routine.
+#[derive(Debug, Clone)]
+pub(super) enum Homing {
+    None,
+    Sending { left: u32, started: Instant, seen_unhomed: bool },
+    Waiting { started: Instant, seen_unhomed: bool },
+}
+
+/// The commanded trajectory of the session.
+#[derive(Debug)]
+pub(super) struct Streamer {
+    planner: MotionPlanner,
+    period_s: f64,
+    tick: u64,
+    streaming: bool,
+    jog: Option<(usize, f64)>,
+    setpoint: Option<Setpoint>,
+    /// The previous MOVE target sent and how many frames ago (the guard's reference).
+    reference: Option<([i32; JOINT_COUNT], u32)>,
+    pub(super) homing: Homing,
+    refusal_seq: u64,
+    last_refusal: Option<(u64, String)>,
+    planner_refusal_seen: u64,
+}
+
+impl Streamer {
+    pub(super) fn new(limits: JointLimits, caps: MotionCaps, home: Vec<f64>, period_s: f64) -> Self {
+        let q0 = home.clone();
+        Self {
+            planner: MotionPlanner::new(limits, caps, home, &q0),
+            period_s,
+            tick: 0,
+            streaming: false,
+            jog: None,
+            setpoint: None,
+            reference: None,
+            homing: Homing::None,
+            refusal_seq: 0,
+            last_refusal: None,
+            planner_refusal_seen: 0,
+        }
+    }
+
+    /// The motion clock of the coming frame, s.
+    pub(super) fn time_s(&self) -> f64 {
+        self.tick as f64 * self.period_s
+    }
+
+    /// Frames sent so far (the tick index).
+    pub(super) fn tick(&self) -> u64 {
+        self.tick
+    }
+
+    /// True while MOVE frames are streamed.
+    pub(super) fn is_streaming(&self) -> bool {
+        self.streaming
+    }
+
+    pub(super) fn planner(&self) -> &MotionPlanner {
+        &self.planner
+    }
+
+    /// The setpoint of the last sampled tick (None while IDLE).
+    pub(super) fn setpoint(&self) -> Option<&Setpoint> {
+        self.setpoint.as_ref()
+    }
+
+    pub(super) fn last_refusal(&self) -> Option<&(u64, String)> {
+        self.last_refusal.as_ref()
+    }
+
+    pub(super) fn refuse(&mut self, msg: String) {
+        self.refusal_seq += 1;
+        self.last_refusal = Some((self.refusal_seq, msg));
+    }
+
+    /// Starts streaming from the measured position (planner reset there).
+    fn start(&mut self, measured_rad: &[f64], measured_steps: &[i32; JOINT_COUNT]) {
+        self.planner.reset(measured_rad);
+        self.streaming = true;
+        self.jog = None;
+        self.reference = Some((*measured_steps, 1));
+    }
+
+    /// Stops streaming: IDLE from now on, planner reset, scheduled commands dropped.
+    pub(super) fn stop_streaming(&mut self) {
+        if let Some(sp) = self.setpoint.take() {
+            self.planner.reset(&sp.q);
+        }
+        self.streaming = false;
+        self.jog = None;
+        self.reference = None;
+    }
+
+    /// Applies a motion command (immediately, or scheduled for `at_s`) at the current tick.
+    /// `measured` is the last plausible measurement; `blocked` why motion is refused now.
+    pub(super) fn apply(
+        &mut self,
+        cmd: MotionCommand,
+        at_s: Option<f64>,
+        measured: Option<([f64; JOINT_COUNT], [i32; JOINT_COUNT])>,
+        blocked: Option<String>,
+    ) -> Result<(), String> {
+        let t = self.time_s();
+        if !cmd.starts_motion() && at_s.is_none() {
+            if self.streaming {
+                self.planner.apply(&cmd, t).map_err(|e| format!("{} refused: {e}", cmd.name()))?;
+                self.jog = None;
+            }
+            return Ok(());
+        }
+        if let Some(why) = blocked {
+            return Err(format!("{} refused: {why}", cmd.name()));
+        }
+        let was_streaming = self.streaming;
+        if !was_streaming {
+            let (q, steps) =
+                measured.ok_or_else(|| format!("{} refused: no consistent status from the board yet", cmd.name()))?;
+            self.start(&q, &steps);
+        }
+        let res = match at_s {
+            None => self.planner.apply(&cmd, t),
+            Some(at) => self.planner.schedule(cmd.clone(), at.max(t)),
+        };
+        if let Err(e) = res {
+            if !was_streaming {
+                self.streaming = false;
+                self.reference = None;
+            }
+            return Err(format!("{} refused: {e}", cmd.name()));
+        }
+        if at_s.is_none() {
+            self.jog = match cmd {
+                MotionCommand::JogJoint { joint, fraction } => Some((joint, fraction.clamp(-1.0, 1.0))),
+                _ => None,
+            };
+        }
+        Ok(())
+    }
+
+    /// Samples the trajectory at this tick's time (scheduled commands due by then are applied
+    /// at their exact times) and returns the MOVE target in steps; `None` while IDLE. A target
+    /// that cannot be expressed in steps stops streaming and is returned as the error.
+    pub(super) fn sample_target(&mut self) -> Result<Option<[i32; JOINT_COUNT]>, String> {
+        if !self.streaming {
+            self.setpoint = None;
+            return Ok(None);
+        }
+        let t = self.time_s();
+        let sp = self.planner.sample(t);
+        if let Some((id, msg)) = self.planner.last_refusal()
+            && *id != self.planner_refusal_seen
+        {
+            self.planner_refusal_seen = *id;
+            let msg = msg.clone();
+            self.refuse(msg);
+        }
+        if self.planner.mode() != PlannerMode::Jog {
+            self.jog = None;
+        }
+        let steps = joints_rad_to_steps(&sp.q);
+        self.setpoint = Some(sp);
+        match steps {
+            Ok(s) => Ok(Some(s)),
+            Err(e) => {
+                self.stop_streaming();
+                Err(format!("commanded target cannot be sent: {e}"))
+            }
+        }
+    }
+
+    /// The guard's reference for this tick's MOVE frame.
+    pub(super) fn reference(&self) -> Option<(&[i32; JOINT_COUNT], u32)> {
+        self.reference.as_ref().map(|(r, n)| (r, *n))
+    }
+
+    /// Ends the tick: `sent_target` is the MOVE target actually written (after the guard).
+    pub(super) fn end_tick(&mut self, sent_target: Option<[i32; JOINT_COUNT]>) {
+        match (sent_target, self.reference.as_mut()) {
+            (Some(t), _) => self.reference = Some((t, 1)),
+            (None, Some((_, n))) => *n = n.saturating_add(1),
+            (None, None) => {}
+        }
+        self.tick += 1;
+    }
+
+    /// What is being streamed, for the snapshot.
+    pub(super) fn motion_state(&self) -> MotionState {
+        if !matches!(self.homing, Homing::None) {
+            return MotionState::Homing;
+        }
+        if !self.streaming {
+            return MotionState::Idle;
+        }
+        let t = self.time_s();
+        match (self.planner.mode(), self.jog) {
+            (PlannerMode::Jog, Some((joint, fraction))) => MotionState::Jogging { joint, fraction },
+            (PlannerMode::Hold, _) => MotionState::Holding,
+            _ => MotionState::Moving { remaining_s: (self.planner.path_end_s() - t).max(0.0) },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use parol6_core::RobotModel;
+    use parol6_core::motion::home_position;
+
+    fn streamer() -> Streamer {
+        let model = RobotModel::parol6();
+        Streamer::new(JointLimits::parol6(), MotionCaps::of(&model), home_position(&model), 0.01)
+    }
+
+    #[test]
+    fn first_target_is_the_measured_position() {
+        let mut s = streamer();
+        let steps = crate::units::STANDBY_STEPS;
+        let q = crate::units::joints_steps_to_rad(&steps);
+        assert_eq!(s.sample_target(), Ok(None));
+        s.end_tick(None);
+        s.apply(MotionCommand::JogJoint { joint: 3, fraction: 0.5 }, None, Some((q, steps)), None).unwrap();
+        assert_eq!(s.sample_target(), Ok(Some(steps)), "the jog starts where the arm is");
+        s.end_tick(Some(steps));
+        let next = s.sample_target().unwrap().unwrap();
+        assert!(next[3] > steps[3]);
+        assert_eq!(next[..3], steps[..3]);
+        assert!(matches!(s.motion_state(), MotionState::Jogging { joint: 3, .. }));
+    }
+
+    #[test]
+    fn refusals_name_the_reason_and_stops_never_start_motion() {
+        let mut s = streamer();
+        let steps = crate::units::STANDBY_STEPS;
+        let q = crate::units::joints_steps_to_rad(&steps);
+        let e = s.apply(MotionCommand::home(), None, Some((q, steps)), Some("E-stop is pressed".into()));
+        assert!(e.unwrap_err().contains("E-stop"));
+        s.apply(MotionCommand::Stop, None, None, None).unwrap();
+        assert!(!s.is_streaming());
+        assert_eq!(s.motion_state(), MotionState::Idle);
+    }
+
+    #[test]
+    fn motion_back_inside_from_beyond_a_limit_is_allowed() {
+        let mut s = streamer();
+        let mut steps = crate::units::STANDBY_STEPS;
+        steps[0] = 14_050; // pushed beyond J1's upper limit by hand
+        let q = crate::units::joints_steps_to_rad(&steps);
+        let out = s.apply(MotionCommand::JogJoint { joint: 0, fraction: 0.5 }, None, Some((q, steps)), None);
+        assert!(out.is_err(), "further out is refused");
+        s.apply(MotionCommand::JogJoint { joint: 0, fraction: -0.5 }, None, Some((q, steps)), None).unwrap();
+        s.sample_target().unwrap();
+        s.end_tick(Some(steps));
+        let t = s.sample_target().unwrap().unwrap();
+        assert!(t[0] < 14_050);
+    }
+}

@@ -1,0 +1,100 @@
+//! Publication, once per tick: the snapshot with its loop statistics, the [`RobotState`]
+//! (forward kinematics, zones, commanded setpoint) and the [`MotionSample`] tap.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use parol6_core::limits::ZoneThresholds;
+use parol6_core::motion::{MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
+
+use super::super::snapshot::LinkState;
+use super::{TIMING_WINDOW, Worker};
+
+impl Worker {
+    pub(super) fn record_tick(&mut self, now: Instant) {
+        if let Some(prev) = self.last_tick {
+            let dt = now.duration_since(prev).as_secs_f64();
+            if self.intervals_s.len() < TIMING_WINDOW {
+                self.intervals_s.push(dt);
+            } else {
+                self.intervals_s[self.interval_pos] = dt;
+                self.interval_pos = (self.interval_pos + 1) % TIMING_WINDOW;
+            }
+        }
+        self.last_tick = Some(now);
+    }
+
+    pub(super) fn publish(&mut self, now: Instant, t_s: f64) {
+        let st = self.parser.stats();
+        self.snap.status_frames = st.frames;
+        self.snap.invalid_frames = st.invalid_frames;
+        self.snap.discarded_bytes = st.discarded_bytes;
+        // Replies missing while the link is up; frames sent while it is down are not "dropped".
+        let unanswered = self.snap.frames_sent.saturating_sub(st.frames);
+        if self.snap.link != LinkState::Connected {
+            self.missing_offset = unanswered.saturating_sub(self.snap.missing_replies);
+        }
+        self.snap.missing_replies = unanswered.saturating_sub(self.missing_offset);
+        self.snap.motion = self.streamer.motion_state();
+        if !self.intervals_s.is_empty() {
+            let nominal = self.cfg.period_s();
+            let mean = self.intervals_s.iter().sum::<f64>() / self.intervals_s.len() as f64;
+            self.snap.loop_rate_hz = if mean > 0.0 { 1.0 / mean } else { 0.0 };
+            self.jitter_scratch.clear();
+            self.jitter_scratch.extend(self.intervals_s.iter().map(|d| (d - nominal).abs()));
+            self.jitter_scratch.sort_by(f64::total_cmp);
+            let idx = ((self.jitter_scratch.len() as f64 - 1.0) * 0.99).round() as usize;
+            self.snap.period_jitter_p99_ms = self.jitter_scratch.get(idx).copied().unwrap_or(0.0) * 1e3;
+            self.snap.period_jitter_max_ms = self.jitter_scratch.last().copied().unwrap_or(0.0) * 1e3;
+        }
+        self.snap.status_age_ms =
+            self.snap.last_status_at.map(|t| now.saturating_duration_since(t).as_secs_f64() * 1e3);
+        self.snap.published_at = now;
+        self.shared.snapshot.store(Arc::new(self.snap.clone()));
+        let state = self.robot_state(t_s);
+        if let Some(tap) = &self.tap {
+            let _ = tap.try_send(MotionSample {
+                seq: self.streamer.tick(),
+                time_s: t_s,
+                commanded: state.commanded.clone(),
+                measured_q: state.q.clone(),
+            });
+        }
+        self.shared.state.store(Arc::new(state));
+    }
+
+    /// The robot state of this tick: kinematics of the measured joints, zones, the commanded
+    /// setpoint, what the planner does and why motion is refused.
+    pub(super) fn robot_state(&self, t_s: f64) -> RobotState {
+        let q = self.snap.joint_rad.to_vec();
+        let qd = self.snap.joint_speed_rad_s.to_vec();
+        let planner = self.streamer.planner();
+        let streaming = self.streamer.is_streaming();
+        let commanded = match self.streamer.setpoint() {
+            Some(sp) if streaming => sp.clone(),
+            _ => Setpoint::at_rest(&q),
+        };
+        let target_q = if streaming { planner.goal().to_vec() } else { q.clone() };
+        let mode = if streaming { planner.mode() } else { PlannerMode::Hold };
+        let moving = (streaming && planner.is_moving(t_s)) || qd.iter().any(|v| v.abs() > 1e-3);
+        let mut state = RobotState {
+            source: StateSource::Robot,
+            backend: format!("robot on {}", self.port_name),
+            seq: self.streamer.tick(),
+            time_s: t_s,
+            tcp: self.model.fk(&q),
+            zones: Vec::new(),
+            q,
+            qd,
+            commanded,
+            target_q,
+            mode,
+            moving,
+            commands_applied: planner.applied(),
+            last_refusal: self.streamer.last_refusal().cloned(),
+            blocked: self.snap.motion_allowed().err().map(|e| e.to_string()),
+        };
+        state.update_kinematics(&self.model, &ZoneThresholds::default());
+        state
+    }
+}

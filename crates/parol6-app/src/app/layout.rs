@@ -89,7 +89,7 @@ impl Parol6App {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
             egui::Window::new("Help")
                 .open(show_help)
-                .default_width(560.0)
+                .default_size([600.0, max_h.min(720.0)])
                 .max_height(max_h)
                 .vscroll(true)
                 .show(ui.ctx(), |ui| help::help_ui(ui, settings_path));

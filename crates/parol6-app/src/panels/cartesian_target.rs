@@ -27,6 +27,8 @@ pub struct CartesianTargetPanel {
     selected_label: Option<String>,
     /// Entries changed since the last solve.
     dirty: bool,
+    /// The joints the last solve was seeded with (the distances shown are to these).
+    solved_seed: Vec<f64>,
 }
 
 fn solution_label(s: &IkSolution) -> String {
@@ -48,6 +50,7 @@ impl CartesianTargetPanel {
 
     fn solve(&mut self, ctx: &PanelContext<'_>) {
         self.dirty = false;
+        self.solved_seed = ctx.robot.q.clone();
         let target = iso_from_xyz_rpy(self.xyz_mm.map(|v| v / 1000.0), self.rpy);
         let res = ik::solve(ctx.model, &target, &ctx.robot.q)
             .map(|sols| prefer_seed(ctx.model, &target, &ctx.robot.q, sols))
@@ -226,7 +229,13 @@ impl CartesianTargetPanel {
             solve_now |= ui.button("Solve IK").clicked();
         });
         // The closed-form PAROL6 solver takes microseconds: solve as the entries change.
-        if solve_now || (self.dirty && ctx.model.is_parol6) {
+        // The branches are ordered by distance to the current joints: once the arm has moved
+        // and stopped, order them again.
+        let seed_moved = !ctx.robot.moving
+            && self.result.is_some()
+            && (self.solved_seed.len() != ctx.robot.q.len()
+                || self.solved_seed.iter().zip(&ctx.robot.q).any(|(a, b)| (a - b).abs() > 1e-6));
+        if solve_now || ((self.dirty || seed_moved) && ctx.model.is_parol6) {
             self.solve(ctx);
         }
 
@@ -242,9 +251,10 @@ impl CartesianTargetPanel {
                 let mut picked = None;
                 for (i, s) in sols.iter().enumerate() {
                     let text = format!(
-                        "{}  Δ{}{}",
+                        "{}  Δ{}{}{}",
                         solution_label(s),
                         unit.fmt(s.distance_to_seed),
+                        if s.distance_to_seed < SAME_POSE_TOL { "  (current joints)" } else { "" },
                         if s.singular { "  (singular)" } else { "" }
                     );
                     let hover = s.joints_rad.iter().map(|v| unit.fmt(*v)).collect::<Vec<_>>().join(", ");

@@ -375,7 +375,7 @@ impl JointsPanel {
         ui.label(egui::RichText::new("Go to joint pose").strong());
         let unit = ctx.settings.unit;
         let mut events = Vec::new();
-        egui::Grid::new("goto_pose").num_columns(6).spacing([4.0, 2.0]).show(ui, |ui| {
+        egui::Grid::new("goto_pose").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
             for i in 0..self.goto.len() {
                 let name = joint_name(ctx, i);
                 ui.label(egui::RichText::new(&name).monospace());
@@ -390,7 +390,7 @@ impl JointsPanel {
                 if let Some(e) = event {
                     events.push((i, name, e));
                 }
-                if i % 3 == 2 {
+                if i % 2 == 1 {
                     ui.end_row();
                 }
             }

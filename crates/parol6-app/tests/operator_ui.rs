@@ -389,3 +389,18 @@ fn nothing_is_clipped_at_small_and_large_windows() {
         }
     }
 }
+
+#[test]
+fn branch_distances_follow_the_arm_once_it_stops() {
+    let mut h = panel_harness(Bench::new(CartesianTargetPanel::default(), &standby()), egui::vec2(800.0, 800.0));
+    h.run_steps(2);
+    let at_standby = h.state().panel.solutions().expect("solutions")[0].distance_to_seed;
+    assert!(at_standby < 1e-6);
+    // The arm moved elsewhere and stopped: the same target is now 0.3 rad away on J1.
+    let mut q = standby();
+    q[0] -= 0.3;
+    h.state_mut().set_motion(&q, &[0.0; 6]);
+    h.run_steps(2);
+    let now = h.state().panel.solutions().expect("solutions")[0].distance_to_seed;
+    assert!((now - 0.3).abs() < 1e-6, "distance not re-measured from the current joints: {now}");
+}

@@ -65,6 +65,24 @@ impl JointLimit {
             None
         }
     }
+
+    /// Seconds until the joint reaches the limit it is *nearest to* at `velocity`; `None`
+    /// when standing still, moving away from that limit (toward the far one), or unbounded.
+    /// This is the time to show next to a "near limit" warning: a joint near its lower limit
+    /// that moves up is getting safer, whatever its time to the upper limit.
+    pub fn time_to_nearest_limit_s(&self, value: f64, velocity: f64) -> Option<f64> {
+        if !self.is_bounded() {
+            return None;
+        }
+        let nearer_max = self.max - value < value - self.min;
+        let toward_max = velocity > 1e-9;
+        let toward_min = velocity < -1e-9;
+        if (nearer_max && toward_max) || (!nearer_max && toward_min) {
+            self.time_to_limit_s(value, velocity)
+        } else {
+            None
+        }
+    }
 }
 
 /// How close a joint is to one of its limits.
@@ -141,7 +159,8 @@ impl ZoneThresholds {
             },
             _ => zone,
         };
-        ZoneReport { zone: raised, position_zone: zone, time_to_limit_s }
+        let time_to_nearest_limit_s = limit.time_to_nearest_limit_s(value, velocity);
+        ZoneReport { zone: raised, position_zone: zone, time_to_limit_s, time_to_nearest_limit_s }
     }
 }
 
@@ -154,6 +173,19 @@ pub struct ZoneReport {
     pub position_zone: LimitZone,
     /// Seconds until the limit being approached is reached, if moving toward one.
     pub time_to_limit_s: Option<f64>,
+    /// Seconds until the limit the joint is nearest to is reached, only while moving toward
+    /// it (see [`JointLimit::time_to_nearest_limit_s`]); what a "near limit" warning shows.
+    #[serde(default)]
+    pub time_to_nearest_limit_s: Option<f64>,
+}
+
+impl ZoneReport {
+    /// True when this joint is a real risk now: in the critical zone, or moving toward a limit
+    /// it reaches within the prediction horizon (the zone was raised by the prediction).
+    /// Sitting still in the warning band is information, not an alarm.
+    pub fn is_alarm(&self) -> bool {
+        self.position_zone == LimitZone::Critical || self.zone > self.position_zone
+    }
 }
 
 /// What to do with a target outside the limits.
@@ -388,6 +420,39 @@ mod tests {
         let slow = t.predictive_zone(&l, mid, 0.01);
         assert_eq!(slow.zone, LimitZone::Safe);
         assert_eq!(t.predictive_zone(&l, mid, 0.0).time_to_limit_s, None);
+    }
+
+    #[test]
+    fn time_to_nearest_limit_only_while_moving_toward_it() {
+        let t = ZoneThresholds::default();
+        let l = j2();
+        let near_min = l.min + 0.10 * l.range();
+        // Moving away from the lower limit it is near: no time to show (the upper limit is far).
+        let away = t.predictive_zone(&l, near_min, 0.5);
+        assert_eq!(away.position_zone, LimitZone::Warning);
+        assert!(away.time_to_limit_s.is_some(), "still heading for the upper limit");
+        assert_eq!(away.time_to_nearest_limit_s, None);
+        assert!(!away.is_alarm());
+        // Moving toward it: the time to the lower limit.
+        let toward = t.predictive_zone(&l, near_min, -0.5);
+        let tt = toward.time_to_nearest_limit_s.expect("toward the lower limit");
+        assert!((tt - 0.10 * l.range() / 0.5).abs() < 1e-12);
+        // Near the upper limit, the same by symmetry.
+        let near_max = l.max - 0.10 * l.range();
+        assert_eq!(t.predictive_zone(&l, near_max, -0.5).time_to_nearest_limit_s, None);
+        assert!(t.predictive_zone(&l, near_max, 0.5).time_to_nearest_limit_s.is_some());
+        // Still: nothing.
+        assert_eq!(t.predictive_zone(&l, near_min, 0.0).time_to_nearest_limit_s, None);
+    }
+
+    #[test]
+    fn alarm_only_for_red_zone_or_predicted_contact() {
+        let t = ZoneThresholds::default();
+        let l = j2();
+        assert!(!t.predictive_zone(&l, l.min + 0.10 * l.range(), 0.0).is_alarm(), "amber at rest is information");
+        assert!(t.predictive_zone(&l, l.min + 0.02 * l.range(), 0.0).is_alarm(), "red zone");
+        let fast = t.predictive_zone(&l, l.min + 0.10 * l.range(), -10.0);
+        assert!(fast.is_alarm(), "reaches the limit within the horizon: {fast:?}");
     }
 
     #[test]

@@ -1,37 +1,43 @@
-//! The window layout: menu bar, side panels, help, the 3D view and the notices over it.
+//! The window layout: menu bar, the docked panels (from the registry,
+//! [`crate::panels::registry`]), help, the 3D view and the notices over it.
+//!
+//! The side panels have fixed widths and HOME / STOP sit at the top of the left one, so
+//! nothing under the pointer moves when values, warnings or focus change, and the window
+//! works from 1024×640 up.
 
 use eframe::egui;
 
+use egui::containers::menu::{MenuButton, MenuConfig};
+use std::path::Path;
+
 use super::{Parol6App, WINDOW_TITLE};
-use crate::panels::cartesian_target::CartesianTargetPanel;
-use crate::panels::connection::ConnectionPanel;
-use crate::panels::demos::DemosPanel;
-use crate::panels::joints::JointsPanel;
-use crate::panels::status_bar::StatusBar;
-use crate::panels::tcp::TcpPanel;
-use crate::panels::{Panel, PanelContext};
+use crate::palette;
+use crate::panels::registry::{Dock, Panels};
+use crate::panels::{AngleUnit, PanelContext, help};
 use crate::viewport::{SceneFrame, Viewport};
 
+/// Width of the left (joints) column, points. Fixed: it never follows its contents.
+pub const LEFT_PANEL_WIDTH: f32 = 350.0;
+/// Width of the right (TCP / target / demos) column, points.
+pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
+
 impl Parol6App {
-    #[allow(clippy::too_many_arguments)]
+    /// Draws the menu bar, the docked panels and the help window.
     pub(super) fn layout(
         ui: &mut egui::Ui,
         pctx: &mut PanelContext<'_>,
-        joints: &mut JointsPanel,
-        tcp: &mut TcpPanel,
-        target: &mut CartesianTargetPanel,
-        demos: &mut DemosPanel,
-        connection: &mut ConnectionPanel,
-        status: &mut StatusBar,
+        panels: &mut Panels,
         viewport: Option<&mut Viewport>,
-        viewport_error: Option<&str>,
+        settings_path: Option<&Path>,
         show_help: &mut bool,
     ) {
         egui::Panel::top("menu").show(ui, |ui| {
             egui::MenuBar::new().ui(ui, |ui| {
                 ui.label(egui::RichText::new(WINDOW_TITLE).strong());
                 ui.separator();
-                ui.menu_button("View", |ui| {
+                // Menus of toggles stay open while the operator clicks them.
+                let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+                MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
                     ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
                     ui.checkbox(&mut pctx.settings.show_right, "TCP / target / demos panel");
                     ui.separator();
@@ -39,60 +45,55 @@ impl Parol6App {
                         v.options_ui(ui);
                     }
                 });
-                ui.menu_button("Units", |ui| {
-                    ui.radio_value(&mut pctx.settings.unit, crate::panels::AngleUnit::Deg, "Degrees");
-                    ui.radio_value(&mut pctx.settings.unit, crate::panels::AngleUnit::Rad, "Radians");
+                MenuButton::new("Units").config(stay_open).ui(ui, |ui| {
+                    ui.radio_value(&mut pctx.settings.unit, AngleUnit::Deg, "Degrees");
+                    ui.radio_value(&mut pctx.settings.unit, AngleUnit::Rad, "Radians");
                 });
-                if ui.button("Help").clicked() {
+                if ui.button("Help (F1)").clicked() {
                     *show_help = !*show_help;
                 }
                 ui.separator();
                 ui.weak(format!("{} · {} joints", pctx.model.name, pctx.model.dof()));
             });
         });
-        egui::Panel::bottom("status").show(ui, |ui| status.ui(ui, pctx));
-        if pctx.settings.show_left {
-            egui::Panel::left("joints").default_size(360.0).min_size(300.0).show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    joints.ui(ui, pctx);
-                    ui.separator();
-                    egui::CollapsingHeader::new(connection.title())
-                        .default_open(pctx.link.is_some())
-                        .show(ui, |ui| connection.ui(ui, pctx));
-                });
-            });
+        let mut docked = panels.docked();
+        for (_, panel) in docked.iter_mut().filter(|(dock, _)| *dock == Dock::Bottom) {
+            egui::Panel::bottom(panel.title()).show(ui, |ui| panel.ui(ui, pctx));
         }
-        if pctx.settings.show_right {
-            egui::Panel::right("right").default_size(330.0).min_size(280.0).show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    tcp.ui(ui, pctx);
-                    ui.separator();
-                    target.ui(ui, pctx);
-                    ui.separator();
-                    demos.ui(ui, pctx);
-                });
-            });
-        }
-        if *show_help {
-            egui::Window::new("Keyboard").open(show_help).resizable(false).show(ui.ctx(), |ui| {
-                egui::Grid::new("keys").show(ui, |ui| {
-                    for (k, what) in [
-                        ("Esc", "STOP (also cancels a demo)"),
-                        ("H, Ctrl+H", "HOME (profiled move to standby)"),
-                        ("1–6, PgUp/PgDn", "select joint, jog (robot connected)"),
-                        ("drag / wheel", "orbit, zoom the 3D view (right drag: pan)"),
-                        ("R, arrows, +/−", "3D view: reset, orbit, zoom (mouse over it)"),
-                        ("F1", "this help"),
-                        ("Ctrl+Q", "quit"),
-                    ] {
-                        ui.monospace(k);
-                        ui.label(what);
-                        ui.end_row();
+        let columns = [
+            (Dock::Left, "left", LEFT_PANEL_WIDTH, pctx.settings.show_left),
+            (Dock::Right, "right", RIGHT_PANEL_WIDTH, pctx.settings.show_right),
+        ];
+        for (dock, id, width, shown) in columns {
+            if !shown {
+                continue;
+            }
+            let panel = match dock {
+                Dock::Left => egui::Panel::left(id),
+                _ => egui::Panel::right(id),
+            };
+            panel.exact_size(width).resizable(false).show(ui, |ui| {
+                egui::ScrollArea::vertical().id_salt(id).auto_shrink([false, false]).show(ui, |ui| {
+                    let mut first = true;
+                    for (_, p) in docked.iter_mut().filter(|(d, _)| *d == dock) {
+                        if !first {
+                            ui.separator();
+                        }
+                        first = false;
+                        p.ui(ui, pctx);
                     }
                 });
             });
         }
-        let _ = viewport_error;
+        if *show_help {
+            let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
+            egui::Window::new("Help")
+                .open(show_help)
+                .default_size([600.0, max_h.min(720.0)])
+                .max_height(max_h)
+                .vscroll(true)
+                .show(ui.ctx(), |ui| help::help_ui(ui, settings_path));
+        }
     }
 
     pub(super) fn central(&mut self, ui: &mut egui::Ui, scene: &SceneFrame) {
@@ -103,27 +104,28 @@ impl Parol6App {
                     v.ui(ui, scene);
                 }
                 None => {
-                    ui.painter().rect_filled(rect, 0.0, egui::Color32::from_gray(30));
+                    ui.painter().rect_filled(rect, 0.0, palette::rgb(palette::VIEW_PLACEHOLDER_BG));
                     let msg = self.viewport_error.as_deref().unwrap_or("3D view unavailable");
-                    ui.put(rect, egui::Label::new(egui::RichText::new(msg).color(egui::Color32::LIGHT_GRAY)));
+                    let text = egui::RichText::new(msg).color(palette::rgb(palette::VIEW_PLACEHOLDER_TEXT));
+                    ui.put(rect, egui::Label::new(text));
                 }
             }
             // Notices on top of the view, newest first.
             let mut y = rect.top() + 8.0;
             for n in self.notices.iter().rev().take(4) {
-                let color = if n.error { ui.visuals().error_fg_color } else { ui.visuals().selection.bg_fill };
+                let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
                 let galley = ui.painter().layout(
                     n.text.clone(),
                     egui::FontId::proportional(14.0),
-                    egui::Color32::WHITE,
+                    palette::rgb(palette::NOTICE_TEXT),
                     (rect.width() - 40.0).max(100.0),
                 );
                 let r = egui::Rect::from_min_size(
                     egui::pos2(rect.left() + 10.0, y),
                     galley.size() + egui::vec2(16.0, 10.0),
                 );
-                ui.painter().rect_filled(r, 4.0, color.gamma_multiply(0.85));
-                ui.painter().galley(r.min + egui::vec2(8.0, 5.0), galley, egui::Color32::WHITE);
+                ui.painter().rect_filled(r, 4.0, color);
+                ui.painter().galley(r.min + egui::vec2(8.0, 5.0), galley, palette::rgb(palette::NOTICE_TEXT));
                 y = r.bottom() + 4.0;
             }
         });

@@ -21,12 +21,7 @@ use parol6_core::limits::LimitZone;
 use parol6_core::motion::{MotionCommand, RobotBackend, SequenceProgress, SequenceRunner};
 use parol6_core::sim::{SimCommand, SimConfig, SimHandle, SimSnapshot};
 
-use crate::panels::cartesian_target::CartesianTargetPanel;
-use crate::panels::connection::ConnectionPanel;
-use crate::panels::demos::DemosPanel;
-use crate::panels::joints::JointsPanel;
-use crate::panels::status_bar::StatusBar;
-use crate::panels::tcp::TcpPanel;
+use crate::panels::registry::Panels;
 use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource};
 use crate::viewport::{SceneFrame, Viewport};
 
@@ -108,12 +103,8 @@ pub struct Parol6App {
     viewport_error: Option<String>,
     settings: Settings,
     settings_path: Option<PathBuf>,
-    joints: JointsPanel,
-    tcp: TcpPanel,
-    target: CartesianTargetPanel,
-    demos: DemosPanel,
-    connection: ConnectionPanel,
-    status: StatusBar,
+    /// The operator panels (see [`crate::panels::registry`]).
+    panels: Panels,
     perf: PerfStats,
     /// Readout state and perf figures, and when they were taken (see `PanelContext::readout`).
     readout: Option<(Instant, RobotState, PerfStats)>,
@@ -147,7 +138,7 @@ impl Parol6App {
             None => (None, Some("3D view unavailable: no wgpu renderer".to_string())),
         };
         let mut app = Self {
-            demos: DemosPanel::new(&model),
+            panels: Panels::new(&model),
             model,
             sim,
             hw: None,
@@ -159,11 +150,6 @@ impl Parol6App {
             viewport_error,
             settings,
             settings_path: opts.settings_path,
-            joints: JointsPanel::default(),
-            tcp: TcpPanel::default(),
-            target: CartesianTargetPanel::default(),
-            connection: ConnectionPanel::default(),
-            status: StatusBar,
             perf: PerfStats::default(),
             readout: None,
             frame_starts: VecDeque::new(),
@@ -217,8 +203,8 @@ impl Parol6App {
     /// Starts the demo called `name` as a sequence on the active backend (the bench and the
     /// sweep script use it); false when there is no such demo.
     pub fn start_demo(&mut self, name: &str, looping: bool) -> bool {
-        self.demos.looping = looping;
-        match self.demos.run_command(name) {
+        self.panels.demos.looping = looping;
+        match self.panels.demos.run_command(name) {
             Some(cmd) => {
                 self.execute(cmd);
                 true
@@ -403,19 +389,14 @@ impl Parol6App {
             };
             if let Some(t) = &mut self.test {
                 t.frames += 1;
-                Self::test_step(t, &ctx, &mut self.joints, &mut pctx, &self.exit_code, self.started);
+                Self::test_step(t, &ctx, &mut self.panels.joints, &mut pctx, &self.exit_code, self.started);
             }
             Self::layout(
                 ui,
                 &mut pctx,
-                &mut self.joints,
-                &mut self.tcp,
-                &mut self.target,
-                &mut self.demos,
-                &mut self.connection,
-                &mut self.status,
+                &mut self.panels,
                 self.viewport.as_mut(),
-                self.viewport_error.as_deref(),
+                self.settings_path.as_deref(),
                 &mut self.show_help,
             );
         }

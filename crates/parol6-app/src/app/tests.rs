@@ -59,9 +59,9 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
             preview: &mut preview,
             sequence: None,
         };
-        app.joints.set_joint(0, target, &mut pctx);
+        app.panels.joints.set_joint(0, target, &mut pctx);
         // A value beyond the limit is clamped to it, never passed on.
-        app.joints.set_joint(1, 10.0, &mut pctx);
+        app.panels.joints.set_joint(1, 10.0, &mut pctx);
         app.commands = commands;
     }
     match app.commands.last() {

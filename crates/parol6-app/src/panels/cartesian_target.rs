@@ -2,9 +2,12 @@
 //! branch (previewed as the ghost arm) and runs a profiled move to it.
 
 use eframe::egui;
+
+use crate::palette;
 use parol6_core::ik::{self, IkSolution};
 use parol6_core::kinematics::iso_from_xyz_rpy;
 
+use super::entry::{self, EntryEvent};
 use super::{Panel, PanelContext};
 
 /// The Cartesian target panel.
@@ -24,6 +27,8 @@ pub struct CartesianTargetPanel {
     selected_label: Option<String>,
     /// Entries changed since the last solve.
     dirty: bool,
+    /// The joints the last solve was seeded with (the distances shown are to these).
+    solved_seed: Vec<f64>,
 }
 
 fn solution_label(s: &IkSolution) -> String {
@@ -32,22 +37,37 @@ fn solution_label(s: &IkSolution) -> String {
 
 impl CartesianTargetPanel {
     fn load_from_tcp(&mut self, ctx: &PanelContext<'_>) {
-        // 2 decimals are shown: mm, and degrees (5e-3° ≈ 8.7e-5 rad)
-        self.xyz_mm = ctx.robot.tcp.position_m.map(|v| super::zero_if_below(v * 1000.0, 5e-3));
-        self.rpy = ctx.robot.tcp.rpy_rad.map(|v| super::zero_if_below(v, 8.7e-5));
+        // Full precision: the entries only display rounded values. Rounding the target itself
+        // would move it off the current pose, and at a wrist singularity (standby) a tiny
+        // orientation change splits J4/J6 arbitrarily.
+        self.xyz_mm = ctx.robot.tcp.position_m.map(|v| v * 1000.0);
+        self.rpy = ctx.robot.tcp.rpy_rad;
+        // Offer the branch nearest the current joints, not the one picked for an older target.
+        self.selected_label = None;
         self.initialised = true;
         self.dirty = true;
     }
 
     fn solve(&mut self, ctx: &PanelContext<'_>) {
         self.dirty = false;
+        self.solved_seed = ctx.robot.q.clone();
         let target = iso_from_xyz_rpy(self.xyz_mm.map(|v| v / 1000.0), self.rpy);
-        let res = ik::solve(ctx.model, &target, &ctx.robot.q).map_err(|e| e.to_string());
+        let res = ik::solve(ctx.model, &target, &ctx.robot.q)
+            .map(|sols| prefer_seed(ctx.model, &target, &ctx.robot.q, sols))
+            .map_err(|e| e.to_string());
         self.selected = match (&res, &self.selected_label) {
             (Ok(sols), Some(label)) => sols.iter().position(|s| &solution_label(s) == label).unwrap_or(0),
             _ => 0,
         };
         self.result = Some(res);
+    }
+
+    /// The solutions of the last solve, nearest the current joints first.
+    pub fn solutions(&self) -> Option<&[IkSolution]> {
+        match &self.result {
+            Some(Ok(s)) => Some(s),
+            _ => None,
+        }
     }
 
     /// The chosen solution, if any.
@@ -57,6 +77,88 @@ impl CartesianTargetPanel {
             _ => None,
         }
     }
+}
+
+/// Orientation and position tolerance for "the same pose" when re-splitting J4/J6 (rad, m).
+const SAME_POSE_TOL: f64 = 1e-6;
+/// |sin J5| below this is treated as a wrist singularity (J4 and J6 nearly coaxial).
+const WRIST_SINGULAR_SIN: f64 = 1e-3;
+
+/// Puts the solutions nearest `seed` (the current joints) first, fixing what the closed-form
+/// split gets arbitrary near a wrist singularity:
+///
+/// * At J5 ≈ 0 only J4 + J6 is defined by the pose; the solver's split follows rounding noise
+///   in the target and can twist J4 and J6 by tens of degrees (or fall outside J4's limits so
+///   that only the flipped branch is left). Each such solution is re-split to keep J4 at the
+///   seed, kept only if it still reaches the target within [`SAME_POSE_TOL`].
+/// * When the seed itself reaches the target (the target was loaded from the TCP), it is the
+///   nearest solution: it replaces the solution nearest to it (keeping that branch's name).
+///
+/// Then sorted by distance to the seed, duplicates dropped.
+pub fn prefer_seed(
+    model: &parol6_core::RobotModel,
+    target: &parol6_core::na::Isometry3<f64>,
+    seed: &[f64],
+    sols: Vec<IkSolution>,
+) -> Vec<IkSolution> {
+    let distance = |q: &[f64]| q.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+    let reaches = |q: &[f64], tol: f64| {
+        model.limits.contains(q) && {
+            let (ep, er) = ik::pose_error(&model.tcp_isometry(q), target);
+            ep <= tol && er <= tol
+        }
+    };
+    let mut out: Vec<IkSolution> = sols
+        .into_iter()
+        .map(|mut s| {
+            if model.is_parol6
+                && s.joints_rad.len() == 6
+                && seed.len() == 6
+                && s.joints_rad[4].sin().abs() < WRIST_SINGULAR_SIN
+            {
+                let q = &s.joints_rad;
+                // J5 ≈ 0: J4 + J6 fixed; J5 ≈ ±180°: J6 − J4 fixed.
+                let shift = q[3] - seed[3];
+                let j6 = if q[4].cos() > 0.0 { q[5] + shift } else { q[5] - shift };
+                let j6 = nearest_turn(j6, seed[5], model.limits.get(5).map(|l| (l.min, l.max)));
+                let mut resplit = q.clone();
+                resplit[3] = seed[3];
+                resplit[5] = j6;
+                if distance(&resplit) < distance(q) && reaches(&resplit, SAME_POSE_TOL) {
+                    s.joints_rad = resplit;
+                }
+            }
+            s.distance_to_seed = distance(&s.joints_rad);
+            s
+        })
+        .collect();
+    if seed.len() == model.dof()
+        && reaches(seed, 1e-9)
+        && let Some(nearest) = out.iter_mut().min_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed))
+    {
+        nearest.joints_rad = seed.to_vec();
+        nearest.distance_to_seed = 0.0;
+    }
+    out.sort_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed));
+    let mut unique: Vec<IkSolution> = Vec::with_capacity(out.len());
+    for s in out {
+        let dup =
+            unique.iter().any(|u| u.joints_rad.iter().zip(&s.joints_rad).all(|(a, b)| (a - b).abs() < SAME_POSE_TOL));
+        if !dup {
+            unique.push(s);
+        }
+    }
+    unique
+}
+
+/// `v + 2πk` nearest `near`, inside `range` when one fits (else `v` unchanged).
+fn nearest_turn(v: f64, near: f64, range: Option<(f64, f64)>) -> f64 {
+    let tau = std::f64::consts::TAU;
+    (-3..=3)
+        .map(|k| v + tau * f64::from(k))
+        .filter(|c| range.is_none_or(|(lo, hi)| *c >= lo - 1e-9 && *c <= hi + 1e-9))
+        .min_by(|a, b| (a - near).abs().total_cmp(&(b - near).abs()))
+        .unwrap_or(v)
 }
 
 impl Panel for CartesianTargetPanel {
@@ -85,27 +187,40 @@ impl CartesianTargetPanel {
         }
         let unit = ctx.settings.unit;
         ui.heading(Panel::title(self));
-        egui::Grid::new("cart_target").num_columns(4).spacing([8.0, 2.0]).show(ui, |ui| {
+        let mut events = Vec::new();
+        egui::Grid::new("cart_target").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
             for k in 0..3 {
-                ui.label(["X", "Y", "Z"][k]);
-                self.dirty |= ui
-                    .add(egui::DragValue::new(&mut self.xyz_mm[k]).speed(0.5).suffix(" mm").max_decimals(2))
-                    .changed();
-                ui.label(["Roll", "Pitch", "Yaw"][k]);
-                let mut v = unit.from_rad(self.rpy[k]);
-                let r = ui.add(
-                    egui::DragValue::new(&mut v)
-                        .speed(if unit == super::AngleUnit::Deg { 0.5 } else { 0.01 })
-                        .suffix(unit.suffix())
-                        .max_decimals(unit.decimals()),
+                let xyz = ["X", "Y", "Z"][k];
+                ui.label(xyz);
+                let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
+                events.push((k, e));
+                let rpy = ["Roll", "Pitch", "Yaw"][k];
+                ui.label(rpy);
+                let (_, e) = entry::numeric_entry(
+                    ui,
+                    &format!("target {rpy}"),
+                    unit.from_rad(self.rpy[k]),
+                    unit.decimals(),
+                    70.0,
+                    unit.suffix().trim(),
                 );
-                if r.changed() {
-                    self.rpy[k] = unit.to_rad(v);
-                    self.dirty = true;
-                }
+                events.push((k + 3, e));
                 ui.end_row();
             }
         });
+        for (k, event) in events {
+            match event {
+                Some(EntryEvent::Committed(v)) if k < 3 => self.xyz_mm[k] = v,
+                Some(EntryEvent::Committed(v)) => self.rpy[k - 3] = unit.to_rad(v),
+                Some(EntryEvent::Invalid(why)) => {
+                    let name = ["X", "Y", "Z", "Roll", "Pitch", "Yaw"][k];
+                    ctx.error(format!("target {name}: {why}"));
+                    continue;
+                }
+                None => continue,
+            }
+            self.dirty = true;
+        }
         let mut solve_now = false;
         ui.horizontal(|ui| {
             if ui.button("From TCP").on_hover_text("Load the current TCP pose").clicked() {
@@ -114,7 +229,13 @@ impl CartesianTargetPanel {
             solve_now |= ui.button("Solve IK").clicked();
         });
         // The closed-form PAROL6 solver takes microseconds: solve as the entries change.
-        if solve_now || (self.dirty && ctx.model.is_parol6) {
+        // The branches are ordered by distance to the current joints: once the arm has moved
+        // and stopped, order them again.
+        let seed_moved = !ctx.robot.moving
+            && self.result.is_some()
+            && (self.solved_seed.len() != ctx.robot.q.len()
+                || self.solved_seed.iter().zip(&ctx.robot.q).any(|(a, b)| (a - b).abs() > 1e-6));
+        if solve_now || ((self.dirty || seed_moved) && ctx.model.is_parol6) {
             self.solve(ctx);
         }
 
@@ -123,16 +244,17 @@ impl CartesianTargetPanel {
                 ui.weak("Edit the target or press Solve IK.");
             }
             Some(Err(e)) => {
-                ui.colored_label(ui.visuals().error_fg_color, format!("No solution: {e}"));
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("No solution: {e}"));
             }
             Some(Ok(sols)) => {
                 ui.label(format!("{} solution(s) within the limits; pick a branch:", sols.len()));
                 let mut picked = None;
                 for (i, s) in sols.iter().enumerate() {
                     let text = format!(
-                        "{}  Δ{}{}",
+                        "{}  Δ{}{}{}",
                         solution_label(s),
                         unit.fmt(s.distance_to_seed),
+                        if s.distance_to_seed < SAME_POSE_TOL { "  (current joints)" } else { "" },
                         if s.singular { "  (singular)" } else { "" }
                     );
                     let hover = s.joints_rad.iter().map(|v| unit.fmt(*v)).collect::<Vec<_>>().join(", ");

@@ -3,6 +3,8 @@
 //! joint (press and hold the buttons, or select a joint with 1–6 and hold Page Up / Page Down).
 
 use eframe::egui;
+
+use crate::palette;
 use std::time::{Duration, Instant};
 
 use parol6_core::limits::LimitZone;
@@ -55,6 +57,8 @@ pub struct ConnectionPanel {
     key_joint: usize,
     /// The jog currently requested (joint, direction).
     jog: Option<(usize, i8)>,
+    /// A link was open last frame (the section unfolds when one opens).
+    was_linked: bool,
 }
 
 impl ConnectionPanel {
@@ -127,7 +131,7 @@ impl ConnectionPanel {
             ctx.send(AppCommand::Link(LinkCommand::ConnectEmulator));
         }
         if let Some(e) = &self.scan_error {
-            ui.colored_label(ui.visuals().warn_fg_color, e);
+            ui.colored_label(palette::rgb(palette::WARN_TEXT), e);
         }
     }
 
@@ -235,7 +239,7 @@ impl ConnectionPanel {
              with impossible positions (rejected)",
         );
         if let Some(e) = &link.last_error {
-            ui.colored_label(ui.visuals().error_fg_color, e);
+            ui.colored_label(palette::rgb(palette::ERROR_TEXT), e);
         }
         ui.separator();
         self.jog_ui(ui, ctx, link);
@@ -248,15 +252,19 @@ impl Panel for ConnectionPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        // The app shows the title on the collapsing header around this panel.
-        match ctx.link.cloned() {
-            Some(link) => self.connected_ui(ui, ctx, &link),
-            None => {
-                if self.jog.take().is_some() {
-                    ctx.send(AppCommand::Jog(None));
-                }
-                self.disconnected_ui(ui, ctx);
-            }
+        let link = ctx.link.cloned();
+        if link.is_none() && self.jog.take().is_some() {
+            ctx.send(AppCommand::Jog(None));
         }
+        // Folded while there is no robot; unfolds by itself when a link opens.
+        let just_linked = link.is_some() && !self.was_linked;
+        self.was_linked = link.is_some();
+        egui::CollapsingHeader::new(egui::RichText::new(self.title()).heading())
+            .id_salt("robot_connection")
+            .open(just_linked.then_some(true))
+            .show(ui, |ui| match &link {
+                Some(link) => self.connected_ui(ui, ctx, link),
+                None => self.disconnected_ui(ui, ctx),
+            });
     }
 }

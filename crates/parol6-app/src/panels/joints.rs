@@ -6,12 +6,21 @@ use parol6_core::limits::{JointLimit, LimitZone, ZoneThresholds};
 
 use parol6_core::motion::MotionCommand;
 
+use super::entry::{self, EntryEvent};
 use super::{AngleUnit, Panel, PanelContext, ProfileKindSetting, zone_color};
+use crate::palette;
 
 /// Slider range used for a joint without finite limits (rad).
 const UNBOUNDED_RANGE_RAD: f64 = std::f64::consts::PI;
 /// Time-to-limit values above this are not shown (s).
 const TTL_SHOW_MAX_S: f64 = 10.0;
+/// Height of the one-line limit status slot (points): always reserved, so nothing moves.
+const STATUS_LINE_HEIGHT: f32 = 24.0;
+/// Fixed widths of a joint row (points): LED, name, typed entry, unit after the entry.
+const LED_W: f32 = 14.0;
+const NAME_W: f32 = 26.0;
+const ENTRY_W: f32 = 62.0;
+const SUFFIX_W: f32 = 22.0;
 
 /// The joints panel.
 #[derive(Debug, Default)]
@@ -76,95 +85,197 @@ impl JointsPanel {
         }
     }
 
-    fn banner(ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
-        let Some((i, report)) = ctx.robot.worst_zone() else {
-            return;
-        };
+    /// Commits a value typed into joint `joint`'s entry (display unit): clamps it into the
+    /// joint's limits (saying so), then a profiled move of that joint, the others keeping
+    /// their commanded targets.
+    fn commit_joint(&mut self, joint: usize, typed: f64, ctx: &mut PanelContext<'_>) {
         let unit = ctx.settings.unit;
-        let name = ctx.model.joints.get(i).map(|j| j.name.as_str()).unwrap_or("?");
-        let q = ctx.robot.q.get(i).copied().unwrap_or(0.0);
-        let mut text = match ctx.model.limits.get(i) {
-            Some(l) if l.is_bounded() => {
-                let (side, left) = if q - l.min < l.max - q { ("lower", q - l.min) } else { ("upper", l.max - q) };
-                format!("{name} {}: {} to its {side} limit", report.zone.label(), unit.fmt(left.max(0.0)))
-            }
-            _ => format!("{name} {}", report.zone.label()),
-        };
-        if let Some(t) = report.time_to_limit_s.filter(|t| *t < TTL_SHOW_MAX_S) {
-            text.push_str(&format!(", reached in {t:.1} s at this speed"));
+        let name = joint_name(ctx, joint);
+        let (lo, hi) = slider_range(ctx.model.limits.get(joint));
+        let wanted = unit.to_rad(typed);
+        let goal_rad = wanted.clamp(lo, hi);
+        if (goal_rad - wanted).abs() > 1e-12 {
+            let side = if wanted > hi { "upper" } else { "lower" };
+            ctx.error(format!(
+                "{name}: {} is beyond its {side} limit {}; clamped to the limit",
+                unit.fmt(wanted),
+                unit.fmt(goal_rad)
+            ));
         }
-        let color = zone_color(report.zone);
-        egui::Frame::new()
-            .fill(color.gamma_multiply(0.25))
-            .stroke(egui::Stroke::new(1.0, color))
-            .inner_margin(egui::Margin::same(6))
-            .corner_radius(4.0)
-            .show(ui, |ui| {
-                ui.set_width(ui.available_width());
-                ui.label(egui::RichText::new(text).strong());
-            });
+        let mut goal =
+            if ctx.robot.target_q.len() == ctx.model.dof() { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
+        goal.resize(ctx.model.dof(), 0.0);
+        if joint >= goal.len() {
+            return;
+        }
+        goal[joint] = goal_rad;
+        match ctx.model.limits.enforce(&goal, parol6_core::LimitPolicy::Clamp) {
+            Ok(q) => {
+                self.edit = q.clone();
+                self.hold_until = Some(std::time::Instant::now() + HOLD_AFTER_CHANGE);
+                ctx.move_to(q);
+            }
+            Err(e) => ctx.error(format!("joint target refused: {e}")),
+        }
+    }
+
+    /// The one-line status slot under HOME / STOP. It always takes the same height, so nothing
+    /// below or above it moves when a warning appears. An alarm (a joint in the red zone, or
+    /// reaching a limit within the prediction horizon) is a coloured band; a joint resting in
+    /// the amber band is plain information.
+    fn status_line(ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+        let (text, alarm) = limit_status_text(ctx);
+        let (rect, resp) =
+            ui.allocate_exact_size(egui::vec2(ui.available_width(), STATUS_LINE_HEIGHT), egui::Sense::hover());
+        let text_color = match alarm {
+            Some(zone) => {
+                let color = zone_color(zone);
+                ui.painter().rect_filled(rect, 4.0, color.gamma_multiply(0.25));
+                ui.painter().rect_stroke(rect, 4.0, egui::Stroke::new(1.0, color), egui::StrokeKind::Inside);
+                ui.visuals().strong_text_color()
+            }
+            None => ui.visuals().weak_text_color(),
+        };
+        let inner = rect.shrink2(egui::vec2(6.0, 0.0));
+        ui.scope_builder(
+            egui::UiBuilder::new().max_rect(inner).layout(egui::Layout::left_to_right(egui::Align::Center)),
+            |ui| {
+                let rich = egui::RichText::new(&text).color(text_color);
+                ui.add(egui::Label::new(if alarm.is_some() { rich.strong() } else { rich }).truncate());
+            },
+        );
+        resp.on_hover_text(text);
     }
 
     fn joint_row(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, i: usize) {
         let unit = ctx.settings.unit;
-        let name = ctx.model.joints.get(i).map(|j| j.name.clone()).unwrap_or_else(|| format!("J{}", i + 1));
+        let name = joint_name(ctx, i);
         let limit = ctx.model.limits.get(i).cloned();
         let (lo, hi) = slider_range(limit.as_ref());
         let report = ctx.robot.zones.get(i).copied();
         let zone = report.map(|r| r.zone).unwrap_or(LimitZone::Safe);
         let q = ctx.robot.q.get(i).copied().unwrap_or(0.0);
-        let qd = ctx.robot.qd.get(i).copied().unwrap_or(0.0);
+        let row_w = ui.available_width();
 
-        let mut changed = None;
+        let mut slider_to = None;
+        let mut typed = None;
         ui.horizontal(|ui| {
             let mut tip = format!("{name}: {}", zone.label());
-            let ttl = report.and_then(|r| r.time_to_limit_s).filter(|t| *t < TTL_SHOW_MAX_S && qd.abs() > 1e-4);
-            if let Some(t) = ttl {
-                tip.push_str(&format!(" — limit in {t:.2} s"));
+            if let Some(t) = report.and_then(|r| r.time_to_nearest_limit_s).filter(|t| *t < TTL_SHOW_MAX_S) {
+                tip.push_str(&format!(" — limit in {t:.1} s"));
             }
             super::led(ui, zone_color(zone), tip);
-            ui.label(egui::RichText::new(&name).strong().monospace());
+            ui.add_sized([NAME_W, 18.0], egui::Label::new(egui::RichText::new(&name).strong().monospace()));
             let mut v = unit.from_rad(self.edit[i]);
             let (dlo, dhi) = (unit.from_rad(lo), unit.from_rad(hi));
-            let entry_w = 78.0;
-            ui.spacing_mut().slider_width = (ui.available_width() - entry_w - 8.0).max(60.0);
+            let spacing = ui.spacing().item_spacing.x;
+            ui.spacing_mut().slider_width = (row_w - LED_W - NAME_W - ENTRY_W - SUFFIX_W - 5.0 * spacing).max(40.0);
             let s =
                 ui.add(egui::Slider::new(&mut v, dlo..=dhi).show_value(false).clamping(egui::SliderClamping::Always));
-            let d = ui.add_sized(
-                [entry_w, 18.0],
-                egui::DragValue::new(&mut v)
-                    .range(dlo..=dhi)
-                    .speed(if unit == AngleUnit::Deg { 0.2 } else { 0.004 })
-                    .suffix(unit.suffix())
-                    .max_decimals(unit.decimals()),
-            );
-            if s.dragged() || s.has_focus() || d.dragged() || d.has_focus() {
+            if s.dragged() || s.has_focus() {
                 self.editing = true;
             }
-            if s.changed() || d.changed() {
-                changed = Some(unit.to_rad(v));
+            if s.changed() {
+                slider_to = Some(unit.to_rad(v));
             }
+            let (d, event) = entry::numeric_entry(
+                ui,
+                &format!("{name} target"),
+                unit.from_rad(self.edit[i]),
+                unit.decimals(),
+                ENTRY_W,
+                unit.suffix().trim(),
+            );
+            if d.has_focus() {
+                self.editing = true;
+            }
+            typed = event;
         });
-        if let Some(v) = changed {
+        if let Some(v) = slider_to {
             self.set_joint(i, v, ctx);
+        }
+        match typed {
+            Some(EntryEvent::Committed(v)) => self.commit_joint(i, v, ctx),
+            Some(EntryEvent::Invalid(why)) => ctx.error(format!("{name}: {why}")),
+            None => {}
         }
         // numeric text from the readout state (see `PanelContext::readout`)
         let q_text = ctx.readout.q.get(i).copied().unwrap_or(q);
-        let qd_text = ctx.readout.qd.get(i).copied().unwrap_or(qd);
         let report_text = ctx.readout.zones.get(i).copied();
         ui.horizontal(|ui| {
-            ui.add_space(20.0);
-            let w = (ui.available_width() - 150.0).max(60.0);
+            ui.add_space(LED_W + NAME_W + ui.spacing().item_spacing.x);
+            let w = (row_w - LED_W - NAME_W - 150.0).max(40.0);
             protection_bar(ui, w, limit.as_ref(), q, self.edit[i]);
             ui.label(egui::RichText::new(unit.fmt(q_text)).monospace().small()).on_hover_text("measured position");
-            if let Some(t) =
-                report_text.and_then(|r| r.time_to_limit_s).filter(|t| *t < TTL_SHOW_MAX_S && qd_text.abs() > 1e-4)
-            {
+            if let Some(t) = report_text.and_then(|r| r.time_to_nearest_limit_s).filter(|t| *t < TTL_SHOW_MAX_S) {
                 ui.label(egui::RichText::new(format!("limit in {t:.1} s")).small().color(zone_color(zone)))
-                    .on_hover_text("predicted time to reach the limit at the current speed");
+                    .on_hover_text("predicted time to reach the limit it is nearest to, at the current speed");
             }
         });
     }
+}
+
+/// A joint's name (or `J<n>`).
+fn joint_name(ctx: &PanelContext<'_>, i: usize) -> String {
+    ctx.model.joints.get(i).map(|j| j.name.clone()).unwrap_or_else(|| format!("J{}", i + 1))
+}
+
+/// The text of the limit status line, and the zone to colour it with when it is an alarm.
+pub fn limit_status_text(ctx: &PanelContext<'_>) -> (String, Option<LimitZone>) {
+    let unit = ctx.settings.unit;
+    let robot = ctx.robot;
+    let distance = |i: usize| -> Option<(&'static str, f64)> {
+        let l = ctx.model.limits.get(i).filter(|l| l.is_bounded())?;
+        let q = robot.q.get(i).copied()?;
+        Some(if q - l.min < l.max - q { ("lower", q - l.min) } else { ("upper", l.max - q) })
+    };
+    let alarm = robot.zones.iter().copied().enumerate().filter(|(_, z)| z.is_alarm()).max_by(|a, b| {
+        a.1.zone.cmp(&b.1.zone).then_with(|| {
+            let ta = a.1.time_to_nearest_limit_s.unwrap_or(f64::INFINITY);
+            let tb = b.1.time_to_nearest_limit_s.unwrap_or(f64::INFINITY);
+            tb.total_cmp(&ta)
+        })
+    });
+    if let Some((i, report)) = alarm {
+        let name = joint_name(ctx, i);
+        let mut text = match distance(i) {
+            Some((side, left)) => {
+                format!("{name} {}: {} to its {side} limit", report.zone.label(), unit.fmt(left.max(0.0)))
+            }
+            None => format!("{name} {}", report.zone.label()),
+        };
+        if let Some(t) = report.time_to_nearest_limit_s.filter(|t| *t < TTL_SHOW_MAX_S) {
+            text.push_str(&format!(", reached in {t:.1} s at this speed"));
+        }
+        return (text, Some(report.zone));
+    }
+    // No risk: name the joint approaching a limit soonest (or else the one nearest a limit),
+    // as information.
+    let approaching = robot
+        .zones
+        .iter()
+        .enumerate()
+        .filter_map(|(i, z)| Some((i, z.time_to_nearest_limit_s.filter(|t| *t < TTL_SHOW_MAX_S)?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let nearest = (0..robot.q.len())
+        .filter_map(|i| {
+            let l = ctx.model.limits.get(i)?;
+            Some((i, l.margin_fraction(*robot.q.get(i)?)?))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let shown = approaching.map(|(i, t)| (i, Some(t))).or(nearest.map(|(i, _)| (i, None)));
+    let text = match shown.and_then(|(i, t)| distance(i).map(|d| (i, d, t))) {
+        Some((i, (side, left), t)) => {
+            let mut text =
+                format!("Nearest limit: {} is {} from its {side} limit", joint_name(ctx, i), unit.fmt(left.max(0.0)));
+            if let Some(t) = t {
+                text.push_str(&format!(", reached in {t:.1} s at this speed"));
+            }
+            text
+        }
+        None => "All joints are clear of their limits".to_string(),
+    };
+    (text, None)
 }
 
 /// Paints a joint's range with its amber / red end zones, the measured position (filled) and
@@ -219,25 +330,26 @@ impl Panel for JointsPanel {
                 ui.selectable_value(&mut ctx.settings.unit, AngleUnit::Deg, "deg");
             });
         });
-        Self::banner(ui, ctx);
+        // HOME / STOP first: always at the same place, above anything that can change size.
+        ui.horizontal(|ui| {
+            let home = egui::Button::new(egui::RichText::new("HOME").strong()).min_size(egui::vec2(90.0, 28.0));
+            if ui.add(home).on_hover_text("Profiled move to the standby pose (H)").clicked() {
+                ctx.home();
+            }
+            let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(palette::rgb(palette::STOP_TEXT)))
+                .fill(palette::rgb(palette::STOP_FILL))
+                .min_size(egui::vec2(90.0, 28.0));
+            if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
+                ctx.stop();
+            }
+        });
+        Self::status_line(ui, ctx);
         ui.add_space(4.0);
         for i in 0..self.edit.len() {
             self.joint_row(ui, ctx, i);
             ui.add_space(2.0);
         }
         ui.separator();
-        ui.horizontal(|ui| {
-            let home = egui::Button::new(egui::RichText::new("HOME").strong()).min_size(egui::vec2(90.0, 28.0));
-            if ui.add(home).on_hover_text("Profiled move to the standby pose (H)").clicked() {
-                ctx.home();
-            }
-            let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(egui::Color32::WHITE))
-                .fill(egui::Color32::from_rgb(170, 30, 30))
-                .min_size(egui::vec2(90.0, 28.0));
-            if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
-                ctx.stop();
-            }
-        });
         ui.horizontal(|ui| {
             ui.label("Speed");
             let mut pct = ctx.settings.speed_fraction * 100.0;
@@ -252,24 +364,56 @@ impl Panel for JointsPanel {
             }
         });
         ui.separator();
+        self.goto_ui(ui, ctx);
+    }
+}
+
+impl JointsPanel {
+    /// "Go to joint pose": one typed entry per joint (committed on Enter / focus loss, clamped
+    /// into the limits with a notice), then a profiled move on "Go".
+    fn goto_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.label(egui::RichText::new("Go to joint pose").strong());
         let unit = ctx.settings.unit;
-        ui.horizontal_wrapped(|ui| {
+        let mut events = Vec::new();
+        egui::Grid::new("goto_pose").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
             for i in 0..self.goto.len() {
-                let (lo, hi) = slider_range(ctx.model.limits.get(i));
-                let mut v = unit.from_rad(self.goto[i]);
-                let r = ui.add(
-                    egui::DragValue::new(&mut v)
-                        .range(unit.from_rad(lo)..=unit.from_rad(hi))
-                        .speed(if unit == AngleUnit::Deg { 0.2 } else { 0.004 })
-                        .suffix(unit.suffix())
-                        .max_decimals(unit.decimals()),
+                let name = joint_name(ctx, i);
+                ui.label(egui::RichText::new(&name).monospace());
+                let (_, event) = entry::numeric_entry(
+                    ui,
+                    &format!("{name} pose"),
+                    unit.from_rad(self.goto[i]),
+                    unit.decimals(),
+                    ENTRY_W,
+                    unit.suffix().trim(),
                 );
-                if r.changed() {
-                    self.goto[i] = unit.to_rad(v);
+                if let Some(e) = event {
+                    events.push((i, name, e));
+                }
+                if i % 2 == 1 {
+                    ui.end_row();
                 }
             }
         });
+        for (i, name, event) in events {
+            match event {
+                EntryEvent::Committed(v) => {
+                    let (lo, hi) = slider_range(ctx.model.limits.get(i));
+                    let wanted = unit.to_rad(v);
+                    let clamped = wanted.clamp(lo, hi);
+                    if (clamped - wanted).abs() > 1e-12 {
+                        let side = if wanted > hi { "upper" } else { "lower" };
+                        ctx.error(format!(
+                            "{name}: {} is beyond its {side} limit {}; clamped to the limit",
+                            unit.fmt(wanted),
+                            unit.fmt(clamped)
+                        ));
+                    }
+                    self.goto[i] = clamped;
+                }
+                EntryEvent::Invalid(why) => ctx.error(format!("{name}: {why}")),
+            }
+        }
         ui.horizontal(|ui| {
             if ui.button("Current").on_hover_text("Copy the current pose into the entries").clicked() {
                 self.goto = ctx.robot.q.clone();

@@ -17,7 +17,10 @@ use serde::{Deserialize, Serialize};
 pub mod cartesian_target;
 pub mod connection;
 pub mod demos;
+pub mod entry;
+pub mod help;
 pub mod joints;
+pub mod registry;
 pub mod status_bar;
 pub mod tcp;
 
@@ -76,7 +79,7 @@ impl AngleUnit {
 
     /// Formats an angle given in radians, with its unit.
     pub fn fmt(self, rad: f64) -> String {
-        format!("{:.*}{}", self.decimals(), self.from_rad(rad), self.suffix())
+        format!("{}{}", entry::fmt_fixed(self.from_rad(rad), self.decimals()), self.suffix())
     }
 }
 
@@ -310,14 +313,14 @@ pub fn led(ui: &mut egui::Ui, color: egui::Color32, tooltip: impl Into<egui::Wid
     if ui.is_rect_visible(rect) {
         let p = ui.painter();
         p.circle_filled(rect.center(), 6.0, color);
-        p.circle_stroke(rect.center(), 6.0, egui::Stroke::new(1.0, egui::Color32::from_black_alpha(160)));
+        p.circle_stroke(rect.center(), 6.0, egui::Stroke::new(1.0, crate::palette::rgba(crate::palette::LED_RIM)));
     }
     response.on_hover_text(tooltip)
 }
 
 /// An LED that is on (`on_color`) or off (grey).
 pub fn on_off_led(ui: &mut egui::Ui, on: bool, on_color: egui::Color32, label: &str) -> egui::Response {
-    let c = if on { on_color } else { egui::Color32::from_gray(70) };
+    let c = if on { on_color } else { crate::palette::rgb(crate::palette::LED_OFF) };
     let r = led(ui, c, format!("{label}: {}", if on { "yes" } else { "no" }));
     ui.label(label);
     r

@@ -4,6 +4,8 @@
 use super::{Panel, PanelContext, StateSource};
 use eframe::egui;
 
+use crate::palette;
+
 /// The status bar.
 #[derive(Debug, Default)]
 pub struct StatusBar;
@@ -17,8 +19,8 @@ impl Panel for StatusBar {
         let p = ctx.perf;
         ui.horizontal(|ui| {
             let (src, color) = match ctx.robot.source {
-                StateSource::Simulation => ("SIM", ui.visuals().selection.bg_fill),
-                StateSource::Robot => ("ROBOT", ui.visuals().warn_fg_color),
+                StateSource::Simulation => ("SIM", palette::rgb(palette::SOURCE_SIM)),
+                StateSource::Robot => ("ROBOT", palette::rgb(palette::SOURCE_ROBOT)),
             };
             ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(match ctx.robot.source {
                 StateSource::Simulation => "the 3D arm shows the simulation",
@@ -41,7 +43,7 @@ impl Panel for StatusBar {
             ui.monospace(format!("t = {:.1} s", p.sim_time_s)).on_hover_text("simulated time");
             if ctx.robot.moving {
                 ui.separator();
-                ui.label(egui::RichText::new("moving").color(ui.visuals().warn_fg_color));
+                ui.label(egui::RichText::new("moving").color(palette::rgb(palette::MOVING_TEXT)));
             }
             if let Some(link) = ctx.link {
                 ui.separator();

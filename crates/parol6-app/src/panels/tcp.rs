@@ -4,7 +4,8 @@
 use eframe::egui;
 use parol6_core::kinematics::{Manipulability, SINGULARITY_SIGMA_MIN};
 
-use super::{Panel, PanelContext};
+use super::{Panel, PanelContext, entry};
+use crate::palette;
 
 /// The TCP panel.
 #[derive(Debug, Default)]
@@ -39,25 +40,36 @@ impl TcpPanel {
     }
 }
 
-/// Hides the sign of values that print as zero with 4 decimals (no "-0.0000").
-fn clean(v: f64) -> f64 {
-    super::zero_if_below(v, 5e-5)
+/// Decimals of unitless matrix entries (rotation); millimetres always show 2.
+const MATRIX_DECIMALS: usize = 4;
+/// Decimals of millimetres.
+const MM_DECIMALS: usize = 2;
+
+/// A matrix as monospace lines, every entry right-aligned in a column of the same width (a
+/// grid of separate labels does not line up the decimal points). `decimals` per column.
+fn matrix_text(rows: &[Vec<f64>], decimals: &[usize]) -> String {
+    let cells: Vec<Vec<String>> =
+        rows.iter().map(|r| r.iter().zip(decimals).map(|(v, d)| entry::fmt_fixed(*v, *d)).collect()).collect();
+    let width = cells.iter().flatten().map(|c| c.chars().count()).max().unwrap_or(0);
+    cells
+        .iter()
+        .map(|r| r.iter().map(|c| format!("{c:>width$}")).collect::<Vec<_>>().join(" "))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
-fn matrix_grid(ui: &mut egui::Ui, id: &str, rows: &[&[f64]], fmt: impl Fn(usize, f64) -> String) {
-    egui::Grid::new(id).num_columns(rows.first().map_or(0, |r| r.len())).spacing([10.0, 2.0]).striped(true).show(
-        ui,
-        |ui| {
-            for row in rows {
-                for (c, v) in row.iter().enumerate() {
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        ui.monospace(fmt(c, *v));
-                    });
-                }
-                ui.end_row();
-            }
-        },
-    );
+/// What the manipulability badge says: text and whether it is a singularity. A wrist
+/// singularity of the PAROL6 (J5 = 0 or ±180°: J4 and J6 line up) is named as such.
+fn condition_text(ctx: &PanelContext<'_>, m: &Manipulability, near: bool) -> String {
+    let wrist_aligned = ctx.model.is_parol6 && ctx.readout.q.get(4).is_some_and(|q5| q5.sin().abs() < 0.02);
+    let unit = ctx.settings.unit;
+    match (m.singular, near, wrist_aligned) {
+        (true, _, true) => format!("wrist singular (J5 = {})", unit.fmt(ctx.readout.q[4])),
+        (true, _, false) => "singular".to_string(),
+        (false, true, true) => format!("near wrist singularity (J5 = {})", unit.fmt(ctx.readout.q[4])),
+        (false, true, false) => "near singularity".to_string(),
+        (false, false, _) => "well-conditioned".to_string(),
+    }
 }
 
 impl Panel for TcpPanel {
@@ -72,45 +84,45 @@ impl Panel for TcpPanel {
         egui::Grid::new("tcp_pose").num_columns(4).spacing([12.0, 2.0]).show(ui, |ui| {
             for (k, label) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(*label);
-                ui.monospace(format!("{:9.2} mm", tcp.position_m[k] * 1000.0));
+                ui.monospace(format!("{:>9} mm", entry::fmt_fixed(tcp.position_m[k] * 1000.0, MM_DECIMALS)));
                 ui.label(["Roll", "Pitch", "Yaw"][k]);
-                ui.monospace(unit.fmt(tcp.rpy_rad[k]));
+                ui.monospace(format!("{:>10}", unit.fmt(tcp.rpy_rad[k])));
                 ui.end_row();
             }
         });
         egui::CollapsingHeader::new("T (4×4, translation in mm)").default_open(true).show(ui, |ui| {
             let m = tcp.matrix4();
             // Translation column in mm; the bottom row stays [0 0 0 1].
-            let mut mm = m;
-            for row in mm.iter_mut().take(3) {
-                row[3] *= 1000.0;
-            }
-            let rows: Vec<&[f64]> = mm.iter().map(|r| r.as_slice()).collect();
-            matrix_grid(
-                ui,
-                "tcp_t",
-                &rows,
-                |c, v| if c == 3 { format!("{:9.2}", v) } else { format!("{:7.4}", clean(v)) },
-            );
+            let rows: Vec<Vec<f64>> = m
+                .iter()
+                .enumerate()
+                .map(|(r, row)| {
+                    row.iter().enumerate().map(|(c, v)| if c == 3 && r < 3 { v * 1000.0 } else { *v }).collect()
+                })
+                .collect();
+            let d = [MATRIX_DECIMALS, MATRIX_DECIMALS, MATRIX_DECIMALS, MM_DECIMALS];
+            ui.label(egui::RichText::new(matrix_text(&rows, &d)).monospace());
         });
         egui::CollapsingHeader::new("R (3×3)").default_open(false).show(ui, |ui| {
-            let rows: Vec<&[f64]> = tcp.rotation.iter().map(|r| r.as_slice()).collect();
-            matrix_grid(ui, "tcp_r", &rows, |_, v| format!("{:7.4}", clean(v)));
+            let rows: Vec<Vec<f64>> = tcp.rotation.iter().map(|r| r.to_vec()).collect();
+            ui.label(egui::RichText::new(matrix_text(&rows, &[MATRIX_DECIMALS; 3])).monospace());
         });
 
         let m = self.manipulability(ctx);
         let sref = self.sigma_ref(ctx);
         let frac = (m.sigma_min / sref).clamp(0.0, 1.0) as f32;
-        let (color, text) = if m.singular {
-            (ui.visuals().error_fg_color, "SINGULAR")
-        } else if m.sigma_min < 10.0 * SINGULARITY_SIGMA_MIN || frac < 0.1 {
-            (ui.visuals().warn_fg_color, "near singularity")
+        // A singularity is a fact about the pose, not a risk by itself (the arm is not
+        // driven in Cartesian space): a calm, neutral badge, never the alarm colours.
+        let near = !m.singular && (m.sigma_min < 10.0 * SINGULARITY_SIGMA_MIN || frac < 0.1);
+        let text = condition_text(ctx, &m, near);
+        let color = if m.singular || near {
+            palette::rgb(palette::CONDITION_SINGULAR)
         } else {
-            (ui.visuals().selection.bg_fill, "well-conditioned")
+            palette::rgb(palette::CONDITION_GOOD)
         };
         ui.horizontal(|ui| {
             ui.label("Manipulability");
-            ui.add(egui::ProgressBar::new(frac).fill(color).text(text).desired_width(ui.available_width()))
+            ui.add(egui::ProgressBar::new(frac).fill(color).text(text.as_str()).desired_width(ui.available_width()))
                 .on_hover_text(format!(
                     "σ_min = {:.2e}, σ_max = {:.2e}, Yoshikawa w = {:.3e}\nbar: σ_min relative to the home pose; \
                      singular below σ_min = {SINGULARITY_SIGMA_MIN:e}",

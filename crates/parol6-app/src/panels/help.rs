@@ -1,0 +1,119 @@
+//! The help window's contents (F1 or the Help menu): what each panel does, units, mouse and
+//! keys, where settings are saved and what the LEDs mean.
+
+use eframe::egui;
+use std::path::Path;
+
+use parol6_core::limits::LimitZone;
+
+use super::{led, zone_color};
+use crate::palette;
+
+/// What each panel is for, in the order they appear.
+const PANELS: [(&str, &str); 7] = [
+    (
+        "Joints (left)",
+        "HOME moves to the standby pose, STOP holds the arm where it is. Under them one line \
+         says how close the arm is to its limits (a coloured band only when there is a real risk). \
+         Per joint: a limit LED, a slider (the arm follows while you drag) and a typed entry \
+         (type a value, then Enter or Tab: a profiled move at the speed below; a value beyond \
+         a limit is clamped and you are told). The bar under each joint shows its range with \
+         the amber / red end zones, the measured position (filled) and the target (outline).",
+    ),
+    ("Speed / Profile", "Speed and velocity profile of HOME, typed moves, \"Go\" and \"Move to target\"."),
+    (
+        "Go to joint pose",
+        "Type a whole pose (each entry is kept as typed, clamped into the limits), or copy the \
+         current or park pose, then Go.",
+    ),
+    (
+        "Robot connection",
+        "Open a serial port or the built-in emulator; enable / disable the drives, run homing, \
+         jog a joint (hold the buttons). Folded while no robot is connected.",
+    ),
+    (
+        "TCP (right)",
+        "Tool centre point position and orientation, the 4×4 and 3×3 matrices, and how well \
+         conditioned the pose is (a singular pose is information: the arm is driven joint by joint).",
+    ),
+    (
+        "Cartesian target",
+        "Type X Y Z (mm) and roll pitch yaw, or \"From TCP\"; every IK branch within the limits \
+         is listed, nearest the current joints first. Hover the panel to see the chosen branch \
+         as a ghost arm, then \"Move to target\".",
+    ),
+    ("Demos", "Scripted sequences; STOP or Esc ends them."),
+];
+
+/// Mouse and keyboard.
+const KEYS: [(&str, &str); 10] = [
+    ("Esc", "STOP (also cancels a demo)"),
+    ("H, Ctrl+H", "HOME (profiled move to standby; H only while no field is being typed in)"),
+    ("Enter, Tab", "commit a typed value (clicking elsewhere does too)"),
+    ("1–6, PgUp / PgDn", "select a joint, jog it (robot connected)"),
+    ("left drag", "3D view: orbit"),
+    ("right drag", "3D view: pan"),
+    ("wheel", "3D view: zoom"),
+    ("R, arrows, + / −", "3D view: reset, orbit, zoom (pointer over the view)"),
+    ("F1", "this help"),
+    ("Ctrl+Q", "quit"),
+];
+
+/// Draws the help into `ui`; `settings_path` is where the settings are saved (`None`: they
+/// are not saved in this session).
+pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
+    ui.heading("Panels");
+    egui::Grid::new("help_panels").num_columns(2).spacing([12.0, 6.0]).striped(true).show(ui, |ui| {
+        for (name, what) in PANELS {
+            ui.label(egui::RichText::new(name).strong());
+            ui.add(egui::Label::new(what).wrap());
+            ui.end_row();
+        }
+    });
+    ui.add_space(6.0);
+    ui.heading("Units");
+    ui.label(
+        "Angles in degrees or radians (the deg / rad switch of the Joints panel, or the Units \
+         menu), shown with 2 decimals in degrees and 4 in radians; positions in millimetres \
+         with 2 decimals. Typed values may use a comma as decimal mark and may end with the unit.",
+    );
+    ui.add_space(6.0);
+    ui.heading("Mouse and keys");
+    egui::Grid::new("help_keys").num_columns(2).spacing([12.0, 2.0]).show(ui, |ui| {
+        for (k, what) in KEYS {
+            ui.monospace(k);
+            ui.label(what);
+            ui.end_row();
+        }
+    });
+    ui.add_space(6.0);
+    ui.heading("LEDs");
+    egui::Grid::new("help_leds").num_columns(2).spacing([12.0, 4.0]).show(ui, |ui| {
+        for (zone, what) in [
+            (LimitZone::Safe, "joint comfortably inside its range"),
+            (LimitZone::Warning, "joint in the outer 15 % of its range, or will be at a limit within 0.5 s"),
+            (LimitZone::Critical, "joint in the outer 5 % of its range (or beyond), or amber and about to reach it"),
+        ] {
+            led(ui, zone_color(zone), zone.label());
+            ui.label(what);
+            ui.end_row();
+        }
+        led(ui, palette::rgb(palette::LED_OFF), "off");
+        ui.label("connection LEDs (link, enabled, E-stop, homing, homed): grey is off");
+        ui.end_row();
+    });
+    ui.add_space(6.0);
+    ui.heading("Settings");
+    match settings_path {
+        Some(p) => {
+            ui.label(format!(
+                "Units, panel and 3D view toggles, speed, profile and the last port are saved on exit to {} \
+                 (set PAROL6_SETTINGS to use another file).",
+                p.display()
+            ));
+        }
+        None => {
+            ui.label("Settings are not saved in this session (no settings file); PAROL6_SETTINGS names one.");
+        }
+    }
+}

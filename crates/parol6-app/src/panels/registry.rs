@@ -1,0 +1,85 @@
+//! The panel registry: every operator panel, where it is docked and in which order. The
+//! layout ([`crate::app`]) walks [`Panels::docked`]; adding a panel is a field here and one
+//! line in that list.
+
+use parol6_core::RobotModel;
+
+use super::Panel;
+use super::cartesian_target::CartesianTargetPanel;
+use super::connection::ConnectionPanel;
+use super::demos::DemosPanel;
+use super::joints::JointsPanel;
+use super::status_bar::StatusBar;
+use super::tcp::TcpPanel;
+
+/// Where a panel sits in the window.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dock {
+    /// The left column (joints, HOME / STOP, connection).
+    Left,
+    /// The right column (TCP, Cartesian target, demos).
+    Right,
+    /// The status bar at the bottom.
+    Bottom,
+}
+
+/// All operator panels. The named fields give the app typed access where it needs it (the
+/// test hook drives the joints panel, the bench starts demos).
+pub struct Panels {
+    /// Joints: sliders, typed entries, HOME / STOP.
+    pub joints: JointsPanel,
+    /// Serial link to the robot.
+    pub connection: ConnectionPanel,
+    /// TCP pose and manipulability.
+    pub tcp: TcpPanel,
+    /// Cartesian target solved by IK.
+    pub target: CartesianTargetPanel,
+    /// Demo sequences.
+    pub demos: DemosPanel,
+    /// Status bar.
+    pub status: StatusBar,
+}
+
+impl Panels {
+    /// The panels for `model`.
+    pub fn new(model: &RobotModel) -> Self {
+        Self {
+            joints: JointsPanel::default(),
+            connection: ConnectionPanel::default(),
+            tcp: TcpPanel::default(),
+            target: CartesianTargetPanel::default(),
+            demos: DemosPanel::new(model),
+            status: StatusBar,
+        }
+    }
+
+    /// Every panel with its dock, top to bottom within a dock.
+    pub fn docked(&mut self) -> Vec<(Dock, &mut dyn Panel)> {
+        vec![
+            (Dock::Left, &mut self.joints),
+            (Dock::Left, &mut self.connection),
+            (Dock::Right, &mut self.tcp),
+            (Dock::Right, &mut self.target),
+            (Dock::Right, &mut self.demos),
+            (Dock::Bottom, &mut self.status),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_panel_is_docked_once_with_a_title() {
+        let mut panels = Panels::new(&RobotModel::parol6());
+        let list = panels.docked();
+        let titles: Vec<&str> = list.iter().map(|(_, p)| p.title()).collect();
+        let mut unique = titles.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), titles.len(), "{titles:?}");
+        assert_eq!(list.iter().filter(|(d, _)| *d == Dock::Bottom).count(), 1, "one status bar");
+        assert_eq!(list.first().map(|(d, p)| (*d, p.title())), Some((Dock::Left, "Joints")));
+    }
+}

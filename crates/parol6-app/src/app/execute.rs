@@ -154,16 +154,14 @@ impl Parol6App {
         }
     }
 
-    /// Shows refusals of the active backend (each once) and ends a running sequence.
+    /// Shows each refusal of the active backend once (ids are counted per backend).
     pub(super) fn refusal_notices(&mut self, robot: &RobotState) {
         let Some((id, msg)) = &robot.last_refusal else { return };
-        if self.last_refusal_seen.0 == robot.backend && *id <= self.last_refusal_seen.1 {
+        let seen = self.last_refusal_seen.entry(robot.backend.clone()).or_insert(0);
+        if *id <= *seen {
             return;
         }
-        let first_look = self.last_refusal_seen.0 != robot.backend;
-        self.last_refusal_seen = (robot.backend.clone(), *id);
-        if !first_look {
-            self.notice(format!("{} refused a command: {msg}", robot.backend), true);
-        }
+        *seen = *id;
+        self.notice(format!("{} refused a command: {msg}", robot.backend), true);
     }
 }

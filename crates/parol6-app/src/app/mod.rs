@@ -97,8 +97,8 @@ pub struct Parol6App {
     sequence_progress: Option<SequenceProgress>,
     /// The jog being held: joint, direction, when the jog command was last sent.
     jog_held: Option<(usize, i8, Instant)>,
-    /// Refusal id last shown, per backend (`backend` name, id).
-    last_refusal_seen: (String, u64),
+    /// Refusal id last shown, per backend name.
+    last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
     viewport_error: Option<String>,
     settings: Settings,
@@ -145,7 +145,7 @@ impl Parol6App {
             sequence: None,
             sequence_progress: None,
             jog_held: None,
-            last_refusal_seen: (String::new(), 0),
+            last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,
             settings,

@@ -116,7 +116,7 @@ fn a_demo_advances_with_no_frames_drawn() {
     let mut app = launch(None);
     let ctx = egui::Context::default();
     run_frame(&mut app, &ctx);
-    app.demos.speed_scale = 1.0;
+    app.panels.demos.speed_scale = 1.0;
     assert!(app.start_demo("Joint sweep", false));
     let deadline = Instant::now() + Duration::from_secs(30);
     loop {

@@ -153,6 +153,8 @@ pub struct PlausibilityFilter {
     frames_since: u32,
     in_a_row: u32,
     accepted_in_a_row: u32,
+    /// Accepted measurements in a row equal to the one before (the arm at rest).
+    steady_in_a_row: u32,
 }
 
 /// Accepted measurements in a row needed before motion may start from a measured position.
@@ -189,6 +191,8 @@ impl PlausibilityFilter {
 
     /// Takes `measured` as the reference without checking it (homing rewrites the counters).
     pub fn accept(&mut self, measured: &[i32; JOINT_COUNT], at_s: f64) {
+        let same = self.last.as_ref().is_some_and(|(m, _)| m == measured);
+        self.steady_in_a_row = if same { self.steady_in_a_row.saturating_add(1) } else { 0 };
         self.last = Some((*measured, at_s));
         self.frames_since = 0;
         self.in_a_row = 0;
@@ -199,6 +203,13 @@ impl PlausibilityFilter {
     /// from the measured position (a lone garbage frame accepted after a fault never is).
     pub fn confirmed(&self) -> bool {
         self.accepted_in_a_row >= CONFIRMING_FRAMES
+    }
+
+    /// True when the last [`CONFIRMING_FRAMES`] accepted measurements are identical: the arm is
+    /// at rest, so a motion may start from this position (a status frame can be one period
+    /// old while the arm still coasts after IDLE).
+    pub fn steady(&self) -> bool {
+        self.steady_in_a_row + 1 >= CONFIRMING_FRAMES
     }
 
     /// Forgets the reference (the next measurement is taken as it is).

@@ -132,8 +132,9 @@ impl Streamer {
         }
         let was_streaming = self.streaming;
         if !was_streaming {
-            let (q, steps) =
-                measured.ok_or_else(|| format!("{} refused: no consistent status from the board yet", cmd.name()))?;
+            let (q, steps) = measured.ok_or_else(|| {
+                format!("{} refused: no steady status from the board yet (the arm is settling): try again", cmd.name())
+            })?;
             self.start(&q, &steps);
         }
         let res = match at_s {

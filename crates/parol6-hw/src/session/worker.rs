@@ -334,8 +334,10 @@ impl Worker {
                         self.fail_homing("homing stopped");
                     }
                     let blocked = self.snap.motion_allowed().err().map(|e| e.to_string());
-                    // Motion starts only from a confirmed measurement (never a lone frame).
-                    let measured = if self.plausibility.confirmed() { self.measured() } else { None };
+                    // Motion starts only from a confirmed measurement (never a lone frame) of an
+                    // arm at rest (identical frames: the latest status may lag a coasting arm).
+                    let start_ok = self.plausibility.confirmed() && self.plausibility.steady();
+                    let measured = if start_ok { self.measured() } else { None };
                     if let Err(msg) = self.streamer.apply(cmd, at_s, measured, blocked) {
                         tracing::debug!("parol6 session: {msg}");
                         self.streamer.refuse(msg);

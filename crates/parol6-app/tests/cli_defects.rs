@@ -186,3 +186,11 @@ fn hw_commands_run_against_the_fake_robot() {
     // Outside the limits: refused before the port is opened.
     run(&["hw", "move", "--fake-robot", "--joints", "0,0,0,0,0,0"]).assert_refused("outside limits", "limit");
 }
+
+#[test]
+fn jog_into_a_limit_was_reported_as_refused() {
+    // J1 from standby (90°) at full jog speed reaches its limit (123°) well within 3 s.
+    let v = run(&["hw", "jog", "--fake-robot", "--joint", "1", "--speed", "1", "--seconds", "3"]).json("jog");
+    assert_eq!(v["stopped_at_limit"], true, "{v}");
+    assert!(v["end_deg"][0].as_f64().expect("deg") > 122.9, "{v}");
+}

@@ -28,6 +28,9 @@ pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 /// then takes about a minute.
 pub const MIN_MOVE_SPEED: f64 = 0.05;
 
+/// A jogged joint this close to a limit, rad, has reached it (a few steps).
+const LIMIT_REACHED_RAD: f64 = 1e-3;
+
 /// Arguments of `parol6 hw`.
 #[derive(Debug, clap::Args)]
 pub struct HwArgs {
@@ -267,9 +270,22 @@ fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: 
     let session = &link.session;
     let start = session.snapshot();
     let end = Instant::now() + duration;
+    let mut stopped_at_limit = false;
+    session.jog(joint_index, speed).map_err(hw_err)?;
     while Instant::now() < end {
-        session.jog(joint_index, speed).map_err(hw_err)?;
         std::thread::sleep(Duration::from_millis(50));
+        if let Err(e) = session.jog(joint_index, speed) {
+            // The session refuses to go on once the joint reaches its limit: the jog ends there.
+            let limit = session.config().limits.iter().nth(joint_index).map(|l| (l.min, l.max));
+            let at = session.snapshot().joint_rad[joint_index];
+            match limit {
+                Some((min, max)) if at <= min + LIMIT_REACHED_RAD || at >= max - LIMIT_REACHED_RAD => {
+                    stopped_at_limit = true;
+                    break;
+                }
+                _ => return Err(hw_err(e)),
+            }
+        }
     }
     session.jog_release().map_err(hw_err)?;
     std::thread::sleep(Duration::from_millis(300));
@@ -278,7 +294,7 @@ fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: 
         return Err(CliError::runtime(format!("link lost during the jog: {}", s.fault.clone().unwrap_or_default())));
     }
     print_json(&json!({
-        "command": "jog", "joint": joint, "speed": speed, "seconds": seconds,
+        "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "stopped_at_limit": stopped_at_limit,
         "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
         "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
         "state": summary(&s),

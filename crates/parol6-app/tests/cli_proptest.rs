@@ -241,7 +241,7 @@ fn build(sub: &Sub, random: &[u32], out_png: &str) -> (Vec<String>, bool) {
     let mut valid = sub.complete;
     let mut local: Vec<String> = Vec::new();
     if sub.positional {
-        match next(5) {
+        match next(8) {
             0 => valid = false,
             1 => {
                 local.push(["-", ""][next(2)].into());
@@ -250,14 +250,15 @@ fn build(sub: &Sub, random: &[u32], out_png: &str) -> (Vec<String>, bool) {
             _ => local.push(out_png.into()),
         }
     }
+    // Per option: 1 in 8 left out, 1 in 8 invalid, else valid (optional ones left out more).
     for o in sub.opts {
-        let choice = next(4);
+        let choice = next(8);
         match (o.kind, choice) {
-            (Kind::Flag, 0 | 1) => local.push(o.name.into()),
+            (Kind::Flag, 0..4) => local.push(o.name.into()),
             (Kind::Flag, _) => {}
             (Kind::Required, 0) => valid = false,
-            (Kind::Optional, 0) => {}
-            (_, 3) => {
+            (Kind::Optional, 0 | 2 | 3) => {}
+            (_, 1) => {
                 let pool: Vec<&str> =
                     o.invalid.iter().chain(if o.name == "--size" { &[][..] } else { GARBAGE }).copied().collect();
                 local.push(o.name.into());
@@ -286,7 +287,7 @@ fn build(sub: &Sub, random: &[u32], out_png: &str) -> (Vec<String>, bool) {
     }
     if sub.connect {
         // Never auto-detect: a real arm may be plugged into this machine.
-        match next(6) {
+        match next(8) {
             0 => global.extend(["--port", "/nonexistent/ttyACM9"].map(String::from)),
             1 => {
                 global.extend(["--port", "/nonexistent/ttyACM9", "--fake-robot"].map(String::from));
@@ -299,7 +300,7 @@ fn build(sub: &Sub, random: &[u32], out_png: &str) -> (Vec<String>, bool) {
         valid = false;
     }
     // An option of another subcommand.
-    if next(6) == 0 {
+    if next(8) == 0 {
         let all: Vec<&str> = SUBS.iter().flat_map(|s| s.opts.iter().map(|o| o.name)).collect();
         let foreign: Vec<&str> = all.into_iter().filter(|n| !sub.opts.iter().any(|o| o.name == *n)).collect();
         local.push(foreign[next(foreign.len())].into());
@@ -316,7 +317,7 @@ fn build(sub: &Sub, random: &[u32], out_png: &str) -> (Vec<String>, bool) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 96, failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn random_argument_vectors_never_panic_and_exit_0_only_when_valid(
@@ -333,5 +334,24 @@ proptest! {
         prop_assert!(run.code().is_some(), "{}: signal, abort or hang: {:?}", what, run);
         prop_assert!(matches!(run.code(), Some(0..=2)), "{}: exit {:?}: {:?}", what, run.code(), run);
         prop_assert!(run.code() != Some(0) || valid, "{}: invalid input accepted: {:?}", what, run);
+        eprintln!("valid={valid} exit={:?} {:.2} s: {what}", run.code(), run.elapsed.as_secs_f64());
+    }
+}
+
+/// The generator is not lopsided: a fair share of its vectors are valid input (so exit 0 is
+/// exercised), and every subcommand gets valid vectors.
+#[test]
+fn generator_yields_valid_and_invalid_vectors_for_every_subcommand() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    for sub in SUBS {
+        let valid = (0..400)
+            .filter(|_| {
+                let random: Vec<u32> = (0..24).map(|_| rng.random()).collect();
+                build(sub, &random, "/tmp/x.png").1
+            })
+            .count();
+        let want_valid = if sub.complete { 20..=380 } else { 0..=0 };
+        assert!(want_valid.contains(&valid), "{:?}: {valid} of 400 valid", sub.path);
     }
 }

@@ -55,10 +55,10 @@ fn readme_commands_run_as_printed() {
         }
         let run = cli_support::run_in(cli_support::workspace_root(), &args, Duration::from_secs(180));
         run.assert_no_panic(command);
-        if command.contains("screenshot") || command.contains("bench render") {
-            if cli_support::no_adapter(&run, command) {
-                continue;
-            }
+        if (command.contains("screenshot") || command.contains("bench render"))
+            && cli_support::no_adapter(&run, command)
+        {
+            continue;
         }
         assert_eq!(run.code(), Some(0), "`{command}` (ran as {args:?}) failed: {run:?}");
         if gui {

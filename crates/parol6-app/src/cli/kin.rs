@@ -205,7 +205,7 @@ pub fn bench_ik(n: usize) -> CliResult {
                 }
             }
             if i % 20_000 == 19_999 {
-                warn(format_args!("bench ik {solver}: {}/{}", i + 1, targets.len()));
+                super::output::progress(format_args!("bench ik {solver}: {}/{}", i + 1, targets.len()));
             }
         }
         let s = NsStats::from_samples(&mut samples);

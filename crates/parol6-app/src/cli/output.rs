@@ -26,6 +26,11 @@ pub fn warn(message: impl std::fmt::Display) {
     let _ = writeln!(std::io::stderr(), "warning: {message}");
 }
 
+/// Prints a progress line on stderr.
+pub fn progress(message: impl std::fmt::Display) {
+    let _ = writeln!(std::io::stderr(), "{message}");
+}
+
 /// Prints `error: …` on stderr.
 pub fn error_line(message: &str) {
     let _ = writeln!(std::io::stderr(), "error: {message}");

@@ -2,7 +2,8 @@
 //! Each target lives next to the code it measures; this file only dispatches and does the
 //! shared statistics.
 
-use super::CliResult;
+use super::options::{RobotArgs, f64_above, f64_within};
+use super::{CliError, CliResult};
 
 /// Arguments of `parol6 bench`.
 #[derive(Debug, clap::Args)]
@@ -17,15 +18,15 @@ pub struct BenchArgs {
 pub enum BenchTarget {
     /// Forward kinematics.
     Fk {
-        /// Number of samples.
-        #[arg(long, default_value_t = 100_000)]
-        n: usize,
+        /// Number of samples, 1–10 000 000.
+        #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+        n: u64,
     },
     /// Inverse kinematics, closed-form and numeric, on random reachable in-limit poses.
     Ik {
-        /// Number of poses.
-        #[arg(long, default_value_t = 100_000)]
-        n: usize,
+        /// Number of poses, 1–1 000 000.
+        #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+        n: u64,
     },
     /// Full-UI rendering offscreen while the arm sweeps all joints (`fps_median`,
     /// `frame_ms_p50`, `frame_ms_p99`, `ui_cpu_ms_p50`).
@@ -33,47 +34,68 @@ pub enum BenchTarget {
     /// Serial session against the in-process controller emulator over a pty: period jitter
     /// and jog-press → wire latency (`period_jitter_p99_ms`, `jog_latency_max_ms`).
     Serial {
-        /// Seconds of idle streaming to measure the period jitter.
-        #[arg(long, default_value_t = 10.0)]
+        /// Seconds of idle streaming to measure the period jitter, > 0 and ≤ 600.
+        #[arg(long, default_value_t = 10.0, value_parser = f64_above(0.0, 600.0))]
         seconds: f64,
-        /// Command rate, Hz (50–500).
-        #[arg(long, default_value_t = 100.0)]
+        /// Command rate, Hz, 50–500.
+        #[arg(long, default_value_t = 100.0, value_parser = f64_within(50.0, 500.0))]
         rate: f64,
-        /// Number of jog presses for the latency.
-        #[arg(long, default_value_t = 50)]
-        presses: usize,
+        /// Number of jog presses for the latency, 1–1000.
+        #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        presses: u64,
     },
     /// Simulation step time (dynamic, with colliders; `median_ns`, `p99_ns`) and the CPU share
     /// of the 1 kHz real-time thread (`realtime_thread.thread_cpu_percent`).
     Physics {
-        /// Number of steps timed.
-        #[arg(long, default_value_t = 20_000)]
-        n: usize,
-        /// Seconds of the real-time thread for the CPU measurement (0 = skip).
-        #[arg(long, default_value_t = 3.0)]
+        /// Number of steps timed, 1–1 000 000.
+        #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+        n: u64,
+        /// Seconds of the real-time thread for the CPU measurement, 0–600 (0 = skip).
+        #[arg(long, default_value_t = 3.0, value_parser = f64_within(0.0, 600.0))]
         cpu_seconds: f64,
     },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
     Latency {
-        /// Number of commands.
-        #[arg(long, default_value_t = 10_000)]
-        n: usize,
-        /// Mean spacing between two commands, µs.
-        #[arg(long, default_value_t = 200)]
+        /// Number of commands, 1–1 000 000.
+        #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+        n: u64,
+        /// Mean spacing between two commands, µs, 0–100 000.
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(0..=100_000))]
         interval_us: u64,
     },
 }
 
+impl BenchTarget {
+    /// The target's name on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Fk { .. } => "fk",
+            Self::Ik { .. } => "ik",
+            Self::Render(_) => "render",
+            Self::Serial { .. } => "serial",
+            Self::Physics { .. } => "physics",
+            Self::Latency { .. } => "latency",
+        }
+    }
+}
+
+/// A count within a range clap already checked, as `usize`.
+fn count(n: u64) -> Result<usize, CliError> {
+    usize::try_from(n).map_err(|_| CliError::usage(format!("count {n} is too large for this machine")))
+}
+
 /// Runs `parol6 bench`.
-pub fn run(args: &BenchArgs) -> CliResult {
+pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
     match &args.target {
-        BenchTarget::Fk { n } => super::kin::bench_fk(*n),
-        BenchTarget::Ik { n } => super::kin::bench_ik(*n),
-        BenchTarget::Render(a) => super::gui::bench_render(a),
-        BenchTarget::Serial { seconds, rate, presses } => super::hw::bench_serial(*seconds, *rate, *presses),
-        BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(*n, *cpu_seconds),
-        BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(*n, *interval_us),
+        BenchTarget::Fk { n } => super::kin::bench_fk(count(*n)?),
+        BenchTarget::Ik { n } => super::kin::bench_ik(count(*n)?),
+        BenchTarget::Render(a) => super::gui::bench_render(a, robot),
+        BenchTarget::Serial { seconds, rate, presses } => {
+            super::hw_bench::bench_serial(*seconds, *rate, count(*presses)?)
+        }
+        BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(count(*n)?, *cpu_seconds),
+        BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(count(*n)?, *interval_us),
     }
 }
 

@@ -1,49 +1,26 @@
 //! `parol6` with no subcommand: the GUI window (eframe + wgpu), and `parol6 bench render`.
 //!
-//! Top-level options: `--urdf PATH` (another robot), `--tip LINK`, `--tool NAME`, `--port P`
-//! (open connected to a controller), `--fake-robot` (connected to the built-in emulator).
+//! Top-level options ([`super::options`]): `--urdf PATH` (another robot), `--tip LINK`,
+//! `--tool NAME`, `--port P` (open connected to a controller), `--fake-robot` (connected to
+//! the built-in emulator).
 
 use eframe::egui;
-use std::path::PathBuf;
+use parol6_core::RobotModel;
+use serde_json::json;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
-use super::kin::RobotArgs;
-use super::{CliError, CliResult};
+use super::options::{ConnectArgs, RobotArgs, f64_above};
+use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
-
-/// Options of the GUI (given without a subcommand).
-#[derive(Debug, Clone, clap::Args)]
-pub struct GuiArgs {
-    /// URDF file of another robot (default: the embedded PAROL6).
-    #[arg(long, value_name = "PATH", global = false)]
-    pub urdf: Option<PathBuf>,
-    /// Tip link of the chain (with --urdf).
-    #[arg(long, value_name = "LINK")]
-    pub tip: Option<String>,
-    /// Tool on the flange: none, pneumatic-vertical, pneumatic-horizontal, ssg48, msg, vacuum.
-    #[arg(long, value_name = "NAME")]
-    pub tool: Option<String>,
-    /// Open connected to the PAROL6 controller on this serial port (the 3D arm mirrors it).
-    #[arg(long, value_name = "PORT", conflicts_with = "fake_robot")]
-    pub port: Option<String>,
-    /// Open connected to the built-in controller emulator.
-    #[arg(long)]
-    pub fake_robot: bool,
-}
-
-impl GuiArgs {
-    fn robot(&self) -> RobotArgs {
-        RobotArgs { urdf: self.urdf.clone(), tip: self.tip.clone(), tool: self.tool.clone() }
-    }
-}
+use crate::ui_screenshot::{HeadlessApp, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
 
 /// Opens the window; returns when it is closed.
-pub fn run(args: &GuiArgs) -> CliResult {
+pub fn run(robot: &RobotArgs, connection: &ConnectArgs) -> CliResult {
     let started = Instant::now();
-    let model = args.robot().load()?;
+    let model = robot.load()?;
     let test_script = TestScript::from_env().map_err(|e| CliError::usage(format!("{e:#}")))?;
-    let connect = match (&args.port, args.fake_robot) {
+    let connect = match (&connection.port, connection.fake_robot) {
         (Some(p), _) => Some(ConnectTarget::Port(p.clone())),
         (None, true) => Some(ConnectTarget::Emulator),
         (None, false) => None,
@@ -88,22 +65,90 @@ pub fn run(args: &GuiArgs) -> CliResult {
 /// Arguments of `parol6 bench render`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct BenchRenderArgs {
-    /// Measuring time, s.
-    #[arg(long, default_value_t = 10.0)]
+    /// Measuring time, s, > 0 and ≤ 600.
+    #[arg(long, default_value_t = 10.0, value_parser = f64_above(0.0, 600.0))]
     pub seconds: f64,
-    /// Frame size WIDTHxHEIGHT in pixels.
+    /// Frame size WIDTHxHEIGHT in pixels, each side 1–16384.
     #[arg(long, value_name = "WxH", default_value = "1280x800")]
     pub size: String,
     /// Exit 1 when the targets (FPS median, UI CPU p50, peak RSS) are not met.
     #[arg(long)]
     pub check: bool,
-    #[command(flatten)]
-    pub robot: RobotArgs,
 }
 
 /// Runs `parol6 bench render`.
-pub fn bench_render(a: &BenchRenderArgs) -> CliResult {
+pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let (w, h) = super::render::parse_size(&a.size)?;
-    let model = a.robot.load()?;
-    crate::ui_screenshot::bench_render(model, a.seconds, w, h, a.check)
+    let model = robot.load()?;
+    bench_render_model(model, a.seconds, w, h, a.check)
+}
+
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    sorted[((sorted.len() as f64 - 1.0) * q).round() as usize]
+}
+
+/// Frames of the full UI while the arm sweeps all joints; prints JSON.
+fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool) -> CliResult {
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
+    }
+    let mut headless = HeadlessApp::new(model, width, height).map_err(CliError::from)?;
+    if !headless.app.start_demo("Joint sweep", true) {
+        return Err(CliError::runtime("no joint sweep demo"));
+    }
+    // Warm-up: pipelines, fonts, first uploads.
+    for _ in 0..5 {
+        headless.frame().map_err(CliError::from)?;
+    }
+    let mut frame_ms = Vec::new();
+    let mut ui_ms = Vec::new();
+    let mut app_ms = Vec::new();
+    let mut moving_frames = 0usize;
+    let t0 = Instant::now();
+    while t0.elapsed().as_secs_f64() < seconds {
+        let (_, t) = headless.frame().map_err(CliError::from)?;
+        frame_ms.push(t.frame_ms);
+        ui_ms.push(t.ui_cpu_ms);
+        app_ms.push(t.app_ms);
+        if headless.app.sim().snapshot().moving {
+            moving_frames += 1;
+        }
+    }
+    let wall_s = t0.elapsed().as_secs_f64();
+    let n = frame_ms.len();
+    let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
+    for v in [&mut frame_ms, &mut ui_ms, &mut app_ms, &mut fps] {
+        v.sort_by(f64::total_cmp);
+    }
+    let fps_median = percentile(&fps, 0.5);
+    let ui_p50 = percentile(&ui_ms, 0.5);
+    let rss = peak_rss_mb();
+    let pass =
+        fps_median >= TARGET_FPS_MEDIAN && ui_p50 <= TARGET_UI_CPU_MS_P50 && rss.is_none_or(|r| r <= TARGET_RSS_MB);
+    print_json(&json!({
+        "target": "render",
+        "width": width,
+        "height": height,
+        "seconds": wall_s,
+        "frames": n,
+        "moving_frames": moving_frames,
+        "fps_median": fps_median,
+        "fps_mean": n as f64 / wall_s,
+        "frame_ms_p50": percentile(&frame_ms, 0.5),
+        "frame_ms_p99": percentile(&frame_ms, 0.99),
+        "ui_cpu_ms_p50": ui_p50,
+        "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
+        "app_ui_ms_p50": percentile(&app_ms, 0.5),
+        "rss_mb_peak": rss,
+        "adapter": headless.adapter_info(),
+        "targets": {"fps_median_min": TARGET_FPS_MEDIAN, "ui_cpu_ms_p50_max": TARGET_UI_CPU_MS_P50, "rss_mb_max": TARGET_RSS_MB},
+        "pass": pass,
+    }))?;
+    if check && !pass {
+        return Err(CliError::runtime("render performance below the targets (see the JSON above)"));
+    }
+    Ok(())
 }

@@ -1,24 +1,35 @@
-//! `parol6 hw …`: the serial controller from the command line (owned by the hardware work),
-//! and `parol6 bench serial`.
+//! `parol6 hw …`: the serial controller from the command line (owned by the hardware work);
+//! `parol6 bench serial` is in [`super::hw_bench`].
 //!
 //! Every subcommand prints JSON on stdout, except `emulate`, whose first stdout line is the
-//! pseudo-terminal path (then one JSON line per stdin command).
+//! pseudo-terminal path (then one JSON line per stdin command). The subcommands that talk to a
+//! controller take the global `--port P` or `--fake-robot` (the built-in emulator, powered up
+//! homed at standby, started in-process for the one command).
 
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::time::{Duration, Instant};
 
 use parol6_core::profile::ProfileKind;
+use parol6_hw::HwError;
 use parol6_hw::emulator::{EmulatorConfig, EmulatorHandle};
 use parol6_hw::frame::CommandCode;
-use parol6_hw::session::{LinkState, Session, SessionConfig, Snapshot};
-use parol6_hw::{HwError, units};
+use parol6_hw::session::{HomingState, LinkState, Session, SessionConfig, Snapshot};
 use serde_json::json;
 
-use super::bench::NsStats;
+use super::kin::parse_list;
+use super::options::{ConnectArgs, f64_above, f64_within};
+use super::output::print_line;
 use super::{CliError, CliResult, print_json};
 
 /// How long to wait for the first status frame.
-const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// Slowest `hw move --speed` (fraction of the max joint speeds): the longest move of the arm
+/// (every joint end to end, jerk-limited) then takes about 90 s.
+pub const MIN_MOVE_SPEED: f64 = 0.05;
+
+/// A jogged joint this close to a limit, rad, has reached it (a few steps).
+const LIMIT_REACHED_RAD: f64 = 1e-3;
 
 /// Arguments of `parol6 hw`.
 #[derive(Debug, clap::Args)]
@@ -28,14 +39,11 @@ pub struct HwArgs {
     pub command: HwCommand,
 }
 
-/// Port selection shared by the subcommands.
+/// Session settings shared by the subcommands that talk to a controller.
 #[derive(Debug, Clone, clap::Args)]
-pub struct PortArgs {
-    /// Serial port (default: the first USB device with VID:PID 0483:5740).
-    #[arg(long, value_name = "P")]
-    pub port: Option<String>,
-    /// Command rate, Hz (50–500).
-    #[arg(long, default_value_t = 100.0)]
+pub struct RateArgs {
+    /// Command rate, Hz, 50–500.
+    #[arg(long, default_value_t = 100.0, value_parser = f64_within(50.0, 500.0))]
     pub rate: f64,
 }
 
@@ -45,41 +53,42 @@ pub enum HwCommand {
     /// List serial ports (PAROL6 boards, USB 0483:5740, first).
     Ports,
     /// Print one status snapshot.
-    Status(PortArgs),
+    Status(RateArgs),
     /// Send ENABLE (101).
-    Enable(PortArgs),
+    Enable(RateArgs),
     /// Send DISABLE (102).
-    Disable(PortArgs),
+    Disable(RateArgs),
     /// Home all joints and wait (fails after 45 s).
-    Home(PortArgs),
+    Home(RateArgs),
     /// Jog one joint for a while (streamed MOVE targets with a dead-man).
     Jog {
-        /// Port selection.
+        /// Session settings.
         #[command(flatten)]
-        port: PortArgs,
+        rate: RateArgs,
         /// Joint number, 1–6.
-        #[arg(long)]
-        joint: usize,
-        /// Speed fraction −1…1 of the jog speed.
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=6))]
+        joint: u64,
+        /// Speed fraction of the jog speed, −1…1 (the sign is the direction).
+        #[arg(long, allow_hyphen_values = true, value_parser = f64_within(-1.0, 1.0))]
         speed: f64,
-        /// Duration, s (0–60).
-        #[arg(long)]
+        /// Duration, s, > 0 and ≤ 60.
+        #[arg(long, value_parser = f64_above(0.0, 60.0))]
         seconds: f64,
     },
     /// Move to a joint pose along the synchronised profile.
     Move {
-        /// Port selection.
+        /// Session settings.
         #[command(flatten)]
-        port: PortArgs,
-        /// Six joint values J1,…,J6 (rad, or degrees with --deg).
-        #[arg(long, allow_hyphen_values = true, value_delimiter = ',')]
-        joints: Vec<f64>,
+        rate: RateArgs,
+        /// Six joint values J1,…,J6, finite numbers within the joint limits (rad, or degrees
+        /// with --deg).
+        #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
+        joints: String,
         /// Joint values are in degrees.
         #[arg(long)]
         deg: bool,
-        /// Speed fraction 0–1 of the max joint speeds.
-        #[arg(long, default_value_t = 0.5)]
+        /// Speed fraction of the max joint speeds, 0.05–1 (at 0.05 the longest move takes about 90 s).
+        #[arg(long, default_value_t = 0.5, value_parser = f64_within(MIN_MOVE_SPEED, 1.0))]
         speed: f64,
         /// Jerk-limited (quintic) instead of trapezoidal profile.
         #[arg(long)]
@@ -91,39 +100,86 @@ pub enum HwCommand {
         /// Power up homed at the standby pose (the firmware boots unhomed at 0 steps).
         #[arg(long)]
         homed: bool,
-        /// Duration of the compressed homing sequence, s.
-        #[arg(long, default_value_t = 1.0)]
+        /// Duration of the compressed homing sequence, s, > 0 and ≤ 60.
+        #[arg(long, default_value_t = 1.0, value_parser = f64_above(0.0, 60.0))]
         home_seconds: f64,
     },
 }
 
-fn hw_err(e: HwError) -> CliError {
+impl HwCommand {
+    /// The subcommand's name on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Ports => "ports",
+            Self::Status(_) => "status",
+            Self::Enable(_) => "enable",
+            Self::Disable(_) => "disable",
+            Self::Home(_) => "home",
+            Self::Jog { .. } => "jog",
+            Self::Move { .. } => "move",
+            Self::Emulate { .. } => "emulate",
+        }
+    }
+
+    /// True for the subcommands that open a controller (and take `--port` / `--fake-robot`).
+    pub fn talks_to_controller(&self) -> bool {
+        !matches!(self, Self::Ports | Self::Emulate { .. })
+    }
+}
+
+/// Maps a session error to the exit status: refused or invalid requests 2, device failures 1.
+pub fn hw_err(e: HwError) -> CliError {
     match e {
-        HwError::Limit(_) | HwError::Profile(_) | HwError::Units(_) | HwError::BadConfig(_) => CliError::usage(e),
+        HwError::Limit(_) | HwError::Profile(_) | HwError::Units(_) | HwError::BadConfig(_) | HwError::Refused(_) => {
+            CliError::usage(e)
+        }
         other => CliError::runtime(other),
     }
 }
 
-fn open(args: &PortArgs) -> Result<Session, CliError> {
-    let config = SessionConfig { rate_hz: args.rate, ..SessionConfig::default() };
-    let session = match &args.port {
-        Some(p) => Session::open(p, config),
-        None => Session::open_auto(config),
-    }
-    .map_err(hw_err)?;
-    session.wait_connected(CONNECT_TIMEOUT).map_err(|_| {
-        let s = session.snapshot();
-        CliError::runtime(format!(
-            "no valid status from the controller on {} within {:.0} s ({})",
-            s.port,
-            CONNECT_TIMEOUT.as_secs_f64(),
-            s.fault.clone().unwrap_or_else(|| "is it a PAROL6?".into())
-        ))
-    })?;
-    Ok(session)
+/// An open controller session, and the emulator behind it with `--fake-robot`.
+struct Link {
+    /// Dropped first: it leaves the controller with IDLE frames while the emulator still runs.
+    session: Session,
+    _emulator: Option<EmulatorHandle>,
 }
 
-/// Waits until `code` has been written at least once after `since`.
+fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliError> {
+    let config = SessionConfig { rate_hz: rate.rate, ..SessionConfig::default() };
+    let emulator = if connect.fake_robot {
+        Some(
+            EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
+                .map_err(hw_err)?,
+        )
+    } else {
+        None
+    };
+    let session = match (&emulator, &connect.port) {
+        (Some(emu), _) => Session::open(emu.path(), config),
+        (None, Some(p)) => Session::open(p, config),
+        (None, None) => Session::open_auto(config),
+    }
+    .map_err(hw_err)?;
+    if session.wait_connected(CONNECT_TIMEOUT).is_err() {
+        let s = session.snapshot();
+        let secs = CONNECT_TIMEOUT.as_secs_f64();
+        return Err(CliError::runtime(if s.status_frames == 0 {
+            format!(
+                "no PAROL6 answered on {} within {secs:.0} s (is the controller powered and is this its port?)",
+                s.port
+            )
+        } else {
+            format!(
+                "the controller on {} stopped answering within {secs:.0} s ({})",
+                s.port,
+                s.fault.clone().unwrap_or_else(|| "link lost".into())
+            )
+        }));
+    }
+    Ok(Link { session, _emulator: emulator })
+}
+
+/// Waits until `code` has been written at least once after `frames_before` frames.
 fn wait_sent(session: &Session, code: CommandCode, frames_before: u64) -> Result<(), CliError> {
     session
         .wait_until(Duration::from_secs(2), |s| s.last_command == Some(code) && s.frames_sent > frames_before)
@@ -131,7 +187,27 @@ fn wait_sent(session: &Session, code: CommandCode, frames_before: u64) -> Result
         .map_err(hw_err)
 }
 
+/// Whether the board is enabled, as far as this session knows, and on what basis: what this
+/// session commanded, or a homing that succeeded (the firmware homes only while enabled).
+/// Otherwise unknown (`null`): the status frame does not report it; the board powers up enabled.
+fn enabled_json(s: &Snapshot) -> (serde_json::Value, &'static str) {
+    enabled_known(s.enabled, &s.homing, s.needs_enable || s.estop_pressed)
+}
+
+fn enabled_known(
+    commanded: Option<bool>,
+    homing: &HomingState,
+    estop_since: bool,
+) -> (serde_json::Value, &'static str) {
+    match (commanded, homing) {
+        (Some(e), _) => (json!(e), "commanded"),
+        (None, HomingState::Done) if !estop_since => (json!(true), "homed"),
+        _ => (serde_json::Value::Null, "unknown"),
+    }
+}
+
 fn summary(s: &Snapshot) -> serde_json::Value {
+    let (enabled, basis) = enabled_json(s);
     json!({
         "port": s.port,
         "link": s.link,
@@ -139,122 +215,144 @@ fn summary(s: &Snapshot) -> serde_json::Value {
         "joint_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
         "homed": s.homed,
         "estop_pressed": s.estop_pressed,
-        "enabled": s.enabled,
+        "enabled": enabled,
+        "enabled_basis": basis,
         "fault": s.fault,
     })
 }
 
 /// Runs `parol6 hw`.
-pub fn run(args: &HwArgs) -> CliResult {
+pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
     match &args.command {
         HwCommand::Ports => {
             let ports = parol6_hw::list_ports().map_err(hw_err)?;
-            print_json(&json!({ "ports": ports }));
-            Ok(())
+            print_json(&json!({ "ports": ports }))
         }
-        HwCommand::Status(p) => {
-            let session = open(p)?;
-            let s = session.wait_until(Duration::from_secs(2), |s| s.status_frames >= 3).map_err(hw_err)?;
-            print_json(&s.to_json());
-            Ok(())
+        HwCommand::Status(rate) => {
+            let link = open(connect, rate)?;
+            let s = link.session.wait_until(Duration::from_secs(2), |s| s.status_frames >= 3).map_err(hw_err)?;
+            let mut out = s.to_json();
+            let (enabled, basis) = enabled_json(&s);
+            out["enabled"] = enabled;
+            out["enabled_basis"] = json!(basis);
+            print_json(&out)
         }
-        HwCommand::Enable(p) => send_latch(p, "enable", CommandCode::Enable, Session::enable),
-        HwCommand::Disable(p) => send_latch(p, "disable", CommandCode::Disable, Session::disable),
-        HwCommand::Home(p) => {
-            let session = open(p)?;
+        HwCommand::Enable(rate) => send_latch(connect, rate, "enable", CommandCode::Enable, Session::enable),
+        HwCommand::Disable(rate) => send_latch(connect, rate, "disable", CommandCode::Disable, Session::disable),
+        HwCommand::Home(rate) => {
+            let link = open(connect, rate)?;
             let t0 = Instant::now();
-            session.home_blocking().map_err(hw_err)?;
-            let s = session.snapshot();
+            link.session.home_blocking().map_err(hw_err)?;
+            let s = link.session.snapshot();
             print_json(&json!({
                 "command": "home", "ok": true, "seconds": t0.elapsed().as_secs_f64(), "state": summary(&s)
-            }));
-            Ok(())
+            }))
         }
-        HwCommand::Jog { port, joint, speed, seconds } => {
-            if !(1..=6).contains(joint) {
-                return Err(CliError::usage(format!("--joint must be 1–6 (got {joint})")));
-            }
-            if !(speed.is_finite() && (-1.0..=1.0).contains(speed)) {
-                return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
-            }
-            if !(seconds.is_finite() && *seconds > 0.0 && *seconds <= 60.0) {
-                return Err(CliError::usage(format!("--seconds must be within 0–60 (got {seconds})")));
-            }
-            let session = open(port)?;
-            let start = session.snapshot();
-            let end = Instant::now() + Duration::from_secs_f64(*seconds);
-            while Instant::now() < end {
-                session.jog(joint - 1, *speed).map_err(hw_err)?;
-                std::thread::sleep(Duration::from_millis(50));
-            }
-            session.jog_release().map_err(hw_err)?;
-            std::thread::sleep(Duration::from_millis(300));
-            let s = session.snapshot();
-            if s.link != LinkState::Connected {
-                return Err(CliError::runtime(format!(
-                    "link lost during the jog: {}",
-                    s.fault.clone().unwrap_or_default()
-                )));
-            }
-            print_json(&json!({
-                "command": "jog", "joint": joint, "speed": speed, "seconds": seconds,
-                "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
-                "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
-                "state": summary(&s),
-            }));
-            Ok(())
-        }
-        HwCommand::Move { port, joints, deg, speed, smooth } => {
-            if joints.len() != 6 {
-                return Err(CliError::usage(format!("--joints needs 6 values, got {}", joints.len())));
-            }
-            let goal: Vec<f64> = if *deg { joints.iter().map(|d| d.to_radians()).collect() } else { joints.clone() };
-            let kind = if *smooth { ProfileKind::JerkLimited } else { ProfileKind::Trapezoidal };
-            // Validate before touching the port.
-            let limits = parol6_core::limits::JointLimits::parol6();
-            limits.enforce(&goal, parol6_core::limits::LimitPolicy::Reject).map_err(CliError::usage)?;
-            if !(speed.is_finite() && *speed > 0.0) {
-                return Err(CliError::usage(format!("--speed must be a number > 0 (got {speed})")));
-            }
-            let session = open(port)?;
-            let start = session.snapshot();
-            let plan = parol6_core::profile::JointMove::parol6(&start.joint_rad, &goal, *speed, kind)
-                .map_err(CliError::usage)?;
-            let timeout = Duration::from_secs_f64(plan.duration_s() + 10.0);
-            let t0 = Instant::now();
-            let s = session.move_to_blocking(&goal, *speed, kind, timeout).map_err(hw_err)?;
-            print_json(&json!({
-                "command": "move", "ok": true, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
-                "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
-                "state": summary(&s),
-            }));
-            Ok(())
-        }
+        HwCommand::Jog { rate, joint, speed, seconds } => jog(connect, rate, *joint, *speed, *seconds),
+        HwCommand::Move { rate, joints, deg, speed, smooth } => move_to(connect, rate, joints, *deg, *speed, *smooth),
         HwCommand::Emulate { homed, home_seconds } => emulate(*homed, *home_seconds),
     }
 }
 
+fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: f64) -> CliResult {
+    let joint_index = match joint {
+        1..=6 => (joint - 1) as usize,
+        _ => return Err(CliError::usage(format!("--joint must be 1–6 (got {joint})"))),
+    };
+    let duration = Duration::try_from_secs_f64(seconds)
+        .ok()
+        .filter(|d| !d.is_zero() && d.as_secs_f64() <= 60.0)
+        .ok_or_else(|| CliError::usage(format!("--seconds must be > 0 and ≤ 60 (got {seconds})")))?;
+    if !(speed.is_finite() && (-1.0..=1.0).contains(&speed)) {
+        return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
+    }
+    let link = open(connect, rate)?;
+    let session = &link.session;
+    let start = session.snapshot();
+    let end = Instant::now() + duration;
+    let mut stopped_at_limit = false;
+    session.jog(joint_index, speed).map_err(hw_err)?;
+    while Instant::now() < end {
+        std::thread::sleep(Duration::from_millis(50));
+        if let Err(e) = session.jog(joint_index, speed) {
+            // The session refuses to go on once the joint reaches its limit: the jog ends there.
+            let limit = session.config().limits.iter().nth(joint_index).map(|l| (l.min, l.max));
+            let at = session.snapshot().joint_rad[joint_index];
+            match limit {
+                Some((min, max)) if at <= min + LIMIT_REACHED_RAD || at >= max - LIMIT_REACHED_RAD => {
+                    stopped_at_limit = true;
+                    break;
+                }
+                _ => return Err(hw_err(e)),
+            }
+        }
+    }
+    session.jog_release().map_err(hw_err)?;
+    std::thread::sleep(Duration::from_millis(300));
+    let s = session.snapshot();
+    if s.link != LinkState::Connected {
+        return Err(CliError::runtime(format!("link lost during the jog: {}", s.fault.clone().unwrap_or_default())));
+    }
+    print_json(&json!({
+        "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "stopped_at_limit": stopped_at_limit,
+        "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        "state": summary(&s),
+    }))
+}
+
+fn move_to(connect: &ConnectArgs, rate: &RateArgs, joints: &str, deg: bool, speed: f64, smooth: bool) -> CliResult {
+    let mut goal = parse_list("--joints", joints, Some(6))?;
+    if deg {
+        goal.iter_mut().for_each(|v| *v = v.to_radians());
+    }
+    let kind = if smooth { ProfileKind::JerkLimited } else { ProfileKind::Trapezoidal };
+    // Validate before touching the port.
+    let limits = parol6_core::limits::JointLimits::parol6();
+    limits.enforce(&goal, parol6_core::limits::LimitPolicy::Reject).map_err(CliError::usage)?;
+    if !(speed.is_finite() && (MIN_MOVE_SPEED..=1.0).contains(&speed)) {
+        return Err(CliError::usage(format!("--speed must be within {MIN_MOVE_SPEED}…1 (got {speed})")));
+    }
+    let link = open(connect, rate)?;
+    let session = &link.session;
+    let start = session.snapshot();
+    let plan =
+        parol6_core::profile::JointMove::parol6(&start.joint_rad, &goal, speed, kind).map_err(CliError::usage)?;
+    let timeout = Duration::try_from_secs_f64(plan.duration_s() + 10.0)
+        .map_err(|_| CliError::usage(format!("the move would take {} s", plan.duration_s())))?;
+    let t0 = Instant::now();
+    let s = session.move_to_blocking(&goal, speed, kind, timeout).map_err(hw_err)?;
+    print_json(&json!({
+        "command": "move", "ok": true, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
+        "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        "state": summary(&s),
+    }))
+}
+
 /// `hw enable` / `hw disable`: sends the latch command, waits until it is on the wire, prints
 /// the resulting state.
-fn send_latch(p: &PortArgs, name: &str, code: CommandCode, op: fn(&Session) -> Result<(), HwError>) -> CliResult {
-    let session = open(p)?;
-    let before = session.snapshot().frames_sent;
-    op(&session).map_err(hw_err)?;
-    wait_sent(&session, code, before)?;
-    print_json(&json!({"command": name, "ok": true, "state": summary(&session.snapshot())}));
-    Ok(())
+fn send_latch(
+    connect: &ConnectArgs,
+    rate: &RateArgs,
+    name: &str,
+    code: CommandCode,
+    op: fn(&Session) -> Result<(), HwError>,
+) -> CliResult {
+    let link = open(connect, rate)?;
+    let before = link.session.snapshot().frames_sent;
+    op(&link.session).map_err(hw_err)?;
+    wait_sent(&link.session, code, before)?;
+    print_json(&json!({"command": name, "ok": true, "state": summary(&link.session.snapshot())}))
 }
 
 fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     if !(home_seconds.is_finite() && home_seconds > 0.0 && home_seconds <= 60.0) {
-        return Err(CliError::usage("--home-seconds must be within 0–60"));
+        return Err(CliError::usage("--home-seconds must be > 0 and ≤ 60"));
     }
     let base = if homed { EmulatorConfig::homed_at_standby() } else { EmulatorConfig::default() };
     let config = EmulatorConfig { home_duration_s: home_seconds, log_commands: false, ..base };
     let emu = EmulatorHandle::spawn(config).map_err(hw_err)?;
-    let mut out = std::io::stdout();
-    writeln!(out, "{}", emu.path()).map_err(CliError::runtime)?;
-    out.flush().map_err(CliError::runtime)?;
+    print_line(emu.path())?;
     let stdin = std::io::stdin();
     let mut inputs = (false, false);
     for line in stdin.lock().lines() {
@@ -285,7 +383,7 @@ fn emulate(homed: bool, home_seconds: f64) -> CliResult {
             Some("quit") | Some("exit") => return Ok(()),
             Some(other) => json!({"error": format!("unknown command {other}")}),
         };
-        print_json(&reply);
+        print_json(&reply)?;
     }
     // Stdin closed (e.g. started in the background): serve until killed.
     loop {
@@ -293,104 +391,27 @@ fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     }
 }
 
-/// `parol6 bench serial`: runs the real session against the in-process emulator over a pty
-/// and measures the period jitter (as the controller receives the frames) and the latency
-/// from a jog press to the first changed MOVE target on the wire.
-pub fn bench_serial(seconds: f64, rate_hz: f64, presses: usize) -> CliResult {
-    if !(seconds.is_finite() && seconds > 0.0 && seconds <= 600.0) {
-        return Err(CliError::usage("--seconds must be within 0–600"));
-    }
-    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).map_err(hw_err)?;
-    let config = SessionConfig { rate_hz, write_log_capacity: 1 << 16, ..SessionConfig::default() };
-    let session = Session::open(emu.path(), config).map_err(hw_err)?;
-    session.wait_connected(CONNECT_TIMEOUT).map_err(hw_err)?;
-    let period_s = 1.0 / rate_hz;
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-    // 1. Period jitter while idle: host write times (the session's period) and the
-    //    controller's receive times (adds pty transfer and emulator wake-up).
-    let _ = emu.take_received();
-    let _ = session.take_write_times();
-    std::thread::sleep(Duration::from_secs_f64(seconds));
-    let frames = emu.take_received();
-    let writes = session.take_write_times();
-    let mut write_dev_ns: Vec<f64> =
-        writes.windows(2).map(|w| (w[1].duration_since(w[0]).as_secs_f64() - period_s).abs() * 1e9).collect();
-    let write_jitter = NsStats::from_samples(&mut write_dev_ns);
-    let write_jitter_max_ns = write_dev_ns.last().copied().unwrap_or(0.0);
-    let mut dev_ns: Vec<f64> =
-        frames.windows(2).map(|w| (w[1].at.duration_since(w[0].at).as_secs_f64() - period_s).abs() * 1e9).collect();
-    let achieved_hz = if frames.len() >= 2 {
-        (frames.len() - 1) as f64 / frames[frames.len() - 1].at.duration_since(frames[0].at).as_secs_f64()
-    } else {
-        0.0
-    };
-    let jitter = NsStats::from_samples(&mut dev_ns);
-    let session_jitter_p99_ms = session.snapshot().period_jitter_p99_ms;
-
-    // 2. Jog press → first changed target on the wire.
-    let mut lat_ns = Vec::with_capacity(presses);
-    // J1 target of the last frame seen before each press.
-    let mut last_known = frames.last().map(|f| f.command.fields.positions_steps[0]);
-    for k in 0..presses {
-        // Spread the press over the period.
-        std::thread::sleep(Duration::from_secs_f64(period_s * (k % 7) as f64 / 7.0));
-        let before = emu.take_received();
-        if let Some(f) = before.last() {
-            last_known = Some(f.command.fields.positions_steps[0]);
-        }
-        let last_target = last_known;
-        let pressed = Instant::now();
-        let dir = if k % 2 == 0 { 1.0 } else { -1.0 };
-        session.jog(0, dir).map_err(hw_err)?;
-        let deadline = pressed + Duration::from_secs(1);
-        let mut found = None;
-        let mut seen = Vec::new();
-        while found.is_none() && Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(1));
-            seen.extend(emu.take_received());
-            let mut prev = last_target;
-            for f in &seen {
-                let t = f.command.fields.positions_steps[0];
-                if f.at >= pressed && f.command.code == CommandCode::Move.byte() && prev.is_some_and(|p| p != t) {
-                    found = Some(f.at);
-                    break;
-                }
-                prev = Some(t);
-            }
-        }
-        session.jog_release().map_err(hw_err)?;
-        std::thread::sleep(Duration::from_millis(150));
-        seen.extend(emu.take_received());
-        last_known = seen.last().map(|f| f.command.fields.positions_steps[0]).or(last_known);
-        let Some(at) = found else {
-            return Err(CliError::runtime("a jog press never reached the wire within 1 s"));
-        };
-        lat_ns.push(at.duration_since(pressed).as_secs_f64() * 1e9);
+    /// The help says the longest move at the minimum speed takes about 90 s.
+    #[test]
+    fn slowest_longest_move_takes_about_90_s() {
+        let limits = parol6_core::limits::JointLimits::parol6();
+        let from: Vec<f64> = limits.iter().map(|l| l.min).collect();
+        let to: Vec<f64> = limits.iter().map(|l| l.max).collect();
+        let plan = parol6_core::profile::JointMove::parol6(&from, &to, MIN_MOVE_SPEED, ProfileKind::JerkLimited)
+            .expect("plan");
+        eprintln!("longest move at speed {MIN_MOVE_SPEED}: {:.1} s", plan.duration_s());
+        assert!((60.0..=120.0).contains(&plan.duration_s()), "{} s", plan.duration_s());
     }
-    let latency = NsStats::from_samples(&mut lat_ns);
-    let lat_max_ns = lat_ns.last().copied().unwrap_or(0.0);
-    let jitter_max_ns = dev_ns.last().copied().unwrap_or(0.0);
-    let s = session.snapshot();
-    print_json(&json!({
-        "bench": "serial",
-        "rate_hz": rate_hz,
-        "period_ms": period_s * 1e3,
-        "achieved_rate_hz": achieved_hz,
-        "frames": frames.len(),
-        "period_jitter": write_jitter.json(),
-        "period_jitter_p99_ms": write_jitter.p99_ns / 1e6,
-        "period_jitter_max_ms": write_jitter_max_ns / 1e6,
-        "received_period_jitter": jitter.json(),
-        "received_period_jitter_p99_ms": jitter.p99_ns / 1e6,
-        "received_period_jitter_max_ms": jitter_max_ns / 1e6,
-        "session_snapshot_jitter_p99_ms": session_jitter_p99_ms,
-        "jog_latency": latency.json(),
-        "jog_latency_max_ms": lat_max_ns / 1e6,
-        "jog_within_one_period": lat_max_ns <= period_s * 1e9,
-        "jitter_p99_within_1ms": write_jitter.p99_ns <= 1e6,
-        "missing_replies": s.missing_replies,
-        "invalid_frames": s.invalid_frames,
-        "jog_max_steps_s_j1": units::jog_max_speed_steps_s()[0],
-    }));
-    Ok(())
+
+    #[test]
+    fn enabled_is_known_after_homing() {
+        assert_eq!(enabled_known(None, &HomingState::NotRequested, false), (serde_json::Value::Null, "unknown"));
+        assert_eq!(enabled_known(None, &HomingState::Done, false), (json!(true), "homed"));
+        assert_eq!(enabled_known(None, &HomingState::Done, true), (serde_json::Value::Null, "unknown"));
+        assert_eq!(enabled_known(Some(false), &HomingState::Done, false), (json!(false), "commanded"));
+    }
 }

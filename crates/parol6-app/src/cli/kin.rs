@@ -1,79 +1,34 @@
 //! `parol6 fk`, `parol6 ik` and their benchmarks.
 
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::Instant;
 
 use parol6_core::ik::{self, NumericIkOptions};
-use parol6_core::{RobotModel, TcpPose, Tool};
+use parol6_core::{RobotModel, TcpPose};
 use rand::{Rng, SeedableRng};
 use serde_json::json;
 
 use super::bench::NsStats;
-use super::{CliError, CliResult, print_json};
-
-/// Robot selection shared by `fk` and `ik`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct RobotArgs {
-    /// URDF file of another robot (default: the embedded PAROL6).
-    #[arg(long, value_name = "PATH")]
-    pub urdf: Option<PathBuf>,
-    /// Tip link of the chain (default: the single leaf link).
-    #[arg(long, value_name = "LINK")]
-    pub tip: Option<String>,
-    /// Tool on the flange: none, pneumatic-vertical, pneumatic-horizontal, ssg48, msg, vacuum.
-    #[arg(long, value_name = "NAME")]
-    pub tool: Option<String>,
-}
-
-impl RobotArgs {
-    /// Loads the selected robot with its tool.
-    pub fn load(&self) -> Result<RobotModel, CliError> {
-        let mut model = match &self.urdf {
-            None => {
-                if let Some(t) = &self.tip
-                    && t != "L6"
-                {
-                    return Err(CliError::usage(format!(
-                        "tip link \"{t}\" does not exist in the embedded PAROL6 (its tip is L6)"
-                    )));
-                }
-                RobotModel::parol6()
-            }
-            Some(p) => RobotModel::from_urdf_file(p, self.tip.as_deref()).map_err(CliError::usage)?,
-        };
-        for w in &model.warnings {
-            eprintln!("warning: {w}");
-        }
-        if let Some(name) = &self.tool {
-            let tool = Tool::from_name(name).ok_or_else(|| {
-                let names: Vec<&str> = Tool::ALL.iter().map(|t| t.name()).collect();
-                CliError::usage(format!("unknown tool \"{name}\" (known: {})", names.join(", ")))
-            })?;
-            model.set_tool(tool);
-        }
-        Ok(model)
-    }
-}
+use super::options::RobotArgs;
+use super::{CliError, CliResult, print_json, warn};
 
 /// Arguments of `parol6 fk`.
 #[derive(Debug, clap::Args)]
 pub struct FkArgs {
-    /// Joint values J1,…,JN (rad, or degrees with --deg).
+    /// Joint values J1,…,JN, finite numbers (rad, or degrees with --deg); outside the joint
+    /// limits they are still computed, with a warning.
     #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
     pub joints: String,
     /// Joint values are in degrees.
     #[arg(long)]
     pub deg: bool,
-    #[command(flatten)]
-    pub robot: RobotArgs,
 }
 
 /// Arguments of `parol6 ik`.
 #[derive(Debug, clap::Args)]
 pub struct IkArgs {
-    /// Target TCP pose X,Y,Z,ROLL,PITCH,YAW (m and rad; see --mm and --deg). RPY is URDF's
-    /// R = Rz(yaw)·Ry(pitch)·Rx(roll).
+    /// Target TCP pose X,Y,Z,ROLL,PITCH,YAW, finite numbers (m and rad; see --mm and --deg).
+    /// RPY is URDF's R = Rz(yaw)·Ry(pitch)·Rx(roll).
     #[arg(long, value_name = "X,Y,Z,R,P,Y", allow_hyphen_values = true)]
     pub pose: String,
     /// Angles (pose RPY and seed) are in degrees.
@@ -82,14 +37,12 @@ pub struct IkArgs {
     /// Position is in millimetres.
     #[arg(long)]
     pub mm: bool,
-    /// Seed joint values (default: the PAROL6 standby pose, or mid-range for other robots).
+    /// Seed joint values, finite numbers (default: the PAROL6 standby pose, or mid-range for other robots).
     #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
     pub seed: Option<String>,
     /// Print every solution (every closed-form branch within the limits), best first.
     #[arg(long)]
     pub all: bool,
-    #[command(flatten)]
-    pub robot: RobotArgs,
 }
 
 /// Parses a comma-separated list of numbers, naming the offending field on error.
@@ -118,8 +71,8 @@ fn tcp_json(p: &TcpPose) -> serde_json::Value {
 }
 
 /// Runs `parol6 fk`.
-pub fn run_fk(a: &FkArgs) -> CliResult {
-    let model = a.robot.load()?;
+pub fn run_fk(a: &FkArgs, robot: &RobotArgs) -> CliResult {
+    let model = robot.load()?;
     let mut q = parse_list("--joints", &a.joints, Some(model.dof()))?;
     if a.deg {
         q.iter_mut().for_each(|v| *v = v.to_radians());
@@ -127,10 +80,9 @@ pub fn run_fk(a: &FkArgs) -> CliResult {
     let pose = model.fk(&q);
     let within = model.limits.check(&q);
     if let Err(e) = &within {
-        eprintln!("warning: {e}");
+        warn(e);
     }
-    print_json(&json!({"joints_rad": q, "within_limits": within.is_ok(), "tcp": tcp_json(&pose)}));
-    Ok(())
+    print_json(&json!({"joints_rad": q, "within_limits": within.is_ok(), "tcp": tcp_json(&pose)}))
 }
 
 /// Default IK seed: standby for the PAROL6, mid-range otherwise.
@@ -143,8 +95,8 @@ pub fn default_seed(model: &RobotModel) -> Vec<f64> {
 }
 
 /// Runs `parol6 ik`.
-pub fn run_ik(a: &IkArgs) -> CliResult {
-    let model = a.robot.load()?;
+pub fn run_ik(a: &IkArgs, robot: &RobotArgs) -> CliResult {
+    let model = robot.load()?;
     let p = parse_list("--pose", &a.pose, Some(6))?;
     let scale = if a.mm { 1e-3 } else { 1.0 };
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
@@ -156,7 +108,8 @@ pub fn run_ik(a: &IkArgs) -> CliResult {
         Some(s) => parse_list("--seed", s, Some(model.dof()))?.into_iter().map(ang).collect(),
         None => default_seed(&model),
     };
-    let mut sols = ik::solve(&model, &target, &seed).map_err(CliError::usage)?;
+    let mut sols =
+        ik::solve(&model, &target, &seed).map_err(|e| CliError::usage(format!("{e}{}", unit_hint(&p[..3], a.mm))))?;
     if !a.all {
         sols.truncate(1);
     }
@@ -172,8 +125,23 @@ pub fn run_ik(a: &IkArgs) -> CliResult {
             })
         })
         .collect();
-    print_json(&json!({"solver": solver, "solutions": list}));
-    Ok(())
+    print_json(&json!({"solver": solver, "solutions": list}))
+}
+
+/// Positions beyond this distance from the base, m, are taken for millimetres typed without
+/// `--mm` (no arm this program drives reaches that far).
+const MM_HINT_ABOVE_M: f64 = 2.0;
+
+/// A hint for an IK failure whose position looks like it was given in the other unit.
+fn unit_hint(position: &[f64], mm: bool) -> String {
+    let norm = position.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !mm && norm > MM_HINT_ABOVE_M && norm * 1e-3 <= MM_HINT_ABOVE_M {
+        format!(" (the position is {norm:.3} m from the base: did you mean --mm?)")
+    } else if mm && norm > 0.0 && norm < MM_HINT_ABOVE_M {
+        format!(" (the position is {norm:.3} mm from the base: did you mean metres, without --mm?)")
+    } else {
+        String::new()
+    }
 }
 
 fn random_in_limits(model: &RobotModel, rng: &mut impl Rng) -> Vec<f64> {
@@ -194,21 +162,21 @@ fn random_in_limits(model: &RobotModel, rng: &mut impl Rng) -> Vec<f64> {
 pub fn bench_fk(n: usize) -> CliResult {
     let model = RobotModel::parol6();
     let mut rng = rand::rngs::StdRng::seed_from_u64(1);
-    let qs: Vec<Vec<f64>> = (0..n.max(1)).map(|_| random_in_limits(&model, &mut rng)).collect();
-    for q in qs.iter().take(1000) {
-        black_box(model.tcp_isometry(black_box(q)));
+    for _ in 0..n.min(1000) {
+        black_box(model.tcp_isometry(black_box(&random_in_limits(&model, &mut rng))));
     }
-    let mut samples = Vec::with_capacity(qs.len());
-    for q in &qs {
+    // Configurations are drawn between the timed calls: no n-sized set of them in memory.
+    let mut samples = Vec::with_capacity(n);
+    for _ in 0..n {
+        let q = random_in_limits(&model, &mut rng);
         let t0 = Instant::now();
-        black_box(model.tcp_isometry(black_box(q)));
+        black_box(model.tcp_isometry(black_box(&q)));
         samples.push(t0.elapsed().as_nanos() as f64);
     }
     let s = NsStats::from_samples(&mut samples);
     let mut out = s.json();
     out["bench"] = json!("fk");
-    print_json(&out);
-    Ok(())
+    print_json(&out)
 }
 
 /// `parol6 bench ik`: both solvers on the same random reachable in-limit poses.
@@ -216,7 +184,7 @@ pub fn bench_ik(n: usize) -> CliResult {
     let model = RobotModel::parol6();
     let mut rng = rand::rngs::StdRng::seed_from_u64(2);
     let seed = parol6_core::parol6::standby_rad();
-    let targets: Vec<_> = (0..n.max(1)).map(|_| model.tcp_isometry(&random_in_limits(&model, &mut rng))).collect();
+    let targets: Vec<_> = (0..n).map(|_| model.tcp_isometry(&random_in_limits(&model, &mut rng))).collect();
     let opts = NumericIkOptions::default();
     let mut report = serde_json::Map::new();
     for solver in ["analytic", "numeric"] {
@@ -237,7 +205,7 @@ pub fn bench_ik(n: usize) -> CliResult {
                 }
             }
             if i % 20_000 == 19_999 {
-                eprintln!("bench ik {solver}: {}/{}", i + 1, targets.len());
+                super::output::progress(format_args!("bench ik {solver}: {}/{}", i + 1, targets.len()));
             }
         }
         let s = NsStats::from_samples(&mut samples);
@@ -249,6 +217,18 @@ pub fn bench_ik(n: usize) -> CliResult {
     out["bench"] = json!("ik");
     out["analytic"] = report.get("analytic").cloned().unwrap_or_default();
     out["numeric"] = report.get("numeric").cloned().unwrap_or_default();
-    print_json(&out);
-    Ok(())
+    print_json(&out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ik_position_in_mm_without_mm_gets_a_hint() {
+        assert!(unit_hint(&[200.0, 100.0, 300.0], false).contains("did you mean --mm?"));
+        assert!(unit_hint(&[0.2, 0.1, 0.3], true).contains("without --mm"));
+        assert_eq!(unit_hint(&[0.9, 0.0, 0.0], false), "");
+        assert_eq!(unit_hint(&[200.0, 100.0, 300.0], true), "");
+    }
 }

@@ -1,7 +1,11 @@
 //! The `parol6` command line (clap). Every subcommand prints JSON on stdout; errors are one
-//! line on stderr with a non-zero exit status (2 for bad or unsolvable input), never a panic.
+//! line on stderr, never a panic. Exit status: 0 success, 2 bad input or a refused request
+//! ([`EXIT_USAGE`]), 1 device or I/O failure. A closed stdout (`parol6 … | head`) ends the
+//! command quietly with status 0.
 //!
-//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller).
+//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
+//! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
+//! [`options`] (shared options and range checks), [`output`] (stdout/stderr).
 
 use std::process::ExitCode;
 
@@ -10,11 +14,16 @@ use clap::{Parser, Subcommand};
 pub mod bench;
 pub mod gui;
 pub mod hw;
+pub mod hw_bench;
 pub mod kin;
+pub mod options;
+pub mod output;
 pub mod render;
 pub mod sim;
 
-/// Exit status for bad or unsolvable input.
+pub use output::{print_json, warn};
+
+/// Exit status for bad or unsolvable input and refused requests.
 pub const EXIT_USAGE: u8 = 2;
 
 /// A command-line failure: printed as one line on stderr, mapped to an exit status.
@@ -22,12 +31,12 @@ pub const EXIT_USAGE: u8 = 2;
 pub struct CliError {
     /// Process exit status.
     pub status: u8,
-    /// The one-line message.
+    /// The one-line message (empty: print nothing).
     pub message: String,
 }
 
 impl CliError {
-    /// Bad or unsolvable input (exit status 2).
+    /// Bad or unsolvable input, or a refused request (exit status 2).
     pub fn usage(message: impl std::fmt::Display) -> Self {
         Self { status: EXIT_USAGE, message: message.to_string() }
     }
@@ -35,6 +44,11 @@ impl CliError {
     /// A runtime failure such as an I/O or device error (exit status 1).
     pub fn runtime(message: impl std::fmt::Display) -> Self {
         Self { status: 1, message: message.to_string() }
+    }
+
+    /// Stdout was closed by the reader: end quietly with status 0.
+    pub fn stdout_closed() -> Self {
+        Self { status: 0, message: String::new() }
     }
 }
 
@@ -49,13 +63,17 @@ pub type CliResult = Result<(), CliError>;
 
 #[derive(Debug, Parser)]
 #[command(name = "parol6", version, about = "PAROL6 Studio: simulate, visualise and jog the PAROL6 arm")]
-#[command(args_conflicts_with_subcommands = true)]
+#[command(after_help = "Without a subcommand, opens the window. Options marked global may be given before or \
+                        after the subcommand. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure.")]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Window options, used when no subcommand is given (the GUI).
+    /// Robot selection (global).
     #[command(flatten)]
-    pub gui: gui::GuiArgs,
+    pub robot: options::RobotArgs,
+    /// Controller connection (global).
+    #[command(flatten)]
+    pub connect: options::ConnectArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -74,9 +92,43 @@ pub enum Command {
     Dynamics(sim::DynamicsArgs),
 }
 
-/// Prints `value` as one line of JSON on stdout.
-pub fn print_json(value: &serde_json::Value) {
-    println!("{value}");
+impl Cli {
+    /// The subcommand's name as typed (`"bench fk"`), for messages.
+    fn command_name(&self) -> String {
+        match &self.command {
+            None => "parol6 (the window)".into(),
+            Some(Command::Fk(_)) => "fk".into(),
+            Some(Command::Ik(_)) => "ik".into(),
+            Some(Command::Dynamics(_)) => "dynamics".into(),
+            Some(Command::Screenshot(_)) => "screenshot".into(),
+            Some(Command::Bench(b)) => format!("bench {}", b.target.name()),
+            Some(Command::Hw(h)) => format!("hw {}", h.command.name()),
+        }
+    }
+
+    /// Refuses global options the chosen subcommand does not use (they would be ignored).
+    pub fn check_global_options(&self) -> CliResult {
+        let uses_robot = match &self.command {
+            None | Some(Command::Fk(_) | Command::Ik(_) | Command::Dynamics(_) | Command::Screenshot(_)) => true,
+            Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
+            Some(Command::Hw(_)) => false,
+        };
+        let uses_connection = match &self.command {
+            None => true,
+            Some(Command::Hw(h)) => h.command.talks_to_controller(),
+            Some(_) => false,
+        };
+        let unused = [
+            (!uses_robot).then(|| self.robot.first_given()).flatten(),
+            (!uses_connection).then(|| self.connect.first_given()).flatten(),
+        ];
+        match unused.into_iter().flatten().next() {
+            Some(option) => {
+                Err(CliError::usage(format!("{option} does not apply to `parol6 {}`", self.command_name())))
+            }
+            None => Ok(()),
+        }
+    }
 }
 
 /// Entry point used by `main.rs`.
@@ -88,20 +140,32 @@ pub fn main() -> ExitCode {
             return if e.use_stderr() { ExitCode::from(EXIT_USAGE) } else { ExitCode::SUCCESS };
         }
     };
-    let result = match cli.command {
-        None => gui::run(&cli.gui),
-        Some(Command::Fk(a)) => kin::run_fk(&a),
-        Some(Command::Ik(a)) => kin::run_ik(&a),
-        Some(Command::Bench(a)) => bench::run(&a),
-        Some(Command::Hw(a)) => hw::run(&a),
-        Some(Command::Screenshot(a)) => render::run_screenshot(&a),
-        Some(Command::Dynamics(a)) => sim::run_dynamics(&a),
-    };
+    let headless_gpu = matches!(
+        &cli.command,
+        Some(Command::Screenshot(_)) | Some(Command::Bench(bench::BenchArgs { target: bench::BenchTarget::Render(_) }))
+    );
+    // Before any thread exists (it sets an environment variable).
+    let _runtime_dir = if headless_gpu { output::PrivateRuntimeDir::ensure() } else { None };
+    let result = cli.check_global_options().and_then(|()| run(&cli));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", e.message);
+            if !e.message.is_empty() {
+                output::error_line(&e.message);
+            }
             ExitCode::from(e.status)
         }
+    }
+}
+
+fn run(cli: &Cli) -> CliResult {
+    match &cli.command {
+        None => gui::run(&cli.robot, &cli.connect),
+        Some(Command::Fk(a)) => kin::run_fk(a, &cli.robot),
+        Some(Command::Ik(a)) => kin::run_ik(a, &cli.robot),
+        Some(Command::Bench(a)) => bench::run(a, &cli.robot),
+        Some(Command::Hw(a)) => hw::run(a, &cli.connect),
+        Some(Command::Screenshot(a)) => render::run_screenshot(a, &cli.robot),
+        Some(Command::Dynamics(a)) => sim::run_dynamics(a, &cli.robot),
     }
 }

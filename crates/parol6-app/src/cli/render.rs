@@ -1,38 +1,38 @@
 //! `parol6 screenshot`: renders the robot with no window and no display.
 
-use std::path::PathBuf;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use serde_json::json;
 
-use super::kin::{RobotArgs, default_seed, parse_list};
-use super::{CliError, CliResult, print_json};
+use super::kin::{default_seed, parse_list};
+use super::options::RobotArgs;
+use super::{CliError, CliResult, print_json, warn};
+use crate::ui_screenshot::HeadlessApp;
 use crate::viewport::{OffscreenRenderer, SceneFrame, ViewportOptions, write_png};
 
 /// Arguments of `parol6 screenshot`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct ScreenshotArgs {
-    /// Output PNG file.
+    /// Output PNG file (a file name: "-" is refused, stdout carries the JSON report).
     #[arg(value_name = "OUT.png")]
     pub out: PathBuf,
-    /// Joint values J1,…,JN (rad, or degrees with --deg; default: the standby pose, or
+    /// Joint values J1,…,JN, finite numbers (rad, or degrees with --deg; default: the standby pose, or
     /// mid-range for other robots).
     #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
     pub joints: Option<String>,
     /// Joint values are in degrees.
     #[arg(long)]
     pub deg: bool,
-    /// Image size WIDTHxHEIGHT in pixels.
+    /// Image size WIDTHxHEIGHT in pixels, each side 1–16384.
     #[arg(long, value_name = "WxH", default_value = "1280x800")]
     pub size: String,
     /// Render the whole window layout (panels and 3D view), not only the 3D view.
     #[arg(long)]
     pub ui: bool,
-    /// Render this many frames and report the median time per frame (a benchmark).
-    #[arg(long, value_name = "N", default_value_t = 1)]
-    pub repeat: usize,
-    #[command(flatten)]
-    pub robot: RobotArgs,
+    /// Render this many frames and report the median time per frame (a benchmark), 1–10 000.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    pub repeat: u64,
 }
 
 impl ScreenshotArgs {
@@ -41,9 +41,21 @@ impl ScreenshotArgs {
         parse_size(&self.size)
     }
 
+    /// The output path, refused when it is not a file name.
+    pub fn out_path(&self) -> Result<&Path, CliError> {
+        let text = self.out.as_os_str();
+        if text == "-" {
+            return Err(CliError::usage("OUT.png: \"-\" is refused: stdout carries the JSON report; give a file name"));
+        }
+        if text.is_empty() || self.out.is_dir() {
+            return Err(CliError::usage(format!("OUT.png: \"{}\" is not a file name", self.out.display())));
+        }
+        Ok(&self.out)
+    }
+
     /// The robot and the joint values (rad) selected by the arguments.
-    pub fn robot_and_joints(&self) -> Result<(parol6_core::RobotModel, Vec<f64>), CliError> {
-        let model = self.robot.load()?;
+    pub fn robot_and_joints(&self, robot: &RobotArgs) -> Result<(parol6_core::RobotModel, Vec<f64>), CliError> {
+        let model = robot.load()?;
         let q = match &self.joints {
             Some(s) => {
                 let mut q = parse_list("--joints", s, Some(model.dof()))?;
@@ -71,38 +83,39 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), CliError> {
     Ok((w, h))
 }
 
-/// Runs `parol6 screenshot` (the 3D-only path; `--ui` goes to [`crate::ui_screenshot`]).
-pub fn run_screenshot(a: &ScreenshotArgs) -> CliResult {
+/// Runs `parol6 screenshot`: the 3D view alone, or with `--ui` the whole window layout.
+pub fn run_screenshot(a: &ScreenshotArgs, robot: &RobotArgs) -> CliResult {
+    let out = a.out_path()?;
     if a.ui {
-        return crate::ui_screenshot::run(a);
+        return run_ui_screenshot(a, out, robot);
     }
     let (w, h) = a.size_px()?;
-    let (model, q) = a.robot_and_joints()?;
+    let (model, q) = a.robot_and_joints(robot)?;
     if let Err(e) = model.limits.check(&q) {
-        eprintln!("warning: {e}");
+        warn(e);
     }
     let t0 = Instant::now();
     let mut r = OffscreenRenderer::new(&model, w, h).map_err(CliError::runtime)?;
     for warning in r.warnings() {
-        eprintln!("warning: {warning}");
+        warn(warning);
     }
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
     let scene = SceneFrame::from_joints(&model, &q, None);
     let options = ViewportOptions::default();
     let mut img = None;
-    let mut frame_ms = Vec::with_capacity(a.repeat.max(1));
+    let mut frame_ms = Vec::new();
     for _ in 0..a.repeat.max(1) {
         let t1 = Instant::now();
         img = Some(r.render(&scene, &options).map_err(CliError::runtime)?);
         frame_ms.push(t1.elapsed().as_secs_f64() * 1e3);
     }
-    let first_ms = frame_ms[0];
+    let first_ms = frame_ms.first().copied().unwrap_or(0.0);
     frame_ms.sort_by(f64::total_cmp);
-    let ms = frame_ms[frame_ms.len() / 2];
+    let ms = frame_ms.get(frame_ms.len() / 2).copied().unwrap_or(0.0);
     let img = img.ok_or_else(|| CliError::runtime("nothing was rendered"))?;
-    write_png(&a.out, &img).map_err(CliError::runtime)?;
+    write_png(out, &img).map_err(CliError::runtime)?;
     print_json(&json!({
-        "path": a.out.display().to_string(),
+        "path": out.display().to_string(),
         "width": img.width,
         "height": img.height,
         "adapter": r.adapter_info(),
@@ -112,8 +125,54 @@ pub fn run_screenshot(a: &ScreenshotArgs) -> CliResult {
         "msaa": r.sample_count(),
         "setup_ms": setup_ms,
         "joints_rad": q,
-    }));
-    Ok(())
+    }))
+}
+
+/// `parol6 screenshot --ui`: the whole window layout at the given joints.
+fn run_ui_screenshot(args: &ScreenshotArgs, out: &Path, robot: &RobotArgs) -> CliResult {
+    let (w, h) = args.size_px()?;
+    let (model, q) = args.robot_and_joints(robot)?;
+    if let Err(e) = model.limits.check(&q) {
+        return Err(CliError::usage(format!("--joints: {e}")));
+    }
+    let t0 = Instant::now();
+    let mut headless = HeadlessApp::new(model, w, h).map_err(CliError::from)?;
+    headless.app.teleport(q.clone()).map_err(CliError::from)?;
+    // Let the simulation take the pose, then let egui settle its layout (a few passes).
+    let refusals_before = headless.app.sim().snapshot().last_error.as_ref().map(|(id, _)| *id);
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        let s = headless.app.sim().snapshot();
+        if s.q.iter().zip(&q).all(|(a, b)| (a - b).abs() < 1e-3) {
+            break;
+        }
+        // the simulation refuses poses that collide (with itself or the ground)
+        if let Some((id, msg)) = &s.last_error
+            && Some(*id) != refusals_before
+        {
+            return Err(CliError::usage(format!("--joints: the simulation refused the pose: {msg}")));
+        }
+        if Instant::now() > deadline {
+            return Err(CliError::runtime("the simulation did not take the requested pose within 5 s"));
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let mut last = None;
+    for _ in 0..4 {
+        last = Some(headless.frame().map_err(CliError::from)?);
+    }
+    let (img, timing) = last.ok_or_else(|| CliError::runtime("no frame rendered"))?;
+    write_png(out, &img).map_err(CliError::runtime)?;
+    print_json(&json!({
+        "path": out.display().to_string(),
+        "width": img.width,
+        "height": img.height,
+        "ui": true,
+        "adapter": headless.adapter_info(),
+        "ms": timing.frame_ms,
+        "total_ms": t0.elapsed().as_secs_f64() * 1e3,
+        "joints_rad": q,
+    }))
 }
 
 #[cfg(test)]

@@ -9,31 +9,30 @@ use parol6_core::sim::{InverseDynamics, SimCommand, SimConfig, SimError, SimHand
 use serde_json::json;
 
 use super::bench::NsStats;
-use super::kin::{RobotArgs, parse_list};
-use super::{CliError, CliResult, print_json};
+use super::kin::parse_list;
+use super::options::RobotArgs;
+use super::{CliError, CliResult, print_json, warn};
 
 /// Arguments of `parol6 dynamics`.
 #[derive(Debug, clap::Args)]
 pub struct DynamicsArgs {
-    /// Joint positions J1,…,JN (rad, or degrees with --deg).
+    /// Joint positions J1,…,JN, finite numbers (rad, or degrees with --deg).
     #[arg(long, value_name = "J1,J2,…", allow_hyphen_values = true)]
     pub joints: String,
-    /// Joint velocities (rad/s, or °/s with --deg); default all 0.
+    /// Joint velocities, finite numbers (rad/s, or °/s with --deg); default all 0.
     #[arg(long, value_name = "V1,V2,…", allow_hyphen_values = true)]
     pub velocities: Option<String>,
-    /// Joint accelerations (rad/s², or °/s² with --deg); default all 0.
+    /// Joint accelerations, finite numbers (rad/s², or °/s² with --deg); default all 0.
     #[arg(long, value_name = "A1,A2,…", allow_hyphen_values = true)]
     pub accelerations: Option<String>,
     /// Angles, velocities and accelerations are in degrees.
     #[arg(long)]
     pub deg: bool,
-    #[command(flatten)]
-    pub robot: RobotArgs,
 }
 
 /// Runs `parol6 dynamics`: the joint torques (gravity + inertial + Coriolis) the motion needs.
-pub fn run_dynamics(a: &DynamicsArgs) -> CliResult {
-    let model = a.robot.load()?;
+pub fn run_dynamics(a: &DynamicsArgs, robot: &RobotArgs) -> CliResult {
+    let model = robot.load()?;
     let n = model.dof();
     let conv = |v: Vec<f64>| -> Vec<f64> { if a.deg { v.into_iter().map(f64::to_radians).collect() } else { v } };
     let q = conv(parse_list("--joints", &a.joints, Some(n))?);
@@ -47,7 +46,7 @@ pub fn run_dynamics(a: &DynamicsArgs) -> CliResult {
     };
     let within = model.limits.check(&q);
     if let Err(e) = &within {
-        eprintln!("warning: {e}");
+        warn(e);
     }
     let t = InverseDynamics::new(&model).compute(&model, &q, &qd, &qdd).map_err(CliError::usage)?;
     print_json(&json!({
@@ -60,8 +59,7 @@ pub fn run_dynamics(a: &DynamicsArgs) -> CliResult {
         "gravity_nm": t.gravity_nm,
         "inertial_coriolis_nm": t.inertial_coriolis_nm,
         "gravity_m_s2": parol6_core::sim::multibody::GRAVITY_M_S2,
-    }));
-    Ok(())
+    }))
 }
 
 fn sim_error(e: SimError) -> CliError {
@@ -76,8 +74,8 @@ fn bench_poses() -> (Vec<f64>, Vec<f64>) {
 /// `parol6 bench physics`: wall time of [`Simulation::step`] (dynamic mode, colliders, the arm
 /// moving back and forth), then the CPU share of the 1 kHz real-time thread over `cpu_seconds`.
 pub fn bench_physics(n: usize, cpu_seconds: f64) -> CliResult {
-    if n == 0 || !(cpu_seconds.is_finite() && cpu_seconds >= 0.0) {
-        return Err(CliError::usage("--n must be > 0 and --cpu-seconds a number ≥ 0"));
+    if n == 0 || !(cpu_seconds.is_finite() && (0.0..=600.0).contains(&cpu_seconds)) {
+        return Err(CliError::usage("--n must be > 0 and --cpu-seconds within 0–600"));
     }
     let model = parol6_core::RobotModel::parol6();
     let config = SimConfig { mode: SimMode::Dynamic, ..SimConfig::default() };
@@ -149,15 +147,17 @@ pub fn bench_physics(n: usize, cpu_seconds: f64) -> CliResult {
         "mean_ns": stats.mean_ns,
         "n": stats.n,
         "realtime_thread": cpu,
-    }));
-    Ok(())
+    }))
 }
+
+/// Largest `--interval-us` of `bench latency` (the command line refuses more).
+pub const MAX_INTERVAL_US: u64 = 100_000;
 
 /// `parol6 bench latency`: with the 1 kHz thread running, another thread sends `n` jog targets
 /// (one every `interval_us` on average, jittered); command creation → applied on the sim thread.
 pub fn bench_latency(n: usize, interval_us: u64) -> CliResult {
-    if n == 0 {
-        return Err(CliError::usage("--n must be > 0"));
+    if n == 0 || interval_us > MAX_INTERVAL_US {
+        return Err(CliError::usage(format!("--n must be > 0 and --interval-us within 0–{MAX_INTERVAL_US}")));
     }
     let model = parol6_core::RobotModel::parol6();
     let config = SimConfig { mode: SimMode::Dynamic, ..SimConfig::default() };
@@ -186,7 +186,7 @@ pub fn bench_latency(n: usize, interval_us: u64) -> CliResult {
                     }
                 }
                 // jittered spacing: 0.5–1.5 × interval
-                let jitter = interval_us / 2 + (i as u64 * 7919) % (interval_us + 1);
+                let jitter = interval_us / 2 + (i as u64).wrapping_mul(7919) % (interval_us + 1);
                 std::thread::sleep(Duration::from_micros(jitter));
             }
             Ok(rejected_full)
@@ -222,6 +222,5 @@ pub fn bench_latency(n: usize, interval_us: u64) -> CliResult {
         "sim_overruns": s.overruns,
         "sim_thread_cpu_percent": s.cpu_fraction().map(|f| f * 100.0),
         "step_rate_hz": snap.step_rate_hz,
-    }));
-    Ok(())
+    }))
 }

@@ -4,7 +4,8 @@
 //! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones with
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
-//! the PAROL6 facts of the reference pack ([`parol6`]).
+//! the PAROL6 facts of the reference pack ([`parol6`]), and the size / nesting bounds every URDF
+//! text passes before parsing ([`urdf_input`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -18,6 +19,7 @@ pub mod model;
 pub mod parol6;
 pub mod profile;
 pub mod sim;
+pub mod urdf_input;
 
 pub use ik::{IkError, IkSolution};
 pub use kinematics::{Manipulability, TcpPose};

@@ -1,5 +1,8 @@
 //! Helpers shared by the cross-crate integration tests: locating the reference pack
-//! `../shared/parol6` beside the repository.
+//! `../shared/parol6` beside the repository, and the bodies of the fuzz targets
+//! ([`fuzz_bodies`]), shared by `fuzz/` and the stable corpus replay test.
+
+pub mod fuzz_bodies;
 
 use std::path::PathBuf;
 

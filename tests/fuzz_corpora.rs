@@ -32,6 +32,7 @@ fn replay(kind: &str) -> usize {
             total += 1;
         }
     }
+    println!("{kind}: {total} inputs replayed");
     total
 }
 

@@ -1,6 +1,9 @@
 //! Helpers shared by the cross-crate integration tests: locating the reference pack
-//! `../shared/parol6` beside the repository, and a fault-injecting serial peer
+//! `../shared/parol6` beside the repository, the bodies of the fuzz targets ([`fuzz_bodies`]),
+//! shared by `fuzz/` and the stable corpus replay test, and a fault-injecting serial peer
 //! ([`fault_peer`]) for the adversarial session tests.
+
+pub mod fuzz_bodies;
 
 use std::path::PathBuf;
 

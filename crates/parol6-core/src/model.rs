@@ -90,6 +90,9 @@ pub enum ModelError {
     /// A joint axis is zero or not finite.
     #[error("joint \"{0}\" has a zero or invalid axis")]
     InvalidAxis(String),
+    /// The text is too large or nests too deep to parse safely (checked before parsing).
+    #[error(transparent)]
+    InputRefused(#[from] crate::urdf_input::UrdfInputError),
     /// A mesh file could not be found. Reported in [`RobotModel::warnings`]; kinematics still load.
     #[error("link \"{link}\": mesh \"{uri}\" not found (resolved to {})", .resolved.display())]
     MeshNotFound {
@@ -284,6 +287,7 @@ impl RobotModel {
 
     /// Loads a URDF from text.
     pub fn from_urdf_str(xml: &str, opts: &LoadOptions) -> Result<Self, ModelError> {
+        crate::urdf_input::check_urdf_input(xml)?;
         if !xml.contains("<robot") {
             return Err(ModelError::NotUrdf("no <robot> element".into()));
         }

@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Writes the hand-made fuzz seeds into fuzz/seeds/<target>/ (run from the repository root).
+
+Seeds are our own text and frames (the embedded PAROL6 URDF is copied from assets/); the
+reference pack's official URDFs are never copied here.
+"""
+import os
+import shutil
+import struct
+
+ROOT = os.path.dirname(os.path.abspath(__file__))
+
+
+def i24(v):
+    return (v & 0xFFFFFF).to_bytes(3, "big")
+
+
+def command(code, positions=(0,) * 6, speeds=(0,) * 6, io=0, knob=0, gripper=(0, 0, 0, 0, 0, 0), length=52):
+    payload = b"".join(i24(p) for p in positions) + b"".join(i24(s) for s in speeds)
+    payload += bytes([code, 0x3F, io, knob])
+    payload += struct.pack(">hhhBBB", *gripper)
+    payload += bytes([0xE4])
+    body = payload + bytes(max(0, length - 2 - len(payload)))
+    body = body[: length - 2] + b"\x01\x02"
+    return b"\xff\xff\xff" + bytes([length]) + body
+
+
+def write(target, name, data):
+    d = os.path.join(ROOT, target)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+IDLE, HOME, ENABLE, DISABLE, CLEAR, JOG, MOVE = 255, 100, 101, 102, 103, 123, 156
+STANDBY = (10240, -32000, 57905, 0, 0, 32000)
+
+# --- command_emulator: host -> controller streams -------------------------------------------
+write("command_emulator", "enable_home_idle", command(ENABLE, knob=5) + command(HOME, knob=0x3F) + command(IDLE, knob=0x3F) * 4)
+write("command_emulator", "jog_then_disable", command(ENABLE) + command(JOG, speeds=(1000, -2000, 50000, -60000, 0, 7), knob=10) + command(DISABLE, knob=10) + command(JOG, speeds=(1000,) * 6, knob=10))
+write("command_emulator", "move_stream", b"".join(command(MOVE, positions=tuple(p + 50 * k for p in STANDBY), speeds=(500,) * 6, knob=3) for k in range(5)))
+write("command_emulator", "outputs_gripper_estop", command(IDLE, io=0x30, knob=0x80, gripper=(120, 50, 300, 0x80, 0, 0)) + command(IDLE, io=0x20, knob=0x40, gripper=(0, 0, 0, 0, 1, 0)))
+write("command_emulator", "unknown_codes_and_noise", b"\x00\xff\xff" + command(69, knob=2) + command(200) + b"\xff\xff\xff\x00" + command(CLEAR, length=60) + command(IDLE, length=10) + b"\xff\xff\xff\x05abc\x01\x02")
+write("command_emulator", "extremes", command(MOVE, positions=(8388607, -8388608, 0, 1, -1, 4096), speeds=(-8388608, 8388607, 0, 0, 0, 0), knob=0x3F) + command(IDLE, speeds=(8388607,) * 6, knob=0x3F))
+
+# --- status_parser: controller -> host bytes (seeded with command frames and status-like frames)
+status = b"\xff\xff\xff\x38" + bytes(range(52)) + b"\xd4\x01\x02"
+write("status_parser", "status_like", status * 2)
+write("status_parser", "noise_then_status", b"\x01\x02\xff\xff" + status[:30] + status)
+
+# --- urdf_loader: our own small URDFs, valid and broken ---------------------------------------
+os.makedirs(os.path.join(ROOT, "urdf_loader"), exist_ok=True)
+shutil.copy(os.path.join(ROOT, "..", "..", "assets", "parol6", "parol6.urdf"), os.path.join(ROOT, "urdf_loader", "parol6_embedded.urdf"))
+
+
+def link(name, body=""):
+    return f'<link name="{name}">{body}</link>'
+
+
+def joint(name, kind, parent, child, xyz="0 0 0.1", rpy="0 0 0", axis="0 0 1", limit='<limit lower="-1" upper="1" effort="1" velocity="1"/>'):
+    return f'<joint name="{name}" type="{kind}"><origin xyz="{xyz}" rpy="{rpy}"/><parent link="{parent}"/><child link="{child}"/><axis xyz="{axis}"/>{limit}</joint>'
+
+
+inertial = '<inertial><origin xyz="0 0 0.05"/><mass value="0.5"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>'
+shapes = [
+    '<box size="0.05 0.05 0.1"/>',
+    '<cylinder radius="0.03" length="0.1"/>',
+    '<sphere radius="0.04"/>',
+    '<capsule radius="0.02" length="0.08"/>',
+]
+
+
+def geo(shape, z="0.05"):
+    return f'<visual><origin xyz="0 0 {z}"/><geometry>{shape}</geometry><material name="m"><color rgba="1 0 0 1"/></material></visual><collision><origin xyz="0 0 {z}"/><geometry>{shape}</geometry></collision>'
+
+
+one = f'<robot name="one">{link("base", inertial + geo(shapes[0]))}{link("tip", inertial + geo(shapes[2]))}{joint("j1", "revolute", "base", "tip")}</robot>'
+write("urdf_loader", "one_joint.urdf", one)
+
+six_links = "".join(link(f"l{i}", inertial + geo(shapes[i % 4])) for i in range(7))
+six_joints = "".join(
+    joint(f"j{i}", "revolute", f"l{i - 1}", f"l{i}", xyz=f"0 {0.02 * (i % 2)} 0.12", rpy=f"{1.5708 * (i % 2)} 0 0", axis="0 0 1" if i % 2 else "0 1 0")
+    for i in range(1, 7)
+)
+write("urdf_loader", "six_dof_primitives.urdf", f'<?xml version="1.0"?>\n<robot name="six">{six_links}{six_joints}</robot>')
+
+mixed = (
+    '<robot name="mixed" version="1.1">'
+    + link("world")
+    + link("base", geo(shapes[1]))
+    + link("slider", inertial + geo(shapes[0]))
+    + link("spinner", inertial + geo(shapes[3]))
+    + link("flange")
+    + joint("fix", "fixed", "world", "base", limit="")
+    + '<joint name="p" type="prismatic"><origin xyz="0 0 0.1" quat_xyzw="0 0 0.7071068 0.7071068"/><parent link="base"/><child link="slider"/><axis xyz="1 0 0"/><limit lower="0" upper="0.3" effort="10" velocity="0.2"/></joint>'
+    + joint("c", "continuous", "slider", "spinner", axis="0 0 1", limit="")
+    + joint("tipfix", "fixed", "spinner", "flange", xyz="0 0 0.05", limit="")
+    + '<disable_collisions link1="base" link2="spinner" reason="Never"/>'
+    + "</robot>"
+)
+write("urdf_loader", "prismatic_continuous_fixed.urdf", mixed)
+MESH = '<mesh filename="package://nothere/meshes/a.stl" scale="0.001 0.001 0.001"/>'
+write("urdf_loader", "mesh_missing.urdf", f'<robot name="m">{link("a", geo(MESH))}{link("b")}{joint("j", "revolute", "a", "b")}</robot>')
+write("urdf_loader", "xml_constructs.urdf", '<?xml version="1.0"?>\n<!DOCTYPE robot [ <!ENTITY x "y"> ]>\n<robot name="q&lt;&quot;">\n<!-- <a><b> -->\n' + link("a", "<![CDATA[<x>]]>") + link("b") + joint("j", "revolute", "a", "b") + "<?pi data?></robot>")
+write("urdf_loader", "broken_cycle.urdf", f'<robot name="c">{link("a")}{link("b")}{joint("j1", "revolute", "a", "b")}{joint("j2", "revolute", "b", "a")}</robot>')
+write("urdf_loader", "broken_missing_link.urdf", f'<robot name="m">{link("a")}{joint("j1", "revolute", "a", "ghost")}</robot>')
+BAD_LIMIT = '<limit lower="2" upper="-2" effort="1" velocity="1"/>'
+write("urdf_loader", "broken_limits_axis.urdf", f'<robot name="l">{link("a")}{link("b")}{link("c")}{joint("j1", "revolute", "a", "b", limit=BAD_LIMIT)}{joint("j2", "revolute", "b", "c", axis="0 0 0")}</robot>')
+write("urdf_loader", "broken_truncated.urdf", one[: len(one) // 2])
+write("urdf_loader", "nested_too_deep.urdf", '<robot name="d">' + "<a>" * 70 + "</a>" * 70 + "</robot>")
+write("urdf_loader", "not_xml.txt", "this is not a robot < > & \x00")

@@ -5,8 +5,8 @@
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
-//! planner, the [`motion::RobotBackend`] trait), and the PAROL6 facts of the reference pack
-//! ([`parol6`]).
+//! planner, the [`motion::RobotBackend`] trait), the PAROL6 facts of the reference pack
+//! ([`parol6`]), and sample statistics with one percentile rule ([`stats`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -21,6 +21,7 @@ pub mod motion;
 pub mod parol6;
 pub mod profile;
 pub mod sim;
+pub mod stats;
 
 pub use ik::{IkError, IkSolution};
 pub use kinematics::{Manipulability, TcpPose};

@@ -1,5 +1,5 @@
 //! Recognises the PAROL6 kinematic chain (ROBOT.md §6.1) in a loaded model, so the closed-form
-//! IK ([`crate::ik::solve_parol6`]) can be used for it.
+//! IK (`ik::solve_parol6`) can be used for it.
 
 use std::f64::consts::PI;
 

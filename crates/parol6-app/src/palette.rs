@@ -68,3 +68,86 @@ pub const ERROR_TEXT: [u8; 3] = [255, 80, 80];
 // ---------------------------------------------------------------------------------------------
 // 3D view: background, grid, robot, ghost, trail, frames, overlays
 // ---------------------------------------------------------------------------------------------
+
+/// sRGB channel (0…1) → linear light, the exact piecewise sRGB curve.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// sRGB bytes → sRGB floats 0…1 (still sRGB-encoded).
+pub fn srgb_unit(c: [u8; 3]) -> [f32; 3] {
+    c.map(|v| f32::from(v) / 255.0)
+}
+
+/// sRGB bytes → linear RGB floats, for the GPU.
+pub fn linear_rgb(c: [u8; 3]) -> [f32; 3] {
+    srgb_unit(c).map(srgb_to_linear)
+}
+
+/// sRGB bytes + opacity byte → sRGB floats 0…1 (still sRGB-encoded, alpha as 0…1).
+pub fn srgb_rgba_unit(c: [u8; 4]) -> [f32; 4] {
+    c.map(|v| f32::from(v) / 255.0)
+}
+
+/// sRGB bytes + opacity byte → linear RGBA floats (alpha as 0…1, not encoded), for the GPU.
+pub fn linear_rgba(c: [u8; 4]) -> [f32; 4] {
+    let [r, g, b] = linear_rgb([c[0], c[1], c[2]]);
+    [r, g, b, f32::from(c[3]) / 255.0]
+}
+
+/// Background of the 3D view (also the clear colour of offscreen renders).
+pub const VIEW_BACKGROUND: [u8; 3] = [38, 42, 50];
+/// Thin grid lines (every 0.1 m), with their opacity.
+pub const VIEW_GRID_MINOR: [u8; 4] = [107, 115, 128, 115];
+/// Bold grid lines (every 0.5 m), with their opacity.
+pub const VIEW_GRID_MAJOR: [u8; 4] = [158, 166, 179, 191];
+/// Grid line along the world +X axis.
+pub const VIEW_GRID_AXIS_X: [u8; 4] = [242, 64, 51, 255];
+/// Grid line along the world +Y axis.
+pub const VIEW_GRID_AXIS_Y: [u8; 4] = [77, 230, 77, 255];
+/// Robot links whose URDF gives no material colour.
+pub const VIEW_ROBOT_DEFAULT: [u8; 4] = [191, 191, 191, 255];
+/// Placeholder cube shown where a mesh file could not be loaded (loud on purpose).
+pub const VIEW_MESH_PLACEHOLDER: [u8; 4] = [255, 0, 217, 255];
+/// Ghost (target pose) tint; drawn translucent, see [`VIEW_GHOST_OPACITY`].
+pub const VIEW_GHOST: [u8; 3] = [115, 204, 255];
+/// How much of the ghost's own colour the ghost tint replaces (0…1).
+pub const VIEW_GHOST_TINT_STRENGTH: f32 = 0.85;
+/// Opacity of the ghost links (0…1).
+pub const VIEW_GHOST_OPACITY: f32 = 0.33;
+/// Collision-geometry overlay.
+pub const VIEW_COLLISION: [u8; 3] = [255, 140, 26];
+/// Opacity of the collision overlay (0…1).
+pub const VIEW_COLLISION_OPACITY: f32 = 0.4;
+/// TCP trail; the newest point has [`VIEW_TRAIL_OPACITY`], older ones fade out.
+pub const VIEW_TRAIL: [u8; 3] = [255, 217, 51];
+/// Opacity of the newest trail point (0…1).
+pub const VIEW_TRAIL_OPACITY: f32 = 0.95;
+/// Frame axes (TCP and link frames): X arrow.
+pub const VIEW_FRAME_AXIS_X: [u8; 3] = [230, 26, 26];
+/// Frame axes: Y arrow.
+pub const VIEW_FRAME_AXIS_Y: [u8; 3] = [26, 204, 38];
+/// Frame axes: Z arrow.
+pub const VIEW_FRAME_AXIS_Z: [u8; 3] = [38, 77, 255];
+/// Dot marking a link origin when link names are shown.
+pub const VIEW_LINK_LABEL_DOT: [u8; 3] = [255, 220, 80];
+/// Link name labels.
+pub const VIEW_LINK_LABEL_TEXT: [u8; 3] = [255, 235, 150];
+/// Hint text drawn over the 3D view (grid legend).
+pub const VIEW_HINT_TEXT: [u8; 3] = [170, 170, 170];
+/// Warning text drawn over the 3D view (mesh problems).
+pub const VIEW_WARNING_TEXT: [u8; 3] = [255, 176, 0];
+
+#[cfg(test)]
+mod view_colour_tests {
+    use super::*;
+
+    #[test]
+    fn srgb_conversion_end_points_and_mid_grey() {
+        assert_eq!(linear_rgb([0, 0, 0]), [0.0; 3]);
+        assert!(linear_rgb([255, 255, 255]).iter().all(|v| (v - 1.0).abs() < 1e-6));
+        // sRGB 188 is about 50 % linear light
+        assert!((linear_rgb([188, 188, 188])[0] - 0.5029).abs() < 1e-3);
+        assert!((linear_rgba([0, 0, 0, 51])[3] - 0.2).abs() < 1e-6);
+    }
+}

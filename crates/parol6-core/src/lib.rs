@@ -6,8 +6,8 @@
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
 //! planner, the [`motion::RobotBackend`] trait), the PAROL6 facts of the reference pack
-//! ([`parol6`]), and the size / nesting bounds every URDF text passes before parsing
-//! ([`urdf_input`]).
+//! ([`parol6`]), the size / nesting bounds every URDF text passes before parsing
+//! ([`urdf_input`]), and sample statistics with one percentile rule ([`stats`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -22,6 +22,7 @@ pub mod motion;
 pub mod parol6;
 pub mod profile;
 pub mod sim;
+pub mod stats;
 pub mod urdf_input;
 
 pub use ik::{IkError, IkSolution};

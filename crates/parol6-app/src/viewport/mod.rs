@@ -22,6 +22,8 @@ use parol6_core::na::{Isometry3, Point3};
 use parol6_core::{LimitZone, RobotModel, ZoneThresholds};
 use serde::{Deserialize, Serialize};
 
+use crate::palette;
+
 pub mod camera;
 pub mod mesh;
 pub mod offscreen;
@@ -455,18 +457,18 @@ impl Viewport {
                 let t = pose.translation.vector;
                 let p = Point3::new(t.x as f32, t.y as f32, t.z as f32);
                 if let Some(s) = camera::project_to_rect(view_proj, &p, rect) {
-                    painter.circle_filled(s, 2.5, egui::Color32::from_rgb(255, 220, 80));
+                    painter.circle_filled(s, 2.5, palette::rgb(palette::VIEW_LINK_LABEL_DOT));
                     painter.text(
                         s + egui::vec2(5.0, -5.0),
                         egui::Align2::LEFT_BOTTOM,
                         name,
                         font.clone(),
-                        egui::Color32::from_rgb(255, 235, 150),
+                        palette::rgb(palette::VIEW_LINK_LABEL_TEXT),
                     );
                 }
             }
         }
-        let hint = egui::Color32::from_gray(170);
+        let hint = palette::rgb(palette::VIEW_HINT_TEXT);
         if self.options.show_grid {
             painter.text(
                 rect.left_bottom() + egui::vec2(8.0, -8.0),
@@ -487,7 +489,7 @@ impl Viewport {
                 egui::Align2::LEFT_TOP,
                 text,
                 font,
-                egui::Color32::from_rgb(255, 176, 0),
+                palette::rgb(palette::VIEW_WARNING_TEXT),
             );
         }
     }

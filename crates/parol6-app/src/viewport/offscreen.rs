@@ -12,8 +12,9 @@ use parol6_core::RobotModel;
 
 use super::camera::OrbitCamera;
 use super::mesh::ModelMeshes;
-use super::renderer::{BACKGROUND_SRGB, FrameData, SceneGpu};
+use super::renderer::{FrameData, SceneGpu};
 use super::{DEPTH_FORMAT, SceneFrame, ViewportError, ViewportOptions};
+use crate::palette;
 
 /// Colour format of the offscreen target (gamma-space bytes, like egui's usual window format).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -209,7 +210,7 @@ impl OffscreenRenderer {
         let aspect = self.targets.width as f32 / self.targets.height as f32;
         self.frame.update(scene, options, &self.camera, aspect);
         self.scene.prepare(&self.queue, &mut self.frame);
-        let bg = BACKGROUND_SRGB.map(|c| c as f64 / 255.0);
+        let bg = palette::srgb_unit(palette::VIEW_BACKGROUND).map(f64::from);
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("parol6 offscreen") });
         {

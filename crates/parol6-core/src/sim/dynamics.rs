@@ -1,13 +1,18 @@
 //! Inverse dynamics by the recursive Newton–Euler algorithm (nalgebra, f64) from the URDF
 //! inertials: the joint torques a motion needs, split into gravity and inertial + Coriolis
-//! parts. Gravity is −z, [`super::multibody::GRAVITY_M_S2`].
+//! parts. Gravity is −z, [`GRAVITY_M_S2`].
+//!
+//! The multibody ([`super::multibody`]) builds on this module (body inertials, gravity), never
+//! the other way round.
 
 use nalgebra::{Matrix3, Point3, Vector3};
 use serde::Serialize;
 
-use super::SimError;
-use super::multibody::GRAVITY_M_S2;
+use super::types::SimError;
 use crate::model::{Inertial, JointKind, RobotModel};
+
+/// Standard gravity, m/s² (along −z).
+pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Mass properties of each chain body (index 0 = root), every link riding on that frame merged,
 /// expressed in the chain frame: COM in frame coordinates, inertia about the COM in frame axes.

@@ -9,12 +9,10 @@
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use rapier3d::prelude::*;
 
-use super::SimError;
+pub use super::dynamics::GRAVITY_M_S2;
 use super::dynamics::body_inertials;
+use super::types::SimError;
 use crate::model::{JointKind, RobotModel, Shape};
-
-/// Standard gravity, m/s² (along −z).
-pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Solver iterations per step. The multibody's own dynamics are exact in reduced coordinates;
 /// the iterations only resolve motors, limits and ground contacts. One keeps the step cheap

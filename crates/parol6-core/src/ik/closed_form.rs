@@ -1,0 +1,158 @@
+//! Closed-form IK of the PAROL6 (ROBOT.md §6.1): J1–J3 place the wrist centre, J4–J6 are a
+//! ZYZ Euler decomposition; up to 8 labelled branches, wrapped into the joint limits.
+
+use std::f64::consts::{PI, TAU};
+
+use nalgebra::{Isometry3, Matrix3};
+
+use super::{Branch, ElbowBranch, IkError, IkSolution, ShoulderBranch, WristBranch, check_input, pose_error};
+use crate::model::RobotModel;
+
+/// Picks `q + 2πk` inside `[min, max]` nearest to `seed`; None when no wrap fits.
+fn wrap_into(q: f64, min: f64, max: f64, seed: f64) -> Option<f64> {
+    let eps = 1e-9;
+    let mut best: Option<f64> = None;
+    for k in -3..=3 {
+        let v = q + TAU * k as f64;
+        if v >= min - eps && v <= max + eps {
+            let v = v.clamp(min, max);
+            if best.is_none_or(|b| (v - seed).abs() < (b - seed).abs()) {
+                best = Some(v);
+            }
+        }
+    }
+    best
+}
+
+fn rot_z(q: f64) -> Matrix3<f64> {
+    let (s, c) = q.sin_cos();
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// Closed-form IK of the PAROL6: every branch within the limits, best (nearest `seed`) first.
+pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
+    check_input(model, target, seed)?;
+    if !model.is_parol6 {
+        return Err(IkError::NotParol6);
+    }
+    let j = &model.joints;
+    // flange pose in the J1 base frame (before the J1 rotation)
+    let flange = target * model.tool.inverse();
+    let f = j[0].origin.inverse() * flange;
+    let d6 = j[5].origin.translation.y;
+    let r_f = f.rotation.to_rotation_matrix().into_inner();
+    let z6 = r_f.column(2).into_owned();
+    let wc = f.translation.vector + z6 * d6;
+    let a1 = j[1].origin.translation.x;
+    let a2 = j[2].origin.translation.x;
+    let (ox, oy) = (j[3].origin.translation.x, j[3].origin.translation.y);
+    let l3 = ox.hypot(oy);
+    let psi = oy.atan2(ox);
+    let r1 = j[1].origin.rotation.to_rotation_matrix().into_inner();
+    let r2 = j[2].origin.rotation.to_rotation_matrix().into_inner();
+    let r3 = j[3].origin.rotation.to_rotation_matrix().into_inner();
+
+    let rho = wc.x.hypot(wc.y);
+    let shoulder_singular = rho < 1e-9;
+    let mut raw: Vec<(Vec<f64>, Branch, bool)> = Vec::with_capacity(8);
+    let mut any_reach = false;
+    let mut reach_detail = String::new();
+    for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
+        if shoulder_singular && shoulder == ShoulderBranch::Back {
+            continue;
+        }
+        let (q1, x) = match (shoulder, shoulder_singular) {
+            (_, true) => (seed[0], 0.0),
+            (ShoulderBranch::Front, false) => (wc.y.atan2(wc.x), rho),
+            (ShoulderBranch::Back, false) => ((-wc.y).atan2(-wc.x), -rho),
+        };
+        let px = x - a1;
+        let pz = wc.z;
+        let d2 = px * px + pz * pz;
+        let k = (d2 - a2 * a2 - l3 * l3) / (2.0 * a2 * l3);
+        if k.abs() > 1.0 + 1e-12 {
+            reach_detail = format!(
+                "wrist centre is {:.1} mm from the shoulder axis; reachable range {:.1}…{:.1} mm",
+                d2.sqrt() * 1e3,
+                (a2 - l3).abs() * 1e3,
+                (a2 + l3) * 1e3
+            );
+            continue;
+        }
+        any_reach = true;
+        let k = k.clamp(-1.0, 1.0);
+        let elbow_singular = (1.0 - k.abs()) < 1e-12;
+        for elbow in [ElbowBranch::Up, ElbowBranch::Down] {
+            if elbow_singular && elbow == ElbowBranch::Down {
+                continue;
+            }
+            let sign = if elbow == ElbowBranch::Up { 1.0 } else { -1.0 };
+            let q3 = sign * k.acos() - psi;
+            let (s3, c3) = q3.sin_cos();
+            let ux = a2 + ox * c3 - oy * s3;
+            let uy = -(ox * s3 + oy * c3);
+            let q2 = (-pz).atan2(px) - uy.atan2(ux);
+            let r03 = rot_z(q1) * r1 * rot_z(q2) * r2 * rot_z(q3) * r3;
+            let m = r03.transpose() * r_f;
+            let sb = m[(0, 2)].hypot(m[(1, 2)]);
+            let wrist_singular = sb < 1e-9;
+            for wrist in [WristBranch::NoFlip, WristBranch::Flip] {
+                let (q4, q5, q6) = if wrist_singular {
+                    if wrist == WristBranch::Flip {
+                        continue;
+                    }
+                    let b = if m[(2, 2)] > 0.0 { 0.0 } else { PI };
+                    let sum = if b == 0.0 { m[(1, 0)].atan2(m[(0, 0)]) } else { (-m[(1, 0)]).atan2(-m[(0, 0)]) };
+                    let q4 = seed[3];
+                    let q6 = if b == 0.0 { sum - q4 } else { q4 - sum };
+                    (q4, b, q6)
+                } else if wrist == WristBranch::NoFlip {
+                    (m[(1, 2)].atan2(m[(0, 2)]), sb.atan2(m[(2, 2)]), m[(2, 1)].atan2(-m[(2, 0)]))
+                } else {
+                    ((-m[(1, 2)]).atan2(-m[(0, 2)]), (-sb).atan2(m[(2, 2)]), (-m[(2, 1)]).atan2(m[(2, 0)]))
+                };
+                raw.push((
+                    vec![q1, q2, q3, q4, q5, q6],
+                    Branch { shoulder, elbow, wrist },
+                    shoulder_singular || elbow_singular || wrist_singular,
+                ));
+            }
+        }
+    }
+    if !any_reach {
+        return Err(IkError::Unreachable(reach_detail));
+    }
+    let branches_reaching = raw.len();
+    let mut out = Vec::with_capacity(raw.len());
+    let mut first_violation = String::new();
+    for (q, branch, singular) in raw {
+        let mut wrapped = Vec::with_capacity(6);
+        for (i, &v) in q.iter().enumerate() {
+            let Some(l) = model.limits.get(i) else { break };
+            match wrap_into(v, l.min, l.max, seed[i]) {
+                Some(w) => wrapped.push(w),
+                None => {
+                    if first_violation.is_empty() {
+                        first_violation =
+                            format!("{} branch needs {} = {:.2}°", branch.label(), l.name, v.to_degrees());
+                    }
+                    break;
+                }
+            }
+        }
+        if wrapped.len() != 6 {
+            continue;
+        }
+        let (ep, er) = pose_error(&model.tcp_isometry(&wrapped), target);
+        if ep > 1e-7 || er > 1e-7 {
+            continue;
+        }
+        let distance_to_seed = wrapped.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+        out.push(IkSolution { joints_rad: wrapped, branch: Some(branch), distance_to_seed, singular });
+    }
+    if out.is_empty() {
+        return Err(IkError::NoSolutionWithinLimits { branches: branches_reaching, detail: first_violation });
+    }
+    out.sort_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed));
+    Ok(out)
+}

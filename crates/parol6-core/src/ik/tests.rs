@@ -1,0 +1,132 @@
+use super::*;
+use proptest::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+fn in_limits() -> impl Strategy<Value = Vec<f64>> {
+    let l = crate::parol6::LIMITS_RAD;
+    (l[0].0..l[0].1, l[1].0..l[1].1, l[2].0..l[2].1, l[3].0..l[3].1, l[4].0..l[4].1, l[5].0..l[5].1)
+        .prop_map(|(a, b, c, d, e, f)| vec![a, b, c, d, e, f])
+}
+
+fn dist(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn standby_round_trip_lists_labelled_branches() {
+    let m = RobotModel::parol6();
+    let q = crate::parol6::standby_rad().to_vec();
+    let sols = solve_parol6(&m, &m.tcp_isometry(&q), &q).expect("standby is reachable");
+    assert!(dist(&sols[0].joints_rad, &q) < 1e-9, "best first: {:?}", sols[0]);
+    let labels: std::collections::HashSet<String> = sols.iter().filter_map(|s| s.branch.map(|b| b.label())).collect();
+    assert_eq!(labels.len(), sols.len(), "branches are distinct");
+}
+
+#[test]
+fn far_target_is_unreachable() {
+    let m = RobotModel::parol6();
+    let t = crate::kinematics::iso_from_xyz_rpy([1.0, 0.0, 0.3], [0.0, 0.0, 0.0]);
+    let seed = crate::parol6::standby_rad();
+    assert!(matches!(solve_parol6(&m, &t, &seed), Err(IkError::Unreachable(_))));
+    assert!(matches!(solve_numeric(&m, &t, &seed, &NumericIkOptions::default()), Err(IkError::Unreachable(_))));
+}
+
+#[test]
+fn pose_behind_the_base_breaks_the_limits() {
+    let m = RobotModel::parol6();
+    // J1 = 180° is outside ±123°, and every other branch needs J2/J3 outside their ranges.
+    let mut q = crate::parol6::standby_rad().to_vec();
+    q[0] = PI;
+    let t = m.tcp_isometry(&q);
+    let r = solve_parol6(&m, &t, &crate::parol6::standby_rad());
+    assert!(matches!(r, Err(IkError::NoSolutionWithinLimits { .. })), "{r:?}");
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let m = RobotModel::parol6();
+    let t = m.tcp_isometry(&crate::parol6::standby_rad());
+    assert!(matches!(solve_parol6(&m, &t, &[0.0; 3]), Err(IkError::InvalidInput(_))));
+    assert!(matches!(solve_parol6(&m, &t, &[f64::NAN; 6]), Err(IkError::InvalidInput(_))));
+}
+
+#[test]
+fn wrist_singularity_keeps_seed_j4() {
+    let m = RobotModel::parol6();
+    let mut q = crate::parol6::standby_rad().to_vec();
+    q[3] = 0.4;
+    q[4] = 0.0;
+    q[5] = 2.0;
+    let sols = solve_parol6(&m, &m.tcp_isometry(&q), &q).expect("reachable");
+    assert!(sols[0].singular);
+    assert!(dist(&sols[0].joints_rad, &q) < 1e-9, "{:?}", sols[0]);
+}
+
+#[test]
+fn j6_wrap_prefers_the_seed_side() {
+    let m = RobotModel::parol6();
+    let mut q = crate::parol6::standby_rad().to_vec();
+    q[5] = 0.0;
+    let t = m.tcp_isometry(&q);
+    let mut seed = q.clone();
+    seed[5] = 6.2;
+    let sols = solve_parol6(&m, &t, &seed).expect("reachable");
+    assert!((sols[0].joints_rad[5] - TAU).abs() < 1e-9, "{:?}", sols[0].joints_rad);
+}
+
+#[test]
+fn numeric_success_rate_on_random_poses() {
+    use rand::{Rng, SeedableRng};
+    let m = RobotModel::parol6();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    let n = 400;
+    let mut ok = 0;
+    for _ in 0..n {
+        let q: Vec<f64> = crate::parol6::LIMITS_RAD.iter().map(|(lo, hi)| rng.random_range(*lo..*hi)).collect();
+        let t = m.tcp_isometry(&q);
+        if let Ok(s) = solve_numeric(&m, &t, &crate::parol6::standby_rad(), &NumericIkOptions::default()) {
+            let (ep, er) = pose_error(&m.tcp_isometry(&s.joints_rad), &t);
+            assert!(ep < 1e-6 && er < 1e-6);
+            ok += 1;
+        }
+    }
+    assert!(ok as f64 >= 0.98 * n as f64, "numeric IK solved {ok}/{n}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #[test]
+    fn closed_form_reproduces_pose_and_contains_generator(q in in_limits(), tool_idx in 0usize..6) {
+        let mut m = RobotModel::parol6();
+        m.set_tool(crate::parol6::Tool::ALL[tool_idx]);
+        let target = m.tcp_isometry(&q);
+        let seed = crate::parol6::standby_rad();
+        let sols = solve_parol6(&m, &target, &seed);
+        prop_assert!(sols.is_ok(), "{:?} for {:?}", sols, q);
+        let sols = sols.unwrap_or_default();
+        for s in &sols {
+            let (ep, er) = pose_error(&m.tcp_isometry(&s.joints_rad), &target);
+            prop_assert!(ep < 1e-6 && er < 1e-6, "{:?}: {} {}", s, ep, er);
+            prop_assert!(m.limits.contains(&s.joints_rad));
+        }
+        for w in sols.windows(2) {
+            prop_assert!(w[0].distance_to_seed <= w[1].distance_to_seed);
+        }
+        let near_singular = q[4].abs() < 1e-6;
+        if !near_singular {
+            prop_assert!(sols.iter().any(|s| dist(&s.joints_rad, &q) < 1e-6), "generator {:?} not in {:?}", q, sols);
+        }
+    }
+
+    #[test]
+    fn numeric_reproduces_pose(q in in_limits()) {
+        let m = RobotModel::parol6();
+        let target = m.tcp_isometry(&q);
+        let s = solve_numeric(&m, &target, &crate::parol6::standby_rad(), &NumericIkOptions::default());
+        if let Ok(s) = s {
+            let (ep, er) = pose_error(&m.tcp_isometry(&s.joints_rad), &target);
+            prop_assert!(ep < 1e-6 && er < 1e-6);
+            prop_assert!(m.limits.contains(&s.joints_rad));
+        }
+    }
+}

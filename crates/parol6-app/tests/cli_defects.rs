@@ -67,7 +67,9 @@ fn ik_position_in_mm_without_mm_gave_no_hint() {
 fn hw_home_reported_enabled_null() {
     let v = run(&["hw", "home", "--fake-robot"]).json("hw home");
     assert_eq!(v["state"]["enabled"], true, "{v}");
-    assert_eq!(v["state"]["enabled_basis"], "homed", "{v}");
+    // known after homing: from the homing itself or from an ENABLE echo seen on the way
+    let basis = v["state"]["enabled_basis"].as_str().unwrap_or_default().to_string();
+    assert!(basis == "homed" || basis == "commanded", "{v}");
     let v = run(&["hw", "disable", "--fake-robot"]).json("hw disable");
     assert_eq!((&v["state"]["enabled"], &v["state"]["enabled_basis"]), (&false.into(), &"commanded".into()), "{v}");
     let v = run(&["hw", "status", "--fake-robot"]).json("hw status");

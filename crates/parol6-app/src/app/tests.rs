@@ -90,7 +90,9 @@ fn fake_robot_is_mirrored_and_moves() {
     let ctx = egui::Context::default();
     let standby = parol6_core::parol6::standby_rad();
     wait_for(&mut app, &ctx, "the first status", |s| {
-        s.source == StateSource::Robot && s.q.iter().zip(&standby).all(|(a, b)| (a - b).abs() < 1e-3)
+        s.source == StateSource::Robot
+            && s.blocked.is_none()
+            && s.q.iter().zip(&standby).all(|(a, b)| (a - b).abs() < 1e-3)
     });
     let mut goal = standby.to_vec();
     goal[0] -= 0.2;

@@ -277,7 +277,9 @@ fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: 
         if let Err(e) = session.jog(joint_index, speed) {
             // The session refuses to go on once the joint reaches its limit: the jog ends there.
             let limit = session.config().limits.iter().nth(joint_index).map(|l| (l.min, l.max));
-            let at = session.snapshot().joint_rad[joint_index];
+            // the commanded position reaches the limit first; the measured one lags (MOVE law)
+            let state = parol6_core::motion::RobotBackend::state(session);
+            let at = state.commanded.q.get(joint_index).copied().unwrap_or(f64::NAN);
             match limit {
                 Some((min, max)) if at <= min + LIMIT_REACHED_RAD || at >= max - LIMIT_REACHED_RAD => {
                     stopped_at_limit = true;

@@ -129,9 +129,18 @@ pub(crate) fn iso_from_pose(p: &urdf_rs::Pose) -> Isometry3<f64> {
 
 impl RobotModel {
     /// The embedded PAROL6 (bare flange).
+    ///
+    /// Its joint ranges are the controller's step limits converted to radians
+    /// ([`crate::parol6::LIMITS_RAD`], the one source of truth); the URDF carries them rounded.
     pub fn parol6() -> Self {
         match Self::from_urdf_str(PAROL6_URDF, &LoadOptions::default()) {
-            Ok(m) => m,
+            Ok(mut m) => {
+                for (l, (lo, hi)) in m.limits.joints_mut().iter_mut().zip(crate::parol6::LIMITS_RAD) {
+                    l.min = lo;
+                    l.max = hi;
+                }
+                m
+            }
             // The embedded file is checked by tests; reaching this is a build defect.
             Err(e) => unreachable!("embedded PAROL6 URDF is invalid: {e}"),
         }

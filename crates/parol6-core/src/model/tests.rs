@@ -29,8 +29,8 @@ fn embedded_parol6_loads_cleanly() {
     assert!(m.links.iter().all(|l| !l.visuals.is_empty() && !l.collisions.is_empty()));
     assert!(m.links.iter().all(|l| l.inertial.is_some()));
     for (l, (lo, hi)) in m.limits.iter().zip(crate::parol6::LIMITS_RAD) {
-        // the URDF rounds the limits; LIMITS_RAD is derived from the steps (± half a step)
-        assert!((l.min - lo).abs() < 2e-4 && (l.max - hi).abs() < 2e-4, "{l:?}");
+        // exactly the step limits (the URDF's rounded values are replaced)
+        assert!((l.min - lo).abs() < 1e-15 && (l.max - hi).abs() < 1e-15, "{l:?}");
     }
 }
 

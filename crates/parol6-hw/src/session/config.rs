@@ -12,8 +12,8 @@ use crate::HwError;
 pub struct SessionConfig {
     /// Command rate, Hz (50–500; default 100, which the firmware's MOVE law assumes).
     pub rate_hz: f64,
-    /// Link loss is reported at most this long after the last valid status (default 100 ms,
-    /// ten periods) — provided a frame of ours has waited at least half of it for an answer, so
+    /// Link loss is reported at most this long after the last valid status (default 80 ms, eight
+    /// periods: with a tick of scheduling slack the report stays within 100 ms) — provided a frame of ours has waited at least half of it for an answer, so
     /// a stall of the session thread itself (a loaded 2-core desktop) is not taken for a
     /// silent board.
     pub status_timeout: Duration,

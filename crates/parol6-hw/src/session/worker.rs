@@ -17,6 +17,9 @@ use super::snapshot::{HomingState, LinkState, Snapshot};
 use crate::frame::{CommandCode, CommandFields, CommandFrame, GripperCommand, IO_OUT1, IO_OUT2};
 use crate::parser::StatusParser;
 
+/// How long a motion command waits for the arm to come to rest after IDLE.
+const SETTLE_WAIT: std::time::Duration = std::time::Duration::from_millis(500);
+
 /// Gripper command bits: activate.
 pub const GRIPPER_ACTIVATE: u8 = 0x80;
 /// Gripper command bits: action / move active.
@@ -86,6 +89,9 @@ pub(super) struct Worker {
     missing_offset: u64,
     pub(super) write_log: Option<Sender<Instant>>,
     pub(super) tap: Option<Sender<MotionSample>>,
+    /// A motion command that arrived while the arm was still settling after IDLE: applied as
+    /// soon as the status is steady, refused after [`SETTLE_WAIT`].
+    deferred: Option<(MotionCommand, Option<f64>, Instant)>,
 }
 
 impl Worker {
@@ -129,6 +135,7 @@ impl Worker {
             first_unanswered_write: None,
             write_log: None,
             tap: None,
+            deferred: None,
         }
     }
 
@@ -337,6 +344,11 @@ impl Worker {
                     // Motion starts only from a confirmed measurement (never a lone frame) of an
                     // arm at rest (identical frames: the latest status may lag a coasting arm).
                     let start_ok = self.plausibility.confirmed() && self.plausibility.steady();
+                    if !start_ok && cmd.starts_motion() && !self.streamer.is_streaming() && blocked.is_none() {
+                        self.deferred = Some((cmd, at_s, now));
+                        continue;
+                    }
+                    self.deferred = None;
                     let measured = if start_ok { self.measured() } else { None };
                     if let Err(msg) = self.streamer.apply(cmd, at_s, measured, blocked) {
                         tracing::debug!("parol6 session: {msg}");
@@ -400,6 +412,23 @@ impl Worker {
         self.frame(CommandCode::Idle)
     }
 
+    /// Applies a deferred motion command once the arm is at rest, or refuses it when the wait
+    /// is over.
+    fn start_deferred(&mut self, now: Instant) {
+        let Some((cmd, at_s, since)) = self.deferred.take() else { return };
+        let blocked = self.snap.motion_allowed().err().map(|e| e.to_string());
+        if self.plausibility.confirmed() && self.plausibility.steady() {
+            if let Err(msg) = self.streamer.apply(cmd, at_s, self.measured(), blocked) {
+                self.streamer.refuse(msg);
+            }
+        } else if now.duration_since(since) > SETTLE_WAIT || blocked.is_some() {
+            let why = blocked.unwrap_or_else(|| "the arm did not come to rest".into());
+            self.streamer.refuse(format!("{} refused: {why}", cmd.name()));
+        } else {
+            self.deferred = Some((cmd, at_s, since));
+        }
+    }
+
     fn next_frame(&mut self, now: Instant) -> CommandFrame {
         // E-stop: DISABLE every period while pressed.
         if self.snap.estop_pressed {
@@ -408,7 +437,9 @@ impl Worker {
         }
         if self.snap.link != LinkState::Connected {
             self.stop_all("link lost during homing");
+            self.deferred = None;
         }
+        self.start_deferred(now);
         let target = match self.streamer.sample_target() {
             Ok(t) => t,
             Err(msg) => {

@@ -7,6 +7,8 @@
 //! (`v ≈ 50 · error` steps/s, zero feed-forward) lags the commanded position by about v/50
 //! steps; the simulation's motors track within about a milliradian.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::collections::BTreeMap;
 use std::time::Duration;
 

@@ -1,6 +1,8 @@
 //! FK of the embedded PAROL6 against the reference pack: the poses of `vectors/fk_poses.json`
 //! and the official python-API URDF loaded through the same loader.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_core::na::Isometry3;
 use parol6_core::{RobotModel, ik};
 use rand::{Rng, SeedableRng};

@@ -3,6 +3,8 @@
 //! the minimised corpora (`fuzz/corpus-min/<target>/`) and every input that once failed
 //! (`fuzz/regressions/<target>/`).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::path::{Path, PathBuf};
 
 use parol6_tests::fuzz_bodies::TARGETS;

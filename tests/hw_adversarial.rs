@@ -16,6 +16,7 @@
 //! `adversarial_session_keeps_its_invariants` corrupts ≥ 20 000 status frames (about a
 //! minute); the ignored `..._long` version ≥ 100 000.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 #![cfg(unix)]
 
 use std::sync::Once;

@@ -1,6 +1,8 @@
 //! The session's last line of defence against a corrupted status stream, end to end: the real
 //! `parol6_hw::Session` against the firmware emulator with status replies altered in flight.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};

@@ -3,6 +3,7 @@
 //! command period must keep its p99 jitter within 2 ms (measured from the recorded frame write
 //! times, and cross-checked with the snapshot's own statistic).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 #![cfg(unix)]
 
 use std::hint::black_box;
@@ -39,8 +40,7 @@ fn burn_until(until: Instant) -> u64 {
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let idx = ((sorted.len() as f64 - 1.0) * p).round() as usize;
-    sorted.get(idx).copied().unwrap_or(0.0)
+    parol6_core::stats::percentile(sorted, p).unwrap_or(0.0)
 }
 
 #[test]

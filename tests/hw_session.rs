@@ -1,6 +1,8 @@
 //! The real `parol6_hw::Session` against the firmware emulator over a pseudo-terminal.
 //! Timeouts are generous: these tests must pass on a loaded 2-core CI machine.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::time::{Duration, Instant};
 
 use parol6_core::parol6::standby_rad;

@@ -1,6 +1,8 @@
 //! Byte-exact checks of `parol6-hw` frames and parsers against the reference vectors
 //! (`../shared/parol6/vectors/*.json`).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_hw::frame::{CommandCode, CommandFields, CommandFrame, GripperCommand, ReceivedCommand, StatusFrame};
 use parol6_hw::parser::{CommandParser, StatusParser};
 use parol6_tests::{read_json, shared_dir};

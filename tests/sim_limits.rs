@@ -2,6 +2,8 @@
 //! mode switches, torques, malformed input) no simulated joint leaves its range by more than
 //! 1 mrad, in both limit policies.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_core::RobotModel;
 use parol6_core::limits::LimitPolicy;
 use parol6_core::motion::MotionCommand;

@@ -2,6 +2,8 @@
 //! snapshot with increasing ids, the snapshot advances on its own, shutdown is clean. Waits are
 //! generous (a loaded CI machine); no timing thresholds here (those are in `parol6 bench`).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_core::motion::MotionCommand;
 use std::time::{Duration, Instant};
 

@@ -1,6 +1,8 @@
 //! The simulation of another URDF: the reference pack's python-API PAROL6 (STL meshes →
 //! convex hulls) with its SRDF's disabled pairs.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_core::RobotModel;
 use parol6_core::motion::MotionCommand;
 use parol6_core::sim::{CollisionGuard, SimCommand, SimConfig, SimMode, Simulation};

@@ -1,6 +1,8 @@
 //! Regression tests for command-line defects, each named after the defect, run through the
 //! built binary. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 mod cli_support;
 
 use std::process::{Command, Stdio};

@@ -1,5 +1,7 @@
 //! The `parol6 fk` / `ik` / `bench fk|ik` command line, end to end through the built binary.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::process::{Command, Output};
 
 fn parol6(args: &[&str]) -> Output {

@@ -4,6 +4,8 @@
 //! `hw` commands get `--fake-robot` or a port that does not exist, never auto-detection (a
 //! real arm may be plugged in).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 mod cli_support;
 
 use std::time::Duration;

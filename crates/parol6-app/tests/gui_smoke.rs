@@ -6,6 +6,8 @@
 //! Needs `xvfb-run` (package `xvfb`) without a display, and a Vulkan or GL driver (lavapipe:
 //! `mesa-vulkan-drivers`). Without `xvfb-run` it fails when `CI` is set, else prints SKIPPED.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -4,6 +4,8 @@
 //! Panel tests draw one panel against a synthetic [`RobotState`]; app tests draw the whole
 //! [`Parol6App::frame`] (simulation backend, no 3D renderer).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};

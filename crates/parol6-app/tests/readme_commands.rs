@@ -7,6 +7,8 @@
 //! file name printed; `hw emulate` gets `quit` on stdin. The README's hardware examples use
 //! `--fake-robot` (the built-in emulator), so they run without a PAROL6.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 mod cli_support;
 
 use std::time::Duration;

@@ -3,6 +3,8 @@
 //! renders. They need a software or hardware adapter (lavapipe: `mesa-vulkan-drivers`); with
 //! none they fail when `CI` is set and print SKIPPED otherwise.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
 use parol6_app::viewport::renderer::BACKGROUND_SRGB;
 use parol6_app::viewport::{
     DEPTH_FORMAT, OffscreenRenderer, RgbaImage, SceneFrame, Viewport, ViewportError, ViewportOptions, write_png,

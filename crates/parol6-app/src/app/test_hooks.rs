@@ -77,10 +77,7 @@ pub(super) struct SweepRun {
 }
 
 fn pct(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    sorted[((sorted.len() as f64 - 1.0) * q).round() as usize]
+    parol6_core::stats::percentile(sorted, q).unwrap_or(0.0)
 }
 
 /// Writes an egui screenshot as PNG.

@@ -119,9 +119,10 @@ impl NsStats {
             return Self { median_ns: 0.0, p99_ns: 0.0, mean_ns: 0.0, n: 0 };
         }
         samples.sort_by(f64::total_cmp);
-        let n = samples.len();
-        let pick = |q: f64| samples[((n as f64 - 1.0) * q).round() as usize];
-        Self { median_ns: pick(0.5), p99_ns: pick(0.99), mean_ns: samples.iter().sum::<f64>() / n as f64, n }
+        match parol6_core::stats::Summary::from_sorted(samples) {
+            Some(s) => Self { median_ns: s.p50, p99_ns: s.p99, mean_ns: s.mean, n: s.n },
+            None => Self { median_ns: 0.0, p99_ns: 0.0, mean_ns: 0.0, n: 0 },
+        }
     }
 
     /// As a JSON object with `median_ns`, `p99_ns`, `mean_ns`, `n`.

@@ -84,10 +84,7 @@ pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    sorted[((sorted.len() as f64 - 1.0) * q).round() as usize]
+    parol6_core::stats::percentile(sorted, q).unwrap_or(0.0)
 }
 
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.

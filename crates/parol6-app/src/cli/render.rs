@@ -111,7 +111,7 @@ pub fn run_screenshot(a: &ScreenshotArgs, robot: &RobotArgs) -> CliResult {
     }
     let first_ms = frame_ms.first().copied().unwrap_or(0.0);
     frame_ms.sort_by(f64::total_cmp);
-    let ms = frame_ms.get(frame_ms.len() / 2).copied().unwrap_or(0.0);
+    let ms = parol6_core::stats::percentile(&frame_ms, 0.5).unwrap_or(0.0);
     let img = img.ok_or_else(|| CliError::runtime("nothing was rendered"))?;
     write_png(out, &img).map_err(CliError::runtime)?;
     print_json(&json!({

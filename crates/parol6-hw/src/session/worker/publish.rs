@@ -43,8 +43,8 @@ impl Worker {
             self.jitter_scratch.clear();
             self.jitter_scratch.extend(self.intervals_s.iter().map(|d| (d - nominal).abs()));
             self.jitter_scratch.sort_by(f64::total_cmp);
-            let idx = ((self.jitter_scratch.len() as f64 - 1.0) * 0.99).round() as usize;
-            self.snap.period_jitter_p99_ms = self.jitter_scratch.get(idx).copied().unwrap_or(0.0) * 1e3;
+            self.snap.period_jitter_p99_ms =
+                parol6_core::stats::percentile(&self.jitter_scratch, 0.99).unwrap_or(0.0) * 1e3;
             self.snap.period_jitter_max_ms = self.jitter_scratch.last().copied().unwrap_or(0.0) * 1e3;
         }
         self.snap.status_age_ms =

@@ -109,6 +109,69 @@ fn fake_robot_is_mirrored_and_moves() {
     assert!(app.hw.is_none());
     run_frame(&mut app, &ctx);
     assert_eq!(app.robot_state().source, StateSource::Simulation);
+    // regression: disconnect snapped the 3D arm back to its pose from before connecting
+    wait_for(&mut app, &ctx, "the simulation to take over where the robot was", |s| {
+        s.q.iter().zip(&goal).all(|(a, b)| (a - b).abs() < 0.01)
+    });
+    // the emulator is not a port to remember
+    assert_eq!(app.settings.last_port, "");
+}
+
+/// Regression: `last_port` was saved when a connect failed.
+#[test]
+fn a_failed_connect_does_not_become_the_last_port() {
+    let mut app = launch(None);
+    app.settings.last_port = "/dev/ttyACM0".into();
+    app.execute(AppCommand::Link(LinkCommand::Connect("/dev/parol6-no-such-port".into())));
+    assert!(app.hw.is_none());
+    assert!(app.notices.iter().any(|n| n.error && n.text.contains("connect failed")), "{:?}", app.notices);
+    assert_eq!(app.settings.last_port, "/dev/ttyACM0");
+}
+
+/// Regression: a port where no PAROL6 answers was reported as "connected" with "enabled" lit.
+#[cfg(unix)]
+#[test]
+fn a_port_where_no_controller_answers_is_reported_as_such() {
+    // a pseudo-terminal nobody answers on
+    let (_master, slave) = serialport::TTYPort::pair().expect("pty");
+    let path = serialport::SerialPort::name(&slave).expect("pty name");
+    drop(slave);
+    let mut app = launch(Some(ConnectTarget::Port(path.clone())));
+    let ctx = egui::Context::default();
+    let deadline = Instant::now() + Duration::from_secs(8);
+    loop {
+        run_frame(&mut app, &ctx);
+        if app.notices.iter().any(|n| n.error && n.text.contains("no PAROL6 answered")) {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no 'no PAROL6 answered' notice: {:?}", app.notices);
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let view = app.hw.as_ref().map(|l| l.view(&l.session.snapshot())).expect("link");
+    assert!(!view.link_ok && !view.enabled, "{view:?}");
+    assert!(app.notices.iter().all(|n| !n.text.starts_with("PAROL6 answered")), "{:?}", app.notices);
+    assert_eq!(app.settings.last_port, "", "a port that never answered is not remembered");
+}
+
+/// Regression: the status bar froze while idle (repaint every 30 s). Idle now means one
+/// frame a second.
+#[test]
+fn an_idle_window_still_repaints_once_a_second() {
+    let mut app = launch(None);
+    let ctx = egui::Context::default();
+    let input = || egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0))),
+        ..Default::default()
+    };
+    // first frames (egui lays out twice at start), then let the start-up repaint window pass
+    for _ in 0..3 {
+        let _ = ctx.run_ui(input(), |ui| app.frame(ui));
+    }
+    std::thread::sleep(COMMAND_REPAINT_WINDOW + Duration::from_millis(50));
+    let _ = ctx.run_ui(input(), |ui| app.frame(ui));
+    let out = ctx.run_ui(input(), |ui| app.frame(ui));
+    let delay = out.viewport_output.values().map(|v| v.repaint_delay).min().expect("a viewport");
+    assert!(delay > Duration::from_millis(200) && delay <= Duration::from_secs(1), "repaint after {delay:?}");
 }
 
 /// A demo runs on its own thread: with no frames drawn at all (a minimised window) it still

@@ -201,6 +201,8 @@ fn profiled_move(session: &Session, emu: &EmulatorHandle, rng: &mut StdRng, log:
     let duration_s =
         JointMove::parol6(&basis_rad, &goal_rad, speed_fraction, profile).map(|m| m.duration_s()).unwrap_or(2.0);
     let submitted = Instant::now();
+    // "done" only once the session has applied this move (it may wait for the arm to rest first)
+    let applied_before = session.state().commands_applied;
     let cmd = MotionCommand::MoveJoints { goal_rad: goal_rad.to_vec(), speed_fraction, profile };
     if !log.submit(session, cmd, mask) {
         sleep_ms(10);
@@ -220,7 +222,9 @@ fn profiled_move(session: &Session, emu: &EmulatorHandle, rng: &mut StdRng, log:
             break;
         }
         let s = session.snapshot();
-        let done = s.published_at > submitted && matches!(s.motion, MotionState::Holding | MotionState::Idle);
+        let applied = session.state().commands_applied > applied_before;
+        let done =
+            applied && s.published_at > submitted && matches!(s.motion, MotionState::Holding | MotionState::Idle);
         if done || t > limit {
             log.phases.push(Phase { from: Instant::now(), joints: 0 });
             break;

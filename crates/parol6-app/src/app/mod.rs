@@ -285,9 +285,14 @@ impl Parol6App {
         }
     }
 
-    /// The state shown this frame: the active backend's, computed on its own thread.
+    /// The state shown this frame: the active backend's, computed on its own thread. Until the
+    /// controller has sent a first status there is no measured pose: the simulation's is shown
+    /// (not the board's zeros).
     fn robot_state(&self) -> Arc<RobotState> {
-        self.backend().state()
+        match &self.hw {
+            Some(link) if link.session.snapshot().status.is_some() => link.session.state(),
+            _ => self.sim.state(),
+        }
     }
 
     fn update_perf(&mut self, now: Instant, snap: &SimSnapshot) {

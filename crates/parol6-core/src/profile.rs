@@ -288,20 +288,29 @@ impl JointMove {
     /// At and after the end it is exactly the goal with zero speed and acceleration.
     pub fn sample(&self, t_s: f64) -> JointSample {
         let n = self.start.len();
+        let mut out = JointSample { q: vec![0.0; n], qd: vec![0.0; n], qdd: vec![0.0; n] };
+        self.sample_into(t_s, &mut out.q, &mut out.qd, &mut out.qdd);
+        out
+    }
+
+    /// [`JointMove::sample`] into caller-owned slices (no allocation: the 1 kHz loops use it).
+    /// Each slice must hold [`JointMove::joint_count`] values; extra entries are left alone.
+    pub fn sample_into(&self, t_s: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        let n = self.start.len().min(q.len()).min(qd.len()).min(qdd.len());
         let t = if t_s.is_nan() { 0.0 } else { t_s.clamp(0.0, self.duration_s) };
         if t >= self.duration_s {
-            return JointSample { q: self.goal.clone(), qd: vec![0.0; n], qdd: vec![0.0; n] };
+            q[..n].copy_from_slice(&self.goal[..n]);
+            qd[..n].fill(0.0);
+            qdd[..n].fill(0.0);
+            return;
         }
-        let mut q = Vec::with_capacity(n);
-        let mut qd = Vec::with_capacity(n);
-        let mut qdd = Vec::with_capacity(n);
         match self.kind {
             ProfileKind::Trapezoidal => {
-                for (i, tr) in self.trapezoids.iter().enumerate() {
+                for (i, tr) in self.trapezoids.iter().enumerate().take(n) {
                     let (p, v, a) = tr.eval(t, self.duration_s);
-                    q.push(self.start[i] + p);
-                    qd.push(v);
-                    qdd.push(a);
+                    q[i] = self.start[i] + p;
+                    qd[i] = v;
+                    qdd[i] = a;
                 }
             }
             ProfileKind::JerkLimited => {
@@ -313,13 +322,12 @@ impl JointMove {
                 let acc = 60.0 * s * (1.0 - 3.0 * s + 2.0 * s2) / (big_t * big_t);
                 for i in 0..n {
                     let d = self.goal[i] - self.start[i];
-                    q.push(self.start[i] + d * pos);
-                    qd.push(d * vel);
-                    qdd.push(d * acc);
+                    q[i] = self.start[i] + d * pos;
+                    qd[i] = d * vel;
+                    qdd[i] = d * acc;
                 }
             }
         }
-        JointSample { q, qd, qdd }
     }
 }
 

@@ -98,26 +98,37 @@ impl SampledTrajectory {
 
     /// The setpoint at `t_s` (held at the ends); velocity and acceleration by differences.
     pub fn sample(&self, t_s: f64) -> Setpoint {
+        let mut out = Setpoint::at_rest(&[]);
+        self.sample_into(t_s, &mut out);
+        out
+    }
+
+    /// [`SampledTrajectory::sample`] into a caller-owned setpoint (no allocation once `out`
+    /// has the right size: the 1 kHz loops use it).
+    pub fn sample_into(&self, t_s: f64, out: &mut Setpoint) {
         let n = self.q.len();
-        if n == 0 {
-            return Setpoint::at_rest(&[]);
+        let Some(last) = self.q.last() else {
+            out.set_rest(&[]);
+            return;
+        };
+        if n == 1 || t_s >= self.duration_s() {
+            out.set_rest(last);
+            return;
         }
         let x = (t_s / self.dt_s).clamp(0.0, (n - 1) as f64);
-        let k = (x.floor() as usize).min(n.saturating_sub(2));
-        if n == 1 || t_s >= self.duration_s() {
-            return Setpoint::at_rest(&self.q[n - 1]);
-        }
+        let k = (x.floor() as usize).min(n - 2);
         let f = x - k as f64;
         let (a, b) = (&self.q[k], &self.q[k + 1]);
-        let q = a.iter().zip(b).map(|(a, b)| a + (b - a) * f).collect();
-        let qd: Vec<f64> = a.iter().zip(b).map(|(a, b)| (b - a) / self.dt_s).collect();
-        let qdd = if k + 2 < n {
-            let c = &self.q[k + 2];
-            a.iter().zip(b).zip(c).map(|((a, b), c)| (c - 2.0 * b + a) / (self.dt_s * self.dt_s)).collect()
-        } else {
-            vec![0.0; qd.len()]
-        };
-        Setpoint { q, qd, qdd }
+        let dof = a.len();
+        out.resize(dof);
+        for i in 0..dof {
+            out.q[i] = a[i] + (b[i] - a[i]) * f;
+            out.qd[i] = (b[i] - a[i]) / self.dt_s;
+            out.qdd[i] = match self.q.get(k + 2) {
+                Some(c) => (c[i] - 2.0 * b[i] + a[i]) / (self.dt_s * self.dt_s),
+                None => 0.0,
+            };
+        }
     }
 }
 

@@ -144,6 +144,21 @@ impl Setpoint {
     pub fn at_rest(q: &[f64]) -> Self {
         Self { q: q.to_vec(), qd: vec![0.0; q.len()], qdd: vec![0.0; q.len()] }
     }
+
+    /// Sets this setpoint to rest at `q`, reusing its storage.
+    pub fn set_rest(&mut self, q: &[f64]) {
+        self.resize(q.len());
+        self.q.copy_from_slice(q);
+        self.qd.fill(0.0);
+        self.qdd.fill(0.0);
+    }
+
+    /// Makes every vector `n` long (no allocation when it already is).
+    pub fn resize(&mut self, n: usize) {
+        self.q.resize(n, 0.0);
+        self.qd.resize(n, 0.0);
+        self.qdd.resize(n, 0.0);
+    }
 }
 
 /// Per-joint speed (rad/s) and acceleration (rad/s²) caps of profiled motion.

@@ -219,6 +219,13 @@ impl MotionPlanner {
     /// Applies the scheduled commands due by `t_s`, retires finished motions and returns the
     /// setpoint at `t_s`.
     pub fn sample(&mut self, t_s: f64) -> Setpoint {
+        let mut sp = Setpoint::at_rest(&[]);
+        self.sample_into(t_s, &mut sp);
+        sp
+    }
+
+    /// [`MotionPlanner::sample`] into a caller-owned setpoint (no allocation on a steady tick).
+    pub fn sample_into(&mut self, t_s: f64, out: &mut Setpoint) {
         while self.pending.first().is_some_and(|p| p.at_s <= t_s) {
             let s = self.pending.remove(0);
             if let Err(e) = self.apply_at(&s.cmd, s.at_s) {
@@ -228,49 +235,54 @@ impl MotionPlanner {
             }
         }
         self.retire(t_s);
-        self.setpoint_at(t_s)
+        self.setpoint_into(t_s, out);
     }
 
     /// The setpoint of the current motion at `t_s` (no side effects).
     pub fn setpoint_at(&self, t_s: f64) -> Setpoint {
+        let mut sp = Setpoint::at_rest(&[]);
+        self.setpoint_into(t_s, &mut sp);
+        sp
+    }
+
+    /// [`MotionPlanner::setpoint_at`] into a caller-owned setpoint (no allocation once `out`
+    /// has the robot's size: the 1 kHz loops use it).
+    pub fn setpoint_into(&self, t_s: f64, out: &mut Setpoint) {
         match &self.motion {
-            Motion::Hold => Setpoint::at_rest(&self.hold_q),
+            Motion::Hold => out.set_rest(&self.hold_q),
             Motion::Follow { t0, start, target, speed, .. } => {
                 let dt = (t_s - t0).max(0.0);
-                let n = start.len();
-                let mut sp = Setpoint { q: Vec::with_capacity(n), qd: vec![0.0; n], qdd: vec![0.0; n] };
-                for i in 0..n {
+                out.set_rest(start);
+                for i in 0..start.len() {
                     let d = target[i] - start[i];
                     let reach = speed[i] * dt;
                     if d.abs() <= reach {
-                        sp.q.push(target[i]);
+                        out.q[i] = target[i];
                     } else {
-                        sp.q.push(start[i] + d.signum() * reach);
-                        sp.qd[i] = d.signum() * speed[i];
+                        out.q[i] = start[i] + d.signum() * reach;
+                        out.qd[i] = d.signum() * speed[i];
                     }
                 }
-                sp
             }
             Motion::Move { t0, mv } => {
-                let s = mv.sample(t_s - t0);
-                Setpoint { q: s.q, qd: s.qd, qdd: s.qdd }
+                out.resize(mv.joint_count());
+                mv.sample_into(t_s - t0, &mut out.q, &mut out.qd, &mut out.qdd);
             }
-            Motion::Trajectory { t0, traj } => traj.sample(t_s - t0),
+            Motion::Trajectory { t0, traj } => traj.sample_into(t_s - t0, out),
             Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
                 let t_end = t_s.min(refreshed + DEADMAN_S);
                 let dt = (t_end - t0).max(0.0);
-                let mut sp = Setpoint::at_rest(start);
+                out.set_rest(start);
                 let free = start[*joint] + vel * dt;
                 let reached = if *vel > 0.0 { free >= *stop_at } else { free <= *stop_at };
                 if reached {
-                    sp.q[*joint] = *stop_at;
+                    out.q[*joint] = *stop_at;
                 } else {
-                    sp.q[*joint] = free;
+                    out.q[*joint] = free;
                     if t_s < refreshed + DEADMAN_S {
-                        sp.qd[*joint] = *vel;
+                        out.qd[*joint] = *vel;
                     }
                 }
-                sp
             }
         }
     }

@@ -374,7 +374,7 @@ impl Simulation {
                 self.record_error(&SimError::InvalidCommand(format!("{} at t = {at_s:.3} s refused: {e}", cmd.name())));
             }
         }
-        self.sp = self.planner.sample(t_next);
+        self.planner.sample_into(t_next, &mut self.sp);
     }
 
     /// Advances the simulation by one fixed time step.

@@ -157,11 +157,10 @@ impl Parol6App {
     /// Shows each refusal of the active backend once (ids are counted per backend).
     pub(super) fn refusal_notices(&mut self, robot: &RobotState) {
         let Some((id, msg)) = &robot.last_refusal else { return };
-        let seen = self.last_refusal_seen.entry(robot.backend.clone()).or_insert(0);
-        if *id <= *seen {
+        if self.last_refusal_seen.get(&robot.backend).is_some_and(|seen| *id <= *seen) {
             return;
         }
-        *seen = *id;
+        self.last_refusal_seen.insert(robot.backend.clone(), *id);
         self.notice(format!("{} refused a command: {msg}", robot.backend), true);
     }
 }

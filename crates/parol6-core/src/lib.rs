@@ -21,6 +21,8 @@ pub mod model;
 pub mod motion;
 pub mod parol6;
 pub mod profile;
+pub mod program;
+pub mod scene;
 pub mod sim;
 pub mod stats;
 pub mod urdf_input;

@@ -6,7 +6,9 @@
 
 use std::sync::Arc;
 
-use parol6_core::motion::{BackendError, MotionCommand, RobotBackend, RobotState};
+use parol6_core::motion::{BackendError, IoCommand, MotionCommand, RobotBackend, RobotState};
+
+use crate::HwError;
 
 use crate::session::Session;
 
@@ -17,5 +19,22 @@ impl RobotBackend for Session {
 
     fn state(&self) -> Arc<RobotState> {
         self.robot_state()
+    }
+
+    fn io(&self, cmd: IoCommand) -> Result<(), BackendError> {
+        cmd.validate().map_err(BackendError::Refused)?;
+        let sent = match cmd {
+            IoCommand::SetOutput { output, on } => self.set_output(output, on),
+            IoCommand::Gripper { position, speed, current_ma } => self.set_gripper(position, speed, current_ma),
+            IoCommand::SetSimulatedInput { input, .. } => {
+                return Err(BackendError::Refused(format!(
+                    "input {input} of the robot is read from the controller board; it cannot be set"
+                )));
+            }
+        };
+        sent.map_err(|e| match e {
+            HwError::Refused(m) => BackendError::Refused(m),
+            other => BackendError::Refused(other.to_string()),
+        })
     }
 }

@@ -9,7 +9,7 @@ use crate::kinematics::TcpPose;
 use crate::limits::{LimitZone, ZoneReport, ZoneThresholds};
 use crate::model::RobotModel;
 
-use super::{MotionCommand, MotionError, PlannerMode, Setpoint};
+use super::{IoCommand, IoState, MotionCommand, MotionError, PlannerMode, Setpoint};
 
 /// Where a [`RobotState`] comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -55,6 +55,13 @@ pub struct RobotState {
     /// Why motion commands are refused right now (link down, E-stop, disabled, homing …);
     /// `None` when they are accepted.
     pub blocked: Option<String>,
+    /// True once the joint positions are known to be true (the simulation always; the robot
+    /// after the controller's homing).
+    #[serde(default)]
+    pub homed: bool,
+    /// Digital I/O and gripper.
+    #[serde(default)]
+    pub io: IoState,
 }
 
 impl RobotState {
@@ -77,6 +84,8 @@ impl RobotState {
             commands_applied: 0,
             last_refusal: None,
             blocked: None,
+            homed: source == StateSource::Simulation,
+            io: IoState::default(),
         }
     }
 
@@ -140,6 +149,9 @@ pub trait RobotBackend: Send + Sync {
 
     /// The latest published state (lock-free).
     fn state(&self) -> Arc<RobotState>;
+
+    /// Sets a digital output or moves the gripper now (checked first).
+    fn io(&self, cmd: IoCommand) -> Result<(), BackendError>;
 
     /// [`RobotBackend::submit`] now.
     fn send(&self, cmd: MotionCommand) -> Result<(), BackendError> {

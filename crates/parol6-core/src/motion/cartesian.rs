@@ -190,6 +190,11 @@ pub fn plan(
             let t = (k as f64 * dt_s).min(duration);
             let s = timing.sample(t / stretch).q[0];
             let pose = path.pose(s);
+            if k == 0 {
+                // exactly where the arm is, so the trajectory is accepted from there
+                samples.push(start_q.to_vec());
+                continue;
+            }
             let q = solve_in_branch(model, &pose, &seed, branch).map_err(|e| {
                 let p = pose.translation.vector * 1000.0;
                 CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason: e.to_string() }
@@ -214,7 +219,7 @@ pub fn plan(
     Err(CartesianError::Invalid("the joint speed caps cannot be met along this path".into()))
 }
 
-fn start_branch(model: &RobotModel, q: &[f64]) -> Option<Branch> {
+pub(crate) fn start_branch(model: &RobotModel, q: &[f64]) -> Option<Branch> {
     if !model.is_parol6 {
         return None;
     }
@@ -224,7 +229,7 @@ fn start_branch(model: &RobotModel, q: &[f64]) -> Option<Branch> {
 }
 
 /// IK nearest `seed`, staying in `branch` when one is given.
-fn solve_in_branch(
+pub(crate) fn solve_in_branch(
     model: &RobotModel,
     pose: &nalgebra::Isometry3<f64>,
     seed: &[f64],

@@ -8,7 +8,9 @@
 //! - [`MotionCommand::Home`]: the same profiled move to the home pose (PAROL6 standby);
 //! - [`MotionCommand::JogJoint`] / [`MotionCommand::JogRelease`]: hold-to-run jog with a
 //!   dead-man ([`DEADMAN_S`]);
-//! - [`MotionCommand::Stop`]: hold the commanded position of this instant.
+//! - [`MotionCommand::Stop`]: hold the commanded position of this instant;
+//! - [`MotionCommand::Pause`] / [`MotionCommand::Resume`]: slow a planned trajectory to a stop
+//!   on its path and pick it up again (program pause).
 //!
 //! [`MotionPlanner`] turns commands into the commanded joint trajectory. It is a pure function
 //! of the commands and the times they apply at: the simulation samples it every 1 ms step, the
@@ -33,11 +35,14 @@ use crate::profile::{ProfileError, ProfileKind};
 
 mod backend;
 pub mod cartesian;
+mod io;
 pub mod path;
 mod planner;
 mod sequence;
+mod warp;
 
 pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};
+pub use io::{DIGITAL_PORTS, IoCommand, IoState};
 pub use planner::{MotionPlanner, PlannerMode};
 pub use sequence::{SequenceProgress, SequenceRunner, SequenceState};
 
@@ -85,6 +90,11 @@ pub enum MotionCommand {
     JogRelease,
     /// Stop: hold the commanded position of this instant.
     Stop,
+    /// Pause a planned trajectory on its path: slow it to a stop (a ramp that uses half of
+    /// the acceleration caps) without leaving the path. Any other motion holds at once.
+    Pause,
+    /// Resume a paused trajectory from where it stopped (the same ramp up).
+    Resume,
     /// Follow a planned joint trajectory (a Cartesian move or a program segment planned off
     /// the control threads, see [`cartesian::plan`]). It must start where the commanded
     /// position is when it applies; every sample is checked against the limits and speed caps.
@@ -112,6 +122,8 @@ impl MotionCommand {
             MotionCommand::JogJoint { .. } => "jog",
             MotionCommand::JogRelease => "jog release",
             MotionCommand::Stop => "stop",
+            MotionCommand::Pause => "pause",
+            MotionCommand::Resume => "resume",
             MotionCommand::Trajectory(_) => "trajectory",
         }
     }
@@ -124,7 +136,7 @@ impl MotionCommand {
 
     /// True for commands that start motion (everything but stop and jog release).
     pub fn starts_motion(&self) -> bool {
-        !matches!(self, MotionCommand::Stop | MotionCommand::JogRelease)
+        !matches!(self, MotionCommand::Stop | MotionCommand::JogRelease | MotionCommand::Pause)
     }
 }
 

@@ -8,6 +8,7 @@ use crate::profile::JointMove;
 
 use super::cartesian::SampledTrajectory;
 
+use super::warp::{TimeWarp, ramp_for};
 use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
 
 /// What the planner is doing (a summary for states and tests).
@@ -23,6 +24,9 @@ pub enum PlannerMode {
     Jog,
     /// A planned trajectory (Cartesian move, program segment).
     Trajectory,
+    /// A trajectory paused on its path ([`MotionCommand::Pause`]), waiting for
+    /// [`MotionCommand::Resume`].
+    Paused,
 }
 
 #[derive(Debug, Clone)]
@@ -31,7 +35,7 @@ enum Motion {
     Follow { t0: f64, start: Vec<f64>, target: Vec<f64>, speed: Vec<f64>, end_s: f64 },
     Move { t0: f64, mv: JointMove },
     Jog { t0: f64, start: Vec<f64>, joint: usize, vel: f64, stop_at: f64, refreshed: f64 },
-    Trajectory { t0: f64, traj: Arc<SampledTrajectory> },
+    Trajectory { t0: f64, traj: Arc<SampledTrajectory>, warp: TimeWarp },
 }
 
 /// A trajectory must start within this distance of the commanded position, rad.
@@ -153,7 +157,11 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => t0 + end_s,
             Motion::Move { t0, mv } => t0 + mv.duration_s(),
             Motion::Jog { t0, start, joint, vel, stop_at, .. } => t0 + ((stop_at - start[*joint]) / vel).abs(),
-            Motion::Trajectory { t0, traj } => t0 + traj.duration_s(),
+            Motion::Trajectory { t0, traj, warp } => match (warp.end_clock(*t0, traj.duration_s()), warp) {
+                (Some(end), _) => end,
+                (None, TimeWarp::Pausing { t_s, ramp_s, .. }) => t_s + ramp_s,
+                (None, _) => 0.0,
+            },
         }
     }
 
@@ -198,6 +206,7 @@ impl MotionPlanner {
             Motion::Follow { .. } => PlannerMode::Follow,
             Motion::Move { .. } => PlannerMode::Move,
             Motion::Jog { .. } => PlannerMode::Jog,
+            Motion::Trajectory { warp, .. } if warp.is_pausing() => PlannerMode::Paused,
             Motion::Trajectory { .. } => PlannerMode::Trajectory,
         }
     }
@@ -212,7 +221,9 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => t_s - t0 < *end_s,
             Motion::Move { t0, mv } => !mv.is_finished(t_s - t0),
             Motion::Jog { refreshed, .. } => t_s <= refreshed + DEADMAN_S,
-            Motion::Trajectory { t0, traj } => t_s - t0 < traj.duration_s(),
+            Motion::Trajectory { t0, traj, warp } => {
+                !warp.is_stopped(t_s) && warp.end_clock(*t0, traj.duration_s()).is_none_or(|end| t_s < end)
+            }
         }
     }
 
@@ -268,7 +279,14 @@ impl MotionPlanner {
                 out.resize(mv.joint_count());
                 mv.sample_into(t_s - t0, &mut out.q, &mut out.qd, &mut out.qdd);
             }
-            Motion::Trajectory { t0, traj } => traj.sample_into(t_s - t0, out),
+            Motion::Trajectory { t0, traj, warp } => {
+                let (tau, rate, rate_d) = warp.at(*t0, t_s);
+                traj.sample_into(tau, out);
+                for i in 0..out.q.len() {
+                    out.qdd[i] = out.qdd[i] * rate * rate + out.qd[i] * rate_d;
+                    out.qd[i] *= rate;
+                }
+            }
             Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
                 let t_end = t_s.min(refreshed + DEADMAN_S);
                 let dt = (t_end - t0).max(0.0);
@@ -294,7 +312,9 @@ impl MotionPlanner {
             Motion::Follow { t0, end_s, .. } => (t_s - t0 >= *end_s).then_some(t_s),
             Motion::Move { t0, mv } => mv.is_finished(t_s - t0).then_some(t_s),
             Motion::Jog { refreshed, .. } => (t_s > refreshed + DEADMAN_S).then_some(refreshed + DEADMAN_S),
-            Motion::Trajectory { t0, traj } => (t_s - t0 >= traj.duration_s()).then_some(t_s),
+            Motion::Trajectory { t0, traj, warp } => {
+                warp.end_clock(*t0, traj.duration_s()).is_some_and(|end| t_s >= end).then_some(t_s)
+            }
         };
         if let Some(t) = done_at {
             self.hold(t);
@@ -372,6 +392,8 @@ impl MotionPlanner {
                 }
             }
             MotionCommand::Stop => self.hold(t_s),
+            MotionCommand::Pause => self.pause(t_s),
+            MotionCommand::Resume => self.resume(t_s),
             MotionCommand::Trajectory(traj) => {
                 let start = traj.samples().first().map(Vec::as_slice).unwrap_or(&[]);
                 let gap = start.iter().zip(&here).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -382,11 +404,44 @@ impl MotionPlanner {
                     )));
                 }
                 self.goal = traj.goal().to_vec();
-                self.motion = Motion::Trajectory { t0: t_s, traj: Arc::clone(traj) };
+                self.motion = Motion::Trajectory { t0: t_s, traj: Arc::clone(traj), warp: TimeWarp::Normal };
             }
         }
         self.applied += 1;
         Ok(())
+    }
+
+    /// Slows a trajectory to a stop on its path; any other motion holds at once (STOP).
+    fn pause(&mut self, t_s: f64) {
+        let Motion::Trajectory { t0, traj, warp } = &self.motion else {
+            self.hold(t_s);
+            return;
+        };
+        if warp.is_pausing() {
+            return;
+        }
+        let (tau_s, rate, _) = warp.at(*t0, t_s);
+        // the ramp is sized for the path's full speed here; from a lower rate (a pause during
+        // a resume ramp) the stop starts part-way down the same ramp, so the rate stays
+        // continuous
+        let ramp_s = ramp_for(&traj.sample(tau_s).qd, &self.caps.accel_rad_s2);
+        let (t_start, ramp) = if rate < 1.0 { (t_s - ramp_s * (1.0 - rate), ramp_s) } else { (t_s, ramp_s) };
+        let tau_start = tau_s - (t_s - t_start) + (t_s - t_start).powi(2) / (2.0 * ramp);
+        let (t0, traj) = (*t0, Arc::clone(traj));
+        self.motion =
+            Motion::Trajectory { t0, traj, warp: TimeWarp::Pausing { t_s: t_start, tau_s: tau_start, ramp_s: ramp } };
+    }
+
+    /// Picks up a paused trajectory where it stopped (nothing to do otherwise).
+    fn resume(&mut self, t_s: f64) {
+        let Motion::Trajectory { t0, traj, warp } = &self.motion else { return };
+        if !warp.is_stopped(t_s) {
+            return;
+        }
+        let (tau_s, _, _) = warp.at(*t0, t_s);
+        let TimeWarp::Pausing { ramp_s, .. } = *warp else { return };
+        let (t0, traj) = (*t0, Arc::clone(traj));
+        self.motion = Motion::Trajectory { t0, traj, warp: TimeWarp::Resuming { t_s, tau_s, ramp_s } };
     }
 
     fn start_move(
@@ -443,7 +498,7 @@ pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), 
                 return Err(MotionError::Invalid("jog fraction must be a finite number".into()));
             }
         }
-        MotionCommand::JogRelease | MotionCommand::Stop => {}
+        MotionCommand::JogRelease | MotionCommand::Stop | MotionCommand::Pause | MotionCommand::Resume => {}
         MotionCommand::Trajectory(traj) => validate_trajectory(limits, traj)?,
     }
     Ok(())

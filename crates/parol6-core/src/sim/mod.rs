@@ -51,6 +51,7 @@ pub struct Simulation {
     /// Commanded setpoint of the last step (position, velocity, acceleration).
     sp: Setpoint,
     user_torques: Vec<f64>,
+    io: crate::motion::IoState,
     tap: Option<Sender<MotionSample>>,
     tap_dropped: u64,
     /// Measured state.
@@ -131,6 +132,7 @@ impl Simulation {
             torque_control: false,
             sp: Setpoint::at_rest(&home),
             user_torques: vec![0.0; n],
+            io: crate::motion::IoState::default(),
             tap: None,
             tap_dropped: 0,
             q: home,
@@ -326,6 +328,10 @@ impl Simulation {
                     self.mode = mode;
                 }
             }
+            SimCommand::Io(io) => {
+                io.validate().map_err(SimError::InvalidCommand)?;
+                self.io.apply(&io);
+            }
             SimCommand::ApplyJointTorques(tau) => {
                 if self.mode != SimMode::Dynamic {
                     return Err(SimError::InvalidCommand("joint torques need dynamic mode".into()));
@@ -464,6 +470,7 @@ impl Simulation {
             step_rate_hz: self.step_rate_hz,
             last_command_latency_ns: self.last_command_latency_ns,
             last_error: self.last_error.clone(),
+            io: self.io,
         }
     }
 }

@@ -14,7 +14,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, TrySendError};
 
 use super::{SimCommand, SimConfig, SimError, SimSnapshot, Simulation};
 use crate::model::RobotModel;
-use crate::motion::{BackendError, MotionCommand, MotionSample, RobotBackend, RobotState};
+use crate::motion::{BackendError, IoCommand, MotionCommand, MotionSample, RobotBackend, RobotState};
 
 /// Capacity of the command channel.
 pub const COMMAND_QUEUE: usize = 1024;
@@ -283,5 +283,14 @@ impl RobotBackend for SimHandle {
 
     fn state(&self) -> Arc<RobotState> {
         self.shared.state.load_full()
+    }
+
+    fn io(&self, cmd: IoCommand) -> Result<(), BackendError> {
+        cmd.validate().map_err(BackendError::Refused)?;
+        self.send(SimCommand::Io(cmd)).map_err(|e| match e {
+            SimError::ChannelFull => BackendError::QueueFull,
+            SimError::ChannelClosed => BackendError::Closed,
+            other => BackendError::Refused(other.to_string()),
+        })
     }
 }

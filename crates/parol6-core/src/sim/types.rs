@@ -62,6 +62,8 @@ pub enum SimCommand {
     },
     /// Put the joints at these values instantly, at rest.
     Teleport(Vec<f64>),
+    /// Digital I/O or the gripper (the simulation's outputs and gripper follow at once).
+    Io(crate::motion::IoCommand),
     /// Switch between kinematic and dynamic stepping.
     SetMode(SimMode),
     /// Dynamic mode: drive the joints with these torques (N·m), motors off, until a motion
@@ -165,6 +167,8 @@ pub struct SimSnapshot {
     pub last_command_latency_ns: Option<u64>,
     /// The last refused command: increasing id and message.
     pub last_error: Option<(u64, String)>,
+    /// Digital I/O and gripper.
+    pub io: crate::motion::IoState,
 }
 
 impl SimSnapshot {
@@ -186,6 +190,8 @@ impl SimSnapshot {
             commands_applied: self.commands_applied,
             last_refusal: self.last_error.clone(),
             blocked: None,
+            homed: true,
+            io: self.io,
         }
     }
 }

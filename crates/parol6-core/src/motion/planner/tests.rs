@@ -160,6 +160,79 @@ fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() 
     assert!(e.to_string().contains("away from the commanded position"), "{e}");
 }
 
+/// A pause slows a trajectory to a stop on its path within the acceleration caps; a resume
+/// finishes it at its goal; the pair costs exactly the ramp time.
+#[test]
+fn a_paused_trajectory_stops_on_its_path_and_resumes_to_its_goal() {
+    use crate::motion::cartesian::{CartesianCaps, plan};
+    use crate::motion::path::TcpPath;
+    let model = RobotModel::parol6();
+    let mut p = planner();
+    let mut q0 = crate::parol6::standby_rad().to_vec();
+    q0[4] = 0.6;
+    p.apply(&mv(q0.clone()), 0.0).expect("move");
+    let t1 = 10.0;
+    p.sample(t1);
+    let a = model.tcp_isometry(&q0);
+    let mut b = a;
+    b.translation.vector.x += 0.08;
+    let traj = plan(&model, &q0, &TcpPath::line(&a, &b), &CartesianCaps::default(), p.caps(), 1.0, 0.001)
+        .expect("plans")
+        .trajectory;
+    let d = traj.duration_s();
+    p.apply(&MotionCommand::Trajectory(traj.clone()), t1).expect("starts");
+    let t_pause = t1 + d * 0.4;
+    p.sample(t_pause);
+    p.apply(&MotionCommand::Pause, t_pause).expect("pause");
+    assert_eq!(p.mode(), PlannerMode::Paused);
+    let caps = p.caps().clone();
+    let mut t = t_pause;
+    let mut prev = p.sample(t);
+    let mut stopped_at = None;
+    while t < t_pause + 3.0 {
+        t += 0.001;
+        let sp = p.sample(t);
+        // on the line
+        let tcp = model.tcp_isometry(&sp.q);
+        assert!((tcp.translation.y - a.translation.y).abs() < 0.05e-3 && (tcp.translation.z - a.translation.z).abs() < 0.05e-3);
+        for j in 0..6 {
+            assert!(sp.qd[j].abs() <= caps.speed_rad_s[j] * 1.0001);
+            assert!(((sp.qd[j] - prev.qd[j]) / 0.001).abs() <= caps.accel_rad_s2[j] * 1.01, "joint {j} at {t}");
+        }
+        if stopped_at.is_none() && !p.is_moving(t) {
+            stopped_at = Some(t);
+        }
+        prev = sp;
+    }
+    let stopped_at = stopped_at.expect("the pause stops the arm");
+    assert!(p.sample(t).q != traj.goal().to_vec(), "paused before the end");
+    assert_eq!(p.sample(t).q, p.sample(t + 5.0).q, "holds while paused");
+    let t_resume = t_pause + 5.0;
+    p.apply(&MotionCommand::Resume, t_resume).expect("resume");
+    assert_eq!(p.mode(), PlannerMode::Trajectory);
+    // the stop took one ramp and covered half a ramp of path time; the resume ramp covers the
+    // other half, so the rest of the path ends as if it had never paused from the resume on
+    assert!(stopped_at - t_pause >= super::super::warp::MIN_RAMP_S - 0.002);
+    let end = t_resume + (d - (t_pause - t1));
+    assert!(p.is_moving(end - 0.01));
+    assert_eq!(p.sample(end + 0.002).q, traj.goal().to_vec());
+    assert_eq!(p.mode(), PlannerMode::Hold);
+}
+
+#[test]
+fn pause_outside_a_trajectory_holds_and_resume_without_a_pause_does_nothing() {
+    let mut p = planner();
+    let mut goal = home_position(&RobotModel::parol6());
+    goal[0] += 0.5;
+    p.apply(&mv(goal.clone()), 0.0).expect("move");
+    p.sample(0.3);
+    p.apply(&MotionCommand::Pause, 0.3).expect("pause");
+    assert_eq!(p.mode(), PlannerMode::Hold);
+    let held = p.sample(0.4).q;
+    p.apply(&MotionCommand::Resume, 0.5).expect("resume");
+    assert_eq!(p.sample(1.0).q, held);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
     /// Whatever the commands, the commanded trajectory stays within the limits and never

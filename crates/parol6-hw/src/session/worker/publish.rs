@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use parol6_core::limits::ZoneThresholds;
-use parol6_core::motion::{MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
+use parol6_core::motion::{IoState, MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
 
 use super::super::snapshot::LinkState;
 use super::{TIMING_WINDOW, Worker};
@@ -93,6 +93,12 @@ impl Worker {
             commands_applied: planner.applied(),
             last_refusal: self.streamer.last_refusal().cloned(),
             blocked: self.snap.motion_allowed().err().map(|e| e.to_string()),
+            homed: self.snap.homed.iter().all(|h| *h),
+            io: IoState {
+                inputs: [self.snap.io[0], self.snap.io[1]],
+                outputs: [self.snap.io[2], self.snap.io[3]],
+                gripper_position: u8::try_from(self.snap.gripper_position.clamp(0, 255)).unwrap_or(0),
+            },
         };
         state.update_kinematics(&self.model, &ZoneThresholds::default());
         state

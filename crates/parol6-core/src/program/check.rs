@@ -1,0 +1,1 @@
+//! Pre-flight of a whole program (filled in with the pre-flight checker).

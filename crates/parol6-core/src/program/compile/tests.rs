@@ -1,0 +1,137 @@
+use super::*;
+use crate::program::{PoseMm, SourcedStep};
+
+fn start() -> (RobotModel, Vec<f64>) {
+    let model = RobotModel::parol6();
+    let mut q = crate::parol6::standby_rad().to_vec();
+    q[1] += 0.2;
+    q[2] -= 0.3;
+    q[4] = 0.6;
+    (model, q)
+}
+
+fn offset(model: &RobotModel, q: &[f64], d_mm: [f64; 3]) -> PoseMm {
+    let mut p = PoseMm::from_isometry(&model.tcp_isometry(q));
+    for i in 0..3 {
+        p.position_mm[i] += d_mm[i];
+    }
+    p
+}
+
+fn program(steps: Vec<Step>) -> Program {
+    let mut p = Program::from_steps("test", steps);
+    for (i, s) in p.steps.iter_mut().enumerate() {
+        s.line = 10 + i;
+    }
+    p
+}
+
+#[test]
+fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
+    let (model, q0) = start();
+    let here = offset(&model, &q0, [0.0; 3]);
+    let a = offset(&model, &q0, [30.0, 0.0, 0.0]);
+    let b = offset(&model, &q0, [30.0, 30.0, 0.0]);
+    let c = offset(&model, &q0, [0.0, 30.0, 0.0]);
+    let steps = vec![
+        Step::MoveL { pose: a, speed_mm_s: Some(80.0), blend_mm: None },
+        Step::MoveC { via_mm: [here.position_mm[0] + 30.0 + 15.0, here.position_mm[1] + 15.0, here.position_mm[2]], pose: b, speed_mm_s: None },
+        Step::MoveL { pose: c, speed_mm_s: None, blend_mm: Some(5.0) },
+        Step::MoveL { pose: here, speed_mm_s: None, blend_mm: Some(5.0) },
+        Step::MoveL { pose: a, speed_mm_s: None, blend_mm: None },
+        Step::MoveCircle {
+            center_mm: [here.position_mm[0] + 15.0, here.position_mm[1], here.position_mm[2]],
+            normal: [0.0, 0.0, 1.0],
+            angle_deg: 360.0,
+            speed_mm_s: Some(50.0),
+        },
+        Step::Spline { waypoints: vec![b, c, here], speed_mm_s: None },
+        Step::MoveJoints { joints_deg: q0.iter().map(|v| v.to_degrees() + 5.0).collect(), speed_fraction: Some(0.8) },
+        Step::MovePose { pose: here, speed_fraction: None },
+        Step::Dwell { seconds: 0.25 },
+        Step::Gripper { action: GripperAction::Close, position: None, speed: None, current_ma: None },
+        Step::SetOutput { output: 2, on: true },
+        Step::WaitInput { input: 1, on: true, timeout_s: Some(2.0) },
+        Step::Home { speed_fraction: None },
+    ];
+    let n = steps.len();
+    let p = program(steps);
+    let compiled = compile(&model, &p, &q0, CompileOptions::RUN).expect("compiles");
+    // the blended chain (steps 2, 3, 4) is one compiled step
+    assert_eq!(compiled.len(), n - 2);
+    assert_eq!(compiled[2].steps, 2..5);
+    assert_eq!(compiled[2].line, 12);
+    let mut q = q0.clone();
+    for c in &compiled {
+        if let StepAction::Motion(t) = &c.action {
+            assert_eq!(t.samples()[0], q, "step {:?} starts where the last ended", c.steps);
+            assert_eq!(t.dt_s(), 0.001);
+            q = t.goal().to_vec();
+        }
+        assert_eq!(c.end_q, q);
+    }
+    // the line ends on its pose; the circle comes back to where it started
+    let end_a = model.tcp_isometry(&compiled[0].end_q);
+    assert!((end_a.translation.vector - a.isometry().translation.vector).norm() < 1e-6);
+    let circle_start = model.tcp_isometry(&compiled[2].end_q);
+    let circle_end = model.tcp_isometry(&compiled[3].end_q);
+    assert!((circle_start.translation.vector - circle_end.translation.vector).norm() < 1e-6);
+    assert_eq!(compiled[8].action, StepAction::Io(IoCommand::Gripper { position: 255, speed: 128, current_ma: 500 }));
+    assert_eq!(compiled[10].action, StepAction::WaitInput { input: 1, on: true, timeout_s: 2.0 });
+    assert_eq!(compiled.last().map(|c| c.end_q.clone()), Some(home_position(&model)));
+    assert!((compiled[7].duration_s() - 0.25).abs() < 1e-12);
+}
+
+#[test]
+fn an_unreachable_line_names_the_step_line_time_and_tcp() {
+    let (model, q0) = start();
+    let far = offset(&model, &q0, [0.0, 0.0, 900.0]);
+    let p = program(vec![Step::Dwell { seconds: 0.1 }, Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None }]);
+    let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("out of reach");
+    assert_eq!((e.index, e.line, e.kind), (1, 11, "move_l"));
+    assert!(e.t_s.is_some() && e.tcp_mm.is_some(), "{e:?}");
+    assert!(e.to_string().starts_with("step 2 (line 11, move_l): TCP ("), "{e}");
+}
+
+#[test]
+fn bad_arguments_name_the_step() {
+    let (model, q0) = start();
+    let cases = vec![
+        (Step::MoveJoints { joints_deg: vec![0.0; 5], speed_fraction: None }, "5 values"),
+        (Step::MoveJoints { joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 400.0], speed_fraction: None }, "joint 6"),
+        (Step::MoveJoints { joints_deg: vec![90.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: Some(1.5) }, "speed_fraction"),
+        (Step::MoveL { pose: offset(&model, &q0, [1.0, 0.0, 0.0]), speed_mm_s: Some(500.0), blend_mm: None }, "200"),
+        (Step::Dwell { seconds: -1.0 }, "seconds"),
+        (Step::Dwell { seconds: f64::NAN }, "seconds"),
+        (Step::SetOutput { output: 3, on: true }, "output 3"),
+        (Step::WaitInput { input: 0, on: true, timeout_s: None }, "input 0"),
+        (Step::Gripper { action: GripperAction::Position, position: None, speed: None, current_ma: None }, "position"),
+        (Step::Gripper { action: GripperAction::Open, position: None, speed: None, current_ma: Some(9000) }, "current"),
+        (
+            Step::MoveCircle { center_mm: [0.0, 0.0, 0.0], normal: [0.0, 0.0, 0.0], angle_deg: 90.0, speed_mm_s: None },
+            "normal",
+        ),
+    ];
+    for (step, needle) in cases {
+        let p = program(vec![step.clone()]);
+        let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("refused");
+        assert_eq!((e.index, e.line), (0, 10));
+        assert!(e.to_string().contains(needle), "{step:?}: {e}");
+    }
+}
+
+#[test]
+fn the_speed_override_slows_every_move() {
+    let (model, q0) = start();
+    let p = program(vec![
+        Step::MoveL { pose: offset(&model, &q0, [40.0, 0.0, 0.0]), speed_mm_s: None, blend_mm: None },
+        Step::Home { speed_fraction: None },
+    ]);
+    let full = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect("compiles");
+    let half = compile(&model, &p, &q0, CompileOptions { speed_override: 0.5, ..CompileOptions::PREFLIGHT }).expect("compiles");
+    for (a, b) in full.iter().zip(&half) {
+        assert!(b.duration_s() > a.duration_s() * 1.3, "{} vs {}", b.duration_s(), a.duration_s());
+        assert_eq!(a.end_q.len(), b.end_q.len());
+    }
+    let _ = SourcedStep { step: Step::Dwell { seconds: 0.0 }, line: 0 };
+}

@@ -92,6 +92,7 @@ pub enum MotionCommand {
     Stop,
     /// Pause a planned trajectory on its path: slow it to a stop (a ramp that uses half of
     /// the acceleration caps) without leaving the path. Any other motion holds at once.
+    /// Scheduled commands are dropped (the program runner schedules the rest again).
     Pause,
     /// Resume a paused trajectory from where it stopped (the same ramp up).
     Resume,

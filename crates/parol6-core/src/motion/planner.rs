@@ -109,10 +109,10 @@ impl MotionPlanner {
         validate(&self.limits, cmd)
     }
 
-    /// Applies `cmd` at time `t_s` (an immediate command). An immediate STOP also drops every
-    /// scheduled command. A refused command leaves the planner unchanged.
+    /// Applies `cmd` at time `t_s` (an immediate command). An immediate STOP or PAUSE also
+    /// drops every scheduled command. A refused command leaves the planner unchanged.
     pub fn apply(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
-        if matches!(cmd, MotionCommand::Stop) {
+        if matches!(cmd, MotionCommand::Stop | MotionCommand::Pause) {
             self.pending.clear();
         }
         self.apply_at(cmd, t_s)

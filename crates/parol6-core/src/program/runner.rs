@@ -1,1 +1,528 @@
-//! Program runner (next).
+//! [`ProgramRunner`]: runs a [`Program`] on any [`RobotBackend`] on its own thread, with
+//! pause, resume, single step and stop, and publishes its progress (step n of m, time left).
+//!
+//! How it keeps the same meaning on every backend: the program is compiled once, from the
+//! commanded position the backend holds at the start, into joint trajectories at the 1 kHz
+//! control rate; each is *scheduled* on the backend's motion clock at the instant the previous
+//! one ends (dwells add their time), up to [`LOOKAHEAD`] steps ahead, so the commanded
+//! trajectory does not depend on when this thread wakes. I/O steps are sent when the motion
+//! clock reaches them (at most one poll late, [`POLL`]); a wait for an input re-starts the
+//! schedule when the input arrives.
+//!
+//! Pause slows the current trajectory to a stop on its path ([`MotionCommand::Pause`]); resume
+//! finishes it and schedules the rest again. Stop pauses, then holds. A refused step, a backend
+//! that stops accepting motion (link loss, E-stop, disabled) or a failed wait ends the run with
+//! the reason; the backend holds the arm.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use arc_swap::ArcSwap;
+use crossbeam_channel::{Receiver, Sender, TryRecvError};
+
+use super::Program;
+use super::check::{CheckOptions, check_program};
+use super::compile::{CompileOptions, CompiledStep, StepAction, compile};
+use crate::model::RobotModel;
+use crate::motion::{MotionCommand, PlannerMode, RobotBackend, RobotState};
+
+/// How often the runner looks at the backend's state (wall clock).
+pub const POLL: Duration = Duration::from_millis(2);
+/// At most this many steps are scheduled ahead of the motion clock.
+pub const LOOKAHEAD: usize = 8;
+/// The first step starts this long after the runner schedules it, s of motion clock.
+pub const LEAD_S: f64 = 0.05;
+
+/// Operator controls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunnerControl {
+    /// Slow to a stop on the path.
+    Pause,
+    /// Go on (after a pause or a single step).
+    Resume,
+    /// Run the next step (or finish the current one), then pause.
+    Step,
+    /// Pause, then hold and end the run.
+    Stop,
+}
+
+/// Where a run is.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub enum RunState {
+    /// Compiling and checking before anything moves.
+    Preparing,
+    /// Running.
+    Running,
+    /// Paused by the operator (or after a single step).
+    Paused,
+    /// Every step done.
+    Done,
+    /// Stopped by the operator.
+    Stopped,
+    /// Refused or halted; the reason.
+    Failed(String),
+}
+
+impl RunState {
+    /// True once the run has ended.
+    pub fn is_finished(&self) -> bool {
+        matches!(self, RunState::Done | RunState::Stopped | RunState::Failed(_))
+    }
+}
+
+/// Progress of a run, published by its thread.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RunProgress {
+    /// Program name.
+    pub name: String,
+    /// 0-based program step under way (or the last one).
+    pub step: usize,
+    /// Number of program steps.
+    pub steps: usize,
+    /// State.
+    pub state: RunState,
+    /// What the run waits for, if anything ("input 1 high").
+    pub waiting_for: Option<String>,
+    /// Planned time left, s (waits for inputs not counted).
+    pub time_left_s: f64,
+    /// Planned duration of the whole program, s.
+    pub planned_s: f64,
+    /// Program steps completed.
+    pub steps_done: usize,
+    /// Largest commanded − measured joint difference seen while running, rad.
+    pub max_tracking_error_rad: f64,
+    /// Motion clock at the start and at the end of the run, s.
+    pub clock_s: (f64, f64),
+}
+
+/// How to run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOptions {
+    /// Every step's speed × this (0 < f ≤ 1).
+    pub speed_override: f64,
+    /// Start paused after the first step (single-step mode).
+    pub single_step: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        Self { speed_override: 1.0, single_step: false }
+    }
+}
+
+/// A program running on its own thread. Dropping it stops the run (the arm holds).
+pub struct ProgramRunner {
+    progress: Arc<ArcSwap<RunProgress>>,
+    control: Sender<RunnerControl>,
+    join: Option<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for ProgramRunner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ProgramRunner").field("progress", &self.progress()).finish()
+    }
+}
+
+impl ProgramRunner {
+    /// Starts running `program` on `backend` (whose robot is `model`). The thread checks and
+    /// compiles first; a refusal shows as [`RunState::Failed`].
+    pub fn start(
+        backend: Arc<dyn RobotBackend>,
+        model: RobotModel,
+        program: Program,
+        opts: RunOptions,
+    ) -> std::io::Result<Self> {
+        let progress = Arc::new(ArcSwap::from_pointee(RunProgress {
+            name: program.name.clone(),
+            step: 0,
+            steps: program.steps.len(),
+            state: RunState::Preparing,
+            waiting_for: None,
+            time_left_s: 0.0,
+            planned_s: 0.0,
+            steps_done: 0,
+            max_tracking_error_rad: 0.0,
+            clock_s: (0.0, 0.0),
+        }));
+        let (tx, rx) = crossbeam_channel::bounded(16);
+        let p = Arc::clone(&progress);
+        let join = std::thread::Builder::new().name("parol6-program".into()).spawn(move || {
+            let mut run = Run { backend: backend.as_ref(), progress: &p, control: &rx, single: false };
+            run.run(&model, &program, opts);
+        })?;
+        Ok(Self { progress, control: tx, join: Some(join) })
+    }
+
+    /// The latest progress.
+    pub fn progress(&self) -> RunProgress {
+        self.progress.load().as_ref().clone()
+    }
+
+    /// Sends an operator control (ignored once the run has ended).
+    pub fn control(&self, c: RunnerControl) {
+        let _ = self.control.try_send(c);
+    }
+
+    /// Waits for the run to end.
+    pub fn join(mut self) -> RunProgress {
+        if let Some(j) = self.join.take() {
+            let _ = j.join();
+        }
+        self.progress()
+    }
+}
+
+impl Drop for ProgramRunner {
+    fn drop(&mut self) {
+        if let Some(j) = self.join.take() {
+            let _ = self.control.send(RunnerControl::Stop);
+            let _ = j.join();
+        }
+    }
+}
+
+/// Why the run ends early.
+enum Halt {
+    Stopped,
+    Failed(String),
+}
+
+struct Run<'a> {
+    backend: &'a dyn RobotBackend,
+    progress: &'a ArcSwap<RunProgress>,
+    control: &'a Receiver<RunnerControl>,
+    single: bool,
+}
+
+/// A step scheduled on the motion clock.
+struct Slot {
+    index: usize,
+    start_s: f64,
+    end_s: f64,
+}
+
+impl Run<'_> {
+    fn publish(&self, f: impl FnOnce(&mut RunProgress)) {
+        let mut p = self.progress.load().as_ref().clone();
+        f(&mut p);
+        self.progress.store(Arc::new(p));
+    }
+
+    fn run(&mut self, model: &RobotModel, program: &Program, opts: RunOptions) {
+        self.single = opts.single_step;
+        let outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
+        let end = self.backend.state().time_s;
+        let state = match outcome {
+            Ok(()) => RunState::Done,
+            Err(Halt::Stopped) => RunState::Stopped,
+            Err(Halt::Failed(why)) => {
+                // hold whatever moves (the backend holds on its own when it blocks motion)
+                let _ = self.backend.send(MotionCommand::Stop);
+                RunState::Failed(why)
+            }
+        };
+        self.publish(|p| {
+            p.state = state;
+            p.waiting_for = None;
+            p.clock_s.1 = end;
+            if p.state == RunState::Done {
+                p.time_left_s = 0.0;
+                p.steps_done = p.steps;
+            }
+        });
+    }
+
+    /// Refuses to start unless the backend accepts motion, is homed, holds still and the
+    /// program passes pre-flight from where the arm is; then compiles at the control rate.
+    fn prepare(&self, model: &RobotModel, program: &Program, opts: RunOptions) -> Result<Vec<CompiledStep>, Halt> {
+        let s = self.backend.state();
+        if let Some(b) = &s.blocked {
+            return Err(Halt::Failed(format!("the robot does not accept motion: {b}")));
+        }
+        if !s.homed {
+            return Err(Halt::Failed("the robot is not homed: home it before running a program".into()));
+        }
+        if s.moving || s.mode != PlannerMode::Hold {
+            return Err(Halt::Failed("the arm is moving: stop it before running a program".into()));
+        }
+        let start_q = s.commanded.q.clone();
+        let report = check_program(model, program, &start_q, CheckOptions { speed_override: opts.speed_override });
+        if let Some(first) = report.first_error() {
+            return Err(Halt::Failed(format!("pre-flight: {first}")));
+        }
+        let compiled = compile(model, program, &start_q, CompileOptions { speed_override: opts.speed_override, ..CompileOptions::RUN })
+            .map_err(|e| Halt::Failed(e.to_string()))?;
+        let planned: f64 = compiled.iter().map(CompiledStep::duration_s).sum();
+        self.publish(|p| {
+            p.state = RunState::Running;
+            p.planned_s = planned;
+            p.time_left_s = planned;
+            p.clock_s.0 = s.time_s;
+        });
+        Ok(compiled)
+    }
+
+    fn execute(&mut self, compiled: &[CompiledStep]) -> Result<(), Halt> {
+        let mut next = 0; // first step not yet scheduled
+        let mut slots: VecDeque<Slot> = VecDeque::new();
+        let mut clock = self.backend.state().time_s + LEAD_S;
+        let mut refusal = self.backend.state().last_refusal.as_ref().map_or(0, |r| r.0);
+        // single-step mode: a step has been scheduled; wait for the operator once it is done
+        let mut hold_at_boundary = false;
+        loop {
+            if slots.is_empty() && hold_at_boundary && next < compiled.len() {
+                self.idle_until_control()?;
+                hold_at_boundary = false;
+                clock = self.backend.state().time_s + LEAD_S;
+            }
+            // schedule ahead on the motion clock (one step at a time in single-step mode; a
+            // wait for an input ends the batch: what follows it starts when the input comes)
+            while slots.len() < LOOKAHEAD && next < compiled.len() && !(self.single && hold_at_boundary) {
+                let c = &compiled[next];
+                let wait = matches!(c.action, StepAction::WaitInput { .. });
+                if wait && !slots.is_empty() {
+                    break;
+                }
+                if let StepAction::Motion(t) = &c.action {
+                    self.backend
+                        .submit(MotionCommand::Trajectory(Arc::clone(t)), Some(clock))
+                        .map_err(|e| Halt::Failed(format!("step {}: {e}", c.steps.start + 1)))?;
+                }
+                let end = clock + c.duration_s();
+                slots.push_back(Slot { index: next, start_s: clock, end_s: end });
+                clock = end;
+                next += 1;
+                hold_at_boundary = self.single;
+                if wait {
+                    break;
+                }
+            }
+            let Some(&Slot { index, start_s, end_s }) = slots.front() else {
+                if next >= compiled.len() {
+                    return Ok(());
+                }
+                continue;
+            };
+            std::thread::sleep(POLL);
+            let s = self.backend.state();
+            self.watch(&s, &mut refusal, compiled, &slots)?;
+            if let Some(ctrl) = self.poll_control() {
+                if ctrl == RunnerControl::Resume {
+                    self.single = false;
+                    hold_at_boundary = false;
+                    continue;
+                }
+                // pause, stop and step all bring the arm to a stop on its path first
+                let resume_at = self.pause_now(compiled, &mut slots, next)?;
+                if ctrl == RunnerControl::Stop {
+                    let _ = self.backend.send(MotionCommand::Stop);
+                    return Err(Halt::Stopped);
+                }
+                if ctrl == RunnerControl::Pause {
+                    self.idle_until_control()?;
+                    // a step pressed while paused mid-way finishes that step, then waits
+                    let midway = self.backend.state().mode == PlannerMode::Paused;
+                    next = self.resume_from(compiled, resume_at)?;
+                    hold_at_boundary = self.single && midway;
+                } else {
+                    // step: finish the step under way, then wait at its end
+                    let midway = self.backend.state().mode == PlannerMode::Paused;
+                    next = self.resume_from(compiled, resume_at)?;
+                    self.single = true;
+                    hold_at_boundary = midway;
+                }
+                slots.clear();
+                clock = self.backend.state().time_s + LEAD_S;
+                continue;
+            }
+            let c = &compiled[index];
+            if s.time_s < start_s {
+                continue;
+            }
+            match &c.action {
+                StepAction::Io(cmd) => {
+                    self.backend.io(*cmd).map_err(|e| Halt::Failed(format!("step {}: {e}", c.steps.start + 1)))?;
+                    self.finish_slot(&mut slots, compiled);
+                }
+                StepAction::WaitInput { input, on, timeout_s } => {
+                    self.wait_input(*input, *on, *timeout_s)?;
+                    self.finish_slot(&mut slots, compiled);
+                    clock = self.backend.state().time_s + LEAD_S;
+                }
+                StepAction::Motion(_) | StepAction::Dwell(_) if s.time_s >= end_s => {
+                    self.finish_slot(&mut slots, compiled);
+                }
+                _ => {
+                    let left = (end_s - s.time_s).max(0.0)
+                        + compiled[index + 1..].iter().map(CompiledStep::duration_s).sum::<f64>();
+                    self.publish(|p| {
+                        p.step = c.steps.start;
+                        p.time_left_s = left;
+                    });
+                }
+            }
+        }
+    }
+
+    fn finish_slot(&self, slots: &mut VecDeque<Slot>, compiled: &[CompiledStep]) {
+        if let Some(done) = slots.pop_front() {
+            let c = &compiled[done.index];
+            self.publish(|p| {
+                p.steps_done = c.steps.end;
+                p.step = c.steps.end.min(p.steps.saturating_sub(1));
+            });
+        }
+    }
+
+    /// Fails the run on a refusal, a blocked backend or a stalled schedule; tracks the error.
+    fn watch(
+        &self,
+        s: &RobotState,
+        refusal: &mut u64,
+        compiled: &[CompiledStep],
+        slots: &VecDeque<Slot>,
+    ) -> Result<(), Halt> {
+        if let Some((id, msg)) = &s.last_refusal
+            && *id > *refusal
+        {
+            *refusal = *id;
+            let step = slots.front().map_or(0, |sl| compiled[sl.index].steps.start + 1);
+            return Err(Halt::Failed(format!("step {step}: {msg}")));
+        }
+        if let Some(b) = &s.blocked {
+            return Err(Halt::Failed(format!("halted: {b}")));
+        }
+        let err = s.commanded.q.iter().zip(&s.q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        if err > self.progress.load().max_tracking_error_rad {
+            self.publish(|p| p.max_tracking_error_rad = err);
+        }
+        Ok(())
+    }
+
+    fn poll_control(&self) -> Option<RunnerControl> {
+        match self.control.try_recv() {
+            Ok(c) => Some(c),
+            Err(TryRecvError::Empty) => None,
+            // the handle is gone: stop
+            Err(TryRecvError::Disconnected) => Some(RunnerControl::Stop),
+        }
+    }
+
+    /// Pauses on the path (the backend drops the steps scheduled after the one under way) and
+    /// waits until the arm has stopped. Returns the first step not finished: the one paused
+    /// mid-way, or the next one.
+    fn pause_now(&mut self, compiled: &[CompiledStep], slots: &mut VecDeque<Slot>, next: usize) -> Result<usize, Halt> {
+        self.backend.send(MotionCommand::Pause).map_err(|e| Halt::Failed(format!("pause: {e}")))?;
+        let t0 = Instant::now();
+        loop {
+            std::thread::sleep(POLL);
+            let s = self.backend.state();
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted: {b}")));
+            }
+            if s.moving && t0.elapsed() < Duration::from_secs(5) {
+                continue;
+            }
+            // the planner's goal is the end of the trajectory that holds the arm
+            let holding = slots.iter().position(|sl| {
+                matches!(compiled[sl.index].action, StepAction::Motion(_)) && compiled[sl.index].end_q == s.target_q
+            });
+            let done = match holding {
+                Some(k) if s.mode == PlannerMode::Paused => k,
+                Some(k) => k + 1,
+                // nothing of the schedule has moved yet (a dwell or I/O at the head)
+                None => 0,
+            };
+            for _ in 0..done.min(slots.len()) {
+                self.finish_slot(slots, compiled);
+            }
+            return Ok(slots.front().map_or(next, |sl| sl.index));
+        }
+    }
+
+    /// Waits while paused until Resume, Step or Stop.
+    fn idle_until_control(&mut self) -> Result<(), Halt> {
+        self.publish(|p| p.state = RunState::Paused);
+        loop {
+            match self.control.recv_timeout(Duration::from_millis(20)) {
+                Ok(RunnerControl::Resume) => {
+                    self.single = false;
+                    break;
+                }
+                Ok(RunnerControl::Step) => {
+                    self.single = true;
+                    break;
+                }
+                Ok(RunnerControl::Stop) => {
+                    let _ = self.backend.send(MotionCommand::Stop);
+                    return Err(Halt::Stopped);
+                }
+                Ok(RunnerControl::Pause) | Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
+                Err(crossbeam_channel::RecvTimeoutError::Disconnected) => return Err(Halt::Stopped),
+            }
+            if let Some(b) = &self.backend.state().blocked {
+                return Err(Halt::Failed(format!("halted while paused: {b}")));
+            }
+        }
+        self.publish(|p| p.state = RunState::Running);
+        Ok(())
+    }
+
+    /// Finishes the trajectory of step `k` if it was paused mid-way; returns the step to
+    /// schedule next.
+    fn resume_from(&mut self, compiled: &[CompiledStep], k: usize) -> Result<usize, Halt> {
+        if self.backend.state().mode != PlannerMode::Paused {
+            return Ok(k);
+        }
+        self.backend.send(MotionCommand::Resume).map_err(|e| Halt::Failed(format!("resume: {e}")))?;
+        loop {
+            std::thread::sleep(POLL);
+            let s = self.backend.state();
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted: {b}")));
+            }
+            if let Some(RunnerControl::Stop) = self.poll_control() {
+                let _ = self.backend.send(MotionCommand::Stop);
+                return Err(Halt::Stopped);
+            }
+            if s.mode == PlannerMode::Hold && !s.moving {
+                break;
+            }
+        }
+        if let Some(c) = compiled.get(k) {
+            self.publish(|p| {
+                p.steps_done = c.steps.end;
+                p.step = c.steps.end.min(p.steps.saturating_sub(1));
+            });
+        }
+        Ok(k + 1)
+    }
+
+    fn wait_input(&self, input: u8, on: bool, timeout_s: f64) -> Result<(), Halt> {
+        let what = format!("input {input} {}", if on { "high" } else { "low" });
+        self.publish(|p| p.waiting_for = Some(what.clone()));
+        let start = self.backend.state().time_s;
+        loop {
+            let s = self.backend.state();
+            if s.io.inputs.get(usize::from(input).saturating_sub(1)).copied() == Some(on) {
+                self.publish(|p| p.waiting_for = None);
+                return Ok(());
+            }
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted while waiting for {what}: {b}")));
+            }
+            if s.time_s - start > timeout_s {
+                return Err(Halt::Failed(format!("{what} did not come within {timeout_s:.1} s")));
+            }
+            if let Some(RunnerControl::Stop) = self.poll_control() {
+                return Err(Halt::Stopped);
+            }
+            std::thread::sleep(POLL);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

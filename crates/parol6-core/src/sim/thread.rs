@@ -120,6 +120,7 @@ impl SimHandle {
         config: SimConfig,
         tap: Option<Sender<MotionSample>>,
     ) -> Result<SimHandle, SimError> {
+        let time_scale = config.time_scale;
         let mut sim = Simulation::new(model.clone(), config)?;
         sim.set_tap(tap);
         let first = sim.snapshot();
@@ -134,7 +135,7 @@ impl SimHandle {
         let thread_shared = Arc::clone(&shared);
         let join = std::thread::Builder::new()
             .name("parol6-sim".into())
-            .spawn(move || run(sim, &rx, &latency_tx, &thread_shared))
+            .spawn(move || run(sim, &rx, &latency_tx, &thread_shared, time_scale))
             .map_err(|e| SimError::Build(format!("cannot start the simulation thread: {e}")))?;
         let sim_thread = join.thread().clone();
         Ok(SimHandle { tx, shared, latency_rx, join: Some(join), sim_thread, model })
@@ -200,8 +201,9 @@ impl Drop for SimHandle {
     }
 }
 
-fn run(mut sim: Simulation, rx: &Receiver<Envelope>, latency_tx: &Sender<u64>, shared: &Shared) {
-    let dt = Duration::from_secs_f64(sim.dt_s());
+fn run(mut sim: Simulation, rx: &Receiver<Envelope>, latency_tx: &Sender<u64>, shared: &Shared, time_scale: f64) {
+    let scale = if time_scale.is_finite() && time_scale > 0.0 { time_scale } else { 1.0 };
+    let dt = Duration::from_secs_f64(sim.dt_s() / scale);
     let started = Instant::now();
     let cpu_start = thread_cpu_time_ns();
     let mut next = started + dt;

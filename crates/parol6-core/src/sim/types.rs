@@ -33,6 +33,10 @@ pub struct SimConfig {
     pub mode: SimMode,
     /// Refuse targets and moves that collide (self-collision and ground).
     pub check_collisions: bool,
+    /// Simulated seconds per wall-clock second of the threaded simulation (1: real time; a
+    /// headless program run uses more, and the thread simply runs behind when the machine
+    /// cannot keep up).
+    pub time_scale: f64,
 }
 
 impl Default for SimConfig {
@@ -43,6 +47,7 @@ impl Default for SimConfig {
             rate_hz: 1000.0,
             mode: SimMode::Dynamic,
             check_collisions: true,
+            time_scale: 1.0,
         }
     }
 }

@@ -1,0 +1,152 @@
+use super::*;
+use crate::motion::IoCommand;
+use crate::program::{PoseMm, Step};
+use crate::sim::{SimConfig, SimHandle, SimMode};
+
+fn sim(time_scale: f64) -> (RobotModel, Arc<SimHandle>) {
+    let model = RobotModel::parol6();
+    let config = SimConfig { mode: SimMode::Kinematic, time_scale, ..SimConfig::default() };
+    let sim = Arc::new(SimHandle::spawn(model.clone(), config).expect("sim"));
+    (model, sim)
+}
+
+/// A pose away from the standby wrist singularity, and a program of lines around it.
+fn square(model: &RobotModel) -> (Vec<f64>, Vec<Step>) {
+    let mut q = crate::parol6::standby_rad().to_vec();
+    q[1] += 0.2;
+    q[2] -= 0.3;
+    q[4] = 0.6;
+    let p0 = PoseMm::from_isometry(&model.tcp_isometry(&q));
+    let at = |dx: f64, dy: f64| {
+        let mut p = p0;
+        p.position_mm[0] += dx;
+        p.position_mm[1] += dy;
+        p
+    };
+    let steps = vec![
+        Step::MoveJoints { joints_deg: q.iter().map(|v| v.to_degrees()).collect(), speed_fraction: Some(1.0) },
+        Step::MoveL { pose: at(40.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None },
+        Step::SetOutput { output: 1, on: true },
+        Step::MoveL { pose: at(40.0, 40.0), speed_mm_s: Some(100.0), blend_mm: None },
+        Step::Dwell { seconds: 0.1 },
+        Step::MoveL { pose: at(0.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None },
+    ];
+    (q, steps)
+}
+
+fn wait_for(runner: &ProgramRunner, what: &str, f: impl Fn(&RunProgress) -> bool) -> RunProgress {
+    let t0 = Instant::now();
+    loop {
+        let p = runner.progress();
+        if f(&p) {
+            return p;
+        }
+        assert!(!p.state.is_finished() || f(&p), "{what}: the run ended: {p:?}");
+        assert!(t0.elapsed() < Duration::from_secs(30), "{what}: timed out at {p:?}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_program_runs_to_its_end_on_the_simulation() {
+    let (model, sim) = sim(4.0);
+    let (q, steps) = square(&model);
+    let program = Program::from_steps("square", steps);
+    let runner = ProgramRunner::start(sim.clone(), model.clone(), program.clone(), RunOptions::default()).expect("thread");
+    let done = runner.join();
+    assert_eq!(done.state, RunState::Done, "{done:?}");
+    assert_eq!(done.steps_done, 6);
+    let s = sim.state();
+    // back at the start of the square, output 1 on
+    let end = model.tcp_isometry(&s.commanded.q).translation.vector;
+    let want = model.tcp_isometry(&q).translation.vector;
+    assert!((end - want).norm() < 1e-6, "{end:?} vs {want:?}");
+    assert!(s.io.outputs[0]);
+    // the run took the planned time (motion clock), plus the lead and at most a few polls
+    let took = done.clock_s.1 - done.clock_s.0;
+    assert!(took >= done.planned_s && took < done.planned_s + 0.5, "took {took:.3} s for {:.3} s", done.planned_s);
+}
+
+#[test]
+fn pause_stops_on_the_path_and_resume_finishes_the_program() {
+    let (model, sim) = sim(1.0);
+    let (q, steps) = square(&model);
+    let program = Program::from_steps("square", steps);
+    let runner = ProgramRunner::start(sim.clone(), model.clone(), program, RunOptions::default()).expect("thread");
+    // pause during the first line
+    wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
+    std::thread::sleep(Duration::from_millis(150));
+    runner.control(RunnerControl::Pause);
+    let paused = wait_for(&runner, "pause", |p| p.state == RunState::Paused);
+    std::thread::sleep(Duration::from_millis(200));
+    let s = sim.state();
+    assert!(!s.moving, "stopped while paused");
+    assert_eq!(s.mode, PlannerMode::Paused);
+    // stopped on the first line: y and z of the start, x part-way
+    let start = model.tcp_isometry(&q).translation.vector;
+    let here = model.tcp_isometry(&s.commanded.q).translation.vector;
+    assert!((here.y - start.y).abs() < 0.05e-3 && (here.z - start.z).abs() < 0.05e-3, "{here:?}");
+    assert!(here.x > start.x + 1e-3 && here.x < start.x + 0.04 - 1e-3, "part-way: {here:?}");
+    assert!(paused.steps_done <= 1);
+    runner.control(RunnerControl::Resume);
+    let done = runner.join();
+    assert_eq!(done.state, RunState::Done, "{done:?}");
+    let end = model.tcp_isometry(&sim.state().commanded.q).translation.vector;
+    assert!((end - start).norm() < 1e-6);
+}
+
+#[test]
+fn single_step_runs_one_step_per_press_and_stop_holds() {
+    let (model, sim) = sim(4.0);
+    let (_, steps) = square(&model);
+    let program = Program::from_steps("square", steps);
+    let opts = RunOptions { single_step: true, ..RunOptions::default() };
+    let runner = ProgramRunner::start(sim.clone(), model, program, opts).expect("thread");
+    let p = wait_for(&runner, "first step", |p| p.state == RunState::Paused && p.steps_done == 1);
+    assert_eq!(p.step, 1);
+    runner.control(RunnerControl::Step);
+    wait_for(&runner, "second step", |p| p.state == RunState::Paused && p.steps_done == 2);
+    runner.control(RunnerControl::Step);
+    wait_for(&runner, "the output step", |p| p.state == RunState::Paused && p.steps_done == 3);
+    assert!(sim.state().io.outputs[0]);
+    runner.control(RunnerControl::Stop);
+    let end = runner.join();
+    assert_eq!(end.state, RunState::Stopped);
+    assert_eq!(end.steps_done, 3);
+    assert!(!sim.state().moving);
+}
+
+#[test]
+fn a_wait_for_an_input_times_out_or_goes_on_when_it_comes() {
+    let (model, sim) = sim(1.0);
+    let wait = Program::from_steps("wait", vec![Step::WaitInput { input: 2, on: true, timeout_s: Some(0.3) }]);
+    let failed = ProgramRunner::start(sim.clone(), model.clone(), wait.clone(), RunOptions::default()).expect("thread").join();
+    match failed.state {
+        RunState::Failed(why) => assert!(why.contains("input 2 high did not come within 0.3 s"), "{why}"),
+        other => panic!("{other:?}"),
+    }
+    let long = Program::from_steps("wait", vec![Step::WaitInput { input: 2, on: true, timeout_s: Some(20.0) }]);
+    let runner = ProgramRunner::start(sim.clone(), model, long, RunOptions::default()).expect("thread");
+    let p = wait_for(&runner, "waiting", |p| p.waiting_for.is_some());
+    assert_eq!(p.waiting_for.as_deref(), Some("input 2 high"));
+    sim.io(IoCommand::SetSimulatedInput { input: 2, on: true }).expect("set");
+    assert_eq!(runner.join().state, RunState::Done);
+}
+
+#[test]
+fn a_program_that_fails_pre_flight_never_moves() {
+    let (model, sim) = sim(1.0);
+    let (q, mut steps) = square(&model);
+    let mut far = PoseMm::from_isometry(&model.tcp_isometry(&q));
+    far.position_mm[2] += 900.0;
+    steps.insert(2, Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None });
+    let before = sim.state().commands_applied;
+    let done = ProgramRunner::start(sim.clone(), model, Program::from_steps("bad", steps), RunOptions::default())
+        .expect("thread")
+        .join();
+    match done.state {
+        RunState::Failed(why) => assert!(why.starts_with("pre-flight: step 3"), "{why}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(sim.state().commands_applied, before, "nothing was sent");
+}

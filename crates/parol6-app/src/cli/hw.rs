@@ -138,13 +138,13 @@ pub fn hw_err(e: HwError) -> CliError {
 }
 
 /// An open controller session, and the emulator behind it with `--fake-robot`.
-struct Link {
+pub(crate) struct Link {
     /// Dropped first: it leaves the controller with IDLE frames while the emulator still runs.
-    session: Session,
-    _emulator: Option<EmulatorHandle>,
+    pub(crate) session: Session,
+    pub(crate) emulator: Option<EmulatorHandle>,
 }
 
-fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliError> {
+pub(crate) fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliError> {
     let config = SessionConfig { rate_hz: rate.rate, ..SessionConfig::default() };
     let emulator = if connect.fake_robot {
         Some(
@@ -176,7 +176,7 @@ fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliError> {
             )
         }));
     }
-    Ok(Link { session, _emulator: emulator })
+    Ok(Link { session, emulator })
 }
 
 /// Waits until `code` has been written at least once after `frames_before` frames.

@@ -5,7 +5,8 @@
 //!
 //! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
-//! [`options`] (shared options and range checks), [`output`] (stdout/stderr).
+//! [`options`] (shared options and range checks), [`output`] (stdout/stderr), [`program`]
+//! (program check and run).
 
 use std::process::ExitCode;
 
@@ -18,6 +19,7 @@ pub mod hw_bench;
 pub mod kin;
 pub mod options;
 pub mod output;
+pub mod program;
 pub mod render;
 pub mod sim;
 
@@ -90,6 +92,8 @@ pub enum Command {
     Screenshot(render::ScreenshotArgs),
     /// Inverse dynamics: joint torques (gravity + inertial + Coriolis) of a motion (JSON).
     Dynamics(sim::DynamicsArgs),
+    /// Robot programs: pre-flight check and run (simulation, emulator or robot).
+    Program(program::ProgramArgs),
 }
 
 impl Cli {
@@ -103,6 +107,7 @@ impl Cli {
             Some(Command::Screenshot(_)) => "screenshot".into(),
             Some(Command::Bench(b)) => format!("bench {}", b.target.name()),
             Some(Command::Hw(h)) => format!("hw {}", h.command.name()),
+            Some(Command::Program(p)) => format!("program {}", p.command.name()),
         }
     }
 
@@ -112,10 +117,12 @@ impl Cli {
             None | Some(Command::Fk(_) | Command::Ik(_) | Command::Dynamics(_) | Command::Screenshot(_)) => true,
             Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
             Some(Command::Hw(_)) => false,
+            Some(Command::Program(_)) => true,
         };
         let uses_connection = match &self.command {
             None => true,
             Some(Command::Hw(h)) => h.command.talks_to_controller(),
+            Some(Command::Program(p)) => p.command.talks_to_controller(),
             Some(_) => false,
         };
         let unused = [
@@ -167,5 +174,6 @@ fn run(cli: &Cli) -> CliResult {
         Some(Command::Hw(a)) => hw::run(a, &cli.connect),
         Some(Command::Screenshot(a)) => render::run_screenshot(a, &cli.robot),
         Some(Command::Dynamics(a)) => sim::run_dynamics(a, &cli.robot),
+        Some(Command::Program(a)) => program::run(a, &cli.robot, &cli.connect),
     }
 }

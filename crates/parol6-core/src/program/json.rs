@@ -5,6 +5,7 @@
 //!   "format": "parol6-program",
 //!   "version": 1,
 //!   "name": "pick and place",
+//!   "description": "one line on what it does",
 //!   "tool": "Ssg48",
 //!   "speed": { "joint_fraction": 0.5, "tcp_speed_mm_s": 100, "tcp_accel_mm_s2": 500, "tcp_jerk_mm_s3": 5000 },
 //!   "keep_out": [ { "name": "fixture", "kind": "box", "center_mm": [250, 0, 50], "size_mm": [100, 100, 100] } ],
@@ -61,6 +62,8 @@ struct ProgramFile {
     version: u32,
     #[serde(default)]
     name: String,
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    description: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     tool: Option<Tool>,
     #[serde(default)]
@@ -128,7 +131,7 @@ pub fn parse(text: &str) -> Result<Program, ProgramFileError> {
         .enumerate()
         .map(|(i, step)| SourcedStep { step, line: lines.get(i).copied().unwrap_or(0) })
         .collect();
-    Ok(Program { name: file.name, tool: file.tool, speed: file.speed, keep_out: file.keep_out, steps })
+    Ok(Program { name: file.name, description: file.description, tool: file.tool, speed: file.speed, keep_out: file.keep_out, steps })
 }
 
 /// Writes a program file (pretty-printed, one step per line).
@@ -137,6 +140,7 @@ pub fn to_string(program: &Program) -> String {
         format: FORMAT.into(),
         version: VERSION,
         name: program.name.clone(),
+        description: program.description.clone(),
         tool: program.tool,
         speed: program.speed,
         keep_out: program.keep_out.clone(),

@@ -253,6 +253,8 @@ pub struct SourcedStep {
 pub struct Program {
     /// Name shown in lists.
     pub name: String,
+    /// One line on what it does.
+    pub description: String,
     /// The tool the program is written for; `None`: the model's tool as it is.
     pub tool: Option<crate::parol6::Tool>,
     /// Speed settings.

@@ -259,7 +259,6 @@ impl Run<'_> {
             p.state = RunState::Running;
             p.planned_s = planned;
             p.time_left_s = planned;
-            p.clock_s.0 = s.time_s;
         });
         Ok(compiled)
     }
@@ -269,6 +268,8 @@ impl Run<'_> {
         let mut slots: VecDeque<Slot> = VecDeque::new();
         let mut clock = self.backend.state().time_s + LEAD_S;
         let mut refusal = self.backend.state().last_refusal.as_ref().map_or(0, |r| r.0);
+        let t_start = self.backend.state().time_s;
+        self.publish(|p| p.clock_s.0 = t_start);
         // single-step mode: a step has been scheduled; wait for the operator once it is done
         let mut hold_at_boundary = false;
         loop {

@@ -1,0 +1,216 @@
+//! `parol6 program check|run`: pre-flight a program file, or run it on the headless simulation,
+//! the controller emulator (`--fake-robot`) or the robot (`--port`), with the same runner the
+//! window uses.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use parol6_core::RobotModel;
+use parol6_core::motion::RobotBackend;
+use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
+use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
+use parol6_core::program::{Program, json};
+use parol6_core::sim::{SimConfig, SimHandle, SimMode};
+
+use super::hw::{RateArgs, open};
+use super::options::{ConnectArgs, RobotArgs, f64_above};
+use super::{CliError, CliResult, print_json};
+
+/// Simulated seconds per wall second of a headless run without `--realtime`; the simulation
+/// thread runs behind when the machine cannot keep up.
+pub const HEADLESS_TIME_SCALE: f64 = 20.0;
+
+/// Arguments of `parol6 program`.
+#[derive(Debug, clap::Args)]
+pub struct ProgramArgs {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: ProgramCommand,
+}
+
+/// `parol6 program` subcommands.
+#[derive(Debug, clap::Subcommand)]
+pub enum ProgramCommand {
+    /// Pre-flight a program before anything moves: reachability, limits, joint and motor
+    /// speeds, singularities, collisions, duration. Exit 2 when it finds an error.
+    Check {
+        /// Program file (native JSON).
+        file: PathBuf,
+        /// Start pose J1,…,J6 in degrees (default: the standby pose).
+        #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
+        start_deg: Option<String>,
+        /// Print the report as JSON (`{"ok","moves","duration_s","issues":[…]}`).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run a program: on the headless simulation (as fast as it can unless --realtime), or
+    /// with --fake-robot / --port on the controller. Prints a JSON summary.
+    Run {
+        /// Program file (native JSON).
+        file: PathBuf,
+        /// Speed override: every step's speed × this, > 0 and ≤ 1.
+        #[arg(long, default_value_t = 1.0, value_parser = f64_above(0.0, 1.0))]
+        speed: f64,
+        /// Run the simulation in real time.
+        #[arg(long)]
+        realtime: bool,
+        /// Session settings (robot only).
+        #[command(flatten)]
+        rate: RateArgs,
+    },
+}
+
+impl ProgramCommand {
+    /// The subcommand's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Check { .. } => "check",
+            Self::Run { .. } => "run",
+        }
+    }
+
+    /// True when it talks to a controller when asked to (`--port`, `--fake-robot`).
+    pub fn talks_to_controller(&self) -> bool {
+        matches!(self, Self::Run { .. })
+    }
+}
+
+/// Runs `parol6 program …`.
+pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
+    match &args.command {
+        ProgramCommand::Check { file, start_deg, json } => {
+            let model = robot.load()?;
+            let program = load(file)?;
+            let start = match start_deg {
+                Some(text) => parse_joints_deg(text, model.dof())?,
+                None => parol6_core::motion::home_position(&model),
+            };
+            let report = check_program(&model, &program, &start, CheckOptions::default());
+            if *json {
+                print_json(&serde_json::to_value(&report).map_err(|e| CliError::runtime(e.to_string()))?)?;
+            } else {
+                print_report(file, &report)?;
+            }
+            if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
+        }
+        ProgramCommand::Run { file, speed, realtime, rate } => {
+            let model = robot.load()?;
+            let program = load(file)?;
+            let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
+            if connect.port.is_some() || connect.fake_robot {
+                if *realtime {
+                    return Err(CliError::usage("--realtime applies to the simulation; the robot always runs in real time"));
+                }
+                // the session is dropped before the emulator behind it
+                let link = open(connect, rate)?;
+                let _emulator = link.emulator;
+                let session: Arc<dyn RobotBackend> = Arc::new(link.session);
+                run_on(session, model, program, opts)
+            } else {
+                let time_scale = if *realtime { 1.0 } else { HEADLESS_TIME_SCALE };
+                let config = SimConfig { mode: SimMode::Dynamic, time_scale, ..SimConfig::default() };
+                let sim = SimHandle::spawn(model.clone(), config).map_err(CliError::usage)?;
+                run_on(Arc::new(sim), model, program, opts)
+            }
+        }
+    }
+}
+
+fn run_on(backend: Arc<dyn RobotBackend>, model: RobotModel, program: Program, opts: RunOptions) -> CliResult {
+    let name = backend.state().backend.clone();
+    let wall = Instant::now();
+    let runner = ProgramRunner::start(Arc::clone(&backend), model, program, opts)
+        .map_err(|e| CliError::runtime(format!("cannot start the program thread: {e}")))?;
+    // a progress line on stderr while it runs (ends with the summary on stdout)
+    let mut last = Instant::now();
+    while !runner.progress().state.is_finished() {
+        std::thread::sleep(Duration::from_millis(20));
+        if last.elapsed() >= Duration::from_secs(1) {
+            let p = runner.progress();
+            super::output::progress(format!("step {} of {}, {:.1} s left", p.step + 1, p.steps, p.time_left_s));
+            last = Instant::now();
+        }
+    }
+    let p = runner.join();
+    let (state, failure) = match &p.state {
+        RunState::Done => ("done", None),
+        RunState::Stopped => ("stopped", None),
+        RunState::Failed(why) => ("failed", Some(why.clone())),
+        _ => ("ended", None),
+    };
+    print_json(&serde_json::json!({
+        "program": p.name,
+        "backend": name,
+        "state": state,
+        "reason": failure,
+        "steps_done": p.steps_done,
+        "steps": p.steps,
+        "planned_s": p.planned_s,
+        "duration_s": p.clock_s.1 - p.clock_s.0,
+        "wall_s": wall.elapsed().as_secs_f64(),
+        "max_tracking_error_deg": p.max_tracking_error_rad.to_degrees(),
+    }))?;
+    match failure {
+        None => Ok(()),
+        Some(why) => {
+            let refused = why.starts_with("pre-flight")
+                || why.contains("not homed")
+                || why.contains("does not accept motion")
+                || why.contains("is moving")
+                || why.starts_with("step ");
+            Err(if refused { CliError::usage(why) } else { CliError::runtime(why) })
+        }
+    }
+}
+
+/// Reads a program file; errors name the file and where in it.
+pub fn load(path: &Path) -> Result<Program, CliError> {
+    let meta = std::fs::metadata(path).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))?;
+    if meta.len() > json::MAX_FILE_BYTES as u64 {
+        return Err(CliError::usage(format!(
+            "{}: {} bytes; program files are limited to {} MiB",
+            path.display(),
+            meta.len(),
+            json::MAX_FILE_BYTES / (1024 * 1024)
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| CliError::usage(format!("{}: not UTF-8 text (byte {})", path.display(), e.utf8_error().valid_up_to())))?;
+    json::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))
+}
+
+fn parse_joints_deg(text: &str, dof: usize) -> Result<Vec<f64>, CliError> {
+    let vals: Vec<f64> = text
+        .split(',')
+        .enumerate()
+        .map(|(i, s)| match s.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v.to_radians()),
+            _ => Err(CliError::usage(format!("--start-deg: value {} (\"{}\") is not a finite number", i + 1, s.trim()))),
+        })
+        .collect::<Result<_, _>>()?;
+    if vals.len() != dof {
+        return Err(CliError::usage(format!("--start-deg: {} values given, the robot has {dof} joints", vals.len())));
+    }
+    Ok(vals)
+}
+
+fn print_report(file: &Path, r: &CheckReport) -> CliResult {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    for i in &r.issues {
+        let sev = if i.severity == Severity::Error { "error" } else { "warning" };
+        let _ = writeln!(out, "{}:{}: {sev}: step {}: {}", file.display(), i.line, i.move_index + 1, i.message);
+    }
+    let _ = writeln!(
+        out,
+        "{}: {} steps, {:.2} s, {} errors, {} warnings",
+        if r.ok { "ok" } else { "refused" },
+        r.moves,
+        r.duration_s,
+        r.issues.iter().filter(|i| i.severity == Severity::Error).count(),
+        r.issues.iter().filter(|i| i.severity == Severity::Warning).count()
+    );
+    super::output::print_line(out.trim_end())
+}

@@ -2,6 +2,7 @@
 //! digital I/O, wait for an input, home) with their speed settings, tool and keep-out shapes.
 //!
 //! - [`json`]: the native, versioned file format (units in the field names);
+//! - [`builtin`]: the programs embedded in the binary (the demos);
 //! - [`compile`]: steps → planned joint trajectories ([`compile::CompiledStep`]), from a start
 //!   pose, at a chosen sample period (1 ms to run, 10 ms for pre-flight);
 //! - [`check`]: pre-flight of a whole program before anything moves;
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::kinematics::iso_from_xyz_rpy;
 use crate::scene::KeepOut;
 
+pub mod builtin;
 pub mod check;
 pub mod compile;
 pub mod json;

@@ -95,6 +95,8 @@ pub struct RunProgress {
     pub max_tracking_error_rad: f64,
     /// Motion clock at the start and at the end of the run, s.
     pub clock_s: (f64, f64),
+    /// Completed passes of a looping run.
+    pub passes: u64,
 }
 
 /// How to run.
@@ -104,11 +106,14 @@ pub struct RunOptions {
     pub speed_override: f64,
     /// Start paused after the first step (single-step mode).
     pub single_step: bool,
+    /// Start over after the last step (each pass is checked and planned again from where
+    /// the arm is).
+    pub looping: bool,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        Self { speed_override: 1.0, single_step: false }
+        Self { speed_override: 1.0, single_step: false, looping: false }
     }
 }
 
@@ -145,6 +150,7 @@ impl ProgramRunner {
             steps_done: 0,
             max_tracking_error_rad: 0.0,
             clock_s: (0.0, 0.0),
+            passes: 0,
         }));
         let (tx, rx) = crossbeam_channel::bounded(16);
         let p = Arc::clone(&progress);
@@ -186,6 +192,8 @@ impl Drop for ProgramRunner {
 /// Why the run ends early.
 enum Halt {
     Stopped,
+    /// Refused before anything was sent.
+    Refused(String),
     Failed(String),
 }
 
@@ -212,11 +220,16 @@ impl Run<'_> {
 
     fn run(&mut self, model: &RobotModel, program: &Program, opts: RunOptions) {
         self.single = opts.single_step;
-        let outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
+        let mut outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
+        while opts.looping && outcome.is_ok() && !program.steps.is_empty() {
+            self.publish(|p| p.passes += 1);
+            outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
+        }
         let end = self.backend.state().time_s;
         let state = match outcome {
             Ok(()) => RunState::Done,
             Err(Halt::Stopped) => RunState::Stopped,
+            Err(Halt::Refused(why)) => RunState::Failed(why),
             Err(Halt::Failed(why)) => {
                 // hold whatever moves (the backend holds on its own when it blocks motion)
                 let _ = self.backend.send(MotionCommand::Stop);
@@ -239,24 +252,26 @@ impl Run<'_> {
     fn prepare(&self, model: &RobotModel, program: &Program, opts: RunOptions) -> Result<Vec<CompiledStep>, Halt> {
         let s = self.backend.state();
         if let Some(b) = &s.blocked {
-            return Err(Halt::Failed(format!("the robot does not accept motion: {b}")));
+            return Err(Halt::Refused(format!("the robot does not accept motion: {b}")));
         }
         if !s.homed {
-            return Err(Halt::Failed("the robot is not homed: home it before running a program".into()));
+            return Err(Halt::Refused("the robot is not homed: home it before running a program".into()));
         }
         if s.moving || s.mode != PlannerMode::Hold {
-            return Err(Halt::Failed("the arm is moving: stop it before running a program".into()));
+            return Err(Halt::Refused("the arm is moving: stop it before running a program".into()));
         }
         let start_q = s.commanded.q.clone();
         let report = check_program(model, program, &start_q, CheckOptions { speed_override: opts.speed_override });
         if let Some(first) = report.first_error() {
-            return Err(Halt::Failed(format!("pre-flight: {first}")));
+            return Err(Halt::Refused(format!("pre-flight: {first}")));
         }
         let compiled = compile(model, program, &start_q, CompileOptions { speed_override: opts.speed_override, ..CompileOptions::RUN })
-            .map_err(|e| Halt::Failed(e.to_string()))?;
+            .map_err(|e| Halt::Refused(e.to_string()))?;
         let planned: f64 = compiled.iter().map(CompiledStep::duration_s).sum();
         self.publish(|p| {
             p.state = RunState::Running;
+            p.steps_done = 0;
+            p.step = 0;
             p.planned_s = planned;
             p.time_left_s = planned;
         });

@@ -75,7 +75,12 @@ fn pause_stops_on_the_path_and_resume_finishes_the_program() {
     let runner = ProgramRunner::start(sim.clone(), model.clone(), program, RunOptions::default()).expect("thread");
     // pause during the first line
     wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
-    std::thread::sleep(Duration::from_millis(150));
+    let start = model.tcp_isometry(&q).translation.vector;
+    let t0 = Instant::now();
+    while model.tcp_isometry(&sim.state().commanded.q).translation.x < start.x + 0.005 {
+        assert!(t0.elapsed() < Duration::from_secs(10), "the line does not move");
+        std::thread::sleep(Duration::from_millis(1));
+    }
     runner.control(RunnerControl::Pause);
     let paused = wait_for(&runner, "pause", |p| p.state == RunState::Paused);
     std::thread::sleep(Duration::from_millis(200));
@@ -83,7 +88,6 @@ fn pause_stops_on_the_path_and_resume_finishes_the_program() {
     assert!(!s.moving, "stopped while paused");
     assert_eq!(s.mode, PlannerMode::Paused);
     // stopped on the first line: y and z of the start, x part-way
-    let start = model.tcp_isometry(&q).translation.vector;
     let here = model.tcp_isometry(&s.commanded.q).translation.vector;
     assert!((here.y - start.y).abs() < 0.05e-3 && (here.z - start.z).abs() < 0.05e-3, "{here:?}");
     assert!(here.x > start.x + 1e-3 && here.x < start.x + 0.04 - 1e-3, "part-way: {here:?}");

@@ -60,6 +60,12 @@ pub const MOVING_TEXT: [u8; 3] = [255, 143, 0];
 pub const WARN_TEXT: [u8; 3] = [255, 143, 0];
 /// Error text (no IK solution, a link error).
 pub const ERROR_TEXT: [u8; 3] = [255, 80, 80];
+/// Planned program path and pre-flight text: no problem.
+pub const PATH_OK: [u8; 3] = [80, 210, 110];
+/// Planned program path and pre-flight text: a warning.
+pub const PATH_WARNING: [u8; 3] = [255, 176, 0];
+/// Planned program path and pre-flight text: an error.
+pub const PATH_ERROR: [u8; 3] = [255, 70, 70];
 
 // ---------------------------------------------------------------------------------------------
 // Plots (reserved for the plots panel)

@@ -59,7 +59,7 @@ impl<P: Panel> Bench<P> {
             perf: &self.perf,
             link: None,
             preview: &mut self.preview,
-            sequence: None,
+            program: None,
         };
         self.panel.ui(ui, &mut ctx);
     }
@@ -206,7 +206,7 @@ fn status_of<P>(b: &Bench<P>) -> (String, Option<parol6_core::limits::LimitZone>
         perf: &b.perf,
         link: None,
         preview: &mut preview,
-        sequence: None,
+        program: None,
     };
     limit_status_text(&ctx)
 }

@@ -90,6 +90,7 @@ fn empty_scene(model: &RobotModel) -> SceneFrame {
         link_zones: vec![None; model.links.len()],
         tcp: far,
         ghost_link_poses: None,
+        planned_path: None,
     }
 }
 

@@ -1,11 +1,12 @@
 //! Executing the commands the panels queued: motion on the active backend (the same call for
-//! the simulation and the robot), sequences, jog refresh, link operations, and the notices
+//! the simulation and the robot), programs, jog refresh, link operations, and the notices
 //! that report what happened.
 
 use std::sync::Arc;
 use std::time::Instant;
 
-use parol6_core::motion::{MotionCommand, RobotBackend, SequenceRunner};
+use parol6_core::motion::{MotionCommand, RobotBackend};
+use parol6_core::program::runner::ProgramRunner;
 
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
@@ -29,22 +30,31 @@ impl Parol6App {
             AppCommand::Link(l) => self.execute_link(l),
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
-                    self.cancel_sequence();
+                    self.stop_program();
                 }
                 if let Err(e) = self.backend().send(m) {
-                    self.cancel_sequence();
+                    self.stop_program();
                     self.notice(format!("command refused: {e}"), true);
                 }
             }
             AppCommand::Jog(held) => self.jog(held),
-            AppCommand::RunSequence { name, steps, looping } => {
-                self.cancel_sequence();
-                match SequenceRunner::start(self.backend(), name.clone(), steps, looping) {
+            AppCommand::RunProgram { program, opts } => {
+                if self.program_running() {
+                    self.notice("a program is running: stop it first".to_string(), true);
+                    return;
+                }
+                let name = program.name.clone();
+                match ProgramRunner::start(self.backend(), self.model.clone(), (*program).clone(), opts) {
                     Ok(r) => {
-                        self.sequence_progress = Some(r.progress());
-                        self.sequence = Some(r);
+                        self.program_progress = Some(r.progress());
+                        self.program = Some(r);
                     }
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
+                }
+            }
+            AppCommand::Program(control) => {
+                if let Some(r) = &self.program {
+                    r.control(control);
                 }
             }
         }

@@ -18,7 +18,8 @@ use anyhow::Context as _;
 use eframe::egui_wgpu;
 use parol6_core::RobotModel;
 use parol6_core::limits::LimitZone;
-use parol6_core::motion::{MotionCommand, RobotBackend, SequenceProgress, SequenceRunner};
+use parol6_core::motion::{MotionCommand, RobotBackend};
+use parol6_core::program::runner::{ProgramRunner, RunProgress};
 use parol6_core::sim::{SimCommand, SimConfig, SimHandle, SimSnapshot};
 
 use crate::panels::registry::Panels;
@@ -91,10 +92,10 @@ pub struct Parol6App {
     model: RobotModel,
     sim: Arc<SimHandle>,
     hw: Option<HwLink>,
-    /// The running (or last) motion sequence, on the backend that was active when it started.
-    sequence: Option<SequenceRunner>,
+    /// The running (or last) program, on the backend that was active when it started.
+    program: Option<ProgramRunner>,
     /// Its last progress, kept after it ends.
-    sequence_progress: Option<SequenceProgress>,
+    program_progress: Option<RunProgress>,
     /// The jog being held: joint, direction, when the jog command was last sent.
     jog_held: Option<(usize, i8, Instant)>,
     /// Refusal id last shown, per backend name.
@@ -142,8 +143,8 @@ impl Parol6App {
             model,
             sim,
             hw: None,
-            sequence: None,
-            sequence_progress: None,
+            program: None,
+            program_progress: None,
             jog_held: None,
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
@@ -200,22 +201,21 @@ impl Parol6App {
         &self.sim
     }
 
-    /// Starts the demo called `name` as a sequence on the active backend (the bench and the
-    /// sweep script use it); false when there is no such demo.
-    pub fn start_demo(&mut self, name: &str, looping: bool) -> bool {
-        self.panels.demos.looping = looping;
-        match self.panels.demos.run_command(name) {
-            Some(cmd) => {
-                self.execute(cmd);
-                true
-            }
-            None => false,
+    /// Loads the built-in program called `name` and runs it on the active backend (the bench
+    /// and the sweep script use it); false when there is no such program.
+    pub fn start_program(&mut self, name: &str, looping: bool) -> bool {
+        if !self.panels.program.load_builtin(name) {
+            return false;
         }
+        self.panels.program.looping = looping;
+        let cmd = self.panels.program.run_command(false);
+        self.execute(cmd);
+        true
     }
 
-    /// True while a motion sequence (a demo) runs.
-    pub fn sequence_running(&self) -> bool {
-        self.sequence.as_ref().is_some_and(SequenceRunner::is_running)
+    /// True while a program runs (paused included).
+    pub fn program_running(&self) -> bool {
+        self.program.as_ref().is_some_and(|r| !r.is_finished())
     }
 
     /// The backend that motion commands go to: the robot when connected, else the simulation.
@@ -261,7 +261,7 @@ impl Parol6App {
     }
 
     fn disconnect(&mut self) {
-        self.cancel_sequence();
+        self.stop_program();
         if let Some(link) = self.hw.take() {
             // Hand the view back to the simulation where the robot last was (when that pose
             // is valid), so the arm does not jump back to its pose from before connecting.
@@ -278,10 +278,11 @@ impl Parol6App {
         }
     }
 
-    fn cancel_sequence(&mut self) {
-        if let Some(seq) = self.sequence.take() {
-            seq.cancel();
-            self.sequence_progress = Some(seq.join());
+    /// Ends a running program at once (STOP): its thread schedules nothing more; the caller
+    /// holds the arm with a STOP to the backend.
+    fn stop_program(&mut self) {
+        if let Some(r) = &self.program {
+            r.abort();
         }
     }
 
@@ -349,14 +350,14 @@ impl Parol6App {
         let robot_arc = self.robot_state();
         let robot: &RobotState = &robot_arc;
         self.refusal_notices(robot);
-        if let Some(seq) = &self.sequence {
-            let p = seq.progress();
-            if let parol6_core::motion::SequenceState::Failed(why) = &p.state
-                && self.sequence_progress.as_ref().map(|q| &q.state) != Some(&p.state)
+        if let Some(run) = &self.program {
+            let p = run.progress();
+            if let parol6_core::program::runner::RunState::Failed(why) = &p.state
+                && self.program_progress.as_ref().map(|q| &q.state) != Some(&p.state)
             {
                 self.notice(format!("{} stopped: {why}", p.name), true);
             }
-            self.sequence_progress = Some(p);
+            self.program_progress = Some(p);
         }
         self.sweep_step(&ctx, t0, robot.moving);
 
@@ -390,7 +391,7 @@ impl Parol6App {
                 perf: readout_perf,
                 link: link_view.as_ref(),
                 preview: &mut preview,
-                sequence: self.sequence_progress.as_ref(),
+                program: self.program_progress.as_ref(),
             };
             if let Some(t) = &mut self.test {
                 t.frames += 1;
@@ -415,6 +416,7 @@ impl Parol6App {
         });
         let zones: Vec<LimitZone> = robot.zones.iter().map(|z| z.zone).collect();
         let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
+        scene.planned_path = self.panels.program.overlay();
         let snap = self.sim.snapshot();
         if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
             scene.link_poses = snap.link_poses.clone();
@@ -435,7 +437,7 @@ impl Parol6App {
         }
 
         // Repaint policy: continuous only while something moves or the link is live.
-        let busy = robot.moving || self.sequence_running() || Instant::now() < self.repaint_until;
+        let busy = robot.moving || self.program_running() || Instant::now() < self.repaint_until;
         if busy || self.test.is_some() || self.sweep.is_some() {
             ctx.request_repaint();
         } else if self.hw.is_some() {

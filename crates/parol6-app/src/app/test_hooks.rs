@@ -190,7 +190,7 @@ impl Parol6App {
             sw.first_frame_ms = Some(self.started.elapsed().as_secs_f64() * 1000.0);
         }
         if sw.frames == 5 {
-            self.start_demo("Joint sweep", true);
+            self.start_program("Joint sweep", true);
             return;
         }
         if sw.frames < 10 {
@@ -228,7 +228,7 @@ impl Parol6App {
                 })
             );
             self.sweep = None;
-            self.cancel_sequence();
+            self.stop_program();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
     }

@@ -57,7 +57,7 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
             perf: &app.perf,
             link: None,
             preview: &mut preview,
-            sequence: None,
+            program: None,
         };
         app.panels.joints.set_joint(0, target, &mut pctx);
         // A value beyond the limit is clamped to it, never passed on.
@@ -74,12 +74,16 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
     }
     wait_for(&mut app, &ctx, "joint 1 to follow the slider", |s| (s.q[0] - target).abs() < 0.01 && !s.moving);
 
-    assert!(app.start_demo("Joint sweep", false));
+    assert!(app.start_program("Joint sweep", false));
     run_frame(&mut app, &ctx);
-    assert!(app.sequence_running());
+    assert!(app.program_running());
     app.commands.push(AppCommand::Motion(MotionCommand::Stop));
     run_frame(&mut app, &ctx);
-    assert!(!app.sequence_running(), "STOP must cancel the demo");
+    let t0 = Instant::now();
+    while app.program_running() {
+        assert!(t0.elapsed() < Duration::from_secs(2), "STOP must end the program");
+        std::thread::sleep(Duration::from_millis(5));
+    }
 }
 
 #[cfg(unix)]
@@ -174,19 +178,18 @@ fn an_idle_window_still_repaints_once_a_second() {
     assert!(delay > Duration::from_millis(200) && delay <= Duration::from_secs(1), "repaint after {delay:?}");
 }
 
-/// A demo runs on its own thread: with no frames drawn at all (a minimised window) it still
-/// advances through its waypoints.
+/// A program runs on its own thread: with no frames drawn at all (a minimised window) it still
+/// advances through its steps.
 #[test]
 fn a_demo_advances_with_no_frames_drawn() {
     let mut app = launch(None);
     let ctx = egui::Context::default();
     run_frame(&mut app, &ctx);
-    app.panels.demos.speed_scale = 1.0;
-    assert!(app.start_demo("Joint sweep", false));
+    assert!(app.start_program("Joint sweep", false));
     let deadline = Instant::now() + Duration::from_secs(30);
     loop {
-        let p = app.sequence.as_ref().map(|s| s.progress()).expect("sequence");
-        if p.step >= 1 {
+        let p = app.program.as_ref().map(|s| s.progress()).expect("program");
+        if p.steps_done >= 1 {
             break;
         }
         assert!(Instant::now() < deadline, "no progress without frames: {p:?}");

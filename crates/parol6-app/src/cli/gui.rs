@@ -93,7 +93,7 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
     let mut headless = HeadlessApp::new(model, width, height).map_err(CliError::from)?;
-    if !headless.app.start_demo("Joint sweep", true) {
+    if !headless.app.start_program("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
     }
     // Warm-up: pipelines, fonts, first uploads.

@@ -42,7 +42,7 @@ const PANELS: [(&str, &str); 7] = [
          is listed, nearest the current joints first. Hover the panel to see the chosen branch \
          as a ghost arm, then \"Move to target\".",
     ),
-    ("Demos", "Scripted sequences; STOP or Esc ends them."),
+    ("Program", "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, F10 single step; STOP or Esc ends a run."),
 ];
 
 /// Mouse and keyboard.

@@ -16,10 +16,10 @@ use serde::{Deserialize, Serialize};
 
 pub mod cartesian_target;
 pub mod connection;
-pub mod demos;
 pub mod entry;
 pub mod help;
 pub mod joints;
+pub mod program;
 pub mod registry;
 pub mod status_bar;
 pub mod tcp;
@@ -148,26 +148,27 @@ impl ProfileKindSetting {
     }
 }
 
-pub use parol6_core::motion::{RobotState, SequenceProgress, StateSource};
+pub use parol6_core::motion::{RobotState, StateSource};
+pub use parol6_core::program::runner::{RunOptions, RunProgress, RunnerControl};
 
 /// Something a panel asks the app to do after the UI pass.
 #[derive(Debug, Clone, PartialEq)]
 pub enum AppCommand {
     /// A motion command for the active backend (simulation or robot; the same meaning on
-    /// both). STOP also cancels a running sequence.
+    /// both). STOP also ends a running program.
     Motion(MotionCommand),
     /// Hold-to-run jog of joint `joint` (0-based) in `direction` (±1) while `Some`; `None`
     /// releases. The app repeats the jog command within the dead-man time while held.
     Jog(Option<(usize, i8)>),
-    /// Run a sequence of motion commands off the UI thread (the demos).
-    RunSequence {
-        /// Name shown in the progress line.
-        name: String,
-        /// The steps.
-        steps: Vec<MotionCommand>,
-        /// Start over after the last step.
-        looping: bool,
+    /// Run a program off the UI thread on the active backend (pre-flight first).
+    RunProgram {
+        /// The program.
+        program: std::sync::Arc<parol6_core::program::Program>,
+        /// Speed override, single step, loop.
+        opts: RunOptions,
     },
+    /// Pause, resume, single-step or stop the running program.
+    Program(RunnerControl),
     /// Clear the TCP trail of the 3D view.
     ClearTrail,
     /// Reset the 3D camera.
@@ -252,8 +253,8 @@ pub struct PanelContext<'a> {
     pub link: Option<&'a connection::LinkView>,
     /// Ghost pose to preview in the 3D view (e.g. an IK solution); the app shows it this frame.
     pub preview: &'a mut Option<Vec<f64>>,
-    /// Progress of the running (or last) motion sequence.
-    pub sequence: Option<&'a SequenceProgress>,
+    /// Progress of the running (or last) program.
+    pub program: Option<&'a RunProgress>,
 }
 
 impl PanelContext<'_> {
@@ -287,7 +288,7 @@ impl PanelContext<'_> {
         self.motion(cmd);
     }
 
-    /// STOP: hold the commanded position now (also cancels a running sequence).
+    /// STOP: hold the commanded position now (also ends a running program).
     pub fn stop(&mut self) {
         self.motion(MotionCommand::Stop);
     }

@@ -7,8 +7,8 @@ use parol6_core::RobotModel;
 use super::Panel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
-use super::demos::DemosPanel;
 use super::joints::JointsPanel;
+use super::program::ProgramPanel;
 use super::status_bar::StatusBar;
 use super::tcp::TcpPanel;
 
@@ -17,14 +17,14 @@ use super::tcp::TcpPanel;
 pub enum Dock {
     /// The left column (joints, HOME / STOP, connection).
     Left,
-    /// The right column (TCP, Cartesian target, demos).
+    /// The right column (TCP, Cartesian target, program).
     Right,
     /// The status bar at the bottom.
     Bottom,
 }
 
 /// All operator panels. The named fields give the app typed access where it needs it (the
-/// test hook drives the joints panel, the bench starts demos).
+/// test hook drives the joints panel, the bench starts programs).
 pub struct Panels {
     /// Joints: sliders, typed entries, HOME / STOP.
     pub joints: JointsPanel,
@@ -34,8 +34,8 @@ pub struct Panels {
     pub tcp: TcpPanel,
     /// Cartesian target solved by IK.
     pub target: CartesianTargetPanel,
-    /// Demo sequences.
-    pub demos: DemosPanel,
+    /// Programs: built-in and files, pre-flight, run / pause / step / stop.
+    pub program: ProgramPanel,
     /// Status bar.
     pub status: StatusBar,
 }
@@ -48,7 +48,7 @@ impl Panels {
             connection: ConnectionPanel::default(),
             tcp: TcpPanel::default(),
             target: CartesianTargetPanel::default(),
-            demos: DemosPanel::new(model),
+            program: ProgramPanel::new(model),
             status: StatusBar,
         }
     }
@@ -60,7 +60,7 @@ impl Panels {
             (Dock::Left, &mut self.connection),
             (Dock::Right, &mut self.tcp),
             (Dock::Right, &mut self.target),
-            (Dock::Right, &mut self.demos),
+            (Dock::Right, &mut self.program),
             (Dock::Bottom, &mut self.status),
         ]
     }

@@ -27,11 +27,13 @@ use crate::palette;
 pub mod camera;
 pub mod mesh;
 pub mod offscreen;
+pub mod path_overlay;
 pub mod renderer;
 pub mod trail;
 
 pub use camera::OrbitCamera;
 pub use offscreen::{OffscreenRenderer, RgbaImage, write_png};
+pub use path_overlay::{PathOverlay, PathPointStatus};
 pub use trail::DEFAULT_TRAIL_CAPACITY;
 
 use renderer::{FrameData, SceneGpu, SharedFrame, ViewportCallback, ViewportGpuResources};
@@ -148,6 +150,8 @@ pub struct SceneFrame {
     pub tcp: Isometry3<f64>,
     /// Link poses of the target pose, drawn as a translucent ghost.
     pub ghost_link_poses: Option<Vec<Isometry3<f64>>>,
+    /// The planned TCP path of the loaded program, coloured by its pre-flight.
+    pub planned_path: Option<Arc<PathOverlay>>,
 }
 
 impl SceneFrame {
@@ -185,6 +189,7 @@ impl SceneFrame {
             link_zones,
             tcp: model.tcp_isometry(q_rad),
             ghost_link_poses: ghost_q_rad.map(|g| model.link_poses(g)),
+            planned_path: None,
         }
     }
 }
@@ -452,6 +457,9 @@ impl Viewport {
         view_proj: &parol6_core::na::Matrix4<f32>,
     ) {
         let font = egui::FontId::proportional(12.0);
+        if let Some(path) = &scene.planned_path {
+            path.paint(painter, rect, view_proj);
+        }
         if self.options.show_link_names {
             for (name, pose) in self.link_names.iter().zip(&scene.link_poses) {
                 let t = pose.translation.vector;

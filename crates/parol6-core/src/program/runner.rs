@@ -16,6 +16,7 @@
 
 use std::collections::VecDeque;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -120,6 +121,7 @@ impl Default for RunOptions {
 /// A program running on its own thread. Dropping it stops the run (the arm holds).
 pub struct ProgramRunner {
     progress: Arc<ArcSwap<RunProgress>>,
+    abort: Arc<AtomicBool>,
     control: Sender<RunnerControl>,
     join: Option<JoinHandle<()>>,
 }
@@ -154,11 +156,13 @@ impl ProgramRunner {
         }));
         let (tx, rx) = crossbeam_channel::bounded(16);
         let p = Arc::clone(&progress);
+        let abort = Arc::new(AtomicBool::new(false));
+        let a = Arc::clone(&abort);
         let join = std::thread::Builder::new().name("parol6-program".into()).spawn(move || {
-            let mut run = Run { backend: backend.as_ref(), progress: &p, control: &rx, single: false };
+            let mut run = Run { backend: backend.as_ref(), progress: &p, control: &rx, abort: &a, single: false };
             run.run(&model, &program, opts);
         })?;
-        Ok(Self { progress, control: tx, join: Some(join) })
+        Ok(Self { progress, abort, control: tx, join: Some(join) })
     }
 
     /// The latest progress.
@@ -169,6 +173,19 @@ impl ProgramRunner {
     /// Sends an operator control (ignored once the run has ended).
     pub fn control(&self, c: RunnerControl) {
         let _ = self.control.try_send(c);
+    }
+
+    /// Ends the run at once without waiting (the STOP button): the thread schedules nothing
+    /// more and ends within one poll; the caller sends [`MotionCommand::Stop`] to the backend,
+    /// which drops what was scheduled. A step the thread submits while this happens is
+    /// followed by its own STOP.
+    pub fn abort(&self) {
+        self.abort.store(true, Ordering::SeqCst);
+    }
+
+    /// True once the run has ended.
+    pub fn is_finished(&self) -> bool {
+        self.progress.load().state.is_finished()
     }
 
     /// Waits for the run to end.
@@ -192,6 +209,8 @@ impl Drop for ProgramRunner {
 /// Why the run ends early.
 enum Halt {
     Stopped,
+    /// STOP pressed: the caller holds the arm.
+    Aborted,
     /// Refused before anything was sent.
     Refused(String),
     Failed(String),
@@ -201,6 +220,7 @@ struct Run<'a> {
     backend: &'a dyn RobotBackend,
     progress: &'a ArcSwap<RunProgress>,
     control: &'a Receiver<RunnerControl>,
+    abort: &'a AtomicBool,
     single: bool,
 }
 
@@ -228,7 +248,7 @@ impl Run<'_> {
         let end = self.backend.state().time_s;
         let state = match outcome {
             Ok(()) => RunState::Done,
-            Err(Halt::Stopped) => RunState::Stopped,
+            Err(Halt::Stopped | Halt::Aborted) => RunState::Stopped,
             Err(Halt::Refused(why)) => RunState::Failed(why),
             Err(Halt::Failed(why)) => {
                 // hold whatever moves (the backend holds on its own when it blocks motion)
@@ -301,10 +321,18 @@ impl Run<'_> {
                 if wait && !slots.is_empty() {
                     break;
                 }
+                if self.abort.load(Ordering::SeqCst) {
+                    return Err(Halt::Aborted);
+                }
                 if let StepAction::Motion(t) = &c.action {
                     self.backend
                         .submit(MotionCommand::Trajectory(Arc::clone(t)), Some(clock))
                         .map_err(|e| Halt::Failed(format!("step {}: {e}", c.steps.start + 1)))?;
+                    if self.abort.load(Ordering::SeqCst) {
+                        // submitted while the operator pressed STOP: stop it too
+                        let _ = self.backend.send(MotionCommand::Stop);
+                        return Err(Halt::Aborted);
+                    }
                 }
                 let end = clock + c.duration_s();
                 slots.push_back(Slot { index: next, start_s: clock, end_s: end });
@@ -324,6 +352,9 @@ impl Run<'_> {
             std::thread::sleep(POLL);
             let s = self.backend.state();
             self.watch(&s, &mut refusal, compiled, &slots)?;
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
+            }
             if let Some(ctrl) = self.poll_control() {
                 if ctrl == RunnerControl::Resume {
                     self.single = false;
@@ -418,6 +449,9 @@ impl Run<'_> {
     }
 
     fn poll_control(&self) -> Option<RunnerControl> {
+        if self.abort.load(Ordering::SeqCst) {
+            return Some(RunnerControl::Stop);
+        }
         match self.control.try_recv() {
             Ok(c) => Some(c),
             Err(TryRecvError::Empty) => None,
@@ -437,6 +471,9 @@ impl Run<'_> {
             let s = self.backend.state();
             if let Some(b) = &s.blocked {
                 return Err(Halt::Failed(format!("halted: {b}")));
+            }
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
             }
             if s.moving && t0.elapsed() < Duration::from_secs(5) {
                 continue;
@@ -480,6 +517,9 @@ impl Run<'_> {
             }
             if let Some(b) = &self.backend.state().blocked {
                 return Err(Halt::Failed(format!("halted while paused: {b}")));
+            }
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
             }
         }
         self.publish(|p| p.state = RunState::Running);

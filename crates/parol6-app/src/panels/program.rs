@@ -1,0 +1,340 @@
+//! Right panel: the program. Pick a built-in program or open a program file, see its steps and
+//! its pre-flight result (also drawn as the planned TCP path in the 3D view, green / amber /
+//! red), run it on the active backend with pause, resume, single step and stop, and follow
+//! its progress (step n of m, time left).
+//!
+//! The runner is the core's `ProgramRunner` on its own thread (the app owns it); this panel
+//! only reads its progress and queues commands.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use eframe::egui;
+
+use parol6_core::RobotModel;
+use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
+use parol6_core::program::compile::{CompileOptions, StepAction, compile};
+use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
+use parol6_core::program::{Program, builtin, json};
+
+use super::{AppCommand, Panel, PanelContext};
+use crate::palette;
+use crate::viewport::{PathOverlay, PathPointStatus};
+
+/// Height of the step list, px (fixed so the panel never grows while running).
+const STEP_LIST_HEIGHT: f32 = 150.0;
+/// Pre-flight problems listed in the panel (the rest are counted).
+const ISSUES_SHOWN: usize = 4;
+
+/// The program panel.
+pub struct ProgramPanel {
+    builtins: Vec<Program>,
+    program: Arc<Program>,
+    /// Where the program came from (a file path or "built-in").
+    source: String,
+    /// Typed path of a program file to open.
+    pub path_text: String,
+    /// Pre-flight of the program from the pose it was checked at.
+    report: Option<(Vec<f64>, CheckReport)>,
+    /// The planned TCP path for the 3D view.
+    overlay: Option<Arc<PathOverlay>>,
+    /// Speed override (0, 1].
+    pub speed_override: f64,
+    /// Start over after the last step.
+    pub looping: bool,
+}
+
+impl ProgramPanel {
+    /// The panel for `model`, with the first built-in program loaded.
+    pub fn new(model: &RobotModel) -> Self {
+        let builtins = builtin::programs(model);
+        let program = Arc::new(builtins.first().cloned().unwrap_or_default());
+        Self {
+            builtins,
+            program,
+            source: "built-in".into(),
+            path_text: String::new(),
+            report: None,
+            overlay: None,
+            speed_override: 1.0,
+            looping: false,
+        }
+    }
+
+    /// The loaded program.
+    pub fn program(&self) -> &Arc<Program> {
+        &self.program
+    }
+
+    /// The planned TCP path of the loaded program (checked from the current pose).
+    pub fn overlay(&self) -> Option<Arc<PathOverlay>> {
+        self.overlay.clone()
+    }
+
+    /// Loads the built-in program called `name` (case-insensitive); false when none is.
+    pub fn load_builtin(&mut self, name: &str) -> bool {
+        match self.builtins.iter().find(|p| p.name.eq_ignore_ascii_case(name)) {
+            Some(p) => {
+                self.set_program(p.clone(), "built-in".into());
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Loads a program file; on an error the loaded program stays as it is.
+    pub fn load_file(&mut self, path: &std::path::Path) -> Result<(), String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let program = json::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        self.set_program(program, path.display().to_string());
+        Ok(())
+    }
+
+    /// The command that runs the loaded program with this panel's settings.
+    pub fn run_command(&self, single_step: bool) -> AppCommand {
+        AppCommand::RunProgram {
+            program: Arc::clone(&self.program),
+            opts: RunOptions { speed_override: self.speed_override, single_step, looping: self.looping },
+        }
+    }
+
+    fn set_program(&mut self, program: Program, source: String) {
+        self.program = Arc::new(program);
+        self.source = source;
+        self.report = None;
+        self.overlay = None;
+    }
+
+    /// Pre-flight from `start_q` (again only when the start pose or the program changed).
+    fn refresh_check(&mut self, model: &RobotModel, start_q: &[f64]) {
+        if self.report.as_ref().is_some_and(|(q, _)| q == start_q) {
+            return;
+        }
+        let opts = CheckOptions { speed_override: self.speed_override };
+        let report = check_program(model, &self.program, start_q, opts);
+        self.overlay = Some(Arc::new(planned_path(model, &self.program, start_q, &report)));
+        self.report = Some((start_q.to_vec(), report));
+    }
+}
+
+/// The planned TCP path: every pre-flight sample of every motion step, coloured by the worst
+/// problem the pre-flight found in that step.
+pub fn planned_path(model: &RobotModel, program: &Program, start_q: &[f64], report: &CheckReport) -> PathOverlay {
+    let mut overlay = PathOverlay::default();
+    let Ok(compiled) = compile(model, program, start_q, CompileOptions::PREFLIGHT) else {
+        return overlay;
+    };
+    for c in &compiled {
+        let StepAction::Motion(traj) = &c.action else { continue };
+        let worst = report.issues.iter().filter(|i| c.steps.contains(&i.move_index)).map(|i| i.severity).max();
+        let status = match worst {
+            None => PathPointStatus::Ok,
+            Some(Severity::Warning) => PathPointStatus::Warning,
+            Some(Severity::Error) => PathPointStatus::Error,
+        };
+        overlay.break_strip();
+        for q in traj.samples() {
+            let p = model.tcp_isometry(q).translation.vector;
+            overlay.push([p.x as f32, p.y as f32, p.z as f32], status);
+        }
+    }
+    overlay
+}
+
+impl Panel for ProgramPanel {
+    fn title(&self) -> &'static str {
+        "Program"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.heading(self.title());
+        let progress = ctx.program.cloned();
+        let running = progress.as_ref().is_some_and(|p| !p.state.is_finished());
+        ui.add_enabled_ui(!running, |ui| self.picker(ui, ctx));
+        if !running && !ctx.robot.moving {
+            self.refresh_check(ctx.model, &ctx.robot.commanded.q.clone());
+        }
+        self.summary_line(ui);
+        self.step_list(ui, progress.as_ref());
+        self.controls(ui, ctx, progress.as_ref());
+        progress_line(ui, progress.as_ref());
+        self.issue_lines(ui);
+        if running {
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+}
+
+impl ProgramPanel {
+    fn picker(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.horizontal(|ui| {
+            let mut pick = None;
+            egui::ComboBox::from_id_salt("program-builtin")
+                .selected_text(egui::RichText::new(&self.program.name))
+                .width(150.0)
+                .show_ui(ui, |ui| {
+                    for p in &self.builtins {
+                        if ui.selectable_label(p.name == self.program.name, &p.name).on_hover_text(&p.description).clicked() {
+                            pick = Some(p.name.clone());
+                        }
+                    }
+                });
+            if let Some(name) = pick {
+                self.load_builtin(&name);
+            }
+            ui.weak(&self.source);
+        });
+        ui.horizontal(|ui| {
+            let edit = ui.add(
+                egui::TextEdit::singleline(&mut self.path_text)
+                    .hint_text("program file (.json)")
+                    .desired_width(ui.available_width() - 60.0),
+            );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
+                let path = PathBuf::from(self.path_text.trim());
+                match self.load_file(&path) {
+                    Ok(()) => ctx.info(format!("loaded {}", path.display())),
+                    Err(e) => ctx.error(e),
+                }
+            }
+        });
+    }
+
+    fn summary_line(&self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| match &self.report {
+            Some((_, r)) => {
+                let errors = r.issues.iter().filter(|i| i.severity == Severity::Error).count();
+                let warnings = r.issues.len() - errors;
+                let (text, color) = if errors > 0 {
+                    (format!("pre-flight: {errors} error(s), {warnings} warning(s)"), palette::PATH_ERROR)
+                } else if warnings > 0 {
+                    (format!("pre-flight: ok, {warnings} warning(s)"), palette::PATH_WARNING)
+                } else {
+                    ("pre-flight: ok".to_string(), palette::PATH_OK)
+                };
+                ui.colored_label(palette::rgb(color), text);
+                ui.label(format!("· {} steps · {:.1} s", r.moves, r.duration_s));
+            }
+            None => {
+                ui.weak("pre-flight: when the arm stands still");
+            }
+        });
+    }
+
+    fn step_list(&self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
+        let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
+        egui::ScrollArea::vertical().id_salt("program-steps").max_height(STEP_LIST_HEIGHT).auto_shrink([false, true]).show(
+            ui,
+            |ui| {
+                for (i, s) in self.program.steps.iter().enumerate() {
+                    let (mark, strong) = match progress {
+                        Some(p) if !p.state.is_finished() && i == p.step => ("▶", true),
+                        Some(p) if i < p.steps_done => ("✓", false),
+                        _ => ("·", false),
+                    };
+                    let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
+                    ui.horizontal(|ui| {
+                        ui.monospace(format!("{mark}{:>3}", i + 1));
+                        let text = egui::RichText::new(s.step.summary());
+                        let text = if strong { text.strong() } else { text };
+                        match worst {
+                            Some(Severity::Error) => ui.colored_label(palette::rgb(palette::PATH_ERROR), text),
+                            Some(Severity::Warning) => ui.colored_label(palette::rgb(palette::PATH_WARNING), text),
+                            None => ui.label(text),
+                        };
+                    });
+                }
+            },
+        );
+    }
+
+    fn controls(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, progress: Option<&RunProgress>) {
+        let state = progress.map(|p| &p.state);
+        let running = state.is_some_and(|s| !s.is_finished());
+        let paused = state == Some(&RunState::Paused);
+        let clean = self.report.as_ref().is_some_and(|(_, r)| r.ok);
+        ui.horizontal(|ui| {
+            let run_label = if paused { "▶ Resume (F5)" } else { "▶ Run (F5)" };
+            let can_run = (clean && !running) || paused;
+            let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(if running {
+                "running"
+            } else {
+                "the pre-flight must be clean"
+            });
+            let f5 = ui.input(|i| i.key_pressed(egui::Key::F5));
+            if run.clicked() || (f5 && can_run) {
+                if paused {
+                    ctx.send(AppCommand::Program(RunnerControl::Resume));
+                } else {
+                    ctx.send(self.run_command(false));
+                }
+            }
+            let pause = ui.add_enabled(running && !paused, egui::Button::new("⏸ Pause (F6)"));
+            if pause.clicked() || (running && !paused && ui.input(|i| i.key_pressed(egui::Key::F6))) {
+                ctx.send(AppCommand::Program(RunnerControl::Pause));
+            }
+            let can_step = paused || (!running && clean);
+            let step = ui.add_enabled(can_step, egui::Button::new("⏭ Step (F10)"));
+            if step.clicked() || (can_step && ui.input(|i| i.key_pressed(egui::Key::F10))) {
+                if paused {
+                    ctx.send(AppCommand::Program(RunnerControl::Step));
+                } else {
+                    ctx.send(self.run_command(true));
+                }
+            }
+            if ui.add_enabled(running, egui::Button::new("⏹ Stop")).clicked() {
+                ctx.send(AppCommand::Program(RunnerControl::Stop));
+            }
+        });
+        ui.add_enabled_ui(!running, |ui| {
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut self.looping, "Loop");
+                ui.label("Speed ×");
+                let r = ui.add(egui::Slider::new(&mut self.speed_override, 0.05..=1.0).max_decimals(2));
+                if r.changed() {
+                    self.report = None; // planned again at the new speed
+                }
+            });
+        });
+    }
+
+    fn issue_lines(&self, ui: &mut egui::Ui) {
+        let Some((_, r)) = &self.report else { return };
+        for i in r.issues.iter().take(ISSUES_SHOWN) {
+            let color = if i.severity == Severity::Error { palette::PATH_ERROR } else { palette::PATH_WARNING };
+            let line = if i.line > 0 { format!("line {}, ", i.line) } else { String::new() };
+            ui.colored_label(palette::rgb(color), format!("{line}step {}: {}", i.move_index + 1, i.message));
+        }
+        if r.issues.len() > ISSUES_SHOWN {
+            ui.weak(format!("… and {} more (parol6 program check FILE lists all)", r.issues.len() - ISSUES_SHOWN));
+        }
+    }
+}
+
+/// One line, always present, so nothing below moves when a run starts or ends.
+fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>) {
+    ui.horizontal(|ui| match progress {
+        Some(p) => {
+            let text = match &p.state {
+                RunState::Preparing => format!("{}: checking and planning…", p.name),
+                RunState::Running => match &p.waiting_for {
+                    Some(w) => format!("{}: step {} of {}, waiting for {w}", p.name, p.step + 1, p.steps),
+                    None => format!("{}: step {} of {}, {:.1} s left", p.name, p.step + 1, p.steps, p.time_left_s),
+                },
+                RunState::Paused => format!("{}: paused at step {} of {}", p.name, p.step + 1, p.steps),
+                RunState::Done => format!("{}: done ({:.1} s)", p.name, p.clock_s.1 - p.clock_s.0),
+                RunState::Stopped => format!("{}: stopped after {} of {} steps", p.name, p.steps_done, p.steps),
+                RunState::Failed(why) => format!("{}: {why}", p.name),
+            };
+            if matches!(p.state, RunState::Failed(_)) {
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), text);
+            } else {
+                ui.label(text);
+            }
+        }
+        None => {
+            ui.weak("Idle. STOP (Esc) halts a running program.");
+        }
+    });
+}

@@ -21,6 +21,7 @@ pub mod model;
 pub mod motion;
 pub mod parol6;
 pub mod profile;
+pub mod scene;
 pub mod sim;
 pub mod stats;
 pub mod urdf_input;

@@ -34,6 +34,7 @@ use crate::profile::{ProfileError, ProfileKind};
 mod backend;
 pub mod cartesian;
 pub mod path;
+pub mod preflight;
 mod planner;
 mod sequence;
 

@@ -195,15 +195,20 @@ mod tests {
         let k: KeepOut = serde_json::from_str(EXAMPLES[0]).expect("box");
         assert_eq!(
             k.shape,
-            KeepOutShape::Box { center_mm: [250.0, 0.0, 40.0], size_mm: [120.0, 80.0, 80.0], rpy_deg: [0.0, 0.0, 30.0] }
+            KeepOutShape::Box {
+                center_mm: [250.0, 0.0, 40.0],
+                size_mm: [120.0, 80.0, 80.0],
+                rpy_deg: [0.0, 0.0, 30.0]
+            }
         );
     }
 
     #[test]
     fn rpy_is_optional() {
-        let k: KeepOut =
-            serde_json::from_str(r#"{"name":"post","kind":"cylinder","center_mm":[0,0,0],"radius_mm":5,"height_mm":9}"#)
-                .expect("no rpy");
+        let k: KeepOut = serde_json::from_str(
+            r#"{"name":"post","kind":"cylinder","center_mm":[0,0,0],"radius_mm":5,"height_mm":9}"#,
+        )
+        .expect("no rpy");
         assert_eq!(k.shape.rpy_deg(), [0.0; 3]);
     }
 

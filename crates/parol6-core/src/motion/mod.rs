@@ -34,8 +34,8 @@ use crate::profile::{ProfileError, ProfileKind};
 mod backend;
 pub mod cartesian;
 pub mod path;
-pub mod preflight;
 mod planner;
+pub mod preflight;
 mod sequence;
 
 pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};

@@ -61,7 +61,12 @@ fn joint_move(from: &[f64], to: &[f64], caps: &MotionCaps) -> Result<Arc<Sampled
     Ok(Arc::new(sampled(&mv, BENCH_DT_S)))
 }
 
-fn line(model: &RobotModel, from: &[f64], dz_m: f64, caps: &MotionCaps) -> Result<Arc<SampledTrajectory>, BenchProgramError> {
+fn line(
+    model: &RobotModel,
+    from: &[f64],
+    dz_m: f64,
+    caps: &MotionCaps,
+) -> Result<Arc<SampledTrajectory>, BenchProgramError> {
     let a = model.tcp_isometry(from);
     let mut b = a;
     b.translation.vector += Vector3::new(0.0, 0.0, dz_m);

@@ -89,9 +89,7 @@ fn chain_span_m(model: &RobotModel, from: usize, to: usize) -> f64 {
         .map(|i| {
             let j = &model.joints[i - 1];
             let travel = match j.kind {
-                JointKind::Prismatic => {
-                    model.limits.get(i - 1).map_or(f64::INFINITY, |l| l.min.abs().max(l.max.abs()))
-                }
+                JointKind::Prismatic => model.limits.get(i - 1).map_or(f64::INFINITY, |l| l.min.abs().max(l.max.abs())),
                 _ => 0.0,
             };
             j.origin.translation.vector.norm() + travel
@@ -187,7 +185,12 @@ impl ClearanceWorld {
         }
         for &l in guard.ground_link_indices() {
             for (p, _) in pieces.iter().enumerate().filter(|(_, p)| p.link == l) {
-                pairs.push(Pair { piece: p, partner: Partner::Ground, problem: Problem::Ground(l), partner_moves: false });
+                pairs.push(Pair {
+                    piece: p,
+                    partner: Partner::Ground,
+                    problem: Problem::Ground(l),
+                    partner_moves: false,
+                });
             }
         }
         let mut obstacles = Vec::new();
@@ -205,9 +208,7 @@ impl ClearanceWorld {
                 });
             }
         }
-        let max_reach_m = (0..model.dof())
-            .map(|j| pieces.iter().map(|p| p.reach_m[j]).fold(0.0, f64::max))
-            .collect();
+        let max_reach_m = (0..model.dof()).map(|j| pieces.iter().map(|p| p.reach_m[j]).fold(0.0, f64::max)).collect();
         Self { pieces, pairs, obstacles, max_reach_m }
     }
 

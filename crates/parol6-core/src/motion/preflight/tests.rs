@@ -101,7 +101,8 @@ fn a_move_through_a_keep_out_box_names_link_shape_and_place() {
     assert!((nalgebra::Vector3::from(first.tcp_mm) - tcp).norm() < 1e-6);
     // found where it really starts: no later than 1 mrad of joint travel after the truth
     let truth = first_contact_s(&pf, &traj).expect("touches");
-    let earliest = r.issues.iter().filter(|i| i.kind != IssueKind::Singularity).map(|i| i.t_s).fold(f64::INFINITY, f64::min);
+    let earliest =
+        r.issues.iter().filter(|i| i.kind != IssueKind::Singularity).map(|i| i.t_s).fold(f64::INFINITY, f64::min);
     assert!(earliest >= truth - 1e-4 && earliest <= truth + 1e-3 / caps.speed_rad_s[0] + 1e-4, "{earliest} vs {truth}");
     // each link makes one issue (consecutive samples collapse), and the path turns red there
     let mut links: Vec<&str> =
@@ -165,7 +166,20 @@ fn j4_and_j6_together_can_overrun_motor_6() {
     assert_eq!(r.issues[0].kind, IssueKind::MotorSpeed { motor: 6 });
     assert!(r.issues[0].message.contains("motor 6"), "{}", r.issues[0].message);
     // slower J4: fine
-    let samples = (0..=20).map(|k| [q0[0], q0[1], q0[2], q0[3] + 0.002 * k as f64, q0[4], q0[5] + 0.024 * k as f64].to_vec());
+    let samples =
+        (0..=20).map(|k| [q0[0], q0[1], q0[2], q0[3] + 0.002 * k as f64, q0[4], q0[5] + 0.024 * k as f64].to_vec());
+    let r = pf.check(&[planned(0, MoveKind::Joint, Arc::new(SampledTrajectory::new(0.01, samples.collect())))]);
+    assert!(r.issues.is_empty(), "{:#?}", r.issues);
+}
+
+#[test]
+fn the_motor_6_coupling_is_only_the_parol6s() {
+    let (mut model, caps) = parol6();
+    model.is_parol6 = false;
+    let pf = Preflight::new(&model, &caps, &[]).expect("builds");
+    let q0 = station(1);
+    let samples =
+        (0..=20).map(|k| [q0[0], q0[1], q0[2], q0[3] + 0.01 * k as f64, q0[4], q0[5] + 0.024 * k as f64].to_vec());
     let r = pf.check(&[planned(0, MoveKind::Joint, Arc::new(SampledTrajectory::new(0.01, samples.collect())))]);
     assert!(r.issues.is_empty(), "{:#?}", r.issues);
 }
@@ -218,7 +232,11 @@ fn a_joint_move_through_the_wrist_singularity_warns() {
     assert!(r.path.iter().any(|p| p.status == CheckStatus::Warning));
     // the same samples on a TCP path: an error at the singular pose
     let r = pf.check(&[planned(0, MoveKind::Cartesian, traj)]);
-    assert!(r.issues.iter().any(|i| i.kind == IssueKind::Singularity && i.severity == Severity::Error), "{:#?}", r.issues);
+    assert!(
+        r.issues.iter().any(|i| i.kind == IssueKind::Singularity && i.severity == Severity::Error),
+        "{:#?}",
+        r.issues
+    );
 }
 
 #[test]
@@ -239,7 +257,11 @@ fn unusable_trajectories_are_errors_not_panics() {
         assert_eq!(r.issues[0].kind, IssueKind::InvalidTrajectory);
         assert!(!r.ok() && r.duration_s.is_finite());
     }
-    let r = pf.check(&[planned(0, MoveKind::Joint, Arc::new(SampledTrajectory::new(0.01, vec![q.clone(), q[..5].to_vec()])))]);
+    let r = pf.check(&[planned(
+        0,
+        MoveKind::Joint,
+        Arc::new(SampledTrajectory::new(0.01, vec![q.clone(), q[..5].to_vec()])),
+    )]);
     assert!(r.issues[0].message.contains("sample 1 has 5 joint values"), "{}", r.issues[0].message);
 }
 
@@ -282,6 +304,37 @@ fn issues_serialise_with_their_kind() {
     assert_eq!(json["issues"][0]["severity"], "error");
     let back: PreflightReport = serde_json::from_value(json).expect("reads back");
     assert_eq!(back, r);
+}
+
+proptest! {
+    /// The reach bound holds: no point within a piece's bounding sphere moves more than
+    /// `Σ reach × |Δq|` along the straight joint-space line.
+    #[test]
+    fn pieces_move_no_more_than_their_reach_allows(
+        q in proptest::collection::vec(-3.0f64..3.0, 6),
+        dq in proptest::collection::vec(-0.2f64..0.2, 6),
+    ) {
+        let (model, caps) = parol6();
+        let pf = Preflight::new(&model, &caps, &[]).expect("builds");
+        let q2: Vec<f64> = q.iter().zip(&dq).map(|(a, d)| a + d).collect();
+        let (pa, pb) = (model.link_poses(&q), model.link_poses(&q2));
+        let guard = crate::sim::CollisionGuard::new(&model);
+        for (p, (link, local, shape)) in guard.pieces().enumerate() {
+            let sphere = shape.compute_local_bounding_sphere();
+            let c = sphere.center();
+            let r = f64::from(sphere.radius());
+            let bound: f64 = pf.world.reach_m(p).iter().zip(&dq).map(|(reach, d)| reach * d.abs()).sum();
+            for off in [[0.0, 0.0, 0.0], [r, 0.0, 0.0], [0.0, -r, 0.0], [0.0, 0.0, r]] {
+                let local_pt = nalgebra::Point3::new(f64::from(c.x) + off[0], f64::from(c.y) + off[1], f64::from(c.z) + off[2]);
+                let a = pa[link] * local * local_pt;
+                let b = pb[link] * local * local_pt;
+                prop_assert!((b - a).norm() <= bound + 1e-9, "piece {p}: moved {} > bound {bound}", (b - a).norm());
+            }
+        }
+        let tcp_bound: f64 = pf.tcp_reach_m.iter().zip(&dq).map(|(reach, d)| reach * d.abs()).sum();
+        let moved = (model.tcp_isometry(&q2).translation.vector - model.tcp_isometry(&q).translation.vector).norm();
+        prop_assert!(moved <= tcp_bound + 1e-9);
+    }
 }
 
 fn garbage_move() -> impl Strategy<Value = (f64, Vec<Vec<f64>>, bool)> {

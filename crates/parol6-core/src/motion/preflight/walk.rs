@@ -100,13 +100,11 @@ impl<'p> Walk<'p> {
     }
 
     /// Adds an issue at joint values `q` (`None`: unusable values).
-    #[allow(clippy::too_many_arguments)]
     fn emit(
         &self,
         report: &mut PreflightReport,
         mv: &PlannedMove,
-        problem: Problem,
-        severity: Severity,
+        (problem, severity): (Problem, Severity),
         t_s: f64,
         q: Option<&[f64]>,
         detail: String,
@@ -150,7 +148,7 @@ impl<'p> Walk<'p> {
         if let Some((i, reason)) = invalid_reason(mv, dof) {
             let dt = mv.trajectory.dt_s();
             let t = if dt.is_finite() { i as f64 * dt } else { 0.0 };
-            self.emit(report, mv, Problem::InvalidTrajectory, Severity::Error, t, None, reason);
+            self.emit(report, mv, (Problem::InvalidTrajectory, Severity::Error), t, None, reason);
             return false;
         }
         for t in [&mut self.per_sample, &mut self.singular, &mut self.collision] {
@@ -201,7 +199,7 @@ impl<'p> Walk<'p> {
                 (q0[j] - prev[j]).to_degrees(),
                 self.joint_name(j)
             );
-            self.emit(report, mv, Problem::Discontinuity(j), Severity::Error, 0.0, Some(q0), detail);
+            self.emit(report, mv, (Problem::Discontinuity(j), Severity::Error), 0.0, Some(q0), detail);
         }
     }
 
@@ -220,13 +218,9 @@ impl<'p> Walk<'p> {
             let Some(l) = self.pf.limits.get(j) else { continue };
             if !l.contains(v) && self.per_sample.note(Problem::JointLimit(j), Severity::Error) {
                 let (side, lim) = if v < l.min { ("lower", l.min) } else { ("upper", l.max) };
-                let detail = format!(
-                    "{} at {:.2}° is beyond its {side} limit {:.2}°",
-                    l.name,
-                    v.to_degrees(),
-                    lim.to_degrees()
-                );
-                self.emit(report, mv, Problem::JointLimit(j), Severity::Error, t, Some(q), detail);
+                let detail =
+                    format!("{} at {:.2}° is beyond its {side} limit {:.2}°", l.name, v.to_degrees(), lim.to_degrees());
+                self.emit(report, mv, (Problem::JointLimit(j), Severity::Error), t, Some(q), detail);
             }
         }
         if let Some(p) = prev {
@@ -240,14 +234,15 @@ impl<'p> Walk<'p> {
                         w.to_degrees(),
                         cap.to_degrees()
                     );
-                    self.emit(report, mv, Problem::JointSpeed(j), Severity::Error, t, Some(q), detail);
+                    self.emit(report, mv, (Problem::JointSpeed(j), Severity::Error), t, Some(q), detail);
                 }
             }
             if self.pf.motor6_coupling {
                 let (w4, w6) = ((q[3] - p[3]) / dt, (q[5] - p[5]) / dt);
                 let rate = parol6_motor6_steps_s(w4, w6);
                 let m = Problem::MotorSpeed(PAROL6_COUPLED_MOTOR);
-                if rate > PAROL6_MOTOR6_MAX_STEPS_S * (1.0 + SPEED_TOLERANCE) && self.per_sample.note(m, Severity::Error)
+                if rate > PAROL6_MOTOR6_MAX_STEPS_S * (1.0 + SPEED_TOLERANCE)
+                    && self.per_sample.note(m, Severity::Error)
                 {
                     let detail = format!(
                         "motor 6 at {rate:.0} steps/s exceeds {PAROL6_MOTOR6_MAX_STEPS_S:.0} steps/s \
@@ -255,7 +250,7 @@ impl<'p> Walk<'p> {
                         w6.to_degrees(),
                         w4.to_degrees()
                     );
-                    self.emit(report, mv, m, Severity::Error, t, Some(q), detail);
+                    self.emit(report, mv, (m, Severity::Error), t, Some(q), detail);
                 }
             }
         }
@@ -293,14 +288,19 @@ impl<'p> Walk<'p> {
                         "near a singular pose (manipulability {ratio:.3} of the reference; warning below \
                          {SINGULARITY_WARN_RATIO}, error on a TCP path below {SINGULARITY_ERROR_RATIO})"
                     );
-                    self.emit(report, mv, Problem::Singularity, s, t, Some(q), detail);
+                    self.emit(report, mv, (Problem::Singularity, s), t, Some(q), detail);
                 }
             }
             self.singular.end();
         }
         self.window = self.window.max(self.singular.status()).max(self.collision.status());
         if point {
-            report.path.push(CheckedPoint { move_index: mv.index, t_s: t, tcp_m: [tcp.x, tcp.y, tcp.z], status: self.window });
+            report.path.push(CheckedPoint {
+                move_index: mv.index,
+                t_s: t,
+                tcp_m: [tcp.x, tcp.y, tcp.z],
+                status: self.window,
+            });
             self.tcp_moved_m = 0.0;
             self.window = self.per_sample.status().max(self.singular.status()).max(self.collision.status());
         }
@@ -314,7 +314,7 @@ impl<'p> Walk<'p> {
         for k in 0..self.clearance.contacts.len() {
             let p = self.clearance.contacts[k];
             if self.collision.note(p, Severity::Error) {
-                self.emit(report, mv, p, Severity::Error, t, Some(q), String::new());
+                self.emit(report, mv, (p, Severity::Error), t, Some(q), String::new());
             }
         }
         self.collision.end();

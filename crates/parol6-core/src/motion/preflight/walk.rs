@@ -170,17 +170,21 @@ impl<'p> Walk<'p> {
                 None => self.collision_checkpoint(mv, q, t, report),
                 Some(p) => self.advance_collision(mv, p, q, t - dt, dt, report),
             }
+            let mut longest_travel_rad = 0.0f64;
             if let Some(p) = prev {
-                for j in 0..dof {
-                    let d = (q[j] - p[j]).abs();
-                    self.travel_rad[j] += d;
-                    self.tcp_moved_m += self.pf.tcp_reach_m[j] * d;
+                let mut tcp_moved_m = 0.0;
+                for (((travel, reach), a), b) in self.travel_rad.iter_mut().zip(&self.pf.tcp_reach_m).zip(p).zip(q) {
+                    let d = (b - a).abs();
+                    *travel += d;
+                    longest_travel_rad = longest_travel_rad.max(*travel);
+                    tcp_moved_m += reach * d;
                 }
+                self.tcp_moved_m += tcp_moved_m;
             }
             let ends = i == 0 || i + 1 == n;
             // on a TCP path inside the warning band, every sample (to see the error band)
             let fine = mv.kind == MoveKind::Cartesian && self.singular.any();
-            let need_singular = ends || fine || self.travel_rad.iter().any(|&d| d >= SINGULARITY_STEP_RAD);
+            let need_singular = ends || fine || longest_travel_rad >= SINGULARITY_STEP_RAD;
             let need_point = ends || self.tcp_moved_m >= PATH_SPACING_M;
             if need_singular || need_point {
                 self.sample_pose(mv, q, t, need_singular, need_point, report);
@@ -214,8 +218,7 @@ impl<'p> Walk<'p> {
         report: &mut PreflightReport,
     ) {
         self.per_sample.begin();
-        for (j, &v) in q.iter().enumerate() {
-            let Some(l) = self.pf.limits.get(j) else { continue };
+        for (j, (&v, l)) in q.iter().zip(self.pf.limits.iter()).enumerate() {
             if !l.contains(v) && self.per_sample.note(Problem::JointLimit(j), Severity::Error) {
                 let (side, lim) = if v < l.min { ("lower", l.min) } else { ("upper", l.max) };
                 let detail =
@@ -224,9 +227,9 @@ impl<'p> Walk<'p> {
             }
         }
         if let Some(p) = prev {
-            for (j, (&a, &b)) in p.iter().zip(q).enumerate() {
-                let w = (b - a).abs() / dt;
-                let cap = self.pf.speed_cap_rad_s[j];
+            let per_s = 1.0 / dt;
+            for (j, ((&a, &b), &cap)) in p.iter().zip(q).zip(&self.pf.speed_cap_rad_s).enumerate() {
+                let w = (b - a).abs() * per_s;
                 if w > cap * (1.0 + SPEED_TOLERANCE) && self.per_sample.note(Problem::JointSpeed(j), Severity::Error) {
                     let detail = format!(
                         "{} at {:.1}°/s exceeds its speed cap {:.1}°/s",

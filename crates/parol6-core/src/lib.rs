@@ -5,9 +5,11 @@
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
-//! planner, the [`motion::RobotBackend`] trait), the PAROL6 facts of the reference pack
-//! ([`parol6`]), the size / nesting bounds every URDF text passes before parsing
-//! ([`urdf_input`]), and sample statistics with one percentile rule ([`stats`]).
+//! planner, the [`motion::RobotBackend`] trait, pre-flight validation of planned programs in
+//! [`motion::preflight`]), the keep-out shapes of the robot's surroundings ([`scene`]), the
+//! PAROL6 facts of the reference pack ([`parol6`]), the size / nesting bounds every URDF text
+//! passes before parsing ([`urdf_input`]), and sample statistics with one percentile rule
+//! ([`stats`]).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.

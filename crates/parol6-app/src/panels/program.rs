@@ -12,7 +12,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use parol6_core::RobotModel;
-use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
+use parol6_core::program::check::{CheckOptions, CheckReport, CheckStatus, Severity, check_program};
 use parol6_core::program::compile::{CompileOptions, StepAction, compile};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
 use parol6_core::program::{Program, builtin, json};
@@ -117,23 +117,30 @@ impl ProgramPanel {
     }
 }
 
-/// The planned TCP path: every pre-flight sample of every motion step, coloured by the worst
-/// problem the pre-flight found in that step.
+/// The planned TCP path: every pre-flight sample of every motion step, coloured by the status
+/// of the pre-flight's last checked point at or before it in the same step (an error in a
+/// step without checked points, e.g. an unreachable one, colours the whole step).
 pub fn planned_path(model: &RobotModel, program: &Program, start_q: &[f64], report: &CheckReport) -> PathOverlay {
     let mut overlay = PathOverlay::default();
     let Ok(compiled) = compile(model, program, start_q, CompileOptions::PREFLIGHT) else {
         return overlay;
     };
+    let to_path = |s: CheckStatus| match s {
+        CheckStatus::Ok => PathPointStatus::Ok,
+        CheckStatus::Warning => PathPointStatus::Warning,
+        CheckStatus::Error => PathPointStatus::Error,
+    };
     for c in &compiled {
         let StepAction::Motion(traj) = &c.action else { continue };
-        let worst = report.issues.iter().filter(|i| c.steps.contains(&i.move_index)).map(|i| i.severity).max();
-        let status = match worst {
-            None => PathPointStatus::Ok,
-            Some(Severity::Warning) => PathPointStatus::Warning,
-            Some(Severity::Error) => PathPointStatus::Error,
-        };
+        let checked: Vec<_> = report.path.iter().filter(|p| p.move_index == c.steps.start).collect();
+        let step_worst = report.issues.iter().filter(|i| c.steps.contains(&i.move_index)).map(|i| i.severity).max();
         overlay.break_strip();
-        for q in traj.samples() {
+        for (k, q) in traj.samples().iter().enumerate() {
+            let t = k as f64 * traj.dt_s();
+            let status = match checked.iter().rev().find(|p| p.t_s <= t + 1e-9) {
+                Some(p) => to_path(p.status),
+                None => step_worst.map_or(PathPointStatus::Ok, |s| to_path(s.into())),
+            };
             let p = model.tcp_isometry(q).translation.vector;
             overlay.push([p.x as f32, p.y as f32, p.z as f32], status);
         }

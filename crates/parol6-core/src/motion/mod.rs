@@ -38,6 +38,7 @@ pub mod cartesian;
 mod io;
 pub mod path;
 mod planner;
+pub mod preflight;
 mod sequence;
 mod warp;
 

@@ -3,21 +3,17 @@
 //! report lists every problem with its source line, step and where along the move, and the
 //! planned duration.
 
+use std::sync::Arc;
+
 use serde::Serialize;
 
 use super::Program;
 use super::compile::{CompileOptions, StepAction, compile};
 use crate::model::RobotModel;
+use crate::motion::MotionCaps;
+use crate::motion::preflight::{MoveKind, PlannedMove, Preflight};
 
-/// How bad a problem is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Severity {
-    /// Runs, but look at it.
-    Warning,
-    /// Refused: the program does not run.
-    Error,
-}
+pub use crate::motion::preflight::{CheckStatus, CheckedPoint, Severity};
 
 /// How to check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +59,9 @@ pub struct CheckReport {
     pub duration_s: f64,
     /// Every problem found.
     pub issues: Vec<CheckIssue>,
+    /// The checked TCP path, coloured by status (for the 3D view; not in the JSON).
+    #[serde(skip)]
+    pub path: Vec<CheckedPoint>,
 }
 
 impl CheckReport {
@@ -89,13 +88,49 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
             tcp_mm: None,
         });
     }
-    match compile(model, program, start_q, CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT }) {
+    let opts = CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT };
+    let mut path = Vec::new();
+    match compile(model, program, start_q, opts) {
         Ok(compiled) => {
-            for c in &compiled {
-                duration_s += c.duration_s();
-                if let StepAction::Motion(_) = &c.action {
-                    // the motion checks come with the pre-flight checker
+            let moves: Vec<PlannedMove> = compiled
+                .iter()
+                .filter_map(|c| match &c.action {
+                    StepAction::Motion(t) => Some(PlannedMove {
+                        index: c.steps.start,
+                        line: c.line,
+                        label: c.kind.to_string(),
+                        kind: if matches!(c.kind, "home" | "move_joints" | "move_pose") {
+                            MoveKind::Joint
+                        } else {
+                            MoveKind::Cartesian
+                        },
+                        trajectory: Arc::clone(t),
+                    }),
+                    _ => None,
+                })
+                .collect();
+            duration_s = compiled.iter().map(|c| c.duration_s()).sum();
+            match Preflight::new(model, &MotionCaps::of(model), &program.keep_out) {
+                Ok(checker) => {
+                    let report = checker.check(&moves);
+                    path = report.path;
+                    issues.extend(report.issues.into_iter().map(|i| CheckIssue {
+                        line: i.line,
+                        move_index: i.move_index,
+                        severity: i.severity,
+                        message: without_place_prefix(&i.message),
+                        t_s: Some(i.t_s),
+                        tcp_mm: Some(i.tcp_mm),
+                    }));
                 }
+                Err(e) => issues.push(CheckIssue {
+                    line: 0,
+                    move_index: 0,
+                    severity: Severity::Error,
+                    message: format!("keep-out shapes: {e}"),
+                    t_s: None,
+                    tcp_mm: None,
+                }),
             }
         }
         Err(e) => issues.push(CheckIssue {
@@ -108,5 +143,14 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    CheckReport { ok, moves: program.steps.len(), duration_s, issues }
+    CheckReport { ok, moves: program.steps.len(), duration_s, issues, path }
+}
+
+/// The checker's message without its "line L, move M (kind): " prefix (the report carries the
+/// line and the step in their own fields).
+fn without_place_prefix(message: &str) -> String {
+    match (message.starts_with("line "), message.find("): ")) {
+        (true, Some(i)) => message[i + 3..].to_string(),
+        _ => message.to_string(),
+    }
 }

@@ -138,6 +138,22 @@ impl CollisionGuard {
         self.ground_links.iter().map(|&l| self.link_names[l].clone()).collect()
     }
 
+    /// Every convex piece: the index of its link in [`RobotModel::links`], its pose in the
+    /// link frame and its shape (for distance queries beyond this guard's contact tests).
+    pub fn pieces(&self) -> impl Iterator<Item = (usize, &Isometry3<f64>, &SharedShape)> + '_ {
+        self.pieces.iter().map(|p| (p.link, &p.local, &p.shape))
+    }
+
+    /// The tested link pairs as indices into [`RobotModel::links`], a < b.
+    pub fn pair_indices(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+
+    /// Indices (into [`RobotModel::links`]) of the links tested against the ground.
+    pub fn ground_link_indices(&self) -> &[usize] {
+        &self.ground_links
+    }
+
     /// World pose and bounding box of every piece at link poses `poses`.
     fn place(&self, poses: &[Isometry3<f64>]) -> Vec<Option<(Pose, Aabb)>> {
         self.pieces

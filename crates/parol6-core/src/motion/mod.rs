@@ -8,6 +8,11 @@
 //! - [`MotionCommand::Home`]: the same profiled move to the home pose (PAROL6 standby);
 //! - [`MotionCommand::JogJoint`] / [`MotionCommand::JogRelease`]: hold-to-run jog with a
 //!   dead-man ([`DEADMAN_S`]);
+//! - [`MotionCommand::JogCartesian`]: hold-to-run jog of the TCP along / about an axis of the
+//!   world or tool frame, planned at jog start up to where it must stop (limit, workspace edge,
+//!   singularity, collision in the simulation) so it stops before, never after
+//!   ([`cartesian_jog`]); [`MotionCommand::CartesianStep`] moves exactly a typed increment as
+//!   a planned MoveL;
 //! - [`MotionCommand::Stop`]: hold the commanded position of this instant.
 //!
 //! [`MotionPlanner`] turns commands into the commanded joint trajectory. It is a pure function
@@ -33,11 +38,13 @@ use crate::profile::{ProfileError, ProfileKind};
 
 mod backend;
 pub mod cartesian;
+pub mod cartesian_jog;
 pub mod path;
 mod planner;
 mod sequence;
 
 pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};
+pub use cartesian_jog::{CartesianAxis, JogFrame, JogKinematics, JogStop};
 pub use planner::{MotionPlanner, PlannerMode};
 pub use sequence::{SequenceProgress, SequenceRunner, SequenceState};
 
@@ -81,6 +88,31 @@ pub enum MotionCommand {
         /// Signed fraction of the joint's speed cap, −1…1.
         fraction: f64,
     },
+    /// Jog the TCP along (X, Y, Z) or about (Rx, Ry, Rz) an axis of `frame` while held:
+    /// `fraction` (−1…1, sign = direction) of the Cartesian jog speed range (1–160 mm/s,
+    /// 1–80 °/s). Repeat at least every [`DEADMAN_S`] or it stops; it also stops, decelerated,
+    /// before the first joint limit, workspace edge, singularity or (simulation) collision.
+    /// Needs a planner with kinematics ([`MotionPlanner::with_kinematics`]).
+    JogCartesian {
+        /// World or tool frame (the tool frame at jog start).
+        frame: JogFrame,
+        /// Axis.
+        axis: CartesianAxis,
+        /// Signed fraction of the jog speed range, −1…1.
+        fraction: f64,
+    },
+    /// Move the TCP by exactly `distance` (m, or rad for Rx/Ry/Rz; signed) along / about an
+    /// axis of `frame`, as a planned straight-line move (the jog's step mode).
+    CartesianStep {
+        /// World or tool frame.
+        frame: JogFrame,
+        /// Axis.
+        axis: CartesianAxis,
+        /// Signed increment, m (translations) or rad (rotations).
+        distance: f64,
+        /// Fraction of the Cartesian jog speed caps (0 < f ≤ 1).
+        speed_fraction: f64,
+    },
     /// Release a jog: hold where the jog is now.
     JogRelease,
     /// Stop: hold the commanded position of this instant.
@@ -110,6 +142,8 @@ impl MotionCommand {
             MotionCommand::MoveJoints { .. } => "move",
             MotionCommand::Home { .. } => "home",
             MotionCommand::JogJoint { .. } => "jog",
+            MotionCommand::JogCartesian { .. } => "Cartesian jog",
+            MotionCommand::CartesianStep { .. } => "Cartesian step",
             MotionCommand::JogRelease => "jog release",
             MotionCommand::Stop => "stop",
             MotionCommand::Trajectory(_) => "trajectory",

@@ -7,6 +7,7 @@ use crate::limits::{JointLimits, LimitPolicy};
 use crate::profile::JointMove;
 
 use super::cartesian::SampledTrajectory;
+use super::cartesian_jog::{self, CartesianAxis, CartesianJogPlan, JogFrame, JogKinematics};
 
 use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
 
@@ -23,6 +24,8 @@ pub enum PlannerMode {
     Jog,
     /// A planned trajectory (Cartesian move, program segment).
     Trajectory,
+    /// A hold-to-run Cartesian jog.
+    CartesianJog,
 }
 
 #[derive(Debug, Clone)]
@@ -32,6 +35,7 @@ enum Motion {
     Move { t0: f64, mv: JointMove },
     Jog { t0: f64, start: Vec<f64>, joint: usize, vel: f64, stop_at: f64, refreshed: f64 },
     Trajectory { t0: f64, traj: Arc<SampledTrajectory> },
+    CartesianJog { t0: f64, plan: Arc<CartesianJogPlan>, key: (JogFrame, CartesianAxis, f64), refreshed: f64 },
 }
 
 /// A trajectory must start within this distance of the commanded position, rad.
@@ -61,6 +65,7 @@ pub struct MotionPlanner {
     applied: u64,
     refusal_seq: u64,
     last_refusal: Option<(u64, String)>,
+    kinematics: Option<JogKinematics>,
 }
 
 impl MotionPlanner {
@@ -78,6 +83,27 @@ impl MotionPlanner {
             applied: 0,
             refusal_seq: 0,
             last_refusal: None,
+            kinematics: None,
+        }
+    }
+
+    /// Gives the planner the kinematic model (and optionally a collision check) that Cartesian
+    /// jogs and steps need; without it they are refused.
+    pub fn with_kinematics(mut self, kinematics: JogKinematics) -> Self {
+        self.kinematics = Some(kinematics);
+        self
+    }
+
+    /// The kinematics of Cartesian commands, when given.
+    pub fn kinematics(&self) -> Option<&JogKinematics> {
+        self.kinematics.as_ref()
+    }
+
+    /// The current Cartesian jog's plan (where and why it will stop), while one runs.
+    pub fn cartesian_jog(&self) -> Option<&CartesianJogPlan> {
+        match &self.motion {
+            Motion::CartesianJog { plan, .. } => Some(plan),
+            _ => None,
         }
     }
 
@@ -154,6 +180,7 @@ impl MotionPlanner {
             Motion::Move { t0, mv } => t0 + mv.duration_s(),
             Motion::Jog { t0, start, joint, vel, stop_at, .. } => t0 + ((stop_at - start[*joint]) / vel).abs(),
             Motion::Trajectory { t0, traj } => t0 + traj.duration_s(),
+            Motion::CartesianJog { t0, plan, .. } => t0 + plan.duration_s(),
         }
     }
 
@@ -166,6 +193,11 @@ impl MotionPlanner {
                 let free = start[*joint] + vel * (t_s - t0).max(0.0);
                 q[*joint] = if *vel > 0.0 { free.min(*stop_at) } else { free.max(*stop_at) };
                 q
+            }
+            Motion::CartesianJog { t0, plan, .. } => {
+                let mut sp = Setpoint::at_rest(&[]);
+                plan.sample_into(t_s - t0, &mut sp);
+                sp.q
             }
             _ => self.setpoint_at(t_s).q,
         }
@@ -199,6 +231,7 @@ impl MotionPlanner {
             Motion::Move { .. } => PlannerMode::Move,
             Motion::Jog { .. } => PlannerMode::Jog,
             Motion::Trajectory { .. } => PlannerMode::Trajectory,
+            Motion::CartesianJog { .. } => PlannerMode::CartesianJog,
         }
     }
 
@@ -213,6 +246,9 @@ impl MotionPlanner {
             Motion::Move { t0, mv } => !mv.is_finished(t_s - t0),
             Motion::Jog { refreshed, .. } => t_s <= refreshed + DEADMAN_S,
             Motion::Trajectory { t0, traj } => t_s - t0 < traj.duration_s(),
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                t_s <= refreshed + DEADMAN_S && t_s - t0 < plan.duration_s()
+            }
         }
     }
 
@@ -269,6 +305,14 @@ impl MotionPlanner {
                 mv.sample_into(t_s - t0, &mut out.q, &mut out.qd, &mut out.qdd);
             }
             Motion::Trajectory { t0, traj } => traj.sample_into(t_s - t0, out),
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                let released = t_s >= refreshed + DEADMAN_S;
+                plan.sample_into(t_s.min(refreshed + DEADMAN_S) - t0, out);
+                if released {
+                    out.qd.fill(0.0);
+                    out.qdd.fill(0.0);
+                }
+            }
             Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
                 let t_end = t_s.min(refreshed + DEADMAN_S);
                 let dt = (t_end - t0).max(0.0);
@@ -295,6 +339,10 @@ impl MotionPlanner {
             Motion::Move { t0, mv } => mv.is_finished(t_s - t0).then_some(t_s),
             Motion::Jog { refreshed, .. } => (t_s > refreshed + DEADMAN_S).then_some(refreshed + DEADMAN_S),
             Motion::Trajectory { t0, traj } => (t_s - t0 >= traj.duration_s()).then_some(t_s),
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                let end = (t0 + plan.duration_s()).min(refreshed + DEADMAN_S);
+                (t_s > end).then_some(end)
+            }
         };
         if let Some(t) = done_at {
             self.hold(t);
@@ -366,8 +414,35 @@ impl MotionPlanner {
                 self.goal = goal;
                 self.motion = Motion::Jog { t0: t_s, start: here, joint, vel, stop_at, refreshed: t_s };
             }
+            MotionCommand::JogCartesian { frame, axis, fraction } => {
+                let fraction = fraction.clamp(-1.0, 1.0);
+                let key = (*frame, *axis, fraction);
+                if let Motion::CartesianJog { key: k, refreshed, .. } = &mut self.motion
+                    && *k == key
+                {
+                    *refreshed = t_s;
+                    self.applied += 1;
+                    return Ok(());
+                }
+                if fraction == 0.0 {
+                    self.hold(t_s);
+                    self.applied += 1;
+                    return Ok(());
+                }
+                let kin = self.kinematics.as_ref().ok_or_else(no_kinematics)?;
+                let plan = CartesianJogPlan::plan(kin, &self.caps, &here, *frame, *axis, fraction)?;
+                self.goal = plan.end_q().to_vec();
+                self.motion = Motion::CartesianJog { t0: t_s, plan: Arc::new(plan), key, refreshed: t_s };
+            }
+            MotionCommand::CartesianStep { frame, axis, distance, speed_fraction } => {
+                let kin = self.kinematics.as_ref().ok_or_else(no_kinematics)?;
+                let traj = cartesian_jog::plan_step(kin, &self.caps, &here, *frame, *axis, *distance, *speed_fraction)?;
+                validate_trajectory(&self.limits, &traj)?;
+                self.goal = traj.goal().to_vec();
+                self.motion = Motion::Trajectory { t0: t_s, traj };
+            }
             MotionCommand::JogRelease => {
-                if matches!(self.motion, Motion::Jog { .. }) {
+                if matches!(self.motion, Motion::Jog { .. } | Motion::CartesianJog { .. }) {
                     self.hold(t_s);
                 }
             }
@@ -412,6 +487,10 @@ impl MotionPlanner {
     }
 }
 
+fn no_kinematics() -> MotionError {
+    MotionError::Invalid("this backend has no kinematic model for Cartesian commands".into())
+}
+
 fn check_fraction(what: &str, f: f64) -> Result<(), MotionError> {
     if f.is_finite() && f > 0.0 && f <= 1.0 {
         Ok(())
@@ -442,6 +521,14 @@ pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), 
             if !fraction.is_finite() {
                 return Err(MotionError::Invalid("jog fraction must be a finite number".into()));
             }
+        }
+        MotionCommand::JogCartesian { fraction, .. } => {
+            if !fraction.is_finite() {
+                return Err(MotionError::Invalid("Cartesian jog fraction must be a finite number".into()));
+            }
+        }
+        MotionCommand::CartesianStep { axis, distance, speed_fraction, .. } => {
+            cartesian_jog::check_step(*axis, *distance, *speed_fraction)?;
         }
         MotionCommand::JogRelease | MotionCommand::Stop => {}
         MotionCommand::Trajectory(traj) => validate_trajectory(limits, traj)?,

@@ -306,3 +306,43 @@ proptest! {
         }
     }
 }
+
+/// With the simulation's collision guard, a jog toward a contact stops before it: no sample
+/// of the plan touches, and the reason names the pair.
+#[test]
+fn a_jog_stops_before_a_collision() {
+    let guard = crate::sim::collision::CollisionGuard::new(&kin().model);
+    let model = kin().model;
+    let with_guard = JogKinematics { model: Arc::clone(&model), obstacles: Some(Arc::new(guard.clone())) };
+    let mut found = 0;
+    for (j2, j3) in [(0.2, -0.3), (0.5, -0.6), (0.7, 0.2), (0.9, -0.2)] {
+        let mut q0 = start_q();
+        q0[1] += j2 - 0.2;
+        q0[2] += j3 + 0.3;
+        if !model.limits.contains(&q0) || guard.check(&model, &q0).is_some() {
+            continue;
+        }
+        for axis in [CartesianAxis::Z, CartesianAxis::X, CartesianAxis::Y] {
+            for f in [-1.0, 1.0] {
+                let Ok(plan) = CartesianJogPlan::plan(&with_guard, &caps(), &q0, JogFrame::World, axis, f) else {
+                    continue;
+                };
+                if !matches!(plan.stop_reason(), JogStop::Collision { .. }) {
+                    continue;
+                }
+                found += 1;
+                let mut sp = Setpoint::at_rest(&[]);
+                let mut t = 0.0;
+                while t <= plan.duration_s() + 0.01 {
+                    plan.sample_into(t, &mut sp);
+                    assert!(guard.check(&model, &sp.q).is_none(), "contact at t = {t:.3} ({})", plan.stop_reason());
+                    t += 0.005;
+                }
+                // without the guard the same jog goes further
+                let free = CartesianJogPlan::plan(&kin(), &caps(), &q0, JogFrame::World, axis, f).expect("plans");
+                assert!(free.travel().abs() > plan.travel().abs());
+            }
+        }
+    }
+    assert!(found > 0, "no test jog ran into a collision");
+}

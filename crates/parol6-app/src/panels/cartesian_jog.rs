@@ -116,7 +116,7 @@ impl CartesianJogPanel {
 
     fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
         let mut held = None;
-        egui::Grid::new("cartesian_jog_buttons").num_columns(6).spacing([4.0, 4.0]).show(ui, |ui| {
+        egui::Grid::new("cartesian_jog_buttons").num_columns(6).spacing([4.0, 2.0]).show(ui, |ui| {
             for row in 0..3 {
                 for axis in [CartesianAxis::ALL[row], CartesianAxis::ALL[row + 3]] {
                     ui.label(egui::RichText::new(axis.label()).monospace());
@@ -126,7 +126,7 @@ impl CartesianJogPanel {
                         // drag of the scrolling column around it
                         let b = ui.add(
                             egui::Button::new(&name)
-                                .min_size(egui::vec2(40.0, 22.0))
+                                .min_size(egui::vec2(40.0, 18.0))
                                 .sense(egui::Sense::click_and_drag()),
                         );
                         let b = b.on_hover_text(if self.step_mode {
@@ -184,10 +184,7 @@ impl CartesianJogPanel {
     }
 
     fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
-        let Some(v) = &self.view else {
-            ui.label("Hold a button (or A/D, S/W, Q/E; Shift: rotations) to jog.");
-            return;
-        };
+        let Some(v) = &self.view else { return };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
         match &v.plan {
@@ -230,7 +227,9 @@ impl Panel for CartesianJogPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        ui.heading(self.title());
+        ui.heading(self.title()).on_hover_text(
+            "hold a −/+ button, or A/D, S/W, Q/E (Shift: rotations); in Step mode click for one increment",
+        );
         ui.horizontal(|ui| {
             ui.label("Frame");
             ui.selectable_value(&mut self.frame, JogFrame::World, "World").on_hover_text("the robot base axes");
@@ -246,17 +245,18 @@ impl Panel for CartesianJogPanel {
         }
         ui.horizontal(|ui| {
             ui.label("Speed");
+            ui.spacing_mut().slider_width = 80.0;
             let mut pct = ctx.settings.cartesian_jog_fraction * 100.0;
             if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
                 ctx.settings.cartesian_jog_fraction = (pct / 100.0).clamp(0.01, 1.0);
             }
+            let f = ctx.settings.cartesian_jog_fraction;
+            ui.label(format!(
+                "{:.1} mm/s, {:.1} °/s",
+                jog_speed(CartesianAxis::X, f) * 1000.0,
+                jog_speed(CartesianAxis::Rx, f).to_degrees()
+            ));
         });
-        let f = ctx.settings.cartesian_jog_fraction;
-        ui.label(format!(
-            "= {:.1} mm/s linear, {:.1} °/s angular",
-            jog_speed(CartesianAxis::X, f) * 1000.0,
-            jog_speed(CartesianAxis::Rx, f).to_degrees()
-        ));
         ui.horizontal(|ui| {
             ui.label("Increment");
             if let (_, Some(ev)) = entry::numeric_entry(ui, "Step mm", self.step_mm, 2, 56.0, "mm") {
@@ -273,18 +273,10 @@ impl Panel for CartesianJogPanel {
             }
         });
         let tcp = ctx.readout.tcp;
-        ui.monospace(format!(
-            "TCP {} {} {} mm",
-            entry::fmt_fixed(tcp.position_m[0] * 1000.0, 2),
-            entry::fmt_fixed(tcp.position_m[1] * 1000.0, 2),
-            entry::fmt_fixed(tcp.position_m[2] * 1000.0, 2)
-        ));
-        ui.monospace(format!(
-            "RPY {} {} {} °",
-            entry::fmt_fixed(tcp.rpy_rad[0].to_degrees(), 2),
-            entry::fmt_fixed(tcp.rpy_rad[1].to_degrees(), 2),
-            entry::fmt_fixed(tcp.rpy_rad[2].to_degrees(), 2)
-        ));
+        let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
+        let deg = |k: usize| entry::fmt_fixed(tcp.rpy_rad[k].to_degrees(), 1);
+        ui.label(format!("TCP {}, {}, {} mm · RPY {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
+            .on_hover_text("TCP position (X, Y, Z) and roll, pitch, yaw; the TCP panel shows more digits");
         if held != self.held
             && let Some((axis, dir)) = held
         {

@@ -12,7 +12,7 @@
 //!   world or tool frame, planned at jog start up to where it must stop (limit, workspace edge,
 //!   singularity, collision in the simulation) so it stops before, never after
 //!   ([`cartesian_jog`]); [`MotionCommand::CartesianStep`] moves exactly a typed increment as
-//!   a planned MoveL;
+//!   a planned MoveL ([`cartesian_step`]);
 //! - [`MotionCommand::Stop`]: hold the commanded position of this instant.
 //!
 //! [`MotionPlanner`] turns commands into the commanded joint trajectory. It is a pure function
@@ -39,6 +39,7 @@ use crate::profile::{ProfileError, ProfileKind};
 mod backend;
 pub mod cartesian;
 pub mod cartesian_jog;
+pub mod cartesian_step;
 pub mod path;
 mod planner;
 mod sequence;

@@ -7,7 +7,7 @@ use crate::limits::{JointLimits, LimitPolicy};
 use crate::profile::JointMove;
 
 use super::cartesian::SampledTrajectory;
-use super::cartesian_jog::{self, CartesianAxis, CartesianJogPlan, JogFrame, JogKinematics};
+use super::cartesian_jog::{CartesianAxis, CartesianJogPlan, JogFrame, JogKinematics};
 
 use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
 
@@ -436,7 +436,15 @@ impl MotionPlanner {
             }
             MotionCommand::CartesianStep { frame, axis, distance, speed_fraction } => {
                 let kin = self.kinematics.as_ref().ok_or_else(no_kinematics)?;
-                let traj = cartesian_jog::plan_step(kin, &self.caps, &here, *frame, *axis, *distance, *speed_fraction)?;
+                let traj = super::cartesian_step::plan_step(
+                    kin,
+                    &self.caps,
+                    &here,
+                    *frame,
+                    *axis,
+                    *distance,
+                    *speed_fraction,
+                )?;
                 validate_trajectory(&self.limits, &traj)?;
                 self.goal = traj.goal().to_vec();
                 self.motion = Motion::Trajectory { t0: t_s, traj };
@@ -528,7 +536,7 @@ pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), 
             }
         }
         MotionCommand::CartesianStep { axis, distance, speed_fraction, .. } => {
-            cartesian_jog::check_step(*axis, *distance, *speed_fraction)?;
+            super::cartesian_step::check_step(*axis, *distance, *speed_fraction)?;
         }
         MotionCommand::JogRelease | MotionCommand::Stop => {}
         MotionCommand::Trajectory(traj) => validate_trajectory(limits, traj)?,

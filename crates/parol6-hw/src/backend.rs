@@ -1,4 +1,4 @@
-//! [`RobotBackend`] for the serial [`Session`]: the app, the sequence runner and the tests drive
+//! [`RobotBackend`] for the serial [`Session`]: the app, the program runner and the tests drive
 //! the real robot through the same trait as the simulation. Commands are checked here
 //! (arguments, limits, whether the link allows motion) and queued to the session thread, which
 //! applies them to its [`MotionPlanner`](parol6_core::motion::MotionPlanner) at once or at

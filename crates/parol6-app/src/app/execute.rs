@@ -5,7 +5,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use parol6_core::motion::{MotionCommand, RobotBackend};
+use parol6_core::motion::{CartesianAxis, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
@@ -38,6 +38,7 @@ impl Parol6App {
                 }
             }
             AppCommand::Jog(held) => self.jog(held),
+            AppCommand::CartesianJog(held) => self.cartesian_jog(held),
             AppCommand::RunProgram { program, opts } => {
                 if self.program_running() {
                     self.notice("a program is running: stop it first".to_string(), true);
@@ -86,6 +87,35 @@ impl Parol6App {
         if let Err(e) = res {
             self.jog_held = None;
             self.notice(format!("jog refused: {e}"), true);
+        }
+    }
+
+    /// Hold-to-run Cartesian jog: sends the jog when it changes and refreshes it within the
+    /// backend's dead-man time while held; releases it when let go.
+    fn cartesian_jog(&mut self, held: Option<(JogFrame, CartesianAxis, f64)>) {
+        let backend: Arc<dyn RobotBackend> = self.backend();
+        let res = match held {
+            None => match self.cartesian_jog_held.take() {
+                Some(_) => backend.send(MotionCommand::JogRelease),
+                None => Ok(()),
+            },
+            Some((frame, axis, fraction)) => {
+                let cmd = MotionCommand::JogCartesian { frame, axis, fraction };
+                let due = match &self.cartesian_jog_held {
+                    Some((c, at)) => *c != cmd || at.elapsed() >= JOG_REFRESH,
+                    None => true,
+                };
+                if due {
+                    self.cartesian_jog_held = Some((cmd.clone(), Instant::now()));
+                    backend.send(cmd)
+                } else {
+                    Ok(())
+                }
+            }
+        };
+        if let Err(e) = res {
+            self.cartesian_jog_held = None;
+            self.notice(format!("Cartesian jog refused: {e}"), true);
         }
     }
 

@@ -98,6 +98,8 @@ pub struct Parol6App {
     program_progress: Option<RunProgress>,
     /// The jog being held: joint, direction, when the jog command was last sent.
     jog_held: Option<(usize, i8, Instant)>,
+    /// The Cartesian jog being held: the command and when it was last sent.
+    cartesian_jog_held: Option<(MotionCommand, Instant)>,
     /// Refusal id last shown, per backend name.
     last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
@@ -146,6 +148,7 @@ impl Parol6App {
             program: None,
             program_progress: None,
             jog_held: None,
+            cartesian_jog_held: None,
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,

@@ -100,7 +100,9 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
             if connect.port.is_some() || connect.fake_robot {
                 if *realtime {
-                    return Err(CliError::usage("--realtime applies to the simulation; the robot always runs in real time"));
+                    return Err(CliError::usage(
+                        "--realtime applies to the simulation; the robot always runs in real time",
+                    ));
                 }
                 // the session is dropped before the emulator behind it
                 let link = open(connect, rate)?;
@@ -176,8 +178,9 @@ pub fn load(path: &Path) -> Result<Program, CliError> {
         )));
     }
     let bytes = std::fs::read(path).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))?;
-    let text = String::from_utf8(bytes)
-        .map_err(|e| CliError::usage(format!("{}: not UTF-8 text (byte {})", path.display(), e.utf8_error().valid_up_to())))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CliError::usage(format!("{}: not UTF-8 text (byte {})", path.display(), e.utf8_error().valid_up_to()))
+    })?;
     json::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))
 }
 
@@ -187,7 +190,9 @@ fn parse_joints_deg(text: &str, dof: usize) -> Result<Vec<f64>, CliError> {
         .enumerate()
         .map(|(i, s)| match s.trim().parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v.to_radians()),
-            _ => Err(CliError::usage(format!("--start-deg: value {} (\"{}\") is not a finite number", i + 1, s.trim()))),
+            _ => {
+                Err(CliError::usage(format!("--start-deg: value {} (\"{}\") is not a finite number", i + 1, s.trim())))
+            }
         })
         .collect::<Result<_, _>>()?;
     if vals.len() != dof {

@@ -10,7 +10,7 @@ use super::{led, zone_color};
 use crate::palette;
 
 /// What each panel is for, in the order they appear.
-const PANELS: [(&str, &str); 7] = [
+const PANELS: [(&str, &str); 8] = [
     (
         "Joints (left)",
         "HOME moves to the standby pose, STOP holds the arm where it is. Under them one line \
@@ -37,20 +37,34 @@ const PANELS: [(&str, &str); 7] = [
          conditioned the pose is (a singular pose is information: the arm is driven joint by joint).",
     ),
     (
+        "Cartesian jog",
+        "Move the TCP along X / Y / Z or turn it about them, in the world (base) frame or the \
+         tool frame. Hold: the arm moves while a −/+ button or its key is held and stops, \
+         slowing down first, before a joint limit, the edge of the workspace, a singularity or \
+         (simulation) a collision; the panel says which. Near the wrist singularity (J5 near 0) \
+         it slows down. Step: each click moves exactly the typed increment (mm or °). Speed: \
+         1–160 mm/s, 1–80 °/s.",
+    ),
+    (
         "Cartesian target",
         "Type X Y Z (mm) and roll pitch yaw, or \"From TCP\"; every IK branch within the limits \
          is listed, nearest the current joints first. Hover the panel to see the chosen branch \
          as a ghost arm, then \"Move to target\".",
     ),
-    ("Program", "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, F10 single step; STOP or Esc ends a run."),
+    (
+        "Program",
+        "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, F10 single step; STOP or Esc ends a run.",
+    ),
 ];
 
 /// Mouse and keyboard.
-const KEYS: [(&str, &str); 10] = [
+const KEYS: [(&str, &str); 12] = [
     ("Esc", "STOP (also cancels a demo)"),
     ("H, Ctrl+H", "HOME (profiled move to standby; H only while no field is being typed in)"),
     ("Enter, Tab", "commit a typed value (clicking elsewhere does too)"),
     ("1–6, PgUp / PgDn", "select a joint, jog it (robot connected)"),
+    ("A / D, S / W, Q / E", "Cartesian jog −X / +X, −Y / +Y, −Z / +Z while held (hold mode, no field typed in)"),
+    ("Shift + those", "Cartesian jog −Rx / +Rx, −Ry / +Ry, −Rz / +Rz"),
     ("left drag", "3D view: orbit"),
     ("right drag", "3D view: pan"),
     ("wheel", "3D view: zoom"),

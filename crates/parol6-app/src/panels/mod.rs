@@ -14,6 +14,7 @@ use parol6_core::motion::MotionCommand;
 use parol6_core::profile::ProfileKind;
 use serde::{Deserialize, Serialize};
 
+pub mod cartesian_jog;
 pub mod cartesian_target;
 pub mod connection;
 pub mod entry;
@@ -103,6 +104,8 @@ pub struct Settings {
     pub view: crate::viewport::ViewportOptions,
     /// Jog speed fraction (0–1] for the hardware jog buttons.
     pub jog_speed_fraction: f64,
+    /// Cartesian jog speed fraction (0–1] of the 1–160 mm/s, 1–80 °/s range.
+    pub cartesian_jog_fraction: f64,
 }
 
 impl Default for Settings {
@@ -116,6 +119,7 @@ impl Default for Settings {
             last_port: String::new(),
             view: crate::viewport::ViewportOptions::default(),
             jog_speed_fraction: 0.2,
+            cartesian_jog_fraction: 0.25,
         }
     }
 }
@@ -160,6 +164,9 @@ pub enum AppCommand {
     /// Hold-to-run jog of joint `joint` (0-based) in `direction` (±1) while `Some`; `None`
     /// releases. The app repeats the jog command within the dead-man time while held.
     Jog(Option<(usize, i8)>),
+    /// Hold-to-run Cartesian jog (frame, axis, signed speed fraction) while `Some`; `None`
+    /// releases. The app repeats it within the dead-man time while held.
+    CartesianJog(Option<(parol6_core::motion::JogFrame, parol6_core::motion::CartesianAxis, f64)>),
     /// Run a program off the UI thread on the active backend (pre-flight first).
     RunProgram {
         /// The program.

@@ -181,7 +181,11 @@ impl ProgramPanel {
                 .width(150.0)
                 .show_ui(ui, |ui| {
                     for p in &self.builtins {
-                        if ui.selectable_label(p.name == self.program.name, &p.name).on_hover_text(&p.description).clicked() {
+                        if ui
+                            .selectable_label(p.name == self.program.name, &p.name)
+                            .on_hover_text(&p.description)
+                            .clicked()
+                        {
                             pick = Some(p.name.clone());
                         }
                     }
@@ -231,9 +235,11 @@ impl ProgramPanel {
 
     fn step_list(&self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
         let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
-        egui::ScrollArea::vertical().id_salt("program-steps").max_height(STEP_LIST_HEIGHT).auto_shrink([false, true]).show(
-            ui,
-            |ui| {
+        egui::ScrollArea::vertical()
+            .id_salt("program-steps")
+            .max_height(STEP_LIST_HEIGHT)
+            .auto_shrink([false, true])
+            .show(ui, |ui| {
                 for (i, s) in self.program.steps.iter().enumerate() {
                     let (mark, strong) = match progress {
                         Some(p) if !p.state.is_finished() && i == p.step => ("▶", true),
@@ -252,8 +258,7 @@ impl ProgramPanel {
                         };
                     });
                 }
-            },
-        );
+            });
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, progress: Option<&RunProgress>) {

@@ -5,6 +5,7 @@
 use parol6_core::RobotModel;
 
 use super::Panel;
+use super::cartesian_jog::CartesianJogPanel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
 use super::joints::JointsPanel;
@@ -34,6 +35,8 @@ pub struct Panels {
     pub tcp: TcpPanel,
     /// Cartesian target solved by IK.
     pub target: CartesianTargetPanel,
+    /// Cartesian jog (world / tool frame, hold or step).
+    pub cartesian_jog: CartesianJogPanel,
     /// Programs: built-in and files, pre-flight, run / pause / step / stop.
     pub program: ProgramPanel,
     /// Status bar.
@@ -48,6 +51,7 @@ impl Panels {
             connection: ConnectionPanel::default(),
             tcp: TcpPanel::default(),
             target: CartesianTargetPanel::default(),
+            cartesian_jog: CartesianJogPanel::default(),
             program: ProgramPanel::new(model),
             status: StatusBar,
         }
@@ -59,6 +63,7 @@ impl Panels {
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.connection),
             (Dock::Right, &mut self.tcp),
+            (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),
             (Dock::Right, &mut self.program),
             (Dock::Bottom, &mut self.status),

@@ -8,6 +8,11 @@
 //! - [`MotionCommand::Home`]: the same profiled move to the home pose (PAROL6 standby);
 //! - [`MotionCommand::JogJoint`] / [`MotionCommand::JogRelease`]: hold-to-run jog with a
 //!   dead-man ([`DEADMAN_S`]);
+//! - [`MotionCommand::JogCartesian`]: hold-to-run jog of the TCP along / about an axis of the
+//!   world or tool frame, planned at jog start up to where it must stop (limit, workspace edge,
+//!   singularity, collision in the simulation) so it stops before, never after
+//!   ([`cartesian_jog`]); [`MotionCommand::CartesianStep`] moves exactly a typed increment as
+//!   a planned MoveL ([`cartesian_step`]);
 //! - [`MotionCommand::Stop`]: hold the commanded position of this instant;
 //! - [`MotionCommand::Pause`] / [`MotionCommand::Resume`]: slow a planned trajectory to a stop
 //!   on its path and pick it up again (program pause).
@@ -23,7 +28,7 @@
 //! the joint and the limit). From at or beyond a limit, motion back toward the inside is always
 //! allowed. The serial session keeps its last-line check in motor steps.
 //!
-//! [`RobotBackend`] is the one trait the app, the demo/sequence runner and the tests talk to;
+//! [`RobotBackend`] is the one trait the app, the program runner and the tests talk to;
 //! the simulation handle and the serial session implement it and publish a [`RobotState`]
 //! computed on their own threads.
 
@@ -35,17 +40,19 @@ use crate::profile::{ProfileError, ProfileKind};
 
 mod backend;
 pub mod cartesian;
+pub mod cartesian_jog;
+pub mod cartesian_step;
 mod io;
 pub mod path;
 mod planner;
 pub mod preflight;
-mod sequence;
+mod validate;
 mod warp;
 
 pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};
+pub use cartesian_jog::{CartesianAxis, JogFrame, JogKinematics, JogStop};
 pub use io::{DIGITAL_PORTS, IoCommand, IoState};
 pub use planner::{MotionPlanner, PlannerMode};
-pub use sequence::{SequenceProgress, SequenceRunner, SequenceState};
 
 /// A jog stops unless refreshed within this time of its motion clock, s.
 pub const DEADMAN_S: f64 = 0.2;
@@ -87,6 +94,31 @@ pub enum MotionCommand {
         /// Signed fraction of the joint's speed cap, −1…1.
         fraction: f64,
     },
+    /// Jog the TCP along (X, Y, Z) or about (Rx, Ry, Rz) an axis of `frame` while held:
+    /// `fraction` (−1…1, sign = direction) of the Cartesian jog speed range (1–160 mm/s,
+    /// 1–80 °/s). Repeat at least every [`DEADMAN_S`] or it stops; it also stops, decelerated,
+    /// before the first joint limit, workspace edge, singularity or (simulation) collision.
+    /// Needs a planner with kinematics ([`MotionPlanner::with_kinematics`]).
+    JogCartesian {
+        /// World or tool frame (the tool frame at jog start).
+        frame: JogFrame,
+        /// Axis.
+        axis: CartesianAxis,
+        /// Signed fraction of the jog speed range, −1…1.
+        fraction: f64,
+    },
+    /// Move the TCP by exactly `distance` (m, or rad for Rx/Ry/Rz; signed) along / about an
+    /// axis of `frame`, as a planned straight-line move (the jog's step mode).
+    CartesianStep {
+        /// World or tool frame.
+        frame: JogFrame,
+        /// Axis.
+        axis: CartesianAxis,
+        /// Signed increment, m (translations) or rad (rotations).
+        distance: f64,
+        /// Fraction of the Cartesian jog speed caps (0 < f ≤ 1).
+        speed_fraction: f64,
+    },
     /// Release a jog: hold where the jog is now.
     JogRelease,
     /// Stop: hold the commanded position of this instant.
@@ -122,6 +154,8 @@ impl MotionCommand {
             MotionCommand::MoveJoints { .. } => "move",
             MotionCommand::Home { .. } => "home",
             MotionCommand::JogJoint { .. } => "jog",
+            MotionCommand::JogCartesian { .. } => "Cartesian jog",
+            MotionCommand::CartesianStep { .. } => "Cartesian step",
             MotionCommand::JogRelease => "jog release",
             MotionCommand::Stop => "stop",
             MotionCommand::Pause => "pause",
@@ -133,7 +167,7 @@ impl MotionCommand {
     /// Checks the arguments and targets against `limits` (what every backend does before
     /// queueing a command).
     pub fn validate(&self, limits: &crate::limits::JointLimits) -> Result<(), MotionError> {
-        planner::validate(limits, self)
+        validate::validate(limits, self)
     }
 
     /// True for commands that start motion (everything but stop and jog release).

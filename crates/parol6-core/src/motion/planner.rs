@@ -7,7 +7,9 @@ use crate::limits::{JointLimits, LimitPolicy};
 use crate::profile::JointMove;
 
 use super::cartesian::SampledTrajectory;
+use super::cartesian_jog::{CartesianAxis, CartesianJogPlan, JogFrame, JogKinematics};
 
+use super::validate::{validate, validate_trajectory};
 use super::warp::{TimeWarp, ramp_for};
 use super::{DEADMAN_S, MotionCaps, MotionCommand, MotionError, Setpoint};
 
@@ -27,6 +29,8 @@ pub enum PlannerMode {
     /// A trajectory paused on its path ([`MotionCommand::Pause`]), waiting for
     /// [`MotionCommand::Resume`].
     Paused,
+    /// A hold-to-run Cartesian jog.
+    CartesianJog,
 }
 
 #[derive(Debug, Clone)]
@@ -36,6 +40,7 @@ enum Motion {
     Move { t0: f64, mv: JointMove },
     Jog { t0: f64, start: Vec<f64>, joint: usize, vel: f64, stop_at: f64, refreshed: f64 },
     Trajectory { t0: f64, traj: Arc<SampledTrajectory>, warp: TimeWarp },
+    CartesianJog { t0: f64, plan: Arc<CartesianJogPlan>, key: (JogFrame, CartesianAxis, f64), refreshed: f64 },
 }
 
 /// A trajectory must start within this distance of the commanded position, rad.
@@ -65,6 +70,7 @@ pub struct MotionPlanner {
     applied: u64,
     refusal_seq: u64,
     last_refusal: Option<(u64, String)>,
+    kinematics: Option<JogKinematics>,
 }
 
 impl MotionPlanner {
@@ -82,6 +88,27 @@ impl MotionPlanner {
             applied: 0,
             refusal_seq: 0,
             last_refusal: None,
+            kinematics: None,
+        }
+    }
+
+    /// Gives the planner the kinematic model (and optionally a collision check) that Cartesian
+    /// jogs and steps need; without it they are refused.
+    pub fn with_kinematics(mut self, kinematics: JogKinematics) -> Self {
+        self.kinematics = Some(kinematics);
+        self
+    }
+
+    /// The kinematics of Cartesian commands, when given.
+    pub fn kinematics(&self) -> Option<&JogKinematics> {
+        self.kinematics.as_ref()
+    }
+
+    /// The current Cartesian jog's plan (where and why it will stop), while one runs.
+    pub fn cartesian_jog(&self) -> Option<&CartesianJogPlan> {
+        match &self.motion {
+            Motion::CartesianJog { plan, .. } => Some(plan),
+            _ => None,
         }
     }
 
@@ -162,6 +189,7 @@ impl MotionPlanner {
                 (None, TimeWarp::Pausing { t_s, ramp_s, .. }) => t_s + ramp_s,
                 (None, _) => 0.0,
             },
+            Motion::CartesianJog { t0, plan, .. } => t0 + plan.duration_s(),
         }
     }
 
@@ -174,6 +202,11 @@ impl MotionPlanner {
                 let free = start[*joint] + vel * (t_s - t0).max(0.0);
                 q[*joint] = if *vel > 0.0 { free.min(*stop_at) } else { free.max(*stop_at) };
                 q
+            }
+            Motion::CartesianJog { t0, plan, .. } => {
+                let mut sp = Setpoint::at_rest(&[]);
+                plan.sample_into(t_s - t0, &mut sp);
+                sp.q
             }
             _ => self.setpoint_at(t_s).q,
         }
@@ -208,6 +241,7 @@ impl MotionPlanner {
             Motion::Jog { .. } => PlannerMode::Jog,
             Motion::Trajectory { warp, .. } if warp.is_pausing() => PlannerMode::Paused,
             Motion::Trajectory { .. } => PlannerMode::Trajectory,
+            Motion::CartesianJog { .. } => PlannerMode::CartesianJog,
         }
     }
 
@@ -223,6 +257,9 @@ impl MotionPlanner {
             Motion::Jog { refreshed, .. } => t_s <= refreshed + DEADMAN_S,
             Motion::Trajectory { t0, traj, warp } => {
                 !warp.is_stopped(t_s) && warp.end_clock(*t0, traj.duration_s()).is_none_or(|end| t_s < end)
+            }
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                t_s <= refreshed + DEADMAN_S && t_s - t0 < plan.duration_s()
             }
         }
     }
@@ -287,6 +324,14 @@ impl MotionPlanner {
                     out.qd[i] *= rate;
                 }
             }
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                let released = t_s >= refreshed + DEADMAN_S;
+                plan.sample_into(t_s.min(refreshed + DEADMAN_S) - t0, out);
+                if released {
+                    out.qd.fill(0.0);
+                    out.qdd.fill(0.0);
+                }
+            }
             Motion::Jog { t0, start, joint, vel, stop_at, refreshed } => {
                 let t_end = t_s.min(refreshed + DEADMAN_S);
                 let dt = (t_end - t0).max(0.0);
@@ -314,6 +359,10 @@ impl MotionPlanner {
             Motion::Jog { refreshed, .. } => (t_s > refreshed + DEADMAN_S).then_some(refreshed + DEADMAN_S),
             Motion::Trajectory { t0, traj, warp } => {
                 warp.end_clock(*t0, traj.duration_s()).is_some_and(|end| t_s >= end).then_some(t_s)
+            }
+            Motion::CartesianJog { t0, plan, refreshed, .. } => {
+                let end = (t0 + plan.duration_s()).min(refreshed + DEADMAN_S);
+                (t_s > end).then_some(end)
             }
         };
         if let Some(t) = done_at {
@@ -386,8 +435,43 @@ impl MotionPlanner {
                 self.goal = goal;
                 self.motion = Motion::Jog { t0: t_s, start: here, joint, vel, stop_at, refreshed: t_s };
             }
+            MotionCommand::JogCartesian { frame, axis, fraction } => {
+                let fraction = fraction.clamp(-1.0, 1.0);
+                let key = (*frame, *axis, fraction);
+                if let Motion::CartesianJog { key: k, refreshed, .. } = &mut self.motion
+                    && *k == key
+                {
+                    *refreshed = t_s;
+                    self.applied += 1;
+                    return Ok(());
+                }
+                if fraction == 0.0 {
+                    self.hold(t_s);
+                    self.applied += 1;
+                    return Ok(());
+                }
+                let kin = self.kinematics.as_ref().ok_or_else(no_kinematics)?;
+                let plan = CartesianJogPlan::plan(kin, &self.caps, &here, *frame, *axis, fraction)?;
+                self.goal = plan.end_q().to_vec();
+                self.motion = Motion::CartesianJog { t0: t_s, plan: Arc::new(plan), key, refreshed: t_s };
+            }
+            MotionCommand::CartesianStep { frame, axis, distance, speed_fraction } => {
+                let kin = self.kinematics.as_ref().ok_or_else(no_kinematics)?;
+                let traj = super::cartesian_step::plan_step(
+                    kin,
+                    &self.caps,
+                    &here,
+                    *frame,
+                    *axis,
+                    *distance,
+                    *speed_fraction,
+                )?;
+                validate_trajectory(&self.limits, &traj)?;
+                self.goal = traj.goal().to_vec();
+                self.motion = Motion::Trajectory { t0: t_s, traj, warp: TimeWarp::Normal };
+            }
             MotionCommand::JogRelease => {
-                if matches!(self.motion, Motion::Jog { .. }) {
+                if matches!(self.motion, Motion::Jog { .. } | Motion::CartesianJog { .. }) {
                     self.hold(t_s);
                 }
             }
@@ -467,54 +551,8 @@ impl MotionPlanner {
     }
 }
 
-fn check_fraction(what: &str, f: f64) -> Result<(), MotionError> {
-    if f.is_finite() && f > 0.0 && f <= 1.0 {
-        Ok(())
-    } else {
-        Err(MotionError::Invalid(format!("{what} speed fraction must lie in (0, 1], got {f}")))
-    }
-}
-
-/// Checks a command's arguments and targets against `limits`.
-pub(super) fn validate(limits: &JointLimits, cmd: &MotionCommand) -> Result<(), MotionError> {
-    match cmd {
-        MotionCommand::Follow { target_rad, speed_fraction } => {
-            check_fraction("follow", *speed_fraction)?;
-            limits.check(target_rad)?;
-        }
-        MotionCommand::MoveJoints { goal_rad, speed_fraction, .. } => {
-            check_fraction("move", *speed_fraction)?;
-            limits.check(goal_rad)?;
-        }
-        MotionCommand::Home { speed_fraction, .. } => check_fraction("home", *speed_fraction)?,
-        MotionCommand::JogJoint { joint, fraction } => {
-            if *joint >= limits.len() {
-                return Err(MotionError::Invalid(format!(
-                    "joint index {joint} out of range (the robot has {} joints)",
-                    limits.len()
-                )));
-            }
-            if !fraction.is_finite() {
-                return Err(MotionError::Invalid("jog fraction must be a finite number".into()));
-            }
-        }
-        MotionCommand::JogRelease | MotionCommand::Stop | MotionCommand::Pause | MotionCommand::Resume => {}
-        MotionCommand::Trajectory(traj) => validate_trajectory(limits, traj)?,
-    }
-    Ok(())
-}
-
-/// Every sample of a trajectory within the limits (with the right number of joints).
-fn validate_trajectory(limits: &JointLimits, traj: &SampledTrajectory) -> Result<(), MotionError> {
-    if traj.samples().is_empty() {
-        return Err(MotionError::Invalid("the trajectory has no samples".into()));
-    }
-    for (k, q) in traj.samples().iter().enumerate() {
-        limits.check(q).map_err(|e| {
-            MotionError::Invalid(format!("trajectory sample {k} (t = {:.3} s): {e}", k as f64 * traj.dt_s()))
-        })?;
-    }
-    Ok(())
+fn no_kinematics() -> MotionError {
+    MotionError::Invalid("this backend has no kinematic model for Cartesian commands".into())
 }
 
 #[cfg(test)]

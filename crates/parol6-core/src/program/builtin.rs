@@ -16,8 +16,11 @@ pub const FILES: [(&str, &str); 4] = [
 /// The built-in programs for `model`: the PAROL6 programs on the PAROL6, and the joint sweep
 /// on every robot. (A file that does not parse is left out; a test keeps them all valid.)
 pub fn programs(model: &RobotModel) -> Vec<Program> {
-    let mut out: Vec<Program> =
-        if model.is_parol6 { FILES.iter().filter_map(|(_, text)| json::parse(text).ok()).collect() } else { Vec::new() };
+    let mut out: Vec<Program> = if model.is_parol6 {
+        FILES.iter().filter_map(|(_, text)| json::parse(text).ok()).collect()
+    } else {
+        Vec::new()
+    };
     out.push(joint_sweep(model, 0.5));
     out
 }

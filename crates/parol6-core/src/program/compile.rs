@@ -125,8 +125,8 @@ pub fn compile(
                 .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
-            let action =
-                compile_one(model, first, &program.speed, &q, &caps, opts).map_err(|e| cartesian_error(i, line, first.kind(), e))?;
+            let action = compile_one(model, first, &program.speed, &q, &caps, opts)
+                .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
             (action, i..i + 1)
         };
         if let StepAction::Motion(t) = &action {
@@ -180,10 +180,14 @@ fn compile_one(
     };
     let from = model.tcp_isometry(q);
     let action = match step {
-        Step::Home { speed_fraction } => joint_move(q, &home_position(model), caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
+        Step::Home { speed_fraction } => {
+            joint_move(q, &home_position(model), caps, joint_fraction(*speed_fraction)?, opts.dt_s)?
+        }
         Step::MoveJoints { joints_deg, speed_fraction } => {
             if joints_deg.len() != q.len() {
-                return Err(format!("joints_deg has {} values; the robot has {} joints", joints_deg.len(), q.len()).into());
+                return Err(
+                    format!("joints_deg has {} values; the robot has {} joints", joints_deg.len(), q.len()).into()
+                );
             }
             let goal: Vec<f64> = joints_deg.iter().map(|d| d.to_radians()).collect();
             model.limits.check(&goal).map_err(|e| e.to_string())?;
@@ -315,7 +319,8 @@ fn cartesian_move(
         accel_m_s2: speed.tcp_accel_mm_s2 / 1000.0,
         jerk_m_s3: speed.tcp_jerk_mm_s3 / 1000.0,
     };
-    let mv = cartesian::plan(model, q, path, &tcp, caps, opts.speed_override, opts.dt_s).map_err(StepError::Cartesian)?;
+    let mv =
+        cartesian::plan(model, q, path, &tcp, caps, opts.speed_override, opts.dt_s).map_err(StepError::Cartesian)?;
     Ok(StepAction::Motion(mv.trajectory))
 }
 

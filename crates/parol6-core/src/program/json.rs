@@ -97,9 +97,15 @@ pub fn parse(text: &str) -> Result<Program, ProgramFileError> {
     match header.format.as_ref().and_then(|v| v.as_str()) {
         Some(FORMAT) => {}
         Some(other) => {
-            return Err(ProgramFileError::Format(format!("format: \"{other}\" is not a PAROL6 program (\"{FORMAT}\")")));
+            return Err(ProgramFileError::Format(format!(
+                "format: \"{other}\" is not a PAROL6 program (\"{FORMAT}\")"
+            )));
         }
-        None => return Err(ProgramFileError::Format(format!("format: missing; a program file has \"format\": \"{FORMAT}\""))),
+        None => {
+            return Err(ProgramFileError::Format(format!(
+                "format: missing; a program file has \"format\": \"{FORMAT}\""
+            )));
+        }
     }
     match header.version.as_ref().and_then(serde_json::Value::as_u64) {
         Some(v) if v >= 1 && v <= u64::from(VERSION) => {}
@@ -131,7 +137,14 @@ pub fn parse(text: &str) -> Result<Program, ProgramFileError> {
         .enumerate()
         .map(|(i, step)| SourcedStep { step, line: lines.get(i).copied().unwrap_or(0) })
         .collect();
-    Ok(Program { name: file.name, description: file.description, tool: file.tool, speed: file.speed, keep_out: file.keep_out, steps })
+    Ok(Program {
+        name: file.name,
+        description: file.description,
+        tool: file.tool,
+        speed: file.speed,
+        keep_out: file.keep_out,
+        steps,
+    })
 }
 
 /// Writes a program file (pretty-printed, one step per line).
@@ -282,7 +295,10 @@ mod tests {
         let p = parse(EXAMPLE).expect("valid");
         let text = to_string(&p);
         let back = parse(&text).expect("reads its own output");
-        assert_eq!(back.steps.iter().map(|s| &s.step).collect::<Vec<_>>(), p.steps.iter().map(|s| &s.step).collect::<Vec<_>>());
+        assert_eq!(
+            back.steps.iter().map(|s| &s.step).collect::<Vec<_>>(),
+            p.steps.iter().map(|s| &s.step).collect::<Vec<_>>()
+        );
         assert_eq!((back.name, back.tool, back.speed, back.keep_out), (p.name, p.tool, p.speed, p.keep_out));
         // one step per line, from line 12 on in the written file
         assert!(back.steps.windows(2).all(|w| w[1].line == w[0].line + 1), "{text}");

@@ -285,8 +285,13 @@ impl Run<'_> {
         if let Some(first) = report.first_error() {
             return Err(Halt::Refused(format!("pre-flight: {first}")));
         }
-        let compiled = compile(model, program, &start_q, CompileOptions { speed_override: opts.speed_override, ..CompileOptions::RUN })
-            .map_err(|e| Halt::Refused(e.to_string()))?;
+        let compiled = compile(
+            model,
+            program,
+            &start_q,
+            CompileOptions { speed_override: opts.speed_override, ..CompileOptions::RUN },
+        )
+        .map_err(|e| Halt::Refused(e.to_string()))?;
         let planned: f64 = compiled.iter().map(CompiledStep::duration_s).sum();
         self.publish(|p| {
             p.state = RunState::Running;

@@ -308,3 +308,10 @@ impl CollisionGuard {
         None
     }
 }
+
+/// The Cartesian jog stops before the first knot this guard finds in contact.
+impl crate::motion::cartesian_jog::JogObstacleCheck for CollisionGuard {
+    fn contact(&self, model: &RobotModel, q: &[f64]) -> Option<(String, String)> {
+        self.check(model, q).map(|c| (c.link_a, c.link_b))
+    }
+}

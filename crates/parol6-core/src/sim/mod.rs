@@ -19,7 +19,10 @@ use crossbeam_channel::Sender;
 
 use crate::limits::LimitPolicy;
 use crate::model::RobotModel;
-use crate::motion::{MotionCaps, MotionCommand, MotionPlanner, MotionSample, Setpoint, home_position};
+use crate::motion::{
+    JogKinematics, MotionCaps, MotionCommand, MotionPlanner, MotionSample, Setpoint, cartesian_jog::JogObstacleCheck,
+    home_position,
+};
 
 pub mod collision;
 pub mod dynamics;
@@ -121,7 +124,12 @@ impl Simulation {
         let guard = CollisionGuard::new(&model);
         let id = InverseDynamics::new(&model);
         let collision_every = (config.rate_hz / 100.0).round().max(1.0) as u64;
-        let planner = MotionPlanner::new(model.limits.clone(), MotionCaps::of(&model), home.clone(), &home);
+        // Cartesian jogs stop before a collision when the guard is on
+        let obstacles: Option<std::sync::Arc<dyn JogObstacleCheck>> =
+            config.check_collisions.then(|| std::sync::Arc::new(guard.clone()) as _);
+        let kinematics = JogKinematics { model: std::sync::Arc::new(model.clone()), obstacles };
+        let planner = MotionPlanner::new(model.limits.clone(), MotionCaps::of(&model), home.clone(), &home)
+            .with_kinematics(kinematics);
         let mut sim = Self {
             dt_s,
             mode: config.mode,
@@ -282,8 +290,10 @@ impl Simulation {
         } else {
             next.apply_scheduled(&cmd, t_s)?;
         }
+        // a Cartesian jog was planned to stop before the first contact (not refused)
         if self.config.check_collisions
             && cmd.starts_motion()
+            && !matches!(cmd, MotionCommand::JogCartesian { .. })
             && let Some((c, at_s)) = self.guard.check_planned(&self.model, &next, t_s)
         {
             return Err(SimError::Collision { link_a: c.link_a, link_b: c.link_b, at_s });

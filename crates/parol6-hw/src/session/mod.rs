@@ -28,7 +28,7 @@ use arc_swap::ArcSwap;
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 use parol6_core::RobotModel;
 use parol6_core::motion::{
-    BackendError, MotionCaps, MotionCommand, MotionSample, RobotState, StateSource, home_position,
+    BackendError, JogKinematics, MotionCaps, MotionCommand, MotionSample, RobotState, StateSource, home_position,
 };
 use parol6_core::profile::ProfileKind;
 
@@ -83,12 +83,18 @@ impl Session {
         config.validate()?;
         let serial = crate::ports::open_port(port)?;
         let model = RobotModel::parol6();
+        // Cartesian jogs and steps: IK within the session's limits; no collision model on the
+        // robot (it stops at limits, singularities and the workspace edge)
+        let mut jog_model = model.clone();
+        jog_model.limits = config.limits.clone();
+        let kinematics = JogKinematics { model: Arc::new(jog_model), obstacles: None };
         let streamer = motion::Streamer::new(
             config.limits.clone(),
             MotionCaps::of(&model),
             home_position(&model),
             config.period_s(),
-        );
+        )
+        .with_kinematics(kinematics);
         let (tx, rx) = crossbeam_channel::bounded(REQUEST_QUEUE);
         let (write_tx, write_times) = if config.write_log_capacity > 0 {
             let (t, r) = crossbeam_channel::bounded(config.write_log_capacity);

@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use parol6_core::limits::JointLimits;
-use parol6_core::motion::{MotionCaps, MotionCommand, MotionPlanner, PlannerMode, Setpoint};
+use parol6_core::motion::{JogKinematics, MotionCaps, MotionCommand, MotionPlanner, PlannerMode, Setpoint};
 use parol6_core::parol6::JOINT_COUNT;
 
 use super::snapshot::MotionState;
@@ -57,6 +57,12 @@ impl Streamer {
             last_refusal: None,
             planner_refusal_seen: 0,
         }
+    }
+
+    /// Gives the planner the kinematics of Cartesian jogs and steps.
+    pub(super) fn with_kinematics(mut self, kinematics: JogKinematics) -> Self {
+        self.planner = self.planner.with_kinematics(kinematics);
+        self
     }
 
     /// The motion clock of the coming frame, s.

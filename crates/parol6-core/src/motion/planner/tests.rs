@@ -194,7 +194,10 @@ fn a_paused_trajectory_stops_on_its_path_and_resumes_to_its_goal() {
         let sp = p.sample(t);
         // on the line
         let tcp = model.tcp_isometry(&sp.q);
-        assert!((tcp.translation.y - a.translation.y).abs() < 0.05e-3 && (tcp.translation.z - a.translation.z).abs() < 0.05e-3);
+        assert!(
+            (tcp.translation.y - a.translation.y).abs() < 0.05e-3
+                && (tcp.translation.z - a.translation.z).abs() < 0.05e-3
+        );
         for j in 0..6 {
             assert!(sp.qd[j].abs() <= caps.speed_rad_s[j] * 1.0001);
             assert!(((sp.qd[j] - prev.qd[j]) / 0.001).abs() <= caps.accel_rad_s2[j] * 1.01, "joint {j} at {t}");

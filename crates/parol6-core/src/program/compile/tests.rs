@@ -12,8 +12,8 @@ fn start() -> (RobotModel, Vec<f64>) {
 
 fn offset(model: &RobotModel, q: &[f64], d_mm: [f64; 3]) -> PoseMm {
     let mut p = PoseMm::from_isometry(&model.tcp_isometry(q));
-    for i in 0..3 {
-        p.position_mm[i] += d_mm[i];
+    for (v, d) in p.position_mm.iter_mut().zip(d_mm) {
+        *v += d;
     }
     p
 }
@@ -35,7 +35,11 @@ fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
     let c = offset(&model, &q0, [0.0, 30.0, 0.0]);
     let steps = vec![
         Step::MoveL { pose: a, speed_mm_s: Some(80.0), blend_mm: None },
-        Step::MoveC { via_mm: [here.position_mm[0] + 30.0 + 15.0, here.position_mm[1] + 15.0, here.position_mm[2]], pose: b, speed_mm_s: None },
+        Step::MoveC {
+            via_mm: [here.position_mm[0] + 30.0 + 15.0, here.position_mm[1] + 15.0, here.position_mm[2]],
+            pose: b,
+            speed_mm_s: None,
+        },
         Step::MoveL { pose: c, speed_mm_s: None, blend_mm: Some(5.0) },
         Step::MoveL { pose: here, speed_mm_s: None, blend_mm: Some(5.0) },
         Step::MoveL { pose: a, speed_mm_s: None, blend_mm: None },
@@ -99,7 +103,10 @@ fn bad_arguments_name_the_step() {
     let cases = vec![
         (Step::MoveJoints { joints_deg: vec![0.0; 5], speed_fraction: None }, "5 values"),
         (Step::MoveJoints { joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 400.0], speed_fraction: None }, "joint 6"),
-        (Step::MoveJoints { joints_deg: vec![90.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: Some(1.5) }, "speed_fraction"),
+        (
+            Step::MoveJoints { joints_deg: vec![90.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: Some(1.5) },
+            "speed_fraction",
+        ),
         (Step::MoveL { pose: offset(&model, &q0, [1.0, 0.0, 0.0]), speed_mm_s: Some(500.0), blend_mm: None }, "200"),
         (Step::Dwell { seconds: -1.0 }, "seconds"),
         (Step::Dwell { seconds: f64::NAN }, "seconds"),
@@ -128,7 +135,8 @@ fn the_speed_override_slows_every_move() {
         Step::Home { speed_fraction: None },
     ]);
     let full = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect("compiles");
-    let half = compile(&model, &p, &q0, CompileOptions { speed_override: 0.5, ..CompileOptions::PREFLIGHT }).expect("compiles");
+    let half = compile(&model, &p, &q0, CompileOptions { speed_override: 0.5, ..CompileOptions::PREFLIGHT })
+        .expect("compiles");
     for (a, b) in full.iter().zip(&half) {
         assert!(b.duration_s() > a.duration_s() * 1.3, "{} vs {}", b.duration_s(), a.duration_s());
         assert_eq!(a.end_q.len(), b.end_q.len());

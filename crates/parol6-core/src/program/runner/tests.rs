@@ -52,7 +52,8 @@ fn a_program_runs_to_its_end_on_the_simulation() {
     let (model, sim) = sim(4.0);
     let (q, steps) = square(&model);
     let program = Program::from_steps("square", steps);
-    let runner = ProgramRunner::start(sim.clone(), model.clone(), program.clone(), RunOptions::default()).expect("thread");
+    let runner =
+        ProgramRunner::start(sim.clone(), model.clone(), program.clone(), RunOptions::default()).expect("thread");
     let done = runner.join();
     assert_eq!(done.state, RunState::Done, "{done:?}");
     assert_eq!(done.steps_done, 6);
@@ -124,7 +125,8 @@ fn single_step_runs_one_step_per_press_and_stop_holds() {
 fn a_wait_for_an_input_times_out_or_goes_on_when_it_comes() {
     let (model, sim) = sim(1.0);
     let wait = Program::from_steps("wait", vec![Step::WaitInput { input: 2, on: true, timeout_s: Some(0.3) }]);
-    let failed = ProgramRunner::start(sim.clone(), model.clone(), wait.clone(), RunOptions::default()).expect("thread").join();
+    let failed =
+        ProgramRunner::start(sim.clone(), model.clone(), wait.clone(), RunOptions::default()).expect("thread").join();
     match failed.state {
         RunState::Failed(why) => assert!(why.contains("input 2 high did not come within 0.3 s"), "{why}"),
         other => panic!("{other:?}"),

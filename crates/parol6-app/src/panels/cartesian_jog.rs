@@ -1,0 +1,293 @@
+//! Right panel: Cartesian jog of the TCP along / about the axes of the world or tool frame,
+//! on the simulation or the robot (the same [`MotionCommand`]s).
+//!
+//! Hold mode: hold a −/+ button (or its key) and the TCP moves until released, the dead-man
+//! lapses, or it reaches the stop the core planned at jog start (a joint limit, the workspace
+//! edge, a singularity, a collision in the simulation), which the panel names. Step mode: each
+//! click moves exactly the typed increment (mm, or degrees for rotations).
+//!
+//! Keys (while no field is being typed in, without Ctrl / Alt): A / D = −X / +X, S / W =
+//! −Y / +Y, Q / E = −Z / +Z; with Shift the same keys turn about the axis (−Rx / +Rx …).
+
+use std::sync::Arc;
+
+use eframe::egui;
+use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog_speed};
+use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
+use parol6_core::sim::collision::CollisionGuard;
+
+use super::entry::{self, EntryEvent};
+use super::{AppCommand, Panel, PanelContext};
+use crate::palette;
+
+/// The jog keys: (axis of the translation, key for −, key for +); Shift turns them into the
+/// rotation about the same axis.
+pub const JOG_KEYS: [(CartesianAxis, egui::Key, egui::Key); 3] = [
+    (CartesianAxis::X, egui::Key::A, egui::Key::D),
+    (CartesianAxis::Y, egui::Key::S, egui::Key::W),
+    (CartesianAxis::Z, egui::Key::Q, egui::Key::E),
+];
+
+/// What the panel knows about the jog being held, or the last one.
+#[derive(Debug)]
+struct JogView {
+    frame: JogFrame,
+    axis: CartesianAxis,
+    dir: i8,
+    /// The plan from where the jog started (the backend plans the same from the same pose).
+    plan: Result<CartesianJogPlan, String>,
+    /// TCP at jog start (position m, rotation).
+    start: parol6_core::na::Isometry3<f64>,
+}
+
+/// The Cartesian jog panel.
+#[derive(Debug)]
+pub struct CartesianJogPanel {
+    frame: JogFrame,
+    step_mode: bool,
+    /// Step increment, mm.
+    step_mm: f64,
+    /// Step increment, degrees.
+    step_deg: f64,
+    held: Option<(CartesianAxis, i8)>,
+    view: Option<JogView>,
+    guard: Option<Arc<CollisionGuard>>,
+    caps: Option<MotionCaps>,
+}
+
+impl Default for CartesianJogPanel {
+    fn default() -> Self {
+        Self {
+            frame: JogFrame::World,
+            step_mode: false,
+            step_mm: 1.0,
+            step_deg: 1.0,
+            held: None,
+            view: None,
+            guard: None,
+            caps: None,
+        }
+    }
+}
+
+fn frame_name(f: JogFrame) -> &'static str {
+    match f {
+        JogFrame::World => "world",
+        JogFrame::Tool => "tool",
+    }
+}
+
+/// `v` of an axis in display units: mm for translations, degrees for rotations.
+fn display(axis: CartesianAxis, v: f64) -> String {
+    if axis.is_rotation() {
+        format!("{}°", entry::fmt_fixed(v.to_degrees(), 2))
+    } else {
+        format!("{} mm", entry::fmt_fixed(v * 1000.0, 2))
+    }
+}
+
+impl CartesianJogPanel {
+    /// The frame the buttons jog in.
+    pub fn frame(&self) -> JogFrame {
+        self.frame
+    }
+
+    /// The increments of step mode: mm and degrees.
+    pub fn step_increments(&self) -> (f64, f64) {
+        (self.step_mm, self.step_deg)
+    }
+
+    /// Plans the jog the backend is about to run, to show where and why it will stop.
+    fn preview(&mut self, ctx: &PanelContext<'_>, axis: CartesianAxis, dir: i8) {
+        let q = if ctx.robot.commanded.q.len() == ctx.model.dof() { &ctx.robot.commanded.q } else { &ctx.robot.q };
+        let caps = self.caps.get_or_insert_with(|| MotionCaps::of(ctx.model)).clone();
+        // the simulation stops before collisions, the robot at limits and singularities only
+        let obstacles: Option<Arc<dyn JogObstacleCheck>> = if ctx.link.is_none() {
+            let g = self.guard.get_or_insert_with(|| Arc::new(CollisionGuard::new(ctx.model)));
+            Some(Arc::clone(g) as Arc<dyn JogObstacleCheck>)
+        } else {
+            None
+        };
+        let kin = JogKinematics { model: Arc::new(ctx.model.clone()), obstacles };
+        let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
+        let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
+        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q) });
+    }
+
+    fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
+        let mut held = None;
+        egui::Grid::new("cartesian_jog_buttons").num_columns(6).spacing([4.0, 2.0]).show(ui, |ui| {
+            for row in 0..3 {
+                for axis in [CartesianAxis::ALL[row], CartesianAxis::ALL[row + 3]] {
+                    ui.label(egui::RichText::new(axis.label()).monospace());
+                    for (sign, dir) in [("−", -1i8), ("+", 1i8)] {
+                        let name = format!("{sign}{}", axis.label());
+                        // click-and-drag: a press held on the button is the button's, not a
+                        // drag of the scrolling column around it
+                        let b = ui.add(
+                            egui::Button::new(&name)
+                                .min_size(egui::vec2(40.0, 18.0))
+                                .sense(egui::Sense::click_and_drag()),
+                        );
+                        let b = b.on_hover_text(if self.step_mode {
+                            format!("{name}: one step of the typed increment")
+                        } else {
+                            format!("{name}: hold to jog ({} frame)", frame_name(self.frame))
+                        });
+                        if self.step_mode {
+                            if b.clicked() {
+                                self.step(ctx, axis, dir);
+                            }
+                        } else if b.is_pointer_button_down_on() {
+                            held = Some((axis, dir));
+                        }
+                    }
+                }
+                ui.end_row();
+            }
+        });
+        held
+    }
+
+    fn step(&mut self, ctx: &mut PanelContext<'_>, axis: CartesianAxis, dir: i8) {
+        let distance =
+            f64::from(dir) * if axis.is_rotation() { self.step_deg.to_radians() } else { self.step_mm / 1000.0 };
+        ctx.motion(MotionCommand::CartesianStep {
+            frame: self.frame,
+            axis,
+            distance,
+            speed_fraction: ctx.settings.cartesian_jog_fraction.clamp(0.01, 1.0),
+        });
+    }
+
+    /// The held key, if any (not while typing, not with Ctrl / Alt / Cmd).
+    fn key_held(ui: &egui::Ui) -> Option<(CartesianAxis, i8)> {
+        if ui.ctx().memory(|m| m.focused().is_some()) {
+            return None;
+        }
+        ui.input(|inp| {
+            let m = inp.modifiers;
+            if m.ctrl || m.alt || m.command || m.mac_cmd {
+                return None;
+            }
+            for (axis, minus, plus) in JOG_KEYS {
+                let axis = if m.shift { CartesianAxis::ALL[axis_index(axis) + 3] } else { axis };
+                if inp.key_down(minus) {
+                    return Some((axis, -1));
+                }
+                if inp.key_down(plus) {
+                    return Some((axis, 1));
+                }
+            }
+            None
+        })
+    }
+
+    fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+        let Some(v) = &self.view else { return };
+        let dir = if v.dir > 0 { "+" } else { "−" };
+        let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
+        match &v.plan {
+            Err(e) => {
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("{what} refused: {e}"));
+            }
+            Ok(plan) => {
+                let travel = display(v.axis, plan.travel().abs());
+                if self.held.is_some() {
+                    ui.label(format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason()));
+                    return;
+                }
+                let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+                let moved = if v.axis.is_rotation() {
+                    now.rotation.angle_to(&v.start.rotation)
+                } else {
+                    (now.translation.vector - v.start.translation.vector).norm()
+                };
+                let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
+                if at_stop {
+                    ui.colored_label(
+                        palette::rgb(palette::WARN_TEXT),
+                        format!("{what} stopped after {travel}: {}", plan.stop_reason()),
+                    );
+                } else {
+                    ui.label(format!("{what} released after {}", display(v.axis, moved)));
+                }
+            }
+        }
+    }
+}
+
+fn axis_index(axis: CartesianAxis) -> usize {
+    CartesianAxis::ALL.iter().position(|a| *a == axis).unwrap_or(0)
+}
+
+impl Panel for CartesianJogPanel {
+    fn title(&self) -> &'static str {
+        "Cartesian jog"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.heading(self.title()).on_hover_text(
+            "hold a −/+ button, or A/D, S/W, Q/E (Shift: rotations); in Step mode click for one increment",
+        );
+        ui.horizontal(|ui| {
+            ui.label("Frame");
+            ui.selectable_value(&mut self.frame, JogFrame::World, "World").on_hover_text("the robot base axes");
+            ui.selectable_value(&mut self.frame, JogFrame::Tool, "Tool")
+                .on_hover_text("the TCP's own axes (as they are when the jog starts)");
+            ui.separator();
+            ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
+            ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+        });
+        let mut held = self.buttons(ui, ctx);
+        if held.is_none() && !self.step_mode {
+            held = Self::key_held(ui);
+        }
+        ui.horizontal(|ui| {
+            ui.label("Speed");
+            ui.spacing_mut().slider_width = 80.0;
+            let mut pct = ctx.settings.cartesian_jog_fraction * 100.0;
+            if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
+                ctx.settings.cartesian_jog_fraction = (pct / 100.0).clamp(0.01, 1.0);
+            }
+            let f = ctx.settings.cartesian_jog_fraction;
+            ui.label(format!(
+                "{:.1} mm/s, {:.1} °/s",
+                jog_speed(CartesianAxis::X, f) * 1000.0,
+                jog_speed(CartesianAxis::Rx, f).to_degrees()
+            ));
+        });
+        ui.horizontal(|ui| {
+            ui.label("Increment");
+            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step mm", self.step_mm, 2, 56.0, "mm") {
+                match ev {
+                    EntryEvent::Committed(v) => self.step_mm = v,
+                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                }
+            }
+            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step deg", self.step_deg, 2, 56.0, "°") {
+                match ev {
+                    EntryEvent::Committed(v) => self.step_deg = v,
+                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                }
+            }
+        });
+        let tcp = ctx.readout.tcp;
+        let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
+        let deg = |k: usize| entry::fmt_fixed(tcp.rpy_rad[k].to_degrees(), 1);
+        ui.label(format!("TCP {}, {}, {} mm · RPY {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
+            .on_hover_text("TCP position (X, Y, Z) and roll, pitch, yaw; the TCP panel shows more digits");
+        if held != self.held
+            && let Some((axis, dir)) = held
+        {
+            self.preview(ctx, axis, dir);
+        }
+        if held != self.held || held.is_some() {
+            // sent every frame while held: the app refreshes the backend's dead-man from it
+            let cmd = held.map(|(axis, dir)| (self.frame, axis, f64::from(dir) * ctx.settings.cartesian_jog_fraction));
+            ctx.send(AppCommand::CartesianJog(cmd));
+        }
+        self.held = held;
+        self.status_ui(ui, ctx);
+    }
+}

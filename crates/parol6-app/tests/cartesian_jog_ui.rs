@@ -1,0 +1,250 @@
+//! Cartesian jog panel, driven headless through egui's kittest harness: holding +X moves the
+//! simulated TCP along +X, a typed step of 2.5 mm moves exactly 2.5 mm, typed decimals survive
+//! focus loss, the keys queue the right jog.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use parol6_app::app::{LaunchOptions, Parol6App};
+use parol6_app::panels::cartesian_jog::CartesianJogPanel;
+use parol6_app::panels::{AppCommand, Notice, Panel, PanelContext, PerfStats, Settings, StateSource};
+use parol6_core::RobotModel;
+use parol6_core::motion::{CartesianAxis, JogFrame, RobotState};
+
+/// A pose away from the standby wrist singularity (J5 = 34°).
+fn work_pose() -> Vec<f64> {
+    let mut q = parol6_core::parol6::standby_rad().to_vec();
+    q[1] += 0.2;
+    q[2] -= 0.3;
+    q[4] = 0.6;
+    q
+}
+
+fn app_harness() -> Harness<'static, Parol6App> {
+    let opts = LaunchOptions {
+        model: RobotModel::parol6(),
+        connect: None,
+        settings_path: None,
+        test_script: None,
+        started: Instant::now(),
+        msaa_samples: 1,
+    };
+    let mut app = Parol6App::new(opts, None).expect("app");
+    app.teleport(work_pose()).expect("teleport");
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 1400.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
+    h.run_steps(3);
+    settle(&mut h, 0.2);
+    h
+}
+
+/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
+fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
+    let until = Instant::now() + Duration::from_secs_f64(s);
+    while Instant::now() < until {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+/// The commanded TCP position of the simulation, m.
+fn commanded_tcp(h: &Harness<'_, Parol6App>) -> [f64; 3] {
+    let q = h.state().backend().state().commanded.q.clone();
+    let p = RobotModel::parol6().tcp_isometry(&q).translation.vector;
+    [p.x, p.y, p.z]
+}
+
+#[test]
+fn holding_plus_x_moves_the_simulated_tcp_along_x() {
+    let mut h = app_harness();
+    let before = commanded_tcp(&h);
+    let at = h.get_by_label("+X").rect().center();
+    h.hover_at(at);
+    h.event(egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
+    settle(&mut h, 0.8);
+    assert!(h.query_by_label_contains("jogging +X (world)").is_some(), "the panel says what it does");
+    h.event(egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: Default::default(),
+    });
+    settle(&mut h, 0.4);
+    let after = commanded_tcp(&h);
+    let dx = after[0] - before[0];
+    assert!(dx > 0.01, "moved {:.2} mm along X", dx * 1e3);
+    for k in 1..3 {
+        assert!((after[k] - before[k]).abs() < 0.05e-3, "axis {k} moved {:.4} mm", (after[k] - before[k]) * 1e3);
+    }
+    // released: it holds
+    settle(&mut h, 0.3);
+    assert_eq!(commanded_tcp(&h), after, "still moving after release");
+    assert!(h.query_by_label_contains("+X (world) released after").is_some());
+}
+
+#[test]
+fn a_typed_step_of_2_5_mm_moves_exactly_2_5_mm() {
+    let mut h = app_harness();
+    let before = commanded_tcp(&h);
+    h.get_by_label("Step mm").click();
+    h.run_steps(2);
+    h.get_by_label("Step mm").type_text("2.5");
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    h.get_by_label("Step").click();
+    h.run_steps(2);
+    h.get_by_label("+X").click();
+    settle(&mut h, 1.5);
+    let after = commanded_tcp(&h);
+    assert!(((after[0] - before[0]) - 0.0025).abs() < 1e-9, "moved {:.6} mm", (after[0] - before[0]) * 1e3);
+    assert!((after[1] - before[1]).abs() < 1e-9 && (after[2] - before[2]).abs() < 1e-9);
+    // and back with −X
+    h.get_by_label("−X").click();
+    settle(&mut h, 1.5);
+    let back = commanded_tcp(&h);
+    assert!((back[0] - before[0]).abs() < 1e-9, "{:.6} mm from the start", (back[0] - before[0]) * 1e3);
+}
+
+/// What a panel test owns.
+struct Bench {
+    model: RobotModel,
+    robot: RobotState,
+    settings: Settings,
+    commands: Vec<AppCommand>,
+    notices: Vec<Notice>,
+    perf: PerfStats,
+    preview: Option<Vec<f64>>,
+    panel: CartesianJogPanel,
+}
+
+fn panel_harness() -> Harness<'static, Bench> {
+    let model = RobotModel::parol6();
+    let robot = RobotState::at_rest(&model, StateSource::Simulation, "test", &work_pose());
+    let bench = Bench {
+        model,
+        robot,
+        settings: Settings::default(),
+        commands: Vec::new(),
+        notices: Vec::new(),
+        perf: PerfStats::default(),
+        preview: None,
+        panel: CartesianJogPanel::default(),
+    };
+    let mut h = Harness::builder().with_size(egui::vec2(800.0, 700.0)).with_accessibility_check(false).build_ui_state(
+        |ui, b: &mut Bench| {
+            egui::Panel::left("test_column").exact_size(350.0).resizable(false).show(ui, |ui| {
+                let mut ctx = PanelContext {
+                    model: &b.model,
+                    robot: &b.robot,
+                    readout: &b.robot,
+                    settings: &mut b.settings,
+                    commands: &mut b.commands,
+                    notices: &mut b.notices,
+                    perf: &b.perf,
+                    link: None,
+                    preview: &mut b.preview,
+                    program: None,
+                };
+                b.panel.ui(ui, &mut ctx);
+            });
+        },
+        bench,
+    );
+    h.run_steps(2);
+    h
+}
+
+#[test]
+fn typed_decimals_and_negatives_survive_focus_loss() {
+    let mut h = panel_harness();
+    for (name, text, want) in [("Step deg", "-1.25", -1.25), ("Step mm", "0,75", 0.75)] {
+        h.get_by_label(name).click();
+        h.run_steps(2);
+        h.get_by_label(name).type_text(text);
+        h.run_steps(1);
+        assert!(h.state().commands.is_empty(), "sent while typing");
+        // focus leaves the field: a click elsewhere
+        h.get_by_label("Tool").click();
+        h.run_steps(2);
+        let (mm, deg) = h.state().panel.step_increments();
+        let got = if name == "Step mm" { mm } else { deg };
+        assert_eq!(got, want, "{name}");
+        assert_eq!(h.get_by_label(name).value().as_deref(), Some(format!("{want:.2}").as_str()));
+    }
+    assert_eq!(h.state().panel.frame(), JogFrame::Tool);
+    assert!(h.state().notices.is_empty(), "{:?}", h.state().notices);
+}
+
+#[test]
+fn jog_keys_queue_the_axis_and_shift_turns_them_into_rotations() {
+    let mut h = panel_harness();
+    let last = |h: &Harness<'_, Bench>| {
+        h.state().commands.iter().rev().find_map(|c| match c {
+            AppCommand::CartesianJog(j) => Some(*j),
+            _ => None,
+        })
+    };
+    for (key, shift, axis, sign) in [
+        (egui::Key::D, false, CartesianAxis::X, 1.0),
+        (egui::Key::S, false, CartesianAxis::Y, -1.0),
+        (egui::Key::E, false, CartesianAxis::Z, 1.0),
+        (egui::Key::A, true, CartesianAxis::Rx, -1.0),
+        (egui::Key::Q, true, CartesianAxis::Rz, -1.0),
+    ] {
+        let m = if shift { egui::Modifiers::SHIFT } else { egui::Modifiers::NONE };
+        key_event(&h, m, key, true);
+        h.run_steps(2);
+        let (frame, got_axis, f) = last(&h).flatten().expect("a jog while the key is down");
+        assert_eq!((frame, got_axis), (JogFrame::World, axis));
+        assert!((f - sign * Settings::default().cartesian_jog_fraction).abs() < 1e-12);
+        key_event(&h, m, key, false);
+        h.run_steps(2);
+        assert_eq!(last(&h), Some(None), "released with the key");
+    }
+    // Ctrl+Q is quit, not a jog
+    h.state_mut().commands.clear();
+    key_event(&h, egui::Modifiers::CTRL, egui::Key::Q, true);
+    h.run_steps(2);
+    assert_eq!(last(&h), None);
+}
+
+/// A key going down or up while `modifiers` are held (they stay held between frames, as on a
+/// real keyboard, and are let go with the key).
+fn key_event<S>(h: &Harness<'_, S>, modifiers: egui::Modifiers, key: egui::Key, pressed: bool) {
+    if pressed {
+        h.event(egui::Event::ModifiersChanged(modifiers));
+    }
+    h.event(egui::Event::Key { key, pressed, modifiers, repeat: false, physical_key: None });
+    if !pressed {
+        h.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
+    }
+}
+
+#[test]
+fn holding_a_button_queues_the_jog_until_released() {
+    let mut h = panel_harness();
+    let at = h.get_by_label("+X").rect().center();
+    h.hover_at(at);
+    h.drag_at(at);
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("jogging +X (world): stops after").is_some());
+    assert!(
+        matches!(h.state().commands.last(), Some(AppCommand::CartesianJog(Some((JogFrame::World, CartesianAxis::X, f)))) if *f > 0.0)
+    );
+    h.drop_at(at);
+    h.run_steps(2);
+    assert!(matches!(h.state().commands.last(), Some(AppCommand::CartesianJog(None))));
+}

@@ -22,7 +22,7 @@ use crate::palette;
 use crate::viewport::{PathOverlay, PathPointStatus};
 
 /// Height of the step list, px (fixed so the panel never grows while running).
-const STEP_LIST_HEIGHT: f32 = 150.0;
+const STEP_LIST_HEIGHT: f32 = 96.0;
 /// Pre-flight problems listed in the panel (the rest are counted).
 const ISSUES_SHOWN: usize = 4;
 
@@ -178,7 +178,7 @@ impl ProgramPanel {
             let mut pick = None;
             egui::ComboBox::from_id_salt("program-builtin")
                 .selected_text(egui::RichText::new(&self.program.name))
-                .width(150.0)
+                .width(140.0)
                 .show_ui(ui, |ui| {
                     for p in &self.builtins {
                         if ui
@@ -193,13 +193,13 @@ impl ProgramPanel {
             if let Some(name) = pick {
                 self.load_builtin(&name);
             }
-            ui.weak(&self.source);
+            ui.add(egui::Label::new(egui::RichText::new(&self.source).weak()).truncate());
         });
         ui.horizontal(|ui| {
             let edit = ui.add(
                 egui::TextEdit::singleline(&mut self.path_text)
                     .hint_text("program file (.json)")
-                    .desired_width(ui.available_width() - 60.0),
+                    .desired_width((ui.available_width() - 60.0).max(60.0)),
             );
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
@@ -251,11 +251,13 @@ impl ProgramPanel {
                         ui.monospace(format!("{mark}{:>3}", i + 1));
                         let text = egui::RichText::new(s.step.summary());
                         let text = if strong { text.strong() } else { text };
-                        match worst {
-                            Some(Severity::Error) => ui.colored_label(palette::rgb(palette::PATH_ERROR), text),
-                            Some(Severity::Warning) => ui.colored_label(palette::rgb(palette::PATH_WARNING), text),
-                            None => ui.label(text),
+                        let text = match worst {
+                            Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
+                            Some(Severity::Warning) => text.color(palette::rgb(palette::PATH_WARNING)),
+                            None => text,
                         };
+                        // one line per step, cut to the column: the panel never widens
+                        ui.add(egui::Label::new(text).truncate());
                     });
                 }
             });
@@ -316,7 +318,8 @@ impl ProgramPanel {
         for i in r.issues.iter().take(ISSUES_SHOWN) {
             let color = if i.severity == Severity::Error { palette::PATH_ERROR } else { palette::PATH_WARNING };
             let line = if i.line > 0 { format!("line {}, ", i.line) } else { String::new() };
-            ui.colored_label(palette::rgb(color), format!("{line}step {}: {}", i.move_index + 1, i.message));
+            let text = egui::RichText::new(format!("{line}step {}: {}", i.move_index + 1, i.message)).color(palette::rgb(color));
+            ui.add(egui::Label::new(text).wrap());
         }
         if r.issues.len() > ISSUES_SHOWN {
             ui.weak(format!("… and {} more (parol6 program check FILE lists all)", r.issues.len() - ISSUES_SHOWN));

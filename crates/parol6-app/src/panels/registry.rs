@@ -16,9 +16,9 @@ use super::tcp::TcpPanel;
 /// Where a panel sits in the window.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dock {
-    /// The left column (joints, HOME / STOP, connection).
+    /// The left column (joints, HOME / STOP, program, connection).
     Left,
-    /// The right column (TCP, Cartesian target, program).
+    /// The right column (TCP, Cartesian jog, Cartesian target).
     Right,
     /// The status bar at the bottom.
     Bottom,
@@ -61,11 +61,11 @@ impl Panels {
     pub fn docked(&mut self) -> Vec<(Dock, &mut dyn Panel)> {
         vec![
             (Dock::Left, &mut self.joints),
+            (Dock::Left, &mut self.program),
             (Dock::Left, &mut self.connection),
             (Dock::Right, &mut self.tcp),
             (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),
-            (Dock::Right, &mut self.program),
             (Dock::Bottom, &mut self.status),
         ]
     }

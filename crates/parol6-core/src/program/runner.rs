@@ -36,6 +36,15 @@ pub const LOOKAHEAD: usize = 8;
 /// The first step starts this long after the runner schedules it, s of motion clock.
 pub const LEAD_S: f64 = 0.05;
 
+/// Grid of the instants a schedule starts at, s: the robot's 10 ms control period, so the
+/// same program gives samples at the same offsets on every backend.
+pub const START_GRID_S: f64 = 0.01;
+
+/// The first instant on the start grid at least [`LEAD_S`] after `now_s`.
+fn start_clock(now_s: f64) -> f64 {
+    ((now_s + LEAD_S) / START_GRID_S).ceil() * START_GRID_S
+}
+
 /// Operator controls.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RunnerControl {
@@ -94,7 +103,7 @@ pub struct RunProgress {
     pub steps_done: usize,
     /// Largest commanded − measured joint difference seen while running, rad.
     pub max_tracking_error_rad: f64,
-    /// Motion clock at the start and at the end of the run, s.
+    /// Motion clock when the first step starts and at the end of the run, s.
     pub clock_s: (f64, f64),
     /// Completed passes of a looping run.
     pub passes: u64,
@@ -306,17 +315,16 @@ impl Run<'_> {
     fn execute(&mut self, compiled: &[CompiledStep]) -> Result<(), Halt> {
         let mut next = 0; // first step not yet scheduled
         let mut slots: VecDeque<Slot> = VecDeque::new();
-        let mut clock = self.backend.state().time_s + LEAD_S;
+        let mut clock = start_clock(self.backend.state().time_s);
         let mut refusal = self.backend.state().last_refusal.as_ref().map_or(0, |r| r.0);
-        let t_start = self.backend.state().time_s;
-        self.publish(|p| p.clock_s.0 = t_start);
+        self.publish(|p| p.clock_s.0 = clock);
         // single-step mode: a step has been scheduled; wait for the operator once it is done
         let mut hold_at_boundary = false;
         loop {
             if slots.is_empty() && hold_at_boundary && next < compiled.len() {
                 self.idle_until_control()?;
                 hold_at_boundary = false;
-                clock = self.backend.state().time_s + LEAD_S;
+                clock = start_clock(self.backend.state().time_s);
             }
             // schedule ahead on the motion clock (one step at a time in single-step mode; a
             // wait for an input ends the batch: what follows it starts when the input comes)
@@ -386,7 +394,7 @@ impl Run<'_> {
                     hold_at_boundary = midway;
                 }
                 slots.clear();
-                clock = self.backend.state().time_s + LEAD_S;
+                clock = start_clock(self.backend.state().time_s);
                 continue;
             }
             let c = &compiled[index];
@@ -401,7 +409,7 @@ impl Run<'_> {
                 StepAction::WaitInput { input, on, timeout_s } => {
                     self.wait_input(*input, *on, *timeout_s)?;
                     self.finish_slot(&mut slots, compiled);
-                    clock = self.backend.state().time_s + LEAD_S;
+                    clock = start_clock(self.backend.state().time_s);
                 }
                 StepAction::Motion(_) | StepAction::Dwell(_) if s.time_s >= end_s => {
                     self.finish_slot(&mut slots, compiled);

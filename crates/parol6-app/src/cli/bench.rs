@@ -54,6 +54,17 @@ pub enum BenchTarget {
         #[arg(long, default_value_t = 3.0, value_parser = f64_within(0.0, 600.0))]
         cpu_seconds: f64,
     },
+    /// Motion engine: MoveL interpolation + IK per 1 ms tick, pre-flight of 1 000 moves, a
+    /// 1 000-step program check, the program runner's CPU share at 1 kHz.
+    Motion {
+        /// Timed runs of each measurement, 1–1000.
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        repeats: u64,
+        /// Seconds of a program run on the real-time simulation for the runner's CPU share,
+        /// 0–600 (0 = skip).
+        #[arg(long, default_value_t = 5.0, value_parser = f64_within(0.0, 600.0))]
+        runner_seconds: f64,
+    },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
     Latency {
@@ -76,6 +87,7 @@ impl BenchTarget {
             Self::Serial { .. } => "serial",
             Self::Physics { .. } => "physics",
             Self::Latency { .. } => "latency",
+            Self::Motion { .. } => "motion",
         }
     }
 }
@@ -96,6 +108,9 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         }
         BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(count(*n)?, *cpu_seconds),
         BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(count(*n)?, *interval_us),
+        BenchTarget::Motion { repeats, runner_seconds } => {
+            super::bench_motion::bench_motion(count(*repeats)?, *runner_seconds)
+        }
     }
 }
 

@@ -13,6 +13,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod bench;
+pub mod bench_motion;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;

@@ -31,6 +31,17 @@ fn rot_z(q: f64) -> Matrix3<f64> {
 
 /// Closed-form IK of the PAROL6: every branch within the limits, best (nearest `seed`) first.
 pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -> Result<Vec<IkSolution>, IkError> {
+    solve_parol6_in(model, target, seed, None)
+}
+
+/// [`solve_parol6`] restricted to one branch when `only` is given (the Cartesian planner, which
+/// keeps the start pose's branch, solves only that one: an eighth of the work).
+pub fn solve_parol6_in(
+    model: &RobotModel,
+    target: &Isometry3<f64>,
+    seed: &[f64],
+    only: Option<Branch>,
+) -> Result<Vec<IkSolution>, IkError> {
     check_input(model, target, seed)?;
     if !model.is_parol6 {
         return Err(IkError::NotParol6);
@@ -58,7 +69,7 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
     let mut any_reach = false;
     let mut reach_detail = String::new();
     for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
-        if shoulder_singular && shoulder == ShoulderBranch::Back {
+        if (shoulder_singular && shoulder == ShoulderBranch::Back) || only.is_some_and(|b| b.shoulder != shoulder) {
             continue;
         }
         let (q1, x) = match (shoulder, shoulder_singular) {
@@ -83,7 +94,7 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
         let k = k.clamp(-1.0, 1.0);
         let elbow_singular = (1.0 - k.abs()) < 1e-12;
         for elbow in [ElbowBranch::Up, ElbowBranch::Down] {
-            if elbow_singular && elbow == ElbowBranch::Down {
+            if (elbow_singular && elbow == ElbowBranch::Down) || only.is_some_and(|b| b.elbow != elbow) {
                 continue;
             }
             let sign = if elbow == ElbowBranch::Up { 1.0 } else { -1.0 };
@@ -97,6 +108,9 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
             let sb = m[(0, 2)].hypot(m[(1, 2)]);
             let wrist_singular = sb < 1e-9;
             for wrist in [WristBranch::NoFlip, WristBranch::Flip] {
+                if only.is_some_and(|b| b.wrist != wrist) && !wrist_singular {
+                    continue;
+                }
                 let (q4, q5, q6) = if wrist_singular {
                     if wrist == WristBranch::Flip {
                         continue;

@@ -24,7 +24,7 @@ mod numeric;
 /// Chain recognition lives with the model (it runs while loading); re-exported here where
 /// callers of the closed form look for it.
 pub use crate::model::is_parol6_chain;
-pub use closed_form::solve_parol6;
+pub use closed_form::{solve_parol6, solve_parol6_in};
 pub use numeric::solve_numeric;
 
 /// Pose tolerance a solution must meet (m for position, rad for orientation).

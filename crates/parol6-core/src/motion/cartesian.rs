@@ -235,7 +235,10 @@ pub(crate) fn solve_in_branch(
     seed: &[f64],
     branch: Option<Branch>,
 ) -> Result<Vec<f64>, IkError> {
-    let sols = ik::solve(model, pose, seed)?;
+    let sols = match branch {
+        Some(b) if model.is_parol6 => ik::solve_parol6_in(model, pose, seed, Some(b))?,
+        _ => ik::solve(model, pose, seed)?,
+    };
     let pick = match branch {
         Some(b) => sols.into_iter().find(|s| s.branch == Some(b)),
         None => sols.into_iter().next(),

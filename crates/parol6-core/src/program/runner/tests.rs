@@ -113,7 +113,12 @@ fn single_step_runs_one_step_per_press_and_stop_holds() {
     wait_for(&runner, "second step", |p| p.state == RunState::Paused && p.steps_done == 2);
     runner.control(RunnerControl::Step);
     wait_for(&runner, "the output step", |p| p.state == RunState::Paused && p.steps_done == 3);
-    assert!(sim.state().io.outputs[0]);
+    // the output was sent; the simulation applies it on its next step
+    let t0 = Instant::now();
+    while !sim.state().io.outputs[0] {
+        assert!(t0.elapsed() < Duration::from_secs(1), "output 1 never set");
+        std::thread::sleep(Duration::from_millis(1));
+    }
     runner.control(RunnerControl::Stop);
     let end = runner.join();
     assert_eq!(end.state, RunState::Stopped);

@@ -216,6 +216,11 @@ impl Parol6App {
         true
     }
 
+    /// The notices shown over the 3D view now, oldest first.
+    pub fn notices(&self) -> &[Notice] {
+        &self.notices
+    }
+
     /// True while a program runs (paused included).
     pub fn program_running(&self) -> bool {
         self.program.as_ref().is_some_and(|r| !r.is_finished())

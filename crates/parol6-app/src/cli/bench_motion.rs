@@ -68,7 +68,9 @@ pub fn bench_motion(repeats: usize, runner_seconds: f64) -> CliResult {
         check_ok = r.ok;
     }
     let runner = runner_cpu(&model, runner_seconds)?;
-    let stat = |v: &mut Vec<f64>| Summary::from_samples(v).map(|s| serde_json::json!({"median": s.p50, "p99": s.p99, "n": s.n}));
+    let stat = |v: &mut Vec<f64>| {
+        Summary::from_samples(v).map(|s| serde_json::json!({"median": s.p50, "p99": s.p99, "n": s.n}))
+    };
     print_json(&serde_json::json!({
         "target": "motion",
         "movel_tick_us": stat(&mut per_tick_us),
@@ -113,7 +115,10 @@ fn runner_cpu(model: &RobotModel, seconds: f64) -> Result<serde_json::Value, Cli
     program.steps.insert(
         0,
         parol6_core::program::SourcedStep {
-            step: Step::MoveJoints { joints_deg: vec![90.0, -80.0, 170.0, 0.0, 60.0, 180.0], speed_fraction: Some(1.0) },
+            step: Step::MoveJoints {
+                joints_deg: vec![90.0, -80.0, 170.0, 0.0, 60.0, 180.0],
+                speed_fraction: Some(1.0),
+            },
             line: 0,
         },
     );

@@ -174,33 +174,27 @@ impl Panel for ProgramPanel {
 
 impl ProgramPanel {
     fn picker(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        ui.horizontal(|ui| {
-            let mut pick = None;
-            egui::ComboBox::from_id_salt("program-builtin")
-                .selected_text(egui::RichText::new(&self.program.name))
-                .width(140.0)
-                .show_ui(ui, |ui| {
-                    for p in &self.builtins {
-                        if ui
-                            .selectable_label(p.name == self.program.name, &p.name)
-                            .on_hover_text(&p.description)
-                            .clicked()
-                        {
-                            pick = Some(p.name.clone());
-                        }
-                    }
-                });
-            if let Some(name) = pick {
-                self.load_builtin(&name);
+        let mut pick = None;
+        ui.horizontal_wrapped(|ui| {
+            for p in &self.builtins {
+                let selected = p.name == self.program.name && self.source == "built-in";
+                if ui.selectable_label(selected, &p.name).on_hover_text(&p.description).clicked() {
+                    pick = Some(p.name.clone());
+                }
             }
-            ui.add(egui::Label::new(egui::RichText::new(&self.source).weak()).truncate());
         });
+        if let Some(name) = pick {
+            self.load_builtin(&name);
+        }
         ui.horizontal(|ui| {
-            let edit = ui.add(
-                egui::TextEdit::singleline(&mut self.path_text)
-                    .hint_text("program file (.json)")
-                    .desired_width((ui.available_width() - 60.0).max(60.0)),
-            );
+            let label = ui.label("File");
+            let edit = ui
+                .add(
+                    egui::TextEdit::singleline(&mut self.path_text)
+                        .hint_text("program.json")
+                        .desired_width((ui.available_width() - 60.0).max(60.0)),
+                )
+                .labelled_by(label.id);
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
                 let path = PathBuf::from(self.path_text.trim());
@@ -210,6 +204,12 @@ impl ProgramPanel {
                 }
             }
         });
+        if self.source != "built-in" {
+            ui.add(
+                egui::Label::new(egui::RichText::new(format!("{}: {}", self.program.name, self.source)).weak())
+                    .truncate(),
+            );
+        }
     }
 
     fn summary_line(&self, ui: &mut egui::Ui) {
@@ -242,9 +242,9 @@ impl ProgramPanel {
             .show(ui, |ui| {
                 for (i, s) in self.program.steps.iter().enumerate() {
                     let (mark, strong) = match progress {
-                        Some(p) if !p.state.is_finished() && i == p.step => ("▶", true),
-                        Some(p) if i < p.steps_done => ("✓", false),
-                        _ => ("·", false),
+                        Some(p) if !p.state.is_finished() && i == p.step => (">", true),
+                        Some(p) if i < p.steps_done => ("+", false),
+                        _ => (" ", false),
                     };
                     let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
                     ui.horizontal(|ui| {
@@ -269,7 +269,7 @@ impl ProgramPanel {
         let paused = state == Some(&RunState::Paused);
         let clean = self.report.as_ref().is_some_and(|(_, r)| r.ok);
         ui.horizontal(|ui| {
-            let run_label = if paused { "▶ Resume (F5)" } else { "▶ Run (F5)" };
+            let run_label = if paused { "Resume (F5)" } else { "Run (F5)" };
             let can_run = (clean && !running) || paused;
             let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(if running {
                 "running"
@@ -284,12 +284,12 @@ impl ProgramPanel {
                     ctx.send(self.run_command(false));
                 }
             }
-            let pause = ui.add_enabled(running && !paused, egui::Button::new("⏸ Pause (F6)"));
+            let pause = ui.add_enabled(running && !paused, egui::Button::new("Pause (F6)"));
             if pause.clicked() || (running && !paused && ui.input(|i| i.key_pressed(egui::Key::F6))) {
                 ctx.send(AppCommand::Program(RunnerControl::Pause));
             }
             let can_step = paused || (!running && clean);
-            let step = ui.add_enabled(can_step, egui::Button::new("⏭ Step (F10)"));
+            let step = ui.add_enabled(can_step, egui::Button::new("Step (F10)"));
             if step.clicked() || (can_step && ui.input(|i| i.key_pressed(egui::Key::F10))) {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Step));
@@ -297,7 +297,7 @@ impl ProgramPanel {
                     ctx.send(self.run_command(true));
                 }
             }
-            if ui.add_enabled(running, egui::Button::new("⏹ Stop")).clicked() {
+            if ui.add_enabled(running, egui::Button::new("Stop program")).clicked() {
                 ctx.send(AppCommand::Program(RunnerControl::Stop));
             }
         });
@@ -318,7 +318,8 @@ impl ProgramPanel {
         for i in r.issues.iter().take(ISSUES_SHOWN) {
             let color = if i.severity == Severity::Error { palette::PATH_ERROR } else { palette::PATH_WARNING };
             let line = if i.line > 0 { format!("line {}, ", i.line) } else { String::new() };
-            let text = egui::RichText::new(format!("{line}step {}: {}", i.move_index + 1, i.message)).color(palette::rgb(color));
+            let text = egui::RichText::new(format!("{line}step {}: {}", i.move_index + 1, i.message))
+                .color(palette::rgb(color));
             ui.add(egui::Label::new(text).wrap());
         }
         if r.issues.len() > ISSUES_SHOWN {

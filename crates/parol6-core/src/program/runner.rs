@@ -182,7 +182,14 @@ impl ProgramRunner {
         let abort = Arc::new(AtomicBool::new(false));
         let a = Arc::clone(&abort);
         let join = std::thread::Builder::new().name("parol6-program".into()).spawn(move || {
-            let mut run = Run { backend: backend.as_ref(), progress: &p, control: &rx, abort: &a, single: false, exec_cpu_ns: None };
+            let mut run = Run {
+                backend: backend.as_ref(),
+                progress: &p,
+                control: &rx,
+                abort: &a,
+                single: false,
+                exec_cpu_ns: None,
+            };
             run.run(&model, &program, opts);
         })?;
         Ok(Self { progress, abort, control: tx, join: Some(join) })
@@ -281,7 +288,8 @@ impl Run<'_> {
                 RunState::Failed(why)
             }
         };
-        let cpu = self.exec_cpu_ns.zip(crate::sim::thread_cpu_time_ns()).map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
+        let cpu =
+            self.exec_cpu_ns.zip(crate::sim::thread_cpu_time_ns()).map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
         self.publish(|p| {
             p.state = state;
             p.runner_cpu_s = cpu;

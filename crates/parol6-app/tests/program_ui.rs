@@ -1,0 +1,125 @@
+//! Program panel, driven headless through egui's kittest harness on the full app: pick a
+//! built-in program, see its pre-flight, run, pause, resume and stop it with the buttons; a
+//! broken file is refused with a message and the loaded program stays; a program that fails
+//! pre-flight cannot be started.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use parol6_app::app::{LaunchOptions, Parol6App};
+use parol6_core::RobotModel;
+use parol6_core::motion::PlannerMode;
+
+fn app_harness() -> Harness<'static, Parol6App> {
+    let opts = LaunchOptions {
+        model: RobotModel::parol6(),
+        connect: None,
+        settings_path: None,
+        test_script: None,
+        started: Instant::now(),
+        msaa_samples: 1,
+    };
+    let app = Parol6App::new(opts, None).expect("app");
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 1400.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
+    h.run_steps(3);
+    h
+}
+
+/// Runs frames until `f` holds (at most `s` seconds of wall time).
+fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs_f64(s);
+    loop {
+        h.run_steps(1);
+        if f(h) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
+    h.query_by_label_contains(text).is_some()
+}
+
+#[test]
+fn a_built_in_program_runs_pauses_resumes_and_stops_from_the_panel() {
+    let mut h = app_harness();
+    // pick "Draw" in the program list
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    assert!(has_label(&h, "9 steps"), "the summary names the step count");
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "the run", 10.0, |h| has_label(h, "Draw: step"));
+    // let it get into the program, then pause
+    until(&mut h, "step 2", 20.0, |h| has_label(h, "Draw: step 2 of 9"));
+    h.get_by_label("Pause (F6)").click();
+    until(&mut h, "paused", 10.0, |h| has_label(h, "paused at step"));
+    let s = h.state().backend().state();
+    assert!(!s.moving && s.mode == PlannerMode::Paused, "stopped on the path: {:?}", s.mode);
+    h.get_by_label("Resume (F5)").click();
+    until(&mut h, "running again", 10.0, |h| has_label(h, "s left"));
+    h.get_by_label("Stop program").click();
+    until(&mut h, "stopped", 10.0, |h| has_label(h, "stopped after"));
+    std::thread::sleep(Duration::from_millis(600));
+    assert!(!h.state().backend().state().moving, "the arm holds after STOP");
+}
+
+#[test]
+fn a_broken_file_is_refused_and_the_loaded_program_stays() {
+    let mut h = app_harness();
+    let dir = std::env::temp_dir().join(format!("parol6-program-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\"format\": \"parol6-program\", \"version\": 1, \"steps\": [ {\"type\": \"dwell\", \"seconds\": \"x\"} ]}",
+    )
+    .expect("write");
+    h.get_by_label("File").click();
+    h.run_steps(1);
+    h.get_by_label("File").type_text(&bad.display().to_string());
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    until(&mut h, "the error notice", 5.0, |h| {
+        h.state().notices().iter().any(|n| n.error && n.text.contains("bad.json") && n.text.contains("steps[0]"))
+    });
+    assert!(has_label(&h, "12 steps"), "the loaded program (Pick & place) stays");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_program_that_fails_pre_flight_cannot_be_started() {
+    let mut h = app_harness();
+    let dir = std::env::temp_dir().join(format!("parol6-program-ui-far-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let far = dir.join("far.json");
+    std::fs::write(
+        &far,
+        "{\"format\": \"parol6-program\", \"version\": 1, \"name\": \"Too far\",\n \"steps\": [\n  {\"type\": \"move_l\", \"pose\": {\"position_mm\": [0, 900, 300], \"rpy_deg\": [180, 0, 90]}}\n ]}",
+    )
+    .expect("write");
+    h.get_by_label("File").click();
+    h.run_steps(1);
+    h.get_by_label("File").type_text(&far.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: 1 error"));
+    assert!(has_label(&h, "line 3, step 1"), "the problem names its line and step");
+    // the Run button does nothing: nothing moves
+    h.get_by_label("Run (F5)").click();
+    h.run_steps(5);
+    std::thread::sleep(Duration::from_millis(200));
+    h.run_steps(2);
+    assert!(!h.state().backend().state().moving);
+    assert!(!has_label(&h, "Too far: step"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

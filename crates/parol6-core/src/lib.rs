@@ -7,7 +7,9 @@
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
 //! planner, the [`motion::RobotBackend`] trait), the PAROL6 facts of the reference pack
 //! ([`parol6`]), the size / nesting bounds every URDF text passes before parsing
-//! ([`urdf_input`]), and sample statistics with one percentile rule ([`stats`]).
+//! ([`urdf_input`]), sample statistics with one percentile rule ([`stats`]), and telemetry
+//! ([`telemetry`]: the recorder thread with its live ring buffer, MCAP files for Foxglove /
+//! Lichtblick, and the reader of our own recordings).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -23,6 +25,7 @@ pub mod parol6;
 pub mod profile;
 pub mod sim;
 pub mod stats;
+pub mod telemetry;
 pub mod urdf_input;
 
 pub use ik::{IkError, IkSolution};

@@ -37,7 +37,7 @@ pub mod path;
 mod planner;
 mod sequence;
 
-pub use backend::{BackendError, MotionSample, RobotBackend, RobotState, StateSource};
+pub use backend::{BackendError, JointDrive, MotionSample, RobotBackend, RobotState, StateSource};
 pub use planner::{MotionPlanner, PlannerMode};
 pub use sequence::{SequenceProgress, SequenceRunner, SequenceState};
 

@@ -142,11 +142,7 @@ impl EventDetector {
                 message: format!("link lost ({} losses so far)", h.link_losses),
             });
         } else if was_lost && h.state == "Connected" {
-            out.push(TelemetryEvent {
-                time_s,
-                kind: EventKind::LinkLoss { lost: false },
-                message: "link back".into(),
-            });
+            out.push(TelemetryEvent { time_s, kind: EventKind::LinkLoss { lost: false }, message: "link back".into() });
         }
         self.link = Some(h.clone());
     }

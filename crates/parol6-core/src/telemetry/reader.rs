@@ -40,7 +40,9 @@ pub enum RecordingError {
     #[error("not a PAROL6 Studio recording: {0}")]
     NotOurs(String),
     /// A recording of another robot than the one loaded.
-    #[error("this recording is of robot \"{recorded}\" ({recorded_joints} joints), not of \"{expected}\" ({expected_joints} joints)")]
+    #[error(
+        "this recording is of robot \"{recorded}\" ({recorded_joints} joints), not of \"{expected}\" ({expected_joints} joints)"
+    )]
     OtherRobot {
         /// Robot named in the file.
         recorded: String,
@@ -140,10 +142,7 @@ pub fn read_recording(bytes: &[u8]) -> Result<Recording, RecordingError> {
 /// Reads `bytes` in one pass, handing every `/joint_states` and `/joint_commands` message to
 /// `visit` (topic, message) in file order instead of keeping them: memory stays small for long
 /// recordings. The returned [`Recording`] has empty `measured` and `commanded`.
-pub fn scan_recording(
-    bytes: &[u8],
-    visit: &mut dyn FnMut(&str, JointStateMsg),
-) -> Result<Recording, RecordingError> {
+pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) -> Result<Recording, RecordingError> {
     if bytes.is_empty() {
         return Err(RecordingError::Empty);
     }
@@ -227,12 +226,7 @@ fn samples(rec: &Recording) -> u64 {
     rec.topics.get("/joint_states").map_or(0, |t| t.messages)
 }
 
-fn take_record(
-    r: Record<'_>,
-    ids: &mut Channels,
-    rec: &mut Recording,
-    visit: &mut dyn FnMut(&str, JointStateMsg),
-) {
+fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &mut dyn FnMut(&str, JointStateMsg)) {
     match r {
         Record::Schema { header, .. } => {
             ids.schemas.insert(header.id, header.name);

@@ -207,9 +207,7 @@ const VECTOR3: &str = r#"{"title":"foxglove.Vector3","type":"object","properties
 const QUATERNION: &str = r#"{"title":"foxglove.Quaternion","type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}}}"#;
 
 fn header_schema() -> String {
-    format!(
-        r#"{{"type":"object","properties":{{"stamp":{TIME},"frame_id":{{"type":"string"}}}}}}"#
-    )
+    format!(r#"{{"type":"object","properties":{{"stamp":{TIME},"frame_id":{{"type":"string"}}}}}}"#)
 }
 
 /// JSON schema of `foxglove.FrameTransform`.

@@ -2,7 +2,8 @@
 //!
 //! Channels: `/robot_description` (once, at the start), `/joint_states` and `/joint_commands`
 //! (every sample), `/tf` and `/tcp_pose` (at most [`McapSink::pose_rate_hz`], 100 Hz),
-//! `/events`, `/link` (when the link health changes), and a metadata record
+//! `/events`, `/link` (when the link state, E-stop or loss count changes, else once a
+//! second), and a metadata record
 //! ([`super::schema::METADATA_NAME`]: app version, robot, tool, program, joints). Chunks are
 //! zstd-compressed and closed at least every [`FLUSH_INTERVAL_S`] of motion time or wall
 //! time, whichever comes first ([`McapSink::flush_if_due`]), so a crash loses at most that;
@@ -107,7 +108,7 @@ pub struct McapSink<W: Write + Seek> {
     last_pose_s: Option<f64>,
     last_flush_s: f64,
     last_flush_at: Instant,
-    last_link: Option<LinkHealth>,
+    last_link: Option<(f64, LinkHealth)>,
     buf: Vec<u8>,
     summary: RecordingSummary,
     /// Highest rate of `/tf` and `/tcp_pose`, Hz.
@@ -172,7 +173,12 @@ impl<W: Write + Seek> McapSink<W> {
         writer.write_metadata(&Metadata { name: schema::METADATA_NAME.into(), metadata })?;
         let data = serde_json::to_vec(&schema::RobotDescription { data: info.urdf_text.clone() })
             .map_err(|e| TelemetryError::Mcap(e.to_string()))?;
-        let header = MessageHeader { channel_id: description, sequence: 0, log_time: start_unix_ns, publish_time: start_unix_ns };
+        let header = MessageHeader {
+            channel_id: description,
+            sequence: 0,
+            log_time: start_unix_ns,
+            publish_time: start_unix_ns,
+        };
         writer.write_to_known_channel(&header, &data)?;
         let text = (!info.urdf_text.is_empty()).then_some(info.urdf_text.as_str());
         Ok(Self {
@@ -267,15 +273,29 @@ impl<W: Write + Seek> McapSink<W> {
             };
             self.put(self.channels.tcp_pose, ns, &pose)?;
         }
-        if s.link.is_some() && s.link != self.last_link {
-            self.last_link = s.link.clone();
-            if let Some(health) = s.link.clone() {
-                self.put(self.channels.link, ns, &schema::LinkHealthMsg { header, health })?;
-            }
+        if let Some(health) = &s.link
+            && self.link_due(health, s.time_s)
+        {
+            self.last_link = Some((s.time_s, health.clone()));
+            let health = health.clone();
+            self.put(self.channels.link, ns, &schema::LinkHealthMsg { header, health })?;
         }
         self.summary.samples += 1;
         self.summary.duration_s = (s.time_s - self.t0_s.unwrap_or(s.time_s)).max(self.summary.duration_s);
         self.flush_if_due(s.time_s)
+    }
+
+    /// `/link` gets the health when its state, E-stop or loss count changes, else once a second.
+    fn link_due(&self, h: &LinkHealth, t_s: f64) -> bool {
+        match &self.last_link {
+            None => true,
+            Some((t, last)) => {
+                last.state != h.state
+                    || last.estop_pressed != h.estop_pressed
+                    || last.link_losses != h.link_losses
+                    || !(0.0..1.0).contains(&(t_s - t))
+            }
+        }
     }
 
     /// Writes one event to `/events`.

@@ -49,8 +49,7 @@ pub(crate) fn recording_bytes(n: u64) -> Vec<u8> {
     for k in 1..=n {
         sink.write_sample(&sample(k, 1e-3)).expect("sample");
     }
-    sink.write_event(&TelemetryEvent { time_s: 0.5, kind: EventKind::Note, message: "hello".into() })
-        .expect("event");
+    sink.write_event(&TelemetryEvent { time_s: 0.5, kind: EventKind::Note, message: "hello".into() }).expect("event");
     let (summary, cursor) = sink.finish_into_inner().expect("finish");
     assert_eq!(summary.samples, n);
     cursor.into_inner()

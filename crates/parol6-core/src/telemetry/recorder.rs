@@ -18,7 +18,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use arc_swap::ArcSwap;
-use crossbeam_channel::{Receiver, Sender, TrySendError, bounded, select};
+use crossbeam_channel::{Receiver, Sender, TryRecvError, TrySendError, bounded};
 
 use crate::limits::ZoneThresholds;
 use crate::model::RobotModel;
@@ -37,7 +37,7 @@ pub struct RecorderConfig {
     pub live_span_s: f64,
     /// Highest sample rate the live view keeps, Hz (250); files get every sample.
     pub live_rate_hz: f64,
-    /// Capacity of the sample tap (16 384: 16 s at 1 kHz).
+    /// Capacity of the sample tap (16 384: 16 s at 1 kHz; the thread empties it every 20 ms).
     pub tap_capacity: usize,
     /// Capacity of the control channel.
     pub control_capacity: usize,
@@ -118,6 +118,9 @@ impl std::fmt::Debug for Recorder {
         f.debug_struct("Recorder").field("robot", &self.model.name).finish_non_exhaustive()
     }
 }
+
+/// The recorder thread takes what has arrived this often.
+const TICK: Duration = Duration::from_millis(20);
 
 /// How long start / stop wait for the thread.
 const REPLY_TIMEOUT: Duration = Duration::from_secs(10);
@@ -255,38 +258,44 @@ struct Worker {
 }
 
 impl Worker {
+    /// Wakes every [`TICK`] and takes whatever has arrived: a wake-up costs tens of µs on a
+    /// virtual machine, so waking per sample (or per burst of the simulation) would cost more
+    /// than the work.
     fn run(mut self, tap: &Receiver<MotionSample>, control: &Receiver<Control>) {
         let cpu_start = crate::sim::thread_cpu_time_ns();
         let mut next_publish = Instant::now() + self.publish_every;
-        loop {
-            select! {
-                recv(tap) -> m => if let Ok(m) = m { self.sample(&m) },
-                recv(control) -> c => match c {
+        'run: loop {
+            std::thread::sleep(TICK);
+            while let Ok(m) = tap.try_recv() {
+                self.sample(&m);
+            }
+            loop {
+                match control.try_recv() {
                     Ok(Control::Finish(reply)) => {
                         while let Ok(m) = tap.try_recv() {
                             self.sample(&m);
                         }
                         let _ = reply.send(self.stop());
-                        break;
+                        break 'run;
                     }
                     Ok(c) => self.control(c),
+                    Err(TryRecvError::Empty) => break,
                     // the Recorder is gone
-                    Err(_) => {
+                    Err(TryRecvError::Disconnected) => {
                         let _ = self.stop();
-                        break;
+                        break 'run;
                     }
-                },
-                default(self.publish_every) => {}
+                }
+            }
+            if let Some(sink) = self.sink.as_mut()
+                && let Err(e) = sink.flush_if_due(self.last_time_s)
+            {
+                self.fail(e);
             }
             let now = Instant::now();
             if now >= next_publish {
                 next_publish = now + self.publish_every;
                 self.publish();
-                if let Some(sink) = self.sink.as_mut()
-                    && let Err(e) = sink.flush_if_due(self.last_time_s)
-                {
-                    self.fail(e);
-                }
                 if let (Some(a), Some(b)) = (cpu_start, crate::sim::thread_cpu_time_ns()) {
                     self.shared.counters.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);
                 }

@@ -62,8 +62,15 @@ fn samples_reach_the_file_and_the_live_view_without_gaps() {
         sent += 1;
     }
     wait_for(&rec, n);
-    std::thread::sleep(Duration::from_millis(100));
-    let live = rec.live();
+    // the live view is published every 50 ms
+    let mut live = rec.live();
+    for _ in 0..500 {
+        if live.latest().is_some_and(|s| s.seq + 4 > n) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+        live = rec.live();
+    }
     // the live view keeps one sample per 4 ms of a 1 kHz source
     assert!(live.latest().is_some_and(|s| s.seq + 4 > n), "{:?}", live.latest().map(|s| s.seq));
     assert_eq!(rec.stats().missing_samples, 0);

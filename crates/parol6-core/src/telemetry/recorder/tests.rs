@@ -107,7 +107,12 @@ fn gaps_are_counted_and_states_become_events() {
     rec.observe_state(Arc::new(st));
     rec.set_link_health(LinkHealth { state: "Connected".into(), ..LinkHealth::default() });
     rec.set_link_health(LinkHealth { state: "Connected".into(), estop_pressed: true, ..LinkHealth::default() });
-    std::thread::sleep(Duration::from_millis(200));
+    for _ in 0..500 {
+        if rec.live().events.iter().any(|e| matches!(e.kind, EventKind::EStop { .. })) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
     let stats = rec.stats();
     assert_eq!(stats.samples, 5, "the repeated tick 3 is not a new sample");
     assert_eq!(stats.missing_samples, 3, "ticks 4–6 are missing");

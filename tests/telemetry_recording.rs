@@ -205,3 +205,21 @@ fn simulation_and_robot_record_every_sample_to_valid_mcap_files() {
     let _ = std::fs::remove_file(&sim_path);
     let _ = std::fs::remove_file(&hw_path);
 }
+
+/// The MCAP reader's fuzz seeds and every input that once failed (`fuzz/regressions/mcap_reader/`)
+/// give a recording or a named error, never a panic.
+#[test]
+fn fuzz_inputs_of_the_mcap_reader_read_without_panic() {
+    let fuzz = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("fuzz");
+    let mut n = 0;
+    for dir in ["seeds", "regressions"] {
+        let Ok(entries) = std::fs::read_dir(fuzz.join(dir).join("mcap_reader")) else { continue };
+        for e in entries.flatten() {
+            let bytes = std::fs::read(e.path()).unwrap();
+            let outcome = std::panic::catch_unwind(|| read_recording(&bytes).map(|r| r.measured.len()));
+            assert!(outcome.is_ok(), "{} panics the reader", e.path().display());
+            n += 1;
+        }
+    }
+    assert!(n >= 5, "{n} inputs");
+}

@@ -158,6 +158,15 @@ pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) 
             .with_record_length_limit(bytes.len().max(MAX_RECORD_BYTES)),
     );
     let mut rec = Recording::default();
+    // the mcap reader mishandles an uncompressed chunk whose records overrun it (found by the
+    // fuzzer: an integer overflow); we only ever write zstd chunks, so stop before any other
+    let bytes = match first_foreign_chunk(bytes) {
+        Some((at, why)) => {
+            rec.warnings.push(format!("{why} at byte {at}; reading stopped there"));
+            &bytes[..at]
+        }
+        None => bytes,
+    };
     let mut ids = Channels::default();
     let mut pos = 0usize;
     let mut any_record = false;
@@ -220,6 +229,44 @@ pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) 
             .unwrap_or_default();
     }
     Ok(rec)
+}
+
+/// The offset of the first top-level chunk record that is not a well-formed zstd chunk (its
+/// fields must add up to the record's length), with the reason. Walks the record headers only.
+fn first_foreign_chunk(bytes: &[u8]) -> Option<(usize, String)> {
+    const CHUNK: u8 = 0x06;
+    const FOOTER: u8 = 0x02;
+    const DATA_END: u8 = 0x0f;
+    let u64_at = |at: usize| -> Option<u64> { Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?)) };
+    let u32_at = |at: usize| -> Option<u32> { Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?)) };
+    let mut pos = mcap::MAGIC.len();
+    while let (Some(&op), Some(len)) = (bytes.get(pos), u64_at(pos + 1)) {
+        if op == FOOTER || op == DATA_END {
+            return None;
+        }
+        let body = pos + 9;
+        let end = usize::try_from(len).ok().and_then(|l| body.checked_add(l))?;
+        if end > bytes.len() {
+            // cut short: the reader reports that
+            return None;
+        }
+        if op == CHUNK {
+            // start and end time, uncompressed size and CRC, then the compression name
+            let name_len = u32_at(body + 28).and_then(|n| usize::try_from(n).ok())?;
+            let name_end = (body + 32).checked_add(name_len).filter(|&e| e <= end)?;
+            let name = &bytes[body + 32..name_end];
+            let compressed = u64_at(name_end).and_then(|c| usize::try_from(c).ok());
+            if name != b"zstd" {
+                let shown = String::from_utf8_lossy(name).chars().take(16).collect::<String>();
+                return Some((pos, format!("a chunk compressed with \"{shown}\" (PAROL6 Studio writes zstd only)")));
+            }
+            if compressed.and_then(|c| (name_end + 8).checked_add(c)) != Some(end) {
+                return Some((pos, "a chunk whose sizes do not add up".to_string()));
+            }
+        }
+        pos = end;
+    }
+    None
 }
 
 fn samples(rec: &Recording) -> u64 {

@@ -124,3 +124,20 @@ fn another_robot_is_refused_by_name() {
     let e = rec.check_robot(&other).expect_err("other robot");
     assert!(e.to_string().contains("\"parol6\" (6 joints), not of \"two\" (2 joints)"), "{e}");
 }
+
+/// Found by the fuzzer: an uncompressed chunk whose inner record overruns the chunk made the
+/// mcap crate's reader subtract with overflow. Such chunks are refused by name now.
+#[test]
+fn a_chunk_we_never_write_stops_reading_with_a_warning() {
+    let mut bytes = recording_bytes(1500);
+    // rename the first chunk's compression "zstd" to "none" (same length: sizes still add up)
+    let at = bytes.windows(4).position(|w| w == b"zstd").expect("a zstd chunk");
+    bytes[at..at + 4].copy_from_slice(b"none");
+    match read_recording(&bytes) {
+        Ok(rec) => {
+            assert!(rec.warnings.iter().any(|w| w.contains("compressed with \"none\"")), "{:?}", rec.warnings);
+            assert!(rec.measured.is_empty());
+        }
+        Err(e) => assert!(matches!(e, RecordingError::NotOurs(_) | RecordingError::Damaged { .. }), "{e}"),
+    }
+}

@@ -247,8 +247,8 @@ fn first_foreign_chunk(bytes: &[u8]) -> Option<(usize, String)> {
         let body = pos + 9;
         let end = usize::try_from(len).ok().and_then(|l| body.checked_add(l))?;
         if end > bytes.len() {
-            // cut short: the reader reports that
-            return None;
+            // cut short; a chunk cut short is never read (the mcap reader would start on it)
+            return (op == CHUNK).then(|| (pos, "the file is cut short inside a chunk".to_string()));
         }
         if op == CHUNK {
             // start and end time, uncompressed size and CRC, then the compression name

@@ -8,7 +8,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use mcap::records::Record;
+use mcap::records::{Record, op};
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::model::RobotModel;
@@ -18,6 +18,9 @@ use super::schema::{self, JointStateMsg, LogMsg};
 /// Largest record (a decompressed chunk included) read from a file smaller than this: our
 /// chunks close at 8 MiB; a damaged length field must not make the reader allocate more.
 const MAX_RECORD_BYTES: usize = 64 << 20;
+
+/// The records the reader parses: footer, schema, channel, message, metadata.
+const READ_OPCODES: [u8; 5] = [op::FOOTER, op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
 
 /// Why a file is not a recording we can read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -197,6 +200,11 @@ pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) 
             }
             LinearReadEvent::Record { opcode, data } => {
                 any_record = true;
+                // only the records we use are parsed: the mcap crate's attachment parser panics
+                // on a short attachment record (found by the fuzzer)
+                if !READ_OPCODES.contains(&opcode) {
+                    continue;
+                }
                 match mcap::parse_record(opcode, data) {
                     Ok(Record::Footer(_)) => saw_footer = true,
                     Ok(r) => take_record(r, &mut ids, &mut rec, visit),

@@ -6,7 +6,7 @@
 
 mod cli_support;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use cli_support::run;
 
@@ -14,7 +14,7 @@ fn temp(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("parol6-cli-telemetry-{}-{name}", std::process::id()))
 }
 
-fn s(p: &PathBuf) -> String {
+fn s(p: &Path) -> String {
     p.display().to_string()
 }
 

@@ -2,6 +2,8 @@
 //! the MCAP writer (JSON, zstd chunks); then `recorder_10_min` pushes ten minutes of 1 kHz
 //! samples (600 000) through a running [`Recorder`] writing a file, and prints the recorder
 //! thread's CPU time as a share of one core over those ten minutes of real time.
+
+#![allow(clippy::expect_used)] // a failed setup ends the benchmark with its reason
 use std::hint::black_box;
 use std::io::Cursor;
 use std::time::{Duration, Instant};

@@ -4,7 +4,8 @@
 //! Rules: a trailing `# comment` is not part of the command; lines with no subcommand start
 //! the GUI, which cannot open a window here, so they are checked with `--help` appended (their
 //! options must parse); `screenshot` writes its picture into a temporary folder instead of the
-//! file name printed; `hw emulate` gets `quit` on stdin. The README's hardware examples use
+//! file name printed, and `record`, `mcap` and `--record` their `.mcap` / `.csv` files there too;
+//! `hw emulate` gets `quit` on stdin. The README's hardware examples use
 //! `--fake-robot` (the built-in emulator), so they run without a PAROL6.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
@@ -13,7 +14,7 @@ mod cli_support;
 
 use std::time::Duration;
 
-const SUBCOMMANDS: [&str; 6] = ["fk", "ik", "dynamics", "screenshot", "hw", "bench"];
+const SUBCOMMANDS: [&str; 8] = ["fk", "ik", "dynamics", "screenshot", "hw", "bench", "record", "mcap"];
 
 /// The `parol6 …` lines of the README's fenced code blocks, without trailing comments.
 fn readme_commands() -> Vec<String> {
@@ -54,6 +55,9 @@ fn readme_commands_run_as_printed() {
             && let Some(out) = args.get_mut(i + 1)
         {
             *out = tmp.join(out.as_str()).display().to_string();
+        }
+        for arg in args.iter_mut().filter(|a| a.ends_with(".mcap") || a.ends_with(".csv")) {
+            *arg = tmp.join(arg.as_str()).display().to_string();
         }
         let run = cli_support::run_in(cli_support::workspace_root(), &args, Duration::from_secs(180));
         run.assert_no_panic(command);

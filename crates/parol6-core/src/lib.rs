@@ -6,10 +6,13 @@
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
 //! planner, the [`motion::RobotBackend`] trait, pre-flight validation of planned programs in
-//! [`motion::preflight`]), the keep-out shapes of the robot's surroundings ([`scene`]), the
-//! PAROL6 facts of the reference pack ([`parol6`]), the size / nesting bounds every URDF text
-//! passes before parsing ([`urdf_input`]), and sample statistics with one percentile rule
-//! ([`stats`]).
+//! [`motion::preflight`]), robot programs ([`program`]: steps, the native file format,
+//! compiling, pre-flight and the runner thread), the keep-out shapes of the robot's
+//! surroundings ([`scene`]), the PAROL6 facts of the reference pack ([`parol6`]), the size /
+//! nesting bounds every URDF text passes before parsing ([`urdf_input`]), sample statistics
+//! with one percentile rule ([`stats`]), and telemetry ([`telemetry`]: the recorder thread with
+//! its live ring buffer, MCAP files for Foxglove / Lichtblick, and the reader of our own
+//! recordings).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -27,6 +30,7 @@ pub mod program;
 pub mod scene;
 pub mod sim;
 pub mod stats;
+pub mod telemetry;
 pub mod urdf_input;
 
 pub use ik::{IkError, IkSolution};

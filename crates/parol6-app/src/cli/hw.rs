@@ -7,7 +7,13 @@
 //! homed at standby, started in-process for the one command).
 
 use std::io::BufRead;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+use crossbeam_channel::Sender;
+use parol6_core::model::PAROL6_URDF;
+use parol6_core::motion::MotionSample;
+use parol6_core::{RobotModel, Tool};
 
 use parol6_core::profile::ProfileKind;
 use parol6_hw::HwError;
@@ -19,6 +25,7 @@ use serde_json::json;
 use super::kin::parse_list;
 use super::options::{ConnectArgs, f64_above, f64_within};
 use super::output::print_line;
+use super::record::{Telemetry, link_health};
 use super::{CliError, CliResult, print_json};
 
 /// How long to wait for the first status frame.
@@ -74,6 +81,9 @@ pub enum HwCommand {
         /// Duration, s, > 0 and ≤ 60.
         #[arg(long, value_parser = f64_above(0.0, 60.0))]
         seconds: f64,
+        /// Record the session to this MCAP file.
+        #[arg(long, value_name = "OUT.mcap")]
+        record: Option<PathBuf>,
     },
     /// Move to a joint pose along the synchronised profile.
     Move {
@@ -93,6 +103,9 @@ pub enum HwCommand {
         /// Jerk-limited (quintic) instead of trapezoidal profile.
         #[arg(long)]
         smooth: bool,
+        /// Record the session to this MCAP file.
+        #[arg(long, value_name = "OUT.mcap")]
+        record: Option<PathBuf>,
     },
     /// Run the controller emulator on a pseudo-terminal; prints its path first.
     /// Stdin commands: `estop on|off`, `in1 on|off`, `in2 on|off`, `mute on|off`, `state`, `quit`.
@@ -144,7 +157,13 @@ pub(crate) struct Link {
     pub(crate) emulator: Option<EmulatorHandle>,
 }
 
-pub(crate) fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliError> {
+/// Opens the controller of `connect` (the emulator with `--fake-robot`), with an optional
+/// telemetry tap, and waits for its first status.
+pub(crate) fn open(
+    connect: &ConnectArgs,
+    rate: &RateArgs,
+    tap: Option<Sender<MotionSample>>,
+) -> Result<Link, CliError> {
     let config = SessionConfig { rate_hz: rate.rate, ..SessionConfig::default() };
     let emulator = if connect.fake_robot {
         Some(
@@ -155,9 +174,9 @@ pub(crate) fn open(connect: &ConnectArgs, rate: &RateArgs) -> Result<Link, CliEr
         None
     };
     let session = match (&emulator, &connect.port) {
-        (Some(emu), _) => Session::open(emu.path(), config),
-        (None, Some(p)) => Session::open(p, config),
-        (None, None) => Session::open_auto(config),
+        (Some(emu), _) => Session::open_with_tap(emu.path(), config, tap),
+        (None, Some(p)) => Session::open_with_tap(p, config, tap),
+        (None, None) => parol6_hw::find_parol6_port().and_then(|p| Session::open_with_tap(&p, config, tap)),
     }
     .map_err(hw_err)?;
     if session.wait_connected(CONNECT_TIMEOUT).is_err() {
@@ -229,7 +248,7 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
             print_json(&json!({ "ports": ports }))
         }
         HwCommand::Status(rate) => {
-            let link = open(connect, rate)?;
+            let link = open(connect, rate, None)?;
             let s = link.session.wait_until(Duration::from_secs(2), |s| s.status_frames >= 3).map_err(hw_err)?;
             let mut out = s.to_json();
             let (enabled, basis) = enabled_json(&s);
@@ -240,7 +259,7 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
         HwCommand::Enable(rate) => send_latch(connect, rate, "enable", CommandCode::Enable, Session::enable),
         HwCommand::Disable(rate) => send_latch(connect, rate, "disable", CommandCode::Disable, Session::disable),
         HwCommand::Home(rate) => {
-            let link = open(connect, rate)?;
+            let link = open(connect, rate, None)?;
             let t0 = Instant::now();
             link.session.home_blocking().map_err(hw_err)?;
             let s = link.session.snapshot();
@@ -248,13 +267,54 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
                 "command": "home", "ok": true, "seconds": t0.elapsed().as_secs_f64(), "state": summary(&s)
             }))
         }
-        HwCommand::Jog { rate, joint, speed, seconds } => jog(connect, rate, *joint, *speed, *seconds),
-        HwCommand::Move { rate, joints, deg, speed, smooth } => move_to(connect, rate, joints, *deg, *speed, *smooth),
+        HwCommand::Jog { rate, joint, speed, seconds, record } => {
+            recorded(record.as_deref(), |tap, t| jog(connect, rate, *joint, *speed, *seconds, tap, t))
+        }
+        HwCommand::Move { rate, joints, deg, speed, smooth, record } => {
+            let target = MoveTarget { joints, deg: *deg, speed: *speed, smooth: *smooth };
+            recorded(record.as_deref(), |tap, t| move_to(connect, rate, &target, tap, t))
+        }
         HwCommand::Emulate { homed, home_seconds } => emulate(*homed, *home_seconds),
     }
 }
 
-fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: f64) -> CliResult {
+/// Runs `body` with a recorder when `record` names a file, and prints its JSON with the
+/// recording's summary added.
+fn recorded(
+    record: Option<&Path>,
+    body: impl FnOnce(Option<Sender<MotionSample>>, Option<&Telemetry>) -> Result<serde_json::Value, CliError>,
+) -> CliResult {
+    let telemetry = match record {
+        Some(p) => Some(Telemetry::start(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p)?),
+        None => None,
+    };
+    let mut out = body(telemetry.as_ref().map(Telemetry::tap), telemetry.as_ref())?;
+    if let Some(t) = telemetry {
+        out["recording"] = t.finish()?;
+    }
+    print_json(&out)
+}
+
+/// Runs `body`, feeding the session's state and link health to the recorder meanwhile.
+fn fed<R>(telemetry: Option<&Telemetry>, session: &Session, body: impl FnOnce() -> R) -> R {
+    match telemetry {
+        Some(t) => {
+            let poll = || (session.robot_state(), Some(link_health(&session.snapshot())));
+            t.feed_while(&poll, body)
+        }
+        None => body(),
+    }
+}
+
+fn jog(
+    connect: &ConnectArgs,
+    rate: &RateArgs,
+    joint: u64,
+    speed: f64,
+    seconds: f64,
+    tap: Option<Sender<MotionSample>>,
+    telemetry: Option<&Telemetry>,
+) -> Result<serde_json::Value, CliError> {
     let joint_index = match joint {
         1..=6 => (joint - 1) as usize,
         _ => return Err(CliError::usage(format!("--joint must be 1–6 (got {joint})"))),
@@ -266,9 +326,24 @@ fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: 
     if !(speed.is_finite() && (-1.0..=1.0).contains(&speed)) {
         return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
     }
-    let link = open(connect, rate)?;
+    let link = open(connect, rate, tap)?;
     let session = &link.session;
     let start = session.snapshot();
+    let stopped_at_limit = fed(telemetry, session, || jog_for(session, joint_index, speed, duration))?;
+    let s = session.snapshot();
+    if s.link != LinkState::Connected {
+        return Err(CliError::runtime(format!("link lost during the jog: {}", s.fault.clone().unwrap_or_default())));
+    }
+    Ok(json!({
+        "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "stopped_at_limit": stopped_at_limit,
+        "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        "state": summary(&s),
+    }))
+}
+
+/// Jogs for `duration` (or until the joint reaches its limit: returns true), then releases.
+fn jog_for(session: &Session, joint_index: usize, speed: f64, duration: Duration) -> Result<bool, CliError> {
     let end = Instant::now() + duration;
     let mut stopped_at_limit = false;
     session.jog(joint_index, speed).map_err(hw_err)?;
@@ -291,19 +366,25 @@ fn jog(connect: &ConnectArgs, rate: &RateArgs, joint: u64, speed: f64, seconds: 
     }
     session.jog_release().map_err(hw_err)?;
     std::thread::sleep(Duration::from_millis(300));
-    let s = session.snapshot();
-    if s.link != LinkState::Connected {
-        return Err(CliError::runtime(format!("link lost during the jog: {}", s.fault.clone().unwrap_or_default())));
-    }
-    print_json(&json!({
-        "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "stopped_at_limit": stopped_at_limit,
-        "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
-        "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
-        "state": summary(&s),
-    }))
+    Ok(stopped_at_limit)
 }
 
-fn move_to(connect: &ConnectArgs, rate: &RateArgs, joints: &str, deg: bool, speed: f64, smooth: bool) -> CliResult {
+/// The arguments of `hw move`.
+struct MoveTarget<'a> {
+    joints: &'a str,
+    deg: bool,
+    speed: f64,
+    smooth: bool,
+}
+
+fn move_to(
+    connect: &ConnectArgs,
+    rate: &RateArgs,
+    target: &MoveTarget<'_>,
+    tap: Option<Sender<MotionSample>>,
+    telemetry: Option<&Telemetry>,
+) -> Result<serde_json::Value, CliError> {
+    let MoveTarget { joints, deg, speed, smooth } = *target;
     let mut goal = parse_list("--joints", joints, Some(6))?;
     if deg {
         goal.iter_mut().for_each(|v| *v = v.to_radians());
@@ -315,7 +396,7 @@ fn move_to(connect: &ConnectArgs, rate: &RateArgs, joints: &str, deg: bool, spee
     if !(speed.is_finite() && (MIN_MOVE_SPEED..=1.0).contains(&speed)) {
         return Err(CliError::usage(format!("--speed must be within {MIN_MOVE_SPEED}…1 (got {speed})")));
     }
-    let link = open(connect, rate)?;
+    let link = open(connect, rate, tap)?;
     let session = &link.session;
     let start = session.snapshot();
     let plan =
@@ -323,8 +404,8 @@ fn move_to(connect: &ConnectArgs, rate: &RateArgs, joints: &str, deg: bool, spee
     let timeout = Duration::try_from_secs_f64(plan.duration_s() + 10.0)
         .map_err(|_| CliError::usage(format!("the move would take {} s", plan.duration_s())))?;
     let t0 = Instant::now();
-    let s = session.move_to_blocking(&goal, speed, kind, timeout).map_err(hw_err)?;
-    print_json(&json!({
+    let s = fed(telemetry, session, || session.move_to_blocking(&goal, speed, kind, timeout)).map_err(hw_err)?;
+    Ok(json!({
         "command": "move", "ok": true, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
         "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
         "state": summary(&s),
@@ -340,7 +421,7 @@ fn send_latch(
     code: CommandCode,
     op: fn(&Session) -> Result<(), HwError>,
 ) -> CliResult {
-    let link = open(connect, rate)?;
+    let link = open(connect, rate, None)?;
     let before = link.session.snapshot().frames_sent;
     op(&link.session).map_err(hw_err)?;
     wait_sent(&link.session, code, before)?;

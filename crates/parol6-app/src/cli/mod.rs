@@ -5,8 +5,8 @@
 //!
 //! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
-//! [`options`] (shared options and range checks), [`output`] (stdout/stderr), [`program`]
-//! (program check and run).
+//! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
+//! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run).
 
 use std::process::ExitCode;
 
@@ -18,9 +18,11 @@ pub mod gui;
 pub mod hw;
 pub mod hw_bench;
 pub mod kin;
+pub mod mcap;
 pub mod options;
 pub mod output;
 pub mod program;
+pub mod record;
 pub mod render;
 pub mod sim;
 
@@ -95,6 +97,10 @@ pub enum Command {
     Dynamics(sim::DynamicsArgs),
     /// Robot programs: pre-flight check and run (simulation, emulator or robot).
     Program(program::ProgramArgs),
+    /// Record the simulation (default) or the controller (--port / --fake-robot) to an MCAP file.
+    Record(record::RecordArgs),
+    /// Read MCAP recordings: info (JSON), csv.
+    Mcap(mcap::McapArgs),
 }
 
 impl Cli {
@@ -109,19 +115,24 @@ impl Cli {
             Some(Command::Bench(b)) => format!("bench {}", b.target.name()),
             Some(Command::Hw(h)) => format!("hw {}", h.command.name()),
             Some(Command::Program(p)) => format!("program {}", p.command.name()),
+            Some(Command::Record(_)) => "record".into(),
+            Some(Command::Mcap(m)) => format!("mcap {}", m.command.name()),
         }
     }
 
     /// Refuses global options the chosen subcommand does not use (they would be ignored).
     pub fn check_global_options(&self) -> CliResult {
         let uses_robot = match &self.command {
-            None | Some(Command::Fk(_) | Command::Ik(_) | Command::Dynamics(_) | Command::Screenshot(_)) => true,
+            None
+            | Some(
+                Command::Fk(_) | Command::Ik(_) | Command::Dynamics(_) | Command::Screenshot(_) | Command::Record(_),
+            ) => true,
             Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
-            Some(Command::Hw(_)) => false,
+            Some(Command::Hw(_) | Command::Mcap(_)) => false,
             Some(Command::Program(_)) => true,
         };
         let uses_connection = match &self.command {
-            None => true,
+            None | Some(Command::Record(_)) => true,
             Some(Command::Hw(h)) => h.command.talks_to_controller(),
             Some(Command::Program(p)) => p.command.talks_to_controller(),
             Some(_) => false,
@@ -176,5 +187,7 @@ fn run(cli: &Cli) -> CliResult {
         Some(Command::Screenshot(a)) => render::run_screenshot(a, &cli.robot),
         Some(Command::Dynamics(a)) => sim::run_dynamics(a, &cli.robot),
         Some(Command::Program(a)) => program::run(a, &cli.robot, &cli.connect),
+        Some(Command::Record(a)) => record::run(a, &cli.robot, &cli.connect),
+        Some(Command::Mcap(a)) => mcap::run(a),
     }
 }

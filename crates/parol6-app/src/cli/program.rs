@@ -7,14 +7,16 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use parol6_core::RobotModel;
-use parol6_core::motion::RobotBackend;
+use parol6_core::motion::{RobotBackend, RobotState};
 use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
 use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::program::{Program, json};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
+use parol6_core::telemetry::LinkHealth;
 
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_above};
+use super::record::{Telemetry, link_health, tool_of, urdf_text};
 use super::{CliError, CliResult, print_json};
 
 /// Simulated seconds per wall second of a headless run without `--realtime`; the simulation
@@ -55,6 +57,9 @@ pub enum ProgramCommand {
         /// Run the simulation in real time.
         #[arg(long)]
         realtime: bool,
+        /// Record the run to this MCAP file (Foxglove / Lichtblick; `parol6 mcap info|csv`).
+        #[arg(long, value_name = "OUT.mcap")]
+        record: Option<PathBuf>,
         /// Session settings (robot only).
         #[command(flatten)]
         rate: RateArgs,
@@ -94,45 +99,93 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
         }
-        ProgramCommand::Run { file, speed, realtime, rate } => {
+        ProgramCommand::Run { file, speed, realtime, rate, record } => {
             let model = robot.load()?;
             let program = load(file)?;
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
-            if connect.port.is_some() || connect.fake_robot {
-                if *realtime {
-                    return Err(CliError::usage(
-                        "--realtime applies to the simulation; the robot always runs in real time",
-                    ));
+            let robot_link = connect.port.is_some() || connect.fake_robot;
+            if robot_link && *realtime {
+                return Err(CliError::usage(
+                    "--realtime applies to the simulation; the robot always runs in real time",
+                ));
+            }
+            let telemetry = match record {
+                Some(path) => {
+                    Some(Telemetry::start_for_program(&model, tool_of(robot), &urdf_text(robot)?, path, &program.name)?)
                 }
+                None => None,
+            };
+            let tap = telemetry.as_ref().map(Telemetry::tap);
+            let mut summary = if robot_link {
                 // the session is dropped before the emulator behind it
-                let link = open(connect, rate)?;
+                let link = open(connect, rate, tap)?;
                 let _emulator = link.emulator;
-                let session: Arc<dyn RobotBackend> = Arc::new(link.session);
-                run_on(session, model, program, opts)
+                let session = Arc::new(link.session);
+                let poll = || (session.robot_state(), Some(link_health(&session.snapshot())));
+                run_on(Arc::clone(&session) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             } else {
                 let time_scale = if *realtime { 1.0 } else { HEADLESS_TIME_SCALE };
                 let config = SimConfig { mode: SimMode::Dynamic, time_scale, ..SimConfig::default() };
-                let sim = SimHandle::spawn(model.clone(), config).map_err(CliError::usage)?;
-                run_on(Arc::new(sim), model, program, opts)
+                let sim = Arc::new(SimHandle::spawn_with_tap(model.clone(), config, tap).map_err(CliError::usage)?);
+                let poll = || (sim.state(), None);
+                run_on(Arc::clone(&sim) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
+            };
+            if let Some(t) = telemetry {
+                summary.json["recording"] = t.finish()?;
             }
+            print_json(&summary.json)?;
+            summary.outcome
         }
     }
 }
 
-fn run_on(backend: Arc<dyn RobotBackend>, model: RobotModel, program: Program, opts: RunOptions) -> CliResult {
+/// The summary of a run and how the command ends.
+struct RunSummary {
+    json: serde_json::Value,
+    outcome: CliResult,
+}
+
+type StatePoll<'a> = dyn Fn() -> (Arc<RobotState>, Option<LinkHealth>) + Sync + 'a;
+
+fn run_on(
+    backend: Arc<dyn RobotBackend>,
+    model: RobotModel,
+    program: Program,
+    opts: RunOptions,
+    telemetry: Option<&Telemetry>,
+    poll: &StatePoll<'_>,
+) -> RunSummary {
     let name = backend.state().backend.clone();
     let wall = Instant::now();
-    let runner = ProgramRunner::start(Arc::clone(&backend), model, program, opts)
-        .map_err(|e| CliError::runtime(format!("cannot start the program thread: {e}")))?;
-    // a progress line on stderr while it runs (ends with the summary on stdout)
-    let mut last = Instant::now();
-    while !runner.progress().state.is_finished() {
-        std::thread::sleep(Duration::from_millis(20));
-        if last.elapsed() >= Duration::from_secs(1) {
-            let p = runner.progress();
-            super::output::progress(format!("step {} of {}, {:.1} s left", p.step + 1, p.steps, p.time_left_s));
-            last = Instant::now();
+    let runner = match ProgramRunner::start(Arc::clone(&backend), model, program, opts) {
+        Ok(r) => r,
+        Err(e) => {
+            let outcome = Err(CliError::runtime(format!("cannot start the program thread: {e}")));
+            return RunSummary { json: serde_json::Value::Null, outcome };
         }
+    };
+    // a progress line on stderr while it runs; the program step goes into the recording
+    let wait = || {
+        let mut last = Instant::now();
+        let mut step = None;
+        while !runner.progress().state.is_finished() {
+            std::thread::sleep(Duration::from_millis(20));
+            let p = runner.progress();
+            if let Some(t) = telemetry
+                && step != Some(p.step)
+            {
+                step = Some(p.step);
+                t.set_program_step(step);
+            }
+            if last.elapsed() >= Duration::from_secs(1) {
+                super::output::progress(format!("step {} of {}, {:.1} s left", p.step + 1, p.steps, p.time_left_s));
+                last = Instant::now();
+            }
+        }
+    };
+    match telemetry {
+        Some(t) => t.feed_while(poll, wait),
+        None => wait(),
     }
     let p = runner.join();
     let (state, failure) = match &p.state {
@@ -141,7 +194,7 @@ fn run_on(backend: Arc<dyn RobotBackend>, model: RobotModel, program: Program, o
         RunState::Failed(why) => ("failed", Some(why.clone())),
         _ => ("ended", None),
     };
-    print_json(&serde_json::json!({
+    let json = serde_json::json!({
         "program": p.name,
         "backend": name,
         "state": state,
@@ -152,8 +205,8 @@ fn run_on(backend: Arc<dyn RobotBackend>, model: RobotModel, program: Program, o
         "duration_s": p.clock_s.1 - p.clock_s.0,
         "wall_s": wall.elapsed().as_secs_f64(),
         "max_tracking_error_deg": p.max_tracking_error_rad.to_degrees(),
-    }))?;
-    match failure {
+    });
+    let outcome = match failure {
         None => Ok(()),
         Some(why) => {
             let refused = why.starts_with("pre-flight")
@@ -163,7 +216,8 @@ fn run_on(backend: Arc<dyn RobotBackend>, model: RobotModel, program: Program, o
                 || why.starts_with("step ");
             Err(if refused { CliError::usage(why) } else { CliError::runtime(why) })
         }
-    }
+    };
+    RunSummary { json, outcome }
 }
 
 /// Reads a program file; errors name the file and where in it.

@@ -119,6 +119,28 @@ pub struct MotionSample {
     pub commanded: Setpoint,
     /// Measured joint positions at this tick, rad.
     pub measured_q: Vec<f64>,
+    /// Measured joint velocities at this tick, rad/s.
+    pub measured_qd: Vec<f64>,
+    /// What drives each joint at this tick.
+    pub drive: JointDrive,
+}
+
+/// What drives the joints, per joint: what a backend knows about its actuators.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum JointDrive {
+    /// Joint torques of the simulation (inverse dynamics of the measured motion), N·m.
+    TorqueNm(Vec<f64>),
+    /// Step rates the controller reports, steps/s.
+    StepsPerS(Vec<f64>),
+}
+
+impl JointDrive {
+    /// The per-joint values (N·m or steps/s).
+    pub fn values(&self) -> &[f64] {
+        match self {
+            JointDrive::TorqueNm(v) | JointDrive::StepsPerS(v) => v,
+        }
+    }
 }
 
 /// Why a backend refused a command.

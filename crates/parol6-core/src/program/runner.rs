@@ -189,6 +189,7 @@ impl ProgramRunner {
                 abort: &a,
                 single: false,
                 exec_cpu_ns: None,
+                last_end_s: 0.0,
             };
             run.run(&model, &program, opts);
         })?;
@@ -254,6 +255,8 @@ struct Run<'a> {
     single: bool,
     /// Thread CPU time when the first step was scheduled (planning excluded), ns.
     exec_cpu_ns: Option<u64>,
+    /// Motion clock at which the last finished step ended (as scheduled), s.
+    last_end_s: f64,
 }
 
 /// A step scheduled on the motion clock.
@@ -277,7 +280,9 @@ impl Run<'_> {
             self.publish(|p| p.passes += 1);
             outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
         }
-        let end = self.backend.state().time_s;
+        // a finished run ends when its last step was scheduled to end (not when this thread
+        // noticed); an interrupted one when it stopped
+        let end = if outcome.is_ok() { self.last_end_s } else { self.backend.state().time_s };
         let state = match outcome {
             Ok(()) => RunState::Done,
             Err(Halt::Stopped | Halt::Aborted) => RunState::Stopped,
@@ -457,8 +462,9 @@ impl Run<'_> {
         }
     }
 
-    fn finish_slot(&self, slots: &mut VecDeque<Slot>, compiled: &[CompiledStep]) {
+    fn finish_slot(&mut self, slots: &mut VecDeque<Slot>, compiled: &[CompiledStep]) {
         if let Some(done) = slots.pop_front() {
+            self.last_end_s = done.end_s;
             let c = &compiled[done.index];
             self.publish(|p| {
                 p.steps_done = c.steps.end;
@@ -588,6 +594,7 @@ impl Run<'_> {
                 return Err(Halt::Stopped);
             }
             if s.mode == PlannerMode::Hold && !s.moving {
+                self.last_end_s = s.time_s;
                 break;
             }
         }

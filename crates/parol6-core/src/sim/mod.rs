@@ -20,8 +20,8 @@ use crossbeam_channel::Sender;
 use crate::limits::LimitPolicy;
 use crate::model::RobotModel;
 use crate::motion::{
-    JogKinematics, MotionCaps, MotionCommand, MotionPlanner, MotionSample, Setpoint, cartesian_jog::JogObstacleCheck,
-    home_position,
+    JogKinematics, JointDrive, MotionCaps, MotionCommand, MotionPlanner, MotionSample, Setpoint,
+    cartesian_jog::JogObstacleCheck, home_position,
 };
 
 pub mod collision;
@@ -425,12 +425,18 @@ impl Simulation {
             }
         }
         self.steps += 1;
+        if self.tap.is_some() {
+            // the torques of this step (inverse dynamics of the measured motion), only when tapped
+            self.update_torques();
+        }
         if let Some(tap) = &self.tap {
             let sample = MotionSample {
                 seq: self.steps,
                 time_s: self.sim_time_s(),
                 commanded: self.sp.clone(),
                 measured_q: self.q.clone(),
+                measured_qd: self.qd.clone(),
+                drive: JointDrive::TorqueNm(self.torques.clone()),
             };
             if tap.try_send(sample).is_err() {
                 self.tap_dropped += 1;

@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use parol6_core::limits::ZoneThresholds;
-use parol6_core::motion::{IoState, MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
+use parol6_core::motion::{IoState, JointDrive, MotionSample, PlannerMode, RobotState, Setpoint, StateSource};
 
 use super::super::snapshot::LinkState;
 use super::{TIMING_WINDOW, Worker};
@@ -58,6 +58,8 @@ impl Worker {
                 time_s: t_s,
                 commanded: state.commanded.clone(),
                 measured_q: state.q.clone(),
+                measured_qd: state.qd.clone(),
+                drive: JointDrive::StepsPerS(self.snap.joint_speed_steps_s.iter().map(|&v| f64::from(v)).collect()),
             });
         }
         self.shared.state.store(Arc::new(state));

@@ -1,0 +1,234 @@
+//! `parol6 mcap info FILE` and `parol6 mcap csv FILE -o OUT.csv`: our MCAP recordings from the
+//! command line. A truncated file is read as far as its complete chunks (with a warning on
+//! stderr); an empty, garbage or foreign file is refused with exit status 2; a file that
+//! cannot be read or written is status 1.
+
+use std::collections::VecDeque;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use parol6_core::telemetry::reader::{Recording, scan_recording};
+use parol6_core::telemetry::schema::JointStateMsg;
+use serde_json::json;
+
+use super::{CliError, CliResult, print_json, warn};
+
+/// Arguments of `parol6 mcap`.
+#[derive(Debug, clap::Args)]
+pub struct McapArgs {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: McapCommand,
+}
+
+/// `parol6 mcap` subcommands.
+#[derive(Debug, clap::Subcommand)]
+pub enum McapCommand {
+    /// Topics with message counts, duration and start/end times of a recording (JSON).
+    Info {
+        /// The recording (.mcap).
+        file: PathBuf,
+    },
+    /// One CSV row per joint-state sample: commanded and measured joints, units in the column names.
+    Csv {
+        /// The recording (.mcap).
+        file: PathBuf,
+        /// Output CSV file.
+        #[arg(short = 'o', long = "output", value_name = "OUT.csv")]
+        output: PathBuf,
+    },
+}
+
+impl McapCommand {
+    /// The subcommand's name on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Info { .. } => "info",
+            Self::Csv { .. } => "csv",
+        }
+    }
+}
+
+/// Runs `parol6 mcap`.
+pub fn run(args: &McapArgs) -> CliResult {
+    match &args.command {
+        McapCommand::Info { file } => info(file),
+        McapCommand::Csv { file, output } => csv(file, output),
+    }
+}
+
+fn read_file(file: &Path) -> Result<Vec<u8>, CliError> {
+    std::fs::read(file).map_err(|e| CliError::runtime(format!("cannot read {}: {e}", file.display())))
+}
+
+fn scan(file: &Path, visit: &mut dyn FnMut(&str, JointStateMsg)) -> Result<Recording, CliError> {
+    let bytes = read_file(file)?;
+    let rec = scan_recording(&bytes, visit).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
+    for w in &rec.warnings {
+        warn(format!("{}: {w}", file.display()));
+    }
+    Ok(rec)
+}
+
+fn info(file: &Path) -> CliResult {
+    let rec = scan(file, &mut |_, _| {})?;
+    let topics: serde_json::Map<String, serde_json::Value> =
+        rec.topics.iter().map(|(t, s)| (t.clone(), json!({"messages": s.messages, "schema": s.schema}))).collect();
+    let (start, end) = rec.span_ns.map_or((None, None), |(a, b)| (Some(a as f64 * 1e-9), Some(b as f64 * 1e-9)));
+    print_json(&json!({
+        "file": file.display().to_string(),
+        "robot": rec.robot(),
+        "joints": rec.joint_names,
+        "app_version": rec.metadata.get("app_version"),
+        "tool": rec.metadata.get("tool"),
+        "program": rec.metadata.get("program"),
+        "topics": topics,
+        "samples": rec.topics.get("/joint_states").map_or(0, |t| t.messages),
+        "duration_s": rec.duration_s(),
+        "start_unix_s": start,
+        "end_unix_s": end,
+        "truncated": rec.truncated,
+        "warnings": rec.warnings,
+    }))
+}
+
+/// The CSV header for `n` joints: time, tick, then per quantity every joint (commanded, then
+/// measured), the drive, program step and worst zone.
+pub fn csv_header(n: usize) -> String {
+    let mut cols = vec!["t_s".to_string(), "seq".to_string()];
+    for unit in ["rad", "rad_s", "rad_s2"] {
+        for side in ["cmd", "meas"] {
+            cols.extend((1..=n).map(|j| format!("j{j}_{side}_{unit}")));
+        }
+    }
+    cols.extend((1..=n).map(|j| format!("j{j}_effort_nm")));
+    cols.extend((1..=n).map(|j| format!("j{j}_steps_s")));
+    cols.push("program_step".into());
+    cols.push("worst_zone_joint".into());
+    cols.push("worst_zone".into());
+    cols.join(",")
+}
+
+fn push_values(line: &mut String, values: &[f64], n: usize) {
+    for j in 0..n {
+        line.push(',');
+        if let Some(v) = values.get(j).filter(|v| v.is_finite()) {
+            line.push_str(&v.to_string());
+        }
+    }
+}
+
+/// One CSV row of a measured / commanded pair; `t0_s` is the first sample's motion time.
+pub fn csv_row(meas: &JointStateMsg, cmd: &JointStateMsg, t0_s: f64, n: usize) -> String {
+    let mut line = format!("{},{}", meas.time_s - t0_s, meas.seq);
+    push_values(&mut line, &cmd.position, n);
+    push_values(&mut line, &meas.position, n);
+    push_values(&mut line, &cmd.velocity, n);
+    push_values(&mut line, &meas.velocity, n);
+    push_values(&mut line, &cmd.acceleration, n);
+    push_values(&mut line, &meas.acceleration, n);
+    push_values(&mut line, &meas.effort, n);
+    push_values(&mut line, meas.steps_per_s.as_deref().unwrap_or(&[]), n);
+    line.push(',');
+    if let Some(step) = meas.program_step {
+        line.push_str(&step.to_string());
+    }
+    match &meas.worst_zone {
+        Some(z) => line.push_str(&format!(",{},{}", z.joint + 1, z.zone)),
+        None => line.push_str(",,safe"),
+    }
+    line
+}
+
+fn csv(file: &Path, output: &Path) -> CliResult {
+    let out_err = |e: std::io::Error| CliError::runtime(format!("cannot write {}: {e}", output.display()));
+    let out = std::fs::File::create(output).map_err(out_err)?;
+    let mut out = std::io::BufWriter::new(out);
+    let mut pending: VecDeque<JointStateMsg> = VecDeque::new();
+    let mut rows = 0u64;
+    let mut unpaired = 0u64;
+    let mut t0_s: Option<f64> = None;
+    let mut n: Option<usize> = None;
+    let mut write_error: Option<std::io::Error> = None;
+    let mut visit = |topic: &str, m: JointStateMsg| {
+        if write_error.is_some() {
+            return;
+        }
+        if topic == "/joint_states" {
+            pending.push_back(m);
+            // measured and commanded of a tick are written together; keep a few, never many
+            while pending.len() > 16 {
+                pending.pop_front();
+                unpaired += 1;
+            }
+            return;
+        }
+        let Some(i) = pending.iter().position(|p| p.seq == m.seq) else {
+            unpaired += 1;
+            return;
+        };
+        unpaired += i as u64;
+        let meas = pending.drain(..=i).next_back();
+        let Some(meas) = meas else { return };
+        let joints = *n.get_or_insert(meas.name.len());
+        let result = (|| {
+            if rows == 0 {
+                writeln!(out, "{}", csv_header(joints))?;
+            }
+            writeln!(out, "{}", csv_row(&meas, &m, *t0_s.get_or_insert(meas.time_s), joints))
+        })();
+        match result {
+            Ok(()) => rows += 1,
+            Err(e) => write_error = Some(e),
+        }
+    };
+    let rec = scan(file, &mut visit);
+    if let Some(e) = write_error {
+        return Err(out_err(e));
+    }
+    let rec = rec?;
+    out.flush().map_err(out_err)?;
+    if rows == 0 {
+        warn(format!("{}: no joint-state samples; {} holds no rows", file.display(), output.display()));
+    }
+    print_json(&json!({
+        "file": file.display().to_string(),
+        "output": output.display().to_string(),
+        "rows": rows,
+        "unpaired_messages": unpaired + pending.len() as u64,
+        "robot": rec.robot(),
+        "truncated": rec.truncated,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn header_names_units_and_matches_the_rows() {
+        let h = csv_header(6);
+        assert!(h.starts_with("t_s,seq,j1_cmd_rad,j2_cmd_rad"), "{h}");
+        assert!(h.contains(",j1_meas_rad,") && h.contains(",j6_meas_rad_s2,") && h.contains(",j3_effort_nm,"));
+        let m = JointStateMsg {
+            header: parol6_core::telemetry::schema::Header {
+                stamp: parol6_core::telemetry::schema::Time::default(),
+                frame_id: "base_link".into(),
+            },
+            name: (1..=6).map(|j| format!("J{j}")).collect(),
+            position: vec![0.5; 6],
+            velocity: vec![0.0; 6],
+            effort: vec![],
+            acceleration: vec![0.0; 6],
+            seq: 7,
+            time_s: 1.25,
+            steps_per_s: Some(vec![100.0; 6]),
+            program_step: Some(3),
+            worst_zone: None,
+        };
+        let row = csv_row(&m, &m, 1.0, 6);
+        assert_eq!(row.split(',').count(), h.split(',').count(), "{row}");
+        assert!(row.starts_with("0.25,7,0.5,"), "{row}");
+        assert!(row.ends_with(",3,,safe"), "{row}");
+    }
+}

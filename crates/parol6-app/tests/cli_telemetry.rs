@@ -1,0 +1,115 @@
+//! `parol6 record`, `parol6 mcap info|csv` and `hw jog|move --record` through the built
+//! binary: what they write, and the exit status and message of bad input (2) and I/O
+//! failures (1).
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod cli_support;
+
+use std::path::{Path, PathBuf};
+
+use cli_support::run;
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("parol6-cli-telemetry-{}-{name}", std::process::id()))
+}
+
+fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
+#[test]
+fn record_the_simulation_then_info_and_csv() {
+    let file = temp("sim.mcap");
+    let out = run(&["record", "--seconds", "1", "-o", &s(&file), "--demo"]).json("record");
+    assert_eq!(out["source"], "simulation");
+    assert_eq!(out["missing_samples"], 0);
+    let samples = out["samples"].as_u64().unwrap();
+    assert!(samples >= 700, "{out}");
+
+    let info = run(&["mcap", "info", &s(&file)]).json("mcap info");
+    assert_eq!(info["samples"], samples);
+    assert_eq!(info["topics"]["/joint_states"]["messages"], samples);
+    assert_eq!(info["topics"]["/tf"]["schema"], "foxglove.FrameTransforms");
+    assert_eq!(info["robot"], "parol6");
+    assert!(info["duration_s"].as_f64().unwrap() > 0.5);
+    assert!(info["end_unix_s"].as_f64().unwrap() > info["start_unix_s"].as_f64().unwrap());
+
+    let csv = temp("sim.csv");
+    let out = run(&["mcap", "csv", &s(&file), "-o", &s(&csv)]).json("mcap csv");
+    assert_eq!(out["rows"], samples);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(&header[..3], ["t_s", "seq", "j1_cmd_rad"]);
+    assert!(header.contains(&"j6_meas_rad") && header.contains(&"j1_effort_nm"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len() as u64, samples);
+    assert!(rows.iter().all(|r| r.len() == header.len()));
+    assert_eq!(rows[0][0], "0");
+    let seqs: Vec<u64> = rows.iter().map(|r| r[1].parse().unwrap()).collect();
+    assert!(seqs.windows(2).all(|w| w[1] == w[0] + 1));
+    let _ = std::fs::remove_file(&file);
+    let _ = std::fs::remove_file(&csv);
+}
+
+#[test]
+fn hw_move_and_jog_record_the_fake_robot() {
+    let file = temp("move.mcap");
+    let out = run(&["hw", "move", "--joints", "80,-90,180,0,0,180", "--deg", "--fake-robot", "--record", &s(&file)])
+        .json("hw move --record");
+    assert_eq!(out["recording"]["missing_samples"], 0, "{out}");
+    assert!(out["recording"]["samples"].as_u64().unwrap() > 50, "{out}");
+    let info = run(&["mcap", "info", &s(&file)]).json("mcap info");
+    assert!(info["topics"]["/link"]["messages"].as_u64().unwrap() >= 1, "{info}");
+    let file2 = temp("jog.mcap");
+    let out = run(&[
+        "hw",
+        "jog",
+        "--joint",
+        "2",
+        "--speed",
+        "0.2",
+        "--seconds",
+        "0.5",
+        "--fake-robot",
+        "--record",
+        &s(&file2),
+    ])
+    .json("hw jog --record");
+    assert!(out["recording"]["samples"].as_u64().unwrap() > 30, "{out}");
+    record_the_fake_robot();
+    let _ = std::fs::remove_file(&file);
+    let _ = std::fs::remove_file(&file2);
+}
+
+fn record_the_fake_robot() {
+    let file = temp("robot.mcap");
+    let out = run(&["record", "--seconds", "0.5", "-o", &s(&file), "--fake-robot"]).json("record --fake-robot");
+    assert!(out["source"].as_str().unwrap().starts_with("/dev/"), "{out}");
+    assert!(out["samples"].as_u64().unwrap() >= 40, "{out}");
+    let _ = std::fs::remove_file(&file);
+}
+
+#[test]
+fn bad_files_and_paths_get_clear_messages_and_exit_codes() {
+    let empty = temp("empty.mcap");
+    std::fs::write(&empty, b"").unwrap();
+    run(&["mcap", "info", &s(&empty)]).assert_refused("empty", "the file is empty");
+    let garbage = temp("garbage.mcap");
+    std::fs::write(&garbage, b"GIF89a not a recording at all").unwrap();
+    run(&["mcap", "csv", &s(&garbage), "-o", &s(&temp("g.csv"))]).assert_refused("garbage", "not an MCAP file");
+    let missing = run(&["mcap", "info", "/nonexistent-parol6/x.mcap"]);
+    missing.assert_no_panic("missing");
+    assert_eq!(missing.code(), Some(1), "{missing:?}");
+    assert!(missing.stderr.contains("cannot read /nonexistent-parol6/x.mcap"), "{missing:?}");
+    let unwritable = run(&["record", "--seconds", "0.2", "-o", "/nonexistent-parol6/x.mcap"]);
+    unwritable.assert_no_panic("unwritable");
+    assert_eq!(unwritable.code(), Some(1), "{unwritable:?}");
+    run(&["record", "--seconds", "0", "-o", &s(&temp("x.mcap"))]).assert_refused("zero seconds", "--seconds");
+    run(&["record", "--seconds", "1", "-o", &s(&temp("x.mcap")), "--fake-robot", "--demo"])
+        .assert_refused("demo on a robot", "never moves a robot");
+    for f in [empty, garbage, temp("g.csv")] {
+        let _ = std::fs::remove_file(f);
+    }
+}

@@ -1,0 +1,70 @@
+//! Telemetry: what the robot did, sample by sample, for the live view and for MCAP files.
+//!
+//! - [`sample`]: a [`TelemetrySample`] per control tick, built from the backends'
+//!   [`MotionSample`](crate::motion::MotionSample) tap (commanded and measured joints, TCP pose,
+//!   worst limit zone, program step, link health);
+//! - [`event`]: [`TelemetryEvent`]s (limit warnings, refusals, E-stop, link loss) and the
+//!   detector that finds them in successive samples and robot states;
+//! - [`ring`]: the last minutes of samples, published lock-free as a [`LiveView`];
+//! - [`recorder`]: the [`Recorder`], which owns its thread and bounded channels, never blocks a
+//!   sender, and writes an MCAP file while recording;
+//! - [`schema`]: the JSON messages and JSON schemas of the MCAP channels (Foxglove's
+//!   well-known schemas where one exists);
+//! - [`frames`]: the `/tf` transforms (one per URDF joint, parent link → child link);
+//! - [`writer`]: the MCAP writer (zstd chunks closed at least every second, summary + index);
+//! - [`reader`]: the reader of our own files, tolerant of truncation.
+
+use crate::limits::LimitZone;
+
+pub mod event;
+pub mod frames;
+pub mod reader;
+pub mod recorder;
+pub mod ring;
+pub mod sample;
+pub mod schema;
+pub mod writer;
+
+pub use event::{EventDetector, EventKind, TelemetryEvent};
+pub use reader::{Recording, RecordingError, read_recording};
+pub use recorder::{Recorder, RecorderConfig, RecorderStats};
+pub use ring::{LiveRing, LiveView};
+pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
+pub use writer::{McapSink, RecordingInfo, RecordingSummary};
+
+/// Why telemetry could not be recorded or read.
+#[derive(Debug, thiserror::Error)]
+pub enum TelemetryError {
+    /// A file could not be created, written or read.
+    #[error("{path}: {reason}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The MCAP library refused a record.
+    #[error("MCAP: {0}")]
+    Mcap(String),
+    /// The recorder is not in a state to do this (already recording, not recording, stopped).
+    #[error("{0}")]
+    State(String),
+    /// The recorder's thread has stopped or did not answer.
+    #[error("the recorder thread has stopped")]
+    Stopped,
+}
+
+impl From<mcap::McapError> for TelemetryError {
+    fn from(e: mcap::McapError) -> Self {
+        TelemetryError::Mcap(e.to_string())
+    }
+}
+
+/// Short lowercase name of a limit zone in files and CSV (`safe`, `warning`, `critical`).
+pub fn zone_name(zone: LimitZone) -> &'static str {
+    match zone {
+        LimitZone::Safe => "safe",
+        LimitZone::Warning => "warning",
+        LimitZone::Critical => "critical",
+    }
+}

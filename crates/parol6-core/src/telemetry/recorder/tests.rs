@@ -1,0 +1,137 @@
+//! Recorder tests: samples pushed faster than real time go into the live view and the file
+//! without a gap; gaps and states become counters and events.
+
+use std::time::Duration;
+
+use super::*;
+use crate::model::PAROL6_URDF;
+use crate::motion::{JointDrive, Setpoint, StateSource, home_position};
+use crate::telemetry::event::EventKind;
+use crate::telemetry::read_recording;
+
+pub(crate) fn temp_path(name: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("parol6-telemetry-{}-{name}", std::process::id()))
+}
+
+fn motion(seq: u64, dt_s: f64, q: &[f64]) -> MotionSample {
+    MotionSample {
+        seq,
+        time_s: seq as f64 * dt_s,
+        commanded: Setpoint::at_rest(q),
+        measured_q: q.to_vec(),
+        measured_qd: vec![0.0; q.len()],
+        drive: JointDrive::TorqueNm(vec![0.5; q.len()]),
+    }
+}
+
+fn info() -> RecordingInfo {
+    RecordingInfo {
+        app_version: "test".into(),
+        tool: "none".into(),
+        program: String::new(),
+        urdf_text: PAROL6_URDF.into(),
+    }
+}
+
+fn wait_for(rec: &Recorder, samples: u64) {
+    for _ in 0..500 {
+        if rec.stats().samples >= samples {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn samples_reach_the_file_and_the_live_view_without_gaps() {
+    let model = RobotModel::parol6();
+    let home = home_position(&model);
+    let rec = Recorder::start(model, RecorderConfig::default()).expect("start");
+    let path = temp_path("basic.mcap");
+    rec.start_recording(&path, &info()).expect("recording");
+    let tap = rec.tap();
+    rec.set_program_step(Some(2));
+    std::thread::sleep(Duration::from_millis(20));
+    // 3 s of a 1 kHz simulation, pushed as fast as the channel takes them
+    let n = 3000u64;
+    let mut sent = 0;
+    for k in 1..=n {
+        while tap.try_send(motion(k, 1e-3, &home)).is_err() {
+            std::thread::sleep(Duration::from_micros(100));
+        }
+        sent += 1;
+    }
+    wait_for(&rec, n);
+    // the live view is published every 50 ms
+    let mut live = rec.live();
+    for _ in 0..500 {
+        if live.latest().is_some_and(|s| s.seq + 4 > n) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+        live = rec.live();
+    }
+    // the live view keeps one sample per 4 ms of a 1 kHz source
+    assert!(live.latest().is_some_and(|s| s.seq + 4 > n), "{:?}", live.latest().map(|s| s.seq));
+    assert_eq!(rec.stats().missing_samples, 0);
+    // 3 s at 250 Hz
+    assert!((740..=760).contains(&live.len()), "live view holds {}", live.len());
+    let summary = rec.finish().expect("finish").expect("was recording");
+    assert_eq!(summary.samples, sent);
+    let bytes = std::fs::read(&path).expect("read back");
+    let _ = std::fs::remove_file(&path);
+    let file = read_recording(&bytes).expect("readable");
+    assert!(!file.truncated, "{:?}", file.warnings);
+    assert_eq!(file.measured.len() as u64, n);
+    assert_eq!(file.commanded.len() as u64, n);
+    assert!(file.measured.iter().zip(1..).all(|(m, k)| m.seq == k), "sequence numbers are contiguous");
+    assert!(file.measured.iter().all(|m| m.program_step == Some(2) || m.seq < 20));
+    assert_eq!(file.topics.get("/tf").map(|t| t.messages), Some(300), "tf at 100 Hz");
+    assert!((file.duration_s() - 2.999).abs() < 1e-6, "{}", file.duration_s());
+    assert_eq!(file.robot(), "parol6");
+}
+
+#[test]
+fn gaps_are_counted_and_states_become_events() {
+    let model = RobotModel::parol6();
+    let home = home_position(&model);
+    let rec = Recorder::start(model.clone(), RecorderConfig::default()).expect("start");
+    let tap = rec.tap();
+    for k in [1u64, 2, 3, 3, 7, 8] {
+        tap.try_send(motion(k, 0.01, &home)).expect("room");
+    }
+    wait_for(&rec, 5);
+    let mut st = RobotState::at_rest(&model, StateSource::Robot, "robot", &home);
+    rec.observe_state(Arc::new(st.clone()));
+    st.last_refusal = Some((4, "J1 beyond its limit".into()));
+    rec.observe_state(Arc::new(st));
+    rec.set_link_health(LinkHealth { state: "Connected".into(), ..LinkHealth::default() });
+    rec.set_link_health(LinkHealth { state: "Connected".into(), estop_pressed: true, ..LinkHealth::default() });
+    for _ in 0..500 {
+        if rec.live().events.iter().any(|e| matches!(e.kind, EventKind::EStop { .. })) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let stats = rec.stats();
+    assert_eq!(stats.samples, 5, "the repeated tick 3 is not a new sample");
+    assert_eq!(stats.missing_samples, 3, "ticks 4–6 are missing");
+    let kinds: Vec<EventKind> = rec
+        .live()
+        .events
+        .iter()
+        .map(|e| e.kind.clone())
+        .filter(|k| !matches!(k, EventKind::LimitWarning { .. }))
+        .collect();
+    assert_eq!(kinds, vec![EventKind::Refusal, EventKind::EStop { pressed: true }]);
+    assert_eq!(rec.finish().expect("finish"), None, "nothing was being recorded");
+}
+
+#[test]
+fn an_unwritable_path_is_an_error_at_once() {
+    let rec = Recorder::start(RobotModel::parol6(), RecorderConfig::default()).expect("start");
+    let bad = std::path::Path::new("/nonexistent-dir-parol6/x.mcap");
+    let e = rec.start_recording(bad, &info()).expect_err("no such folder");
+    assert!(e.to_string().contains("/nonexistent-dir-parol6/x.mcap"), "{e}");
+    assert_eq!(rec.stop_recording().expect("stop"), None);
+}

@@ -1,0 +1,347 @@
+//! [`McapSink`]: writes [`TelemetrySample`]s and [`TelemetryEvent`]s to an MCAP file.
+//!
+//! Channels: `/robot_description` (once, at the start), `/joint_states` and `/joint_commands`
+//! (every sample), `/tf` and `/tcp_pose` (at most [`McapSink::pose_rate_hz`], 100 Hz),
+//! `/events`, `/link` (when the link state, E-stop or loss count changes, else once a
+//! second), and a metadata record
+//! ([`super::schema::METADATA_NAME`]: app version, robot, tool, program, joints). Chunks are
+//! zstd-compressed and closed at least every [`FLUSH_INTERVAL_S`] of motion time or wall
+//! time, whichever comes first ([`McapSink::flush_if_due`]), so a crash loses at most that;
+//! [`McapSink::finish`] writes the summary and index.
+//!
+//! Message log times are Unix nanoseconds: the wall-clock time of the recording's first sample
+//! plus the backend's motion time since it.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::Path;
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+use mcap::records::{MessageHeader, Metadata};
+use mcap::{Compression, WriteOptions, Writer};
+
+use crate::model::RobotModel;
+
+use super::TelemetryError;
+use super::event::TelemetryEvent;
+use super::frames::TfFrames;
+use super::sample::{DriveKind, LinkHealth, TelemetrySample};
+use super::schema::{self, Header, JointStateMsg, LogMsg, Pose, PoseInFrame, Quaternion, Time, Vector3, WorstZone};
+
+/// Chunks are closed at least this often, s.
+pub const FLUSH_INTERVAL_S: f64 = 1.0;
+
+/// A chunk is closed once its uncompressed records pass this size (8 MiB: about 6 s of a 1 kHz
+/// simulation), so at the rates we record the time-based flush closes them.
+const CHUNK_BYTES: u64 = 8 << 20;
+
+/// What the metadata record says about a recording.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RecordingInfo {
+    /// Version of the app that wrote it.
+    pub app_version: String,
+    /// Tool fitted (`none`, `ssg48`, …).
+    pub tool: String,
+    /// Program being run (empty: none).
+    pub program: String,
+    /// The robot's URDF text, written to `/robot_description`.
+    pub urdf_text: String,
+}
+
+/// What a finished recording holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordingSummary {
+    /// Samples written (one `/joint_states` and one `/joint_commands` message each).
+    pub samples: u64,
+    /// Events written.
+    pub events: u64,
+    /// Messages written, all channels.
+    pub messages: u64,
+    /// Chunks closed by the periodic flush.
+    pub flushes: u64,
+    /// Motion time covered, s.
+    pub duration_s: f64,
+}
+
+/// A file that reaches the disk on every flush (`sync_data`), so a power loss loses at most
+/// the chunk being written.
+#[derive(Debug)]
+pub struct SyncedFile(BufWriter<File>);
+
+impl Write for SyncedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()?;
+        self.0.get_ref().sync_data()
+    }
+}
+
+impl Seek for SyncedFile {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        self.0.seek(pos)
+    }
+}
+
+struct Channels {
+    joint_states: u16,
+    joint_commands: u16,
+    tf: u16,
+    tcp_pose: u16,
+    events: u16,
+    link: u16,
+}
+
+/// Writes one MCAP recording. See the module docs.
+pub struct McapSink<W: Write + Seek> {
+    writer: Writer<W>,
+    channels: Channels,
+    model: RobotModel,
+    frames: TfFrames,
+    joint_names: Vec<String>,
+    frame_id: String,
+    sequence: u32,
+    start_unix_ns: u64,
+    t0_s: Option<f64>,
+    last_pose_s: Option<f64>,
+    last_flush_s: f64,
+    last_flush_at: Instant,
+    last_link: Option<(f64, LinkHealth)>,
+    buf: Vec<u8>,
+    summary: RecordingSummary,
+    /// Highest rate of `/tf` and `/tcp_pose`, Hz.
+    pub pose_rate_hz: f64,
+}
+
+impl<W: Write + Seek> std::fmt::Debug for McapSink<W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("McapSink").field("summary", &self.summary).finish_non_exhaustive()
+    }
+}
+
+impl McapSink<SyncedFile> {
+    /// Creates (or truncates) `path` and starts a recording there.
+    pub fn create_file(path: &Path, model: &RobotModel, info: &RecordingInfo) -> Result<Self, TelemetryError> {
+        let io = |e: std::io::Error| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() };
+        let file = File::create(path).map_err(io)?;
+        Self::new(SyncedFile(BufWriter::with_capacity(1 << 16, file)), model, info)
+    }
+}
+
+/// Nanoseconds since the Unix epoch now.
+pub fn unix_now_ns() -> u64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).map(|d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)).unwrap_or(0)
+}
+
+impl<W: Write + Seek> McapSink<W> {
+    /// Starts a recording on `w`: header, schemas, channels, metadata and the URDF.
+    pub fn new(w: W, model: &RobotModel, info: &RecordingInfo) -> Result<Self, TelemetryError> {
+        let options = WriteOptions::new()
+            .compression(Some(Compression::Zstd))
+            .chunk_size(Some(CHUNK_BYTES))
+            .profile("")
+            .library(format!("parol6-studio {}", info.app_version));
+        let mut writer = options.create(w)?;
+        let none = BTreeMap::new();
+        let mut channel = |topic: &str, schema_name: &str| -> Result<u16, TelemetryError> {
+            let text = schema::schema_text(schema_name).unwrap_or_default();
+            let schema_id = writer.add_schema(schema_name, schema::SCHEMA_ENCODING, text.as_bytes())?;
+            Ok(writer.add_channel(schema_id, topic, schema::MESSAGE_ENCODING, &none)?)
+        };
+        let description = channel("/robot_description", schema::ROBOT_DESCRIPTION)?;
+        let channels = Channels {
+            joint_states: channel("/joint_states", schema::JOINT_STATE)?,
+            joint_commands: channel("/joint_commands", schema::JOINT_STATE)?,
+            tf: channel("/tf", schema::FRAME_TRANSFORMS)?,
+            tcp_pose: channel("/tcp_pose", schema::POSE_IN_FRAME)?,
+            events: channel("/events", schema::LOG)?,
+            link: channel("/link", schema::LINK_HEALTH)?,
+        };
+        let joint_names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
+        let start_unix_ns = unix_now_ns();
+        let metadata = BTreeMap::from([
+            ("app_version".to_string(), info.app_version.clone()),
+            ("robot".to_string(), model.name.clone()),
+            ("tool".to_string(), info.tool.clone()),
+            ("program".to_string(), info.program.clone()),
+            ("joints".to_string(), joint_names.join(",")),
+            ("root_link".to_string(), model.root_link.clone()),
+            ("started_unix_ns".to_string(), start_unix_ns.to_string()),
+        ]);
+        writer.write_metadata(&Metadata { name: schema::METADATA_NAME.into(), metadata })?;
+        let data = serde_json::to_vec(&schema::RobotDescription { data: info.urdf_text.clone() })
+            .map_err(|e| TelemetryError::Mcap(e.to_string()))?;
+        let header = MessageHeader {
+            channel_id: description,
+            sequence: 0,
+            log_time: start_unix_ns,
+            publish_time: start_unix_ns,
+        };
+        writer.write_to_known_channel(&header, &data)?;
+        let text = (!info.urdf_text.is_empty()).then_some(info.urdf_text.as_str());
+        Ok(Self {
+            writer,
+            channels,
+            model: model.clone(),
+            frames: TfFrames::new(model, text),
+            joint_names,
+            frame_id: model.root_link.clone(),
+            sequence: 1,
+            start_unix_ns,
+            t0_s: None,
+            last_pose_s: None,
+            last_flush_s: 0.0,
+            last_flush_at: Instant::now(),
+            last_link: None,
+            buf: Vec::with_capacity(1024),
+            summary: RecordingSummary { samples: 0, events: 0, messages: 1, flushes: 0, duration_s: 0.0 },
+            pose_rate_hz: 100.0,
+        })
+    }
+
+    /// Unix time of motion time `t_s`, ns (the first sample is the recording's start).
+    fn stamp_ns(&mut self, t_s: f64) -> u64 {
+        let t0 = *self.t0_s.get_or_insert(t_s);
+        let dt_ns = ((t_s - t0).max(0.0) * 1e9).round();
+        self.start_unix_ns.saturating_add(if dt_ns.is_finite() { dt_ns as u64 } else { 0 })
+    }
+
+    fn put<T: serde::Serialize>(&mut self, channel_id: u16, log_time: u64, msg: &T) -> Result<(), TelemetryError> {
+        self.buf.clear();
+        serde_json::to_writer(&mut self.buf, msg).map_err(|e| TelemetryError::Mcap(e.to_string()))?;
+        let header = MessageHeader { channel_id, sequence: self.sequence, log_time, publish_time: log_time };
+        self.sequence = self.sequence.wrapping_add(1);
+        self.writer.write_to_known_channel(&header, &self.buf)?;
+        self.summary.messages += 1;
+        Ok(())
+    }
+
+    /// Writes one sample: joint states and commands always, `/tf` and `/tcp_pose` at most at
+    /// [`McapSink::pose_rate_hz`], `/link` when the link health changed.
+    pub fn write_sample(&mut self, s: &TelemetrySample) -> Result<(), TelemetryError> {
+        let ns = self.stamp_ns(s.time_s);
+        let header = Header { stamp: Time::from_ns(ns), frame_id: self.frame_id.clone() };
+        let worst_zone = s.worst_zone.map(|(joint, z)| WorstZone { joint, zone: super::zone_name(z).to_string() });
+        let measured = JointStateMsg {
+            header: header.clone(),
+            name: self.joint_names.clone(),
+            position: s.joints.iter().map(|j| j.q_rad).collect(),
+            velocity: s.joints.iter().map(|j| j.qd_rad_s).collect(),
+            effort: match s.drive {
+                DriveKind::TorqueNm => s.joints.iter().map(|j| j.drive).collect(),
+                DriveKind::StepsPerS => Vec::new(),
+            },
+            acceleration: s.joints.iter().map(|j| j.qdd_rad_s2).collect(),
+            seq: s.seq,
+            time_s: s.time_s,
+            steps_per_s: (s.drive == DriveKind::StepsPerS).then(|| s.joints.iter().map(|j| j.drive).collect()),
+            program_step: s.program_step,
+            worst_zone: worst_zone.clone(),
+        };
+        self.put(self.channels.joint_states, ns, &measured)?;
+        let commanded = JointStateMsg {
+            header: header.clone(),
+            name: self.joint_names.clone(),
+            position: s.joints.iter().map(|j| j.cmd_q_rad).collect(),
+            velocity: s.joints.iter().map(|j| j.cmd_qd_rad_s).collect(),
+            effort: Vec::new(),
+            acceleration: s.joints.iter().map(|j| j.cmd_qdd_rad_s2).collect(),
+            seq: s.seq,
+            time_s: s.time_s,
+            steps_per_s: None,
+            program_step: s.program_step,
+            worst_zone,
+        };
+        self.put(self.channels.joint_commands, ns, &commanded)?;
+        let pose_due = match self.last_pose_s {
+            None => true,
+            Some(last) => s.time_s < last || s.time_s - last >= 0.999 / self.pose_rate_hz,
+        };
+        if pose_due {
+            self.last_pose_s = Some(s.time_s);
+            let q: Vec<f64> = s.joints.iter().map(|j| j.q_rad).collect();
+            let transforms = self.frames.transforms(&self.model, &q, header.stamp);
+            self.put(self.channels.tf, ns, &schema::FrameTransforms { transforms })?;
+            let [x, y, z] = s.tcp.position_m;
+            let [qw, qx, qy, qz] = s.tcp.quaternion_wxyz;
+            let pose = PoseInFrame {
+                timestamp: header.stamp,
+                frame_id: self.frame_id.clone(),
+                pose: Pose { position: Vector3 { x, y, z }, orientation: Quaternion { x: qx, y: qy, z: qz, w: qw } },
+            };
+            self.put(self.channels.tcp_pose, ns, &pose)?;
+        }
+        if let Some(health) = &s.link
+            && self.link_due(health, s.time_s)
+        {
+            self.last_link = Some((s.time_s, health.clone()));
+            let health = health.clone();
+            self.put(self.channels.link, ns, &schema::LinkHealthMsg { header, health })?;
+        }
+        self.summary.samples += 1;
+        self.summary.duration_s = (s.time_s - self.t0_s.unwrap_or(s.time_s)).max(self.summary.duration_s);
+        self.flush_if_due(s.time_s)
+    }
+
+    /// `/link` gets the health when its state, E-stop or loss count changes, else once a second.
+    fn link_due(&self, h: &LinkHealth, t_s: f64) -> bool {
+        match &self.last_link {
+            None => true,
+            Some((t, last)) => {
+                last.state != h.state
+                    || last.estop_pressed != h.estop_pressed
+                    || last.link_losses != h.link_losses
+                    || !(0.0..1.0).contains(&(t_s - t))
+            }
+        }
+    }
+
+    /// Writes one event to `/events`.
+    pub fn write_event(&mut self, e: &TelemetryEvent) -> Result<(), TelemetryError> {
+        let ns = self.stamp_ns(e.time_s);
+        let msg = LogMsg {
+            timestamp: Time::from_ns(ns),
+            level: e.log_level(),
+            message: e.message.clone(),
+            name: "parol6".into(),
+            file: String::new(),
+            line: 0,
+        };
+        self.put(self.channels.events, ns, &msg)?;
+        self.summary.events += 1;
+        Ok(())
+    }
+
+    /// Closes the current chunk and flushes the file when [`FLUSH_INTERVAL_S`] of motion time
+    /// (`now_s`) or of wall time has passed since the last flush.
+    pub fn flush_if_due(&mut self, now_s: f64) -> Result<(), TelemetryError> {
+        let motion_due = now_s - self.last_flush_s >= FLUSH_INTERVAL_S;
+        if motion_due || self.last_flush_at.elapsed().as_secs_f64() >= FLUSH_INTERVAL_S {
+            self.writer.flush()?;
+            self.last_flush_s = now_s;
+            self.last_flush_at = Instant::now();
+            self.summary.flushes += 1;
+        }
+        Ok(())
+    }
+
+    /// What has been written so far.
+    pub fn summary(&self) -> &RecordingSummary {
+        &self.summary
+    }
+
+    /// Writes the summary section and the footer; returns what the file holds.
+    pub fn finish(self) -> Result<RecordingSummary, TelemetryError> {
+        self.finish_into_inner().map(|(summary, _)| summary)
+    }
+
+    /// [`McapSink::finish`], also returning the underlying writer.
+    pub fn finish_into_inner(mut self) -> Result<(RecordingSummary, W), TelemetryError> {
+        self.writer.finish()?;
+        let mut w = self.writer.into_inner();
+        w.flush().map_err(|e| TelemetryError::Io { path: "recording".into(), reason: e.to_string() })?;
+        Ok((self.summary, w))
+    }
+}

@@ -21,8 +21,12 @@ use parol6_hw::{ControllerModel, EmulatorConfig};
 pub type FuzzBody = fn(&[u8]);
 
 /// The fuzz targets, by the name of their `fuzz/fuzz_targets/<name>.rs` and corpus folders.
-pub const TARGETS: [(&str, FuzzBody); 3] =
-    [("status_parser", status_parser), ("command_emulator", command_emulator), ("urdf_loader", urdf_loader)];
+pub const TARGETS: [(&str, FuzzBody); 4] = [
+    ("status_parser", status_parser),
+    ("command_emulator", command_emulator),
+    ("urdf_loader", urdf_loader),
+    ("program_file", program_file),
+];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser
 /// returns re-encodes to itself, nothing stays buffered that could still be a frame, and the
@@ -225,4 +229,23 @@ fn joint_values_within_limits(model: &RobotModel, data: &[u8]) -> Vec<f64> {
             (lo * (1.0 - u) + hi * u).clamp(l.min, l.max)
         })
         .collect()
+}
+
+/// Program files: whatever the bytes, parsing never panics; a file that parses writes back to
+/// text that parses to the same steps; a small one goes through the whole pre-flight (compile
+/// and checks) without a panic, and a clean report has no errors.
+pub fn program_file(data: &[u8]) {
+    use parol6_core::program::check::{CheckOptions, Severity, check_program};
+    use parol6_core::program::json;
+    let text = String::from_utf8_lossy(data);
+    let Ok(program) = json::parse(&text) else { return };
+    let again = json::parse(&json::to_string(&program)).expect("a parsed program writes back readable");
+    let steps = |p: &parol6_core::program::Program| p.steps.iter().map(|s| s.step.clone()).collect::<Vec<_>>();
+    assert_eq!(steps(&again), steps(&program));
+    if program.steps.len() <= 6 {
+        let model = RobotModel::parol6();
+        let start = parol6_core::motion::home_position(&model);
+        let report = check_program(&model, &program, &start, CheckOptions::default());
+        assert_eq!(report.ok, !report.issues.iter().any(|i| i.severity == Severity::Error));
+    }
 }

@@ -107,6 +107,17 @@ fn one_program_gives_the_same_commanded_trajectory_on_both_backends() {
             max_diff = max_diff.max(d);
         }
     }
+    // in the (dynamic) simulation the measured TCP stays within 1 mm of the commanded one
+    let max_tcp_mm = sim_samples
+        .values()
+        .map(|s| {
+            (model.tcp_isometry(&s.measured_q).translation.vector
+                - model.tcp_isometry(&s.commanded.q).translation.vector)
+                .norm()
+                * 1e3
+        })
+        .fold(0.0, f64::max);
+    assert!(max_tcp_mm < 1.0, "measured TCP {max_tcp_mm:.3} mm from the commanded one");
     let expected = (a.planned_s * 100.0) as usize;
     assert!(compared + 5 >= expected, "only {compared} of ~{expected} common time stamps");
     // the same end: the commanded ends agree and the emulated arm settles on them within 1 step
@@ -119,9 +130,47 @@ fn one_program_gives_the_same_commanded_trajectory_on_both_backends() {
     }
     eprintln!(
         "program parity: {compared} common 10 ms stamps over {:.2} s, max commanded difference {max_diff:e} rad; \
-         max tracking error sim {:.4}°, emulated robot {:.3}°",
+         max tracking error sim {:.4}°, emulated robot {:.3}°; simulated TCP within {max_tcp_mm:.3} mm",
         a.planned_s,
         a.max_tracking_error_rad.to_degrees(),
         b.max_tracking_error_rad.to_degrees()
     );
+}
+
+/// On the robot, an E-stop during a program ends it with the reason, and the arm holds; the
+/// program does not start again until the robot accepts motion.
+#[test]
+fn an_e_stop_halts_a_program_on_the_robot_with_the_reason() {
+    let model = RobotModel::parol6();
+    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
+    let cfg = SessionConfig { status_timeout: Duration::from_millis(500), ..SessionConfig::default() };
+    let session = Arc::new(Session::open(emu.path(), cfg).expect("session"));
+    session.wait_until(LONG, |s| s.status_frames >= 10).expect("status");
+    let runner =
+        ProgramRunner::start(session.clone(), model.clone(), program(&model), RunOptions::default()).expect("thread");
+    let t0 = std::time::Instant::now();
+    while runner.progress().steps_done < 1 {
+        assert!(t0.elapsed() < LONG, "the program does not advance: {:?}", runner.progress());
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    emu.set_estop_pressed(true);
+    let end = runner.join();
+    match &end.state {
+        RunState::Failed(why) => assert!(why.contains("halted") && why.to_lowercase().contains("e-stop"), "{why}"),
+        other => panic!("expected a halt, got {other:?}"),
+    }
+    assert!(end.steps_done < end.steps);
+    // held: the board stops stepping
+    std::thread::sleep(Duration::from_millis(300));
+    let a = emu.snapshot().position_steps;
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(a, emu.snapshot().position_steps, "the arm holds after the E-stop");
+    // a new run is refused while the E-stop is pressed
+    let again = ProgramRunner::start(session.clone(), model.clone(), program(&model), RunOptions::default())
+        .expect("thread")
+        .join();
+    match again.state {
+        RunState::Failed(why) => assert!(why.contains("does not accept motion"), "{why}"),
+        other => panic!("expected a refusal, got {other:?}"),
+    }
 }

@@ -343,11 +343,11 @@ fn the_view_menu_stays_open_while_toggling() {
     let mut h = app_harness(egui::vec2(1280.0, 800.0));
     h.get_by_label("View").click();
     h.run_steps(2);
-    h.get_by_label("TCP / target / demos panel").click();
+    h.get_by_label("TCP / jog / target panel").click();
     h.run_steps(2);
     assert!(h.query_by_label("Cartesian target").is_none(), "the right panel is hidden");
     assert!(h.query_by_label("Joints panel").is_some(), "the View menu closed after one click");
-    h.get_by_label("TCP / target / demos panel").click();
+    h.get_by_label("TCP / jog / target panel").click();
     h.run_steps(2);
     assert!(h.query_by_label_contains("Cartesian target").is_some(), "shown again");
 }
@@ -377,7 +377,12 @@ fn nothing_is_clipped_at_small_and_large_windows() {
         let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(w, ht));
         let status = h.get_by_label("SIM").rect();
         assert!(screen.contains_rect(status), "{w}×{ht}: status bar clipped: {status:?}");
-        let sim_time = h.get_by_label_contains("t = ").rect();
+        // the status bar's simulated time (pre-flight messages also say "at t = …")
+        let sim_time = h
+            .query_all_by_label_contains("t = ")
+            .map(|n| n.rect())
+            .find(|r| (r.center().y - status.center().y).abs() < 2.0)
+            .expect("the status bar's time");
         assert!(screen.contains_rect(sim_time), "{w}×{ht}: status bar cut at the right: {sim_time:?}");
         for b in ["HOME", "STOP"] {
             let r = h.get_by_label(b).rect();

@@ -18,7 +18,7 @@ use crate::viewport::{SceneFrame, Viewport};
 
 /// Width of the left (joints) column, points. Fixed: it never follows its contents.
 pub const LEFT_PANEL_WIDTH: f32 = 350.0;
-/// Width of the right (TCP / target / demos) column, points.
+/// Width of the right (TCP / Cartesian jog / target) column, points.
 pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
 
 impl Parol6App {
@@ -39,7 +39,7 @@ impl Parol6App {
                 let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
                 MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
                     ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
-                    ui.checkbox(&mut pctx.settings.show_right, "TCP / target / demos panel");
+                    ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
                     ui.separator();
                     if let Some(v) = viewport {
                         v.options_ui(ui);

@@ -92,7 +92,7 @@ pub struct Settings {
     pub unit: AngleUnit,
     /// Left (joints) panel shown.
     pub show_left: bool,
-    /// Right (TCP / target / demos) panel shown.
+    /// Right (TCP / Cartesian jog / target) panel shown.
     pub show_right: bool,
     /// Speed fraction (0–1] of profiled moves.
     pub speed_fraction: f64,

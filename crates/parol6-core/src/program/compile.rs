@@ -21,6 +21,12 @@ use crate::profile::{JointMove, ProfileKind};
 
 /// The PAROL6's Cartesian speed limit (ROBOT.md §5), mm/s.
 pub const MAX_TCP_SPEED_MM_S: f64 = 200.0;
+/// The slowest TCP speed a step may ask for, mm/s (ROBOT.md §5: 1 % of the maximum).
+pub const MIN_TCP_SPEED_MM_S: f64 = 2.0;
+/// The smallest joint speed fraction a step may ask for.
+pub const MIN_JOINT_FRACTION: f64 = 0.01;
+/// The most trajectory samples one program may plan to (a bound on memory and planning time).
+pub const MAX_PLANNED_SAMPLES: usize = 20_000_000;
 /// The longest dwell or input wait a step may ask for, s.
 pub const MAX_WAIT_S: f64 = 3600.0;
 /// Input wait when a step gives none, s.
@@ -116,6 +122,7 @@ pub fn compile(
     let caps = MotionCaps::of(model);
     let mut out = Vec::with_capacity(program.steps.len());
     let mut q = start_q.to_vec();
+    let mut planned = 0usize;
     let mut i = 0;
     while i < program.steps.len() {
         let (first, line) = (&program.steps[i].step, program.steps[i].line);
@@ -131,6 +138,19 @@ pub fn compile(
         };
         if let StepAction::Motion(t) = &action {
             q = t.goal().to_vec();
+            planned += t.samples().len();
+            if planned > MAX_PLANNED_SAMPLES {
+                return Err(CompileError {
+                    index: i,
+                    line,
+                    kind: first.kind(),
+                    message: format!(
+                        "the program plans to more than {MAX_PLANNED_SAMPLES} samples here; split it or make it faster"
+                    ),
+                    t_s: None,
+                    tcp_mm: None,
+                });
+            }
         }
         out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone() });
         i = covers.end;
@@ -172,10 +192,10 @@ fn compile_one(
 ) -> Result<StepAction, StepError> {
     let joint_fraction = |f: Option<f64>| -> Result<f64, String> {
         let f = f.unwrap_or(speed.joint_fraction);
-        if f.is_finite() && f > 0.0 && f <= 1.0 {
+        if f.is_finite() && (MIN_JOINT_FRACTION..=1.0).contains(&f) {
             Ok(f * opts.speed_override)
         } else {
-            Err(format!("speed_fraction must lie in (0, 1], got {f}"))
+            Err(format!("speed_fraction must lie in {MIN_JOINT_FRACTION}–1, got {f}"))
         }
     };
     let from = model.tcp_isometry(q);
@@ -311,8 +331,15 @@ fn cartesian_move(
     opts: CompileOptions,
 ) -> Result<StepAction, StepError> {
     let v = speed_mm_s.unwrap_or(speed.tcp_speed_mm_s);
-    if !(v.is_finite() && v > 0.0 && v <= MAX_TCP_SPEED_MM_S) {
-        return Err(format!("speed_mm_s must lie in (0, {MAX_TCP_SPEED_MM_S}] mm/s, got {v}").into());
+    if !(v.is_finite() && (MIN_TCP_SPEED_MM_S..=MAX_TCP_SPEED_MM_S).contains(&v)) {
+        return Err(format!("speed_mm_s must lie in {MIN_TCP_SPEED_MM_S}–{MAX_TCP_SPEED_MM_S} mm/s, got {v}").into());
+    }
+    for (what, a, min) in
+        [("tcp_accel_mm_s2", speed.tcp_accel_mm_s2, 5.5), ("tcp_jerk_mm_s3", speed.tcp_jerk_mm_s3, 55.0)]
+    {
+        if !(a.is_finite() && a >= min) {
+            return Err(format!("speed.{what} must be at least {min}, got {a}").into());
+        }
     }
     let tcp = CartesianCaps {
         speed_m_s: v / 1000.0,

@@ -239,7 +239,10 @@ pub fn program_file(data: &[u8]) {
     use parol6_core::program::json;
     let text = String::from_utf8_lossy(data);
     let Ok(program) = json::parse(&text) else { return };
-    let again = json::parse(&json::to_string(&program)).expect("a parsed program writes back readable");
+    let again = match json::parse(&json::to_string(&program)) {
+        Ok(p) => p,
+        Err(e) => panic!("a parsed program must write back readable: {e}"),
+    };
     let steps = |p: &parol6_core::program::Program| p.steps.iter().map(|s| s.step.clone()).collect::<Vec<_>>();
     assert_eq!(steps(&again), steps(&program));
     if program.steps.len() <= 6 {

@@ -46,6 +46,14 @@ fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness
     }
 }
 
+/// Types `path` into the program panel's file field.
+fn type_path(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    h.get_by_label("File").click();
+    h.run_steps(1);
+    h.get_by_label("File").type_text(&path.display().to_string());
+    h.run_steps(1);
+}
+
 fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
     h.query_by_label_contains(text).is_some()
 }
@@ -84,10 +92,7 @@ fn a_broken_file_is_refused_and_the_loaded_program_stays() {
         "{\"format\": \"parol6-program\", \"version\": 1, \"steps\": [ {\"type\": \"dwell\", \"seconds\": \"x\"} ]}",
     )
     .expect("write");
-    h.get_by_label("File").click();
-    h.run_steps(1);
-    h.get_by_label("File").type_text(&bad.display().to_string());
-    h.run_steps(1);
+    type_path(&mut h, &bad);
     h.key_press(egui::Key::Enter);
     until(&mut h, "the error notice", 5.0, |h| {
         h.state().notices().iter().any(|n| n.error && n.text.contains("bad.json") && n.text.contains("steps[0]"))
@@ -107,10 +112,7 @@ fn a_program_that_fails_pre_flight_cannot_be_started() {
         "{\"format\": \"parol6-program\", \"version\": 1, \"name\": \"Too far\",\n \"steps\": [\n  {\"type\": \"move_l\", \"pose\": {\"position_mm\": [0, 900, 300], \"rpy_deg\": [180, 0, 90]}}\n ]}",
     )
     .expect("write");
-    h.get_by_label("File").click();
-    h.run_steps(1);
-    h.get_by_label("File").type_text(&far.display().to_string());
-    h.run_steps(1);
+    type_path(&mut h, &far);
     h.get_by_label("Open").click();
     until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: 1 error"));
     assert!(has_label(&h, "line 3, step 1"), "the problem names its line and step");

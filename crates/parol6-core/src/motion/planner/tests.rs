@@ -130,8 +130,11 @@ fn a_refused_scheduled_command_is_reported() {
     assert!(msg.contains("upper limit"), "{msg}");
 }
 
-#[test]
-fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() {
+/// A planner holding a pose clear of the wrist singularity at t1 = 10 s, and a planned line of
+/// `dx_m` along +X from there (the model, the planner, the line's start TCP, the trajectory).
+fn line_from_rest(
+    dx_m: f64,
+) -> (RobotModel, MotionPlanner, nalgebra::Isometry3<f64>, Arc<crate::motion::cartesian::SampledTrajectory>) {
     use crate::motion::cartesian::{CartesianCaps, plan};
     use crate::motion::path::TcpPath;
     let model = RobotModel::parol6();
@@ -139,14 +142,20 @@ fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() 
     let mut q0 = crate::parol6::standby_rad().to_vec();
     q0[4] = 0.6;
     p.apply(&mv(q0.clone()), 0.0).expect("move");
-    let t1 = 10.0;
-    p.sample(t1);
+    p.sample(10.0);
     let a = model.tcp_isometry(&q0);
     let mut b = a;
-    b.translation.vector.x += 0.04;
+    b.translation.vector.x += dx_m;
     let traj = plan(&model, &q0, &TcpPath::line(&a, &b), &CartesianCaps::default(), p.caps(), 1.0, 0.001)
         .expect("plans")
         .trajectory;
+    (model, p, a, traj)
+}
+
+#[test]
+fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() {
+    let (model, mut p, a, traj) = line_from_rest(0.04);
+    let t1 = 10.0;
     let end = traj.goal().to_vec();
     let d = traj.duration_s();
     p.apply(&MotionCommand::Trajectory(traj.clone()), t1).expect("starts where the arm is");
@@ -164,21 +173,8 @@ fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() 
 /// finishes it at its goal; the pair costs exactly the ramp time.
 #[test]
 fn a_paused_trajectory_stops_on_its_path_and_resumes_to_its_goal() {
-    use crate::motion::cartesian::{CartesianCaps, plan};
-    use crate::motion::path::TcpPath;
-    let model = RobotModel::parol6();
-    let mut p = planner();
-    let mut q0 = crate::parol6::standby_rad().to_vec();
-    q0[4] = 0.6;
-    p.apply(&mv(q0.clone()), 0.0).expect("move");
+    let (model, mut p, a, traj) = line_from_rest(0.08);
     let t1 = 10.0;
-    p.sample(t1);
-    let a = model.tcp_isometry(&q0);
-    let mut b = a;
-    b.translation.vector.x += 0.08;
-    let traj = plan(&model, &q0, &TcpPath::line(&a, &b), &CartesianCaps::default(), p.caps(), 1.0, 0.001)
-        .expect("plans")
-        .trajectory;
     let d = traj.duration_s();
     p.apply(&MotionCommand::Trajectory(traj.clone()), t1).expect("starts");
     let t_pause = t1 + d * 0.4;

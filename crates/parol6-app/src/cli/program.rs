@@ -15,7 +15,7 @@ use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 
 use super::hw::{RateArgs, open};
-use super::options::{ConnectArgs, RobotArgs, f64_above};
+use super::options::{ConnectArgs, RobotArgs, f64_within};
 use super::record::{Telemetry, link_health, tool_of, urdf_text};
 use super::{CliError, CliResult, print_json};
 
@@ -51,8 +51,8 @@ pub enum ProgramCommand {
     Run {
         /// Program file (native JSON).
         file: PathBuf,
-        /// Speed override: every step's speed × this, > 0 and ≤ 1.
-        #[arg(long, default_value_t = 1.0, value_parser = f64_above(0.0, 1.0))]
+        /// Speed override: every step's speed × this, 0.01–1.
+        #[arg(long, default_value_t = 1.0, value_parser = f64_within(0.01, 1.0))]
         speed: f64,
         /// Run the simulation in real time.
         #[arg(long)]

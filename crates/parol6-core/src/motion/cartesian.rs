@@ -141,6 +141,10 @@ pub struct CartesianMove {
     pub branch: Option<Branch>,
 }
 
+/// The most samples one Cartesian move may plan to (1 000 s at 1 kHz): a bound on memory and
+/// planning time when joint caps stretch a path near a singularity.
+pub const MAX_MOVE_SAMPLES: usize = 1_000_000;
+
 /// A joint may move at most this multiple of its speed cap × dt between two samples before
 /// the path counts as discontinuous (a singularity or a branch change).
 const JUMP_FACTOR: f64 = 3.0;
@@ -183,7 +187,14 @@ pub fn plan(
         )
         .map_err(|e| CartesianError::Invalid(e.to_string()))?;
         let duration = timing.duration_s() * stretch;
-        let n = (duration / dt_s).ceil().max(1.0) as usize;
+        let n = (duration / dt_s).ceil().max(1.0);
+        if n > MAX_MOVE_SAMPLES as f64 {
+            return Err(CartesianError::Invalid(format!(
+                "the move would take {duration:.0} s at the joint speed caps (more than {MAX_MOVE_SAMPLES} samples): \
+                 the path passes too close to a singularity or is too long"
+            )));
+        }
+        let n = n as usize;
         let mut samples = Vec::with_capacity(n + 1);
         let mut seed = start_q.to_vec();
         for k in 0..=n {

@@ -25,8 +25,9 @@ pub const MAX_TCP_SPEED_MM_S: f64 = 200.0;
 pub const MIN_TCP_SPEED_MM_S: f64 = 2.0;
 /// The smallest joint speed fraction a step may ask for.
 pub const MIN_JOINT_FRACTION: f64 = 0.01;
-/// The most trajectory samples one program may plan to (a bound on memory and planning time).
-pub const MAX_PLANNED_SAMPLES: usize = 20_000_000;
+/// The most trajectory samples one program may plan to: a bound on memory (about 90 bytes a
+/// sample) and planning time; 4 000 s of motion at 1 kHz.
+pub const MAX_PLANNED_SAMPLES: usize = 4_000_000;
 /// The longest dwell or input wait a step may ask for, s.
 pub const MAX_WAIT_S: f64 = 3600.0;
 /// Input wait when a step gives none, s.
@@ -362,7 +363,15 @@ fn joint_move(start: &[f64], goal: &[f64], caps: &MotionCaps, fraction: f64, dt_
         ProfileKind::JerkLimited,
     )
     .map_err(|e| e.to_string())?;
-    let n = (mv.duration_s() / dt_s).ceil().max(1.0) as usize;
+    let n = (mv.duration_s() / dt_s).ceil().max(1.0);
+    if n > cartesian::MAX_MOVE_SAMPLES as f64 {
+        return Err(format!(
+            "the move would take {:.0} s (more than {} samples): raise its speed",
+            mv.duration_s(),
+            cartesian::MAX_MOVE_SAMPLES
+        ));
+    }
+    let n = n as usize;
     let samples = (0..=n).map(|k| mv.sample((k as f64 * dt_s).min(mv.duration_s())).q).collect();
     Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, samples))))
 }

@@ -143,3 +143,16 @@ fn the_speed_override_slows_every_move() {
     }
     let _ = SourcedStep { step: Step::Dwell { seconds: 0.0 }, line: 0 };
 }
+
+/// Regression (found by the `program_file` fuzzer): a spline whose orientation turns through a
+/// near-singular wrist was stretched by the joint caps to days of motion and planned until the
+/// fuzzer ran out of memory. A move is now bounded and refused with the reason.
+#[test]
+fn a_spline_near_a_singularity_ran_out_of_memory() {
+    let text = include_str!("../../../../../fuzz/regressions/program_file/spline_stretched_out_of_memory.json");
+    let p = crate::program::json::parse(text).expect("valid file");
+    let model = RobotModel::parol6();
+    let e = compile(&model, &p, &home_position(&model), CompileOptions::PREFLIGHT).expect_err("refused");
+    assert_eq!(e.index, 1);
+    assert!(e.message.contains("would take"), "{e}");
+}

@@ -145,6 +145,10 @@ impl TcpPath {
         let c: Point3<f64> = to.translation.vector.into();
         let (center, normal) = circle_through(&a, via, &c).ok_or(PathError::DegenerateArc)?;
         let radius = (a - center).norm();
+        // far-off or nearly collinear points give an overflowing or zero radius
+        if !(radius.is_finite() && radius > 1e-9 && center.coords.iter().all(|x| x.is_finite())) {
+            return Err(PathError::DegenerateArc);
+        }
         let u = (a - center) / radius;
         let v = normal.cross(&u);
         let angle_of = |p: &Point3<f64>| {
@@ -156,6 +160,9 @@ impl TcpPath {
         let (av, ac) = (angle_of(via), angle_of(&c));
         let sweep = if av <= ac { ac } else { ac - std::f64::consts::TAU };
         let sweep = if sweep.abs() < 1e-12 { std::f64::consts::TAU } else { sweep };
+        if !sweep.is_finite() {
+            return Err(PathError::DegenerateArc);
+        }
         Ok(Self::build(vec![Piece::Arc { center, u, v, radius, sweep_rad: sweep }], vec![from.rotation, to.rotation]))
     }
 

@@ -376,11 +376,14 @@ fn joint_move(start: &[f64], goal: &[f64], caps: &MotionCaps, fraction: f64, dt_
     Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, samples))))
 }
 
+/// Program positions farther from the base than this are refused, mm.
+pub const MAX_POSITION_MM: f64 = 10_000.0;
+
 fn checked_mm(v: &[f64; 3], field: &str) -> Result<Vector3<f64>, String> {
-    if v.iter().all(|x| x.is_finite()) {
+    if v.iter().all(|x| x.is_finite() && x.abs() <= MAX_POSITION_MM) {
         Ok(Vector3::new(v[0], v[1], v[2]) / 1000.0)
     } else {
-        Err(format!("{field} must be three numbers"))
+        Err(format!("{field} must be three numbers within ±{MAX_POSITION_MM} mm, got {v:?}"))
     }
 }
 

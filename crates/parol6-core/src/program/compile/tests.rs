@@ -156,3 +156,23 @@ fn a_spline_near_a_singularity_ran_out_of_memory() {
     assert_eq!(e.index, 1);
     assert!(e.message.contains("would take"), "{e}");
 }
+
+/// Regression (found by the `program_file` fuzzer): an arc through a via point 1e110 mm away
+/// overflowed the circle's radius and panicked in `f64::clamp` with NaN. Positions are now
+/// bounded and a degenerate arc is refused.
+#[test]
+fn an_arc_through_a_far_point_panicked() {
+    let text = include_str!("../../../../../fuzz/regressions/program_file/arc_through_a_far_point_panicked.json");
+    let p = crate::program::json::parse(text).expect("valid file");
+    let model = RobotModel::parol6();
+    let e = compile(&model, &p, &home_position(&model), CompileOptions::PREFLIGHT).expect_err("refused");
+    assert_eq!(e.index, 2);
+    assert!(e.message.contains("via_mm"), "{e}");
+    // the path itself refuses the overflowing circle (without the position bound)
+    let from = model.tcp_isometry(&home_position(&model));
+    let mut to = from;
+    to.translation.vector.x += 0.005;
+    to.translation.vector.z += 0.29;
+    let via = nalgebra::Point3::new(-0.01, 2.8e110, 0.292);
+    assert!(matches!(TcpPath::arc_through(&from, &via, &to), Err(crate::motion::path::PathError::DegenerateArc)));
+}

@@ -148,8 +148,13 @@ fn estop_stops_motion_disables_and_needs_enable() {
     let s = session.wait_until(LONG, |s| s.estop_pressed).expect("estop seen");
     assert!(s.needs_enable);
     session.wait_until(LONG, |s| s.last_command == Some(CommandCode::Disable)).expect("disable sent");
-    let e = emu.snapshot();
-    assert!(e.disabled, "emulator latched DISABLE");
+    // sent is not yet read: the board latches DISABLE when its receiver takes the frame (a
+    // loaded machine can delay the pty by a few ms)
+    let t0 = std::time::Instant::now();
+    while !emu.snapshot().disabled {
+        assert!(t0.elapsed() < LONG, "emulator latched DISABLE");
+        std::thread::sleep(Duration::from_millis(2));
+    }
     assert!(session.jog(1, 0.5).is_err());
     assert!(session.enable().is_err(), "enable refused while pressed");
     emu.set_estop_pressed(false);

@@ -18,7 +18,7 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use arc_swap::ArcSwap;
 use crossbeam_channel::{Receiver, Sender, TryRecvError};
@@ -509,127 +509,9 @@ impl Run<'_> {
             Err(TryRecvError::Disconnected) => Some(RunnerControl::Stop),
         }
     }
-
-    /// Pauses on the path (the backend drops the steps scheduled after the one under way) and
-    /// waits until the arm has stopped. Returns the first step not finished: the one paused
-    /// mid-way, or the next one.
-    fn pause_now(&mut self, compiled: &[CompiledStep], slots: &mut VecDeque<Slot>, next: usize) -> Result<usize, Halt> {
-        self.backend.send(MotionCommand::Pause).map_err(|e| Halt::Failed(format!("pause: {e}")))?;
-        let t0 = Instant::now();
-        loop {
-            std::thread::sleep(POLL);
-            let s = self.backend.state();
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted: {b}")));
-            }
-            if self.abort.load(Ordering::SeqCst) {
-                return Err(Halt::Aborted);
-            }
-            if s.moving && t0.elapsed() < Duration::from_secs(5) {
-                continue;
-            }
-            // the planner's goal is the end of the trajectory that holds the arm
-            let holding = slots.iter().position(|sl| {
-                matches!(compiled[sl.index].action, StepAction::Motion(_)) && compiled[sl.index].end_q == s.target_q
-            });
-            let done = match holding {
-                Some(k) if s.mode == PlannerMode::Paused => k,
-                Some(k) => k + 1,
-                // nothing of the schedule has moved yet (a dwell or I/O at the head)
-                None => 0,
-            };
-            for _ in 0..done.min(slots.len()) {
-                self.finish_slot(slots, compiled);
-            }
-            return Ok(slots.front().map_or(next, |sl| sl.index));
-        }
-    }
-
-    /// Waits while paused until Resume, Step or Stop.
-    fn idle_until_control(&mut self) -> Result<(), Halt> {
-        self.publish(|p| p.state = RunState::Paused);
-        loop {
-            match self.control.recv_timeout(Duration::from_millis(20)) {
-                Ok(RunnerControl::Resume) => {
-                    self.single = false;
-                    break;
-                }
-                Ok(RunnerControl::Step) => {
-                    self.single = true;
-                    break;
-                }
-                Ok(RunnerControl::Stop) => {
-                    let _ = self.backend.send(MotionCommand::Stop);
-                    return Err(Halt::Stopped);
-                }
-                Ok(RunnerControl::Pause) | Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
-                Err(crossbeam_channel::RecvTimeoutError::Disconnected) => return Err(Halt::Stopped),
-            }
-            if let Some(b) = &self.backend.state().blocked {
-                return Err(Halt::Failed(format!("halted while paused: {b}")));
-            }
-            if self.abort.load(Ordering::SeqCst) {
-                return Err(Halt::Aborted);
-            }
-        }
-        self.publish(|p| p.state = RunState::Running);
-        Ok(())
-    }
-
-    /// Finishes the trajectory of step `k` if it was paused mid-way; returns the step to
-    /// schedule next.
-    fn resume_from(&mut self, compiled: &[CompiledStep], k: usize) -> Result<usize, Halt> {
-        if self.backend.state().mode != PlannerMode::Paused {
-            return Ok(k);
-        }
-        self.backend.send(MotionCommand::Resume).map_err(|e| Halt::Failed(format!("resume: {e}")))?;
-        loop {
-            std::thread::sleep(POLL);
-            let s = self.backend.state();
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted: {b}")));
-            }
-            if let Some(RunnerControl::Stop) = self.poll_control() {
-                let _ = self.backend.send(MotionCommand::Stop);
-                return Err(Halt::Stopped);
-            }
-            if s.mode == PlannerMode::Hold && !s.moving {
-                self.last_end_s = s.time_s;
-                break;
-            }
-        }
-        if let Some(c) = compiled.get(k) {
-            self.publish(|p| {
-                p.steps_done = c.steps.end;
-                p.step = c.steps.end.min(p.steps.saturating_sub(1));
-            });
-        }
-        Ok(k + 1)
-    }
-
-    fn wait_input(&self, input: u8, on: bool, timeout_s: f64) -> Result<(), Halt> {
-        let what = format!("input {input} {}", if on { "high" } else { "low" });
-        self.publish(|p| p.waiting_for = Some(what.clone()));
-        let start = self.backend.state().time_s;
-        loop {
-            let s = self.backend.state();
-            if s.io.inputs.get(usize::from(input).saturating_sub(1)).copied() == Some(on) {
-                self.publish(|p| p.waiting_for = None);
-                return Ok(());
-            }
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted while waiting for {what}: {b}")));
-            }
-            if s.time_s - start > timeout_s {
-                return Err(Halt::Failed(format!("{what} did not come within {timeout_s:.1} s")));
-            }
-            if let Some(RunnerControl::Stop) = self.poll_control() {
-                return Err(Halt::Stopped);
-            }
-            std::thread::sleep(POLL);
-        }
-    }
 }
+
+mod pausing;
 
 #[cfg(test)]
 mod tests;

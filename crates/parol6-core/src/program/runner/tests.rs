@@ -1,4 +1,5 @@
 use super::*;
+use std::time::Instant;
 use crate::motion::IoCommand;
 use crate::program::{PoseMm, Step};
 use crate::sim::{SimConfig, SimHandle, SimMode};

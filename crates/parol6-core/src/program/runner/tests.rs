@@ -1,8 +1,8 @@
 use super::*;
-use std::time::Instant;
 use crate::motion::IoCommand;
 use crate::program::{PoseMm, Step};
 use crate::sim::{SimConfig, SimHandle, SimMode};
+use std::time::Instant;
 
 fn sim(time_scale: f64) -> (RobotModel, Arc<SimHandle>) {
     let model = RobotModel::parol6();

@@ -6,11 +6,13 @@
 
 use std::time::{Duration, Instant};
 
+mod ui_support;
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
-use parol6_app::app::{LaunchOptions, Parol6App};
+use parol6_app::app::Parol6App;
 use parol6_app::panels::cartesian_jog::CartesianJogPanel;
 use parol6_app::panels::{AppCommand, Notice, Panel, PanelContext, PerfStats, Settings, StateSource};
 use parol6_core::RobotModel;
@@ -26,20 +28,8 @@ fn work_pose() -> Vec<f64> {
 }
 
 fn app_harness() -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
-        model: RobotModel::parol6(),
-        connect: None,
-        settings_path: None,
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-    };
-    let mut app = Parol6App::new(opts, None).expect("app");
-    app.teleport(work_pose()).expect("teleport");
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1400.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().teleport(work_pose()).expect("teleport");
     h.run_steps(3);
     settle(&mut h, 0.2);
     h

@@ -6,12 +6,14 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
+mod ui_support;
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use std::time::Instant;
+use ui_support::app_harness;
 
-use parol6_app::app::{LaunchOptions, Parol6App};
+use parol6_app::app::Parol6App;
 use parol6_app::panels::cartesian_target::CartesianTargetPanel;
 use parol6_app::panels::joints::{JointsPanel, limit_status_text};
 use parol6_app::panels::tcp::TcpPanel;
@@ -304,24 +306,6 @@ fn from_tcp_at_standby_offers_the_current_joints_first() {
 // ---------------------------------------------------------------------------------------------
 // The whole app
 // ---------------------------------------------------------------------------------------------
-
-fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
-        model: RobotModel::parol6(),
-        connect: None,
-        settings_path: None,
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-    };
-    let app = Parol6App::new(opts, None).expect("app");
-    let mut h = Harness::builder()
-        .with_size(size)
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
-    h.run_steps(3);
-    h
-}
 
 #[test]
 fn the_left_panel_keeps_its_width_over_clicks() {

@@ -7,31 +7,15 @@
 
 use std::time::{Duration, Instant};
 
+mod ui_support;
+
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use ui_support::app_harness;
 
-use parol6_app::app::{LaunchOptions, Parol6App};
-use parol6_core::RobotModel;
+use parol6_app::app::Parol6App;
 use parol6_core::motion::PlannerMode;
-
-fn app_harness() -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
-        model: RobotModel::parol6(),
-        connect: None,
-        settings_path: None,
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-    };
-    let app = Parol6App::new(opts, None).expect("app");
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1400.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
-    h.run_steps(3);
-    h
-}
 
 /// Runs frames until `f` holds (at most `s` seconds of wall time).
 fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
@@ -60,7 +44,7 @@ fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
 
 #[test]
 fn a_built_in_program_runs_pauses_resumes_and_stops_from_the_panel() {
-    let mut h = app_harness();
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
     // pick "Draw" in the program list
     h.get_by_label("Draw").click();
     until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
@@ -83,7 +67,7 @@ fn a_built_in_program_runs_pauses_resumes_and_stops_from_the_panel() {
 
 #[test]
 fn a_broken_file_is_refused_and_the_loaded_program_stays() {
-    let mut h = app_harness();
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
     let dir = std::env::temp_dir().join(format!("parol6-program-ui-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let bad = dir.join("bad.json");
@@ -103,7 +87,7 @@ fn a_broken_file_is_refused_and_the_loaded_program_stays() {
 
 #[test]
 fn a_program_that_fails_pre_flight_cannot_be_started() {
-    let mut h = app_harness();
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
     let dir = std::env::temp_dir().join(format!("parol6-program-ui-far-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let far = dir.join("far.json");

@@ -1,7 +1,8 @@
 //! # parol6-core
 //!
 //! The robot itself, without GUI or serial: URDF → [`model::RobotModel`], forward kinematics,
-//! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), joint limits and limit zones with
+//! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), the two three-angle orientation
+//! conventions (ours and the official PAROL6 tools', [`angles`]), joint limits and limit zones with
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
@@ -19,6 +20,7 @@
 
 pub use nalgebra as na;
 
+pub mod angles;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;

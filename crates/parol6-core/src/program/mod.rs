@@ -2,6 +2,8 @@
 //! digital I/O, wait for an input, home) with their speed settings, tool and keep-out shapes.
 //!
 //! - [`json`]: the native, versioned file format (units in the field names);
+//! - [`files`]: every program file format by extension (read, write);
+//! - [`edit`]: editing with undo / redo (teach, duplicate, delete, reorder);
 //! - [`builtin`]: the programs embedded in the binary (the demos);
 //! - [`compile`]: steps → planned joint trajectories ([`compile::CompiledStep`]), from a start
 //!   pose, at a chosen sample period (1 ms to run, 10 ms for pre-flight);
@@ -21,6 +23,8 @@ use crate::scene::KeepOut;
 pub mod builtin;
 pub mod check;
 pub mod compile;
+pub mod edit;
+pub mod files;
 pub mod json;
 pub mod runner;
 

@@ -1,0 +1,207 @@
+//! Program files of every format, chosen by extension: reading (size-bounded, UTF-8 checked,
+//! errors naming the file and the place in it) and writing.
+//!
+//! | extension | format |
+//! | --- | --- |
+//! | `.json` | the native format ([`super::json`]) |
+//!
+//! Loading never touches a program in memory: it returns a new one or an error.
+
+use std::path::Path;
+
+use super::{Program, json};
+use crate::RobotModel;
+
+/// Files larger than this are refused before reading, bytes (every format).
+pub const MAX_PROGRAM_FILE_BYTES: u64 = json::MAX_FILE_BYTES as u64;
+
+/// A program file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProgramFormat {
+    /// The native JSON format.
+    Json,
+}
+
+impl ProgramFormat {
+    /// Every format, with its extensions (the first is the one written by "save as").
+    pub const ALL: [(ProgramFormat, &'static [&'static str]); 1] = [(ProgramFormat::Json, &["json"])];
+
+    /// The format of `path`, from its extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Self, ProgramIoError> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+        Self::ALL.iter().find(|(_, exts)| exts.contains(&ext.as_str())).map(|(f, _)| *f).ok_or_else(|| {
+            ProgramIoError::UnknownExtension { path: path.display().to_string(), extensions: Self::list() }
+        })
+    }
+
+    /// The accepted extensions, for messages and file dialogs (`.json, …`).
+    pub fn list() -> String {
+        Self::ALL.iter().flat_map(|(_, e)| e.iter().map(|e| format!(".{e}"))).collect::<Vec<_>>().join(", ")
+    }
+
+    /// A short name for messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProgramFormat::Json => "program JSON",
+        }
+    }
+}
+
+/// What reading or writing needs beyond the text: the robot (for poses of joint steps) and the
+/// pose the program starts from (where formats with modal or relative positions start).
+#[derive(Debug, Clone, Copy)]
+pub struct FormatContext<'a> {
+    /// The robot.
+    pub model: &'a RobotModel,
+    /// Joint values the program starts from, rad.
+    pub start_q: &'a [f64],
+}
+
+/// Why a program file cannot be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ProgramIoError {
+    /// The extension names no format.
+    #[error("{path}: unknown program file extension (use one of {extensions})")]
+    UnknownExtension {
+        /// The file.
+        path: String,
+        /// The accepted extensions.
+        extensions: String,
+    },
+    /// The file cannot be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// Too big to be a program.
+    #[error("{path}: {bytes} bytes is more than a program file may have ({max} bytes)")]
+    TooBig {
+        /// The file.
+        path: String,
+        /// Its size.
+        bytes: u64,
+        /// The limit.
+        max: u64,
+    },
+    /// Not UTF-8 text.
+    #[error("{path}: not UTF-8 text (byte {at})")]
+    NotText {
+        /// The file.
+        path: String,
+        /// Offset of the first bad byte.
+        at: usize,
+    },
+    /// The content is malformed; the message names the place (line, column, field).
+    #[error("{path}: {message}")]
+    Content {
+        /// The file (or `-`).
+        path: String,
+        /// What is wrong and where.
+        message: String,
+    },
+}
+
+/// Parses `text` as a program of `format`. `origin` names the text in messages.
+pub fn parse_program(
+    text: &str,
+    format: ProgramFormat,
+    _ctx: &FormatContext<'_>,
+    origin: &str,
+) -> Result<Program, ProgramIoError> {
+    let content = |message: String| ProgramIoError::Content { path: origin.to_string(), message };
+    match format {
+        ProgramFormat::Json => json::parse(text).map_err(|e| content(e.to_string())),
+    }
+}
+
+/// Reads the program file `path` (format from its extension).
+pub fn read_program(path: &Path, ctx: &FormatContext<'_>) -> Result<Program, ProgramIoError> {
+    let format = ProgramFormat::from_path(path)?;
+    let shown = path.display().to_string();
+    let io = |source| ProgramIoError::Io { path: shown.clone(), source };
+    let bytes = std::fs::metadata(path).map_err(io)?.len();
+    if bytes > MAX_PROGRAM_FILE_BYTES {
+        return Err(ProgramIoError::TooBig { path: shown, bytes, max: MAX_PROGRAM_FILE_BYTES });
+    }
+    let raw = std::fs::read(path).map_err(io)?;
+    let text = String::from_utf8(raw)
+        .map_err(|e| ProgramIoError::NotText { path: shown.clone(), at: e.utf8_error().valid_up_to() })?;
+    let mut program = parse_program(&text, format, ctx, &shown)?;
+    if program.name.trim().is_empty() {
+        program.name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    }
+    Ok(program)
+}
+
+/// The text of `program` in `format`.
+pub fn format_program(
+    program: &Program,
+    format: ProgramFormat,
+    _ctx: &FormatContext<'_>,
+    origin: &str,
+) -> Result<String, ProgramIoError> {
+    let _ = origin;
+    match format {
+        ProgramFormat::Json => Ok(json::to_string(program)),
+    }
+}
+
+/// Writes `program` to `path` in the format of its extension. The text is written to a
+/// temporary file beside it and renamed over it, so a failed save never leaves half a file.
+pub fn write_program(program: &Program, path: &Path, ctx: &FormatContext<'_>) -> Result<(), ProgramIoError> {
+    let format = ProgramFormat::from_path(path)?;
+    let shown = path.display().to_string();
+    let text = format_program(program, format, ctx, &shown)?;
+    let io = |source| ProgramIoError::Io { path: shown.clone(), source };
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".saving");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::Step;
+
+    fn model() -> RobotModel {
+        RobotModel::parol6()
+    }
+
+    #[test]
+    fn unknown_extension_names_the_accepted_ones() {
+        let e = ProgramFormat::from_path(Path::new("a.docx")).unwrap_err().to_string();
+        assert!(e.contains("a.docx") && e.contains(".json"), "{e}");
+        assert_eq!(ProgramFormat::from_path(Path::new("A.JSON")).unwrap(), ProgramFormat::Json);
+    }
+
+    #[test]
+    fn save_then_read_gives_the_same_program_and_errors_name_the_file() {
+        let m = model();
+        let q = crate::parol6::standby_rad().to_vec();
+        let ctx = FormatContext { model: &m, start_q: &q };
+        let dir = std::env::temp_dir().join(format!("parol6-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.json");
+        let program = Program::from_steps("p", vec![Step::Dwell { seconds: 1.5 }]);
+        write_program(&program, &path, &ctx).unwrap();
+        let back = read_program(&path, &ctx).unwrap();
+        assert_eq!(back.steps[0].step, program.steps[0].step);
+        std::fs::write(&path, "{ \"format\": 3 }").unwrap();
+        let e = read_program(&path, &ctx).unwrap_err().to_string();
+        assert!(e.starts_with(&path.display().to_string()), "{e}");
+        std::fs::write(&path, [0xff, 0xfe, 0x00]).unwrap();
+        let e = read_program(&path, &ctx).unwrap_err().to_string();
+        assert!(e.contains("not UTF-8"), "{e}");
+        let e = read_program(&dir.join("missing.json"), &ctx).unwrap_err().to_string();
+        assert!(e.contains("missing.json"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

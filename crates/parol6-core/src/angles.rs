@@ -33,7 +33,7 @@ impl AngleConvention {
     /// The three axis labels a user sees.
     pub fn labels(self) -> [&'static str; 3] {
         match self {
-            AngleConvention::UrdfRpy => ["roll", "pitch", "yaw"],
+            AngleConvention::UrdfRpy => ["Roll", "Pitch", "Yaw"],
             AngleConvention::OfficialAbc => ["RX", "RY", "RZ"],
         }
     }

@@ -48,6 +48,11 @@ impl Parol6App {
                 MenuButton::new("Units").config(stay_open).ui(ui, |ui| {
                     ui.radio_value(&mut pctx.settings.unit, AngleUnit::Deg, "Degrees");
                     ui.radio_value(&mut pctx.settings.unit, AngleUnit::Rad, "Radians");
+                    ui.separator();
+                    ui.label("TCP orientation");
+                    for c in crate::panels::AngleConvention::ALL {
+                        ui.radio_value(&mut pctx.settings.angle_convention, c, c.describe());
+                    }
                 });
                 if ui.button("Help (F1)").clicked() {
                     *show_help = !*show_help;

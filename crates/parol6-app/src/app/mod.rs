@@ -216,6 +216,16 @@ impl Parol6App {
         true
     }
 
+    /// The persistent settings (tests and scripts change them as the menus would).
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// The program panel (its program, dirty state).
+    pub fn program_panel(&self) -> &crate::panels::program::ProgramPanel {
+        &self.panels.program
+    }
+
     /// The notices shown over the 3D view now, oldest first.
     pub fn notices(&self) -> &[Notice] {
         &self.notices

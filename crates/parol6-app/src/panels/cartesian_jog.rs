@@ -274,9 +274,14 @@ impl Panel for CartesianJogPanel {
         });
         let tcp = ctx.readout.tcp;
         let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
-        let deg = |k: usize| entry::fmt_fixed(tcp.rpy_rad[k].to_degrees(), 1);
-        ui.label(format!("TCP {}, {}, {} mm · RPY {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
-            .on_hover_text("TCP position (X, Y, Z) and roll, pitch, yaw; the TCP panel shows more digits");
+        let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
+        let deg = |k: usize| entry::fmt_fixed(shown[k].to_degrees(), 1);
+        let [a, b, c] = ctx.settings.angle_labels();
+        ui.label(format!("TCP {}, {}, {} mm · {a}/{b}/{c} {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
+            .on_hover_text(format!(
+                "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
+                ctx.settings.angle_convention.describe()
+            ));
         if held != self.held
             && let Some((axis, dir)) = held
         {

@@ -188,18 +188,20 @@ impl CartesianTargetPanel {
         let unit = ctx.settings.unit;
         ui.heading(Panel::title(self));
         let mut events = Vec::new();
+        let shown = ctx.settings.shown_angles_rad(self.rpy);
+        let labels = ctx.settings.angle_labels();
         egui::Grid::new("cart_target").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
             for k in 0..3 {
                 let xyz = ["X", "Y", "Z"][k];
                 ui.label(xyz);
                 let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
                 events.push((k, e));
-                let rpy = ["Roll", "Pitch", "Yaw"][k];
-                ui.label(rpy);
+                let rpy = labels[k];
+                ui.label(rpy).on_hover_text(ctx.settings.angle_convention.describe());
                 let (_, e) = entry::numeric_entry(
                     ui,
                     &format!("target {rpy}"),
-                    unit.from_rad(self.rpy[k]),
+                    unit.from_rad(shown[k]),
                     unit.decimals(),
                     70.0,
                     unit.suffix().trim(),
@@ -211,9 +213,13 @@ impl CartesianTargetPanel {
         for (k, event) in events {
             match event {
                 Some(EntryEvent::Committed(v)) if k < 3 => self.xyz_mm[k] = v,
-                Some(EntryEvent::Committed(v)) => self.rpy[k - 3] = unit.to_rad(v),
+                Some(EntryEvent::Committed(v)) => {
+                    let mut angles = ctx.settings.shown_angles_rad(self.rpy);
+                    angles[k - 3] = unit.to_rad(v);
+                    self.rpy = ctx.settings.rpy_from_shown_rad(angles);
+                }
                 Some(EntryEvent::Invalid(why)) => {
-                    let name = ["X", "Y", "Z", "Roll", "Pitch", "Yaw"][k];
+                    let name = if k < 3 { ["X", "Y", "Z"][k] } else { labels[k - 3] };
                     ctx.error(format!("target {name}: {why}"));
                     continue;
                 }

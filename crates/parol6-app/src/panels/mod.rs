@@ -9,6 +9,7 @@ use eframe::egui;
 use std::time::Instant;
 
 use parol6_core::RobotModel;
+pub use parol6_core::angles::AngleConvention;
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::MotionCommand;
 use parol6_core::profile::ProfileKind;
@@ -23,6 +24,7 @@ pub mod joints;
 pub mod program;
 pub mod registry;
 pub mod status_bar;
+pub mod step_fields;
 pub mod tcp;
 
 /// A panel of the operator UI.
@@ -106,6 +108,38 @@ pub struct Settings {
     pub jog_speed_fraction: f64,
     /// Cartesian jog speed fraction (0–1] of the 1–160 mm/s, 1–80 °/s range.
     pub cartesian_jog_fraction: f64,
+    /// How TCP orientations are shown and typed: our roll/pitch/yaw or the official PAROL6
+    /// tools' RX/RY/RZ (so a user reads the same numbers as in the official GUI and API).
+    pub angle_convention: AngleConvention,
+    /// Program files opened or saved, newest first (at most [`RECENT_PROGRAMS`]).
+    pub recent_programs: Vec<String>,
+}
+
+/// Recent program files remembered.
+pub const RECENT_PROGRAMS: usize = 8;
+
+impl Settings {
+    /// A TCP orientation (URDF roll/pitch/yaw, rad) as shown in the chosen convention, rad.
+    pub fn shown_angles_rad(&self, rpy_rad: [f64; 3]) -> [f64; 3] {
+        self.angle_convention.from_rpy_deg(rpy_rad.map(f64::to_degrees)).map(f64::to_radians)
+    }
+
+    /// Angles typed in the chosen convention (rad) → URDF roll/pitch/yaw, rad.
+    pub fn rpy_from_shown_rad(&self, shown_rad: [f64; 3]) -> [f64; 3] {
+        self.angle_convention.to_rpy_deg(shown_rad.map(f64::to_degrees)).map(f64::to_radians)
+    }
+
+    /// Labels of the three orientation angles in the chosen convention.
+    pub fn angle_labels(&self) -> [&'static str; 3] {
+        self.angle_convention.labels()
+    }
+
+    /// Puts `path` first in the recent program files.
+    pub fn remember_program(&mut self, path: &str) {
+        self.recent_programs.retain(|p| p != path);
+        self.recent_programs.insert(0, path.to_string());
+        self.recent_programs.truncate(RECENT_PROGRAMS);
+    }
 }
 
 impl Default for Settings {
@@ -120,6 +154,8 @@ impl Default for Settings {
             view: crate::viewport::ViewportOptions::default(),
             jog_speed_fraction: 0.2,
             cartesian_jog_fraction: 0.25,
+            angle_convention: AngleConvention::UrdfRpy,
+            recent_programs: Vec::new(),
         }
     }
 }

@@ -81,12 +81,14 @@ impl Panel for TcpPanel {
         let tcp = ctx.readout.tcp;
         let unit = ctx.settings.unit;
         ui.heading(self.title());
+        let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
+        let labels = ctx.settings.angle_labels();
         egui::Grid::new("tcp_pose").num_columns(4).spacing([12.0, 2.0]).show(ui, |ui| {
             for (k, label) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(*label);
                 ui.monospace(format!("{:>9} mm", entry::fmt_fixed(tcp.position_m[k] * 1000.0, MM_DECIMALS)));
-                ui.label(["Roll", "Pitch", "Yaw"][k]);
-                ui.monospace(format!("{:>10}", unit.fmt(tcp.rpy_rad[k])));
+                ui.label(labels[k]).on_hover_text(ctx.settings.angle_convention.describe());
+                ui.monospace(format!("{:>10}", unit.fmt(shown[k])));
                 ui.end_row();
             }
         });

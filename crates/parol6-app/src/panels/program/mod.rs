@@ -1,13 +1,25 @@
-//! Right panel: the program. Pick a built-in program or open a program file, see its steps and
+//! Left panel: the program. Pick a built-in program or open a program file of any format
+//! (file dialog, typed path, recent files), edit it (teach the current pose, edit a step's
+//! numbers, duplicate, delete, reorder, undo / redo, the point-table window) and save it; see
 //! its pre-flight result (also drawn as the planned TCP path in the 3D view, green / amber /
-//! red), run it on the active backend with pause, resume, single step and stop, and follow
-//! its progress (step n of m, time left).
+//! red), run it on the active backend with pause, resume, single step and stop, and follow its
+//! progress (step n of m, time left).
+//!
+//! - [`edit`]: the step list with selection, the edit toolbar, the step editor, shortcuts;
+//! - [`files`]: open / save / save as, the file dialog, recent files;
+//! - [`table`]: the point-table window (every step's numbers in a grid).
 //!
 //! The runner is the core's `ProgramRunner` on its own thread (the app owns it); this panel
 //! only reads its progress and queues commands.
 
+mod edit;
+mod files;
+mod table;
+
 use std::path::PathBuf;
 use std::sync::Arc;
+
+use parol6_core::program::edit::ProgramEditor;
 
 use eframe::egui;
 
@@ -15,23 +27,34 @@ use parol6_core::RobotModel;
 use parol6_core::program::check::{CheckOptions, CheckReport, CheckStatus, Severity, check_program};
 use parol6_core::program::compile::{CompileOptions, StepAction, compile};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
-use parol6_core::program::{Program, builtin, json};
+use parol6_core::program::{Program, builtin};
 
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
 use crate::viewport::{PathOverlay, PathPointStatus};
 
 /// Height of the step list, px (fixed so the panel never grows while running).
-const STEP_LIST_HEIGHT: f32 = 96.0;
+const STEP_LIST_HEIGHT: f32 = 120.0;
 /// Pre-flight problems listed in the panel (the rest are counted).
 const ISSUES_SHOWN: usize = 4;
 
 /// The program panel.
 pub struct ProgramPanel {
     builtins: Vec<Program>,
+    /// The program being edited, with undo / redo.
+    editor: ProgramEditor,
+    /// The program as last edited, shared with the runner and the pre-flight.
     program: Arc<Program>,
     /// Where the program came from (a file path or "built-in").
     source: String,
+    /// The file it was loaded from or saved to ("Save" writes there).
+    file: Option<PathBuf>,
+    /// The selected step.
+    selected: Option<usize>,
+    /// File dialog, open action waiting for a discard confirmation, table window.
+    files: files::FileState,
+    /// The point-table window is open.
+    pub table_open: bool,
     /// Typed path of a program file to open.
     pub path_text: String,
     /// Pre-flight of the program from the pose it was checked at.
@@ -48,11 +71,16 @@ impl ProgramPanel {
     /// The panel for `model`, with the first built-in program loaded.
     pub fn new(model: &RobotModel) -> Self {
         let builtins = builtin::programs(model);
-        let program = Arc::new(builtins.first().cloned().unwrap_or_default());
+        let first = builtins.first().cloned().unwrap_or_default();
         Self {
             builtins,
-            program,
+            program: Arc::new(first.clone()),
+            editor: ProgramEditor::new(first),
             source: "built-in".into(),
+            file: None,
+            selected: None,
+            files: files::FileState::default(),
+            table_open: false,
             path_text: String::new(),
             report: None,
             overlay: None,
@@ -71,23 +99,20 @@ impl ProgramPanel {
         self.overlay.clone()
     }
 
+    /// The program's unsaved edits exist.
+    pub fn is_dirty(&self) -> bool {
+        self.editor.is_dirty()
+    }
+
     /// Loads the built-in program called `name` (case-insensitive); false when none is.
     pub fn load_builtin(&mut self, name: &str) -> bool {
         match self.builtins.iter().find(|p| p.name.eq_ignore_ascii_case(name)) {
             Some(p) => {
-                self.set_program(p.clone(), "built-in".into());
+                self.set_program(p.clone(), "built-in".into(), None);
                 true
             }
             None => false,
         }
-    }
-
-    /// Loads a program file; on an error the loaded program stays as it is.
-    pub fn load_file(&mut self, path: &std::path::Path) -> Result<(), String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let program = json::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        self.set_program(program, path.display().to_string());
-        Ok(())
     }
 
     /// The command that runs the loaded program with this panel's settings.
@@ -98,11 +123,23 @@ impl ProgramPanel {
         }
     }
 
-    fn set_program(&mut self, program: Program, source: String) {
-        self.program = Arc::new(program);
+    /// A new program (loaded): history cleared, nothing selected.
+    fn set_program(&mut self, program: Program, source: String, file: Option<PathBuf>) {
+        self.editor.replace(program);
         self.source = source;
+        self.file = file;
+        self.selected = None;
+        self.program_changed();
+    }
+
+    /// After any change of the edited program: share it and plan / check it again.
+    fn program_changed(&mut self) {
+        self.program = Arc::new(self.editor.program().clone());
         self.report = None;
         self.overlay = None;
+        if self.selected.is_some_and(|i| i >= self.program.steps.len()) {
+            self.selected = self.program.steps.len().checked_sub(1);
+        }
     }
 
     /// Pre-flight from `start_q` (again only when the start pose or the program changed).
@@ -157,17 +194,31 @@ impl Panel for ProgramPanel {
         ui.heading(self.title());
         let progress = ctx.program.cloned();
         let running = progress.as_ref().is_some_and(|p| !p.state.is_finished());
-        ui.add_enabled_ui(!running, |ui| self.picker(ui, ctx));
+        ui.add_enabled_ui(!running, |ui| {
+            self.picker(ui, ctx);
+            self.file_row(ui, ctx);
+        });
         if !running && !ctx.robot.moving {
             self.refresh_check(ctx.model, &ctx.robot.commanded.q.clone());
         }
         self.summary_line(ui);
         self.step_list(ui, progress.as_ref());
+        ui.add_enabled_ui(!running, |ui| {
+            self.edit_toolbar(ui, ctx);
+            self.step_editor(ui, ctx);
+        });
+        if !running {
+            self.shortcuts(ui, ctx);
+        }
         self.controls(ui, ctx, progress.as_ref());
         progress_line(ui, progress.as_ref());
         self.issue_lines(ui);
         if running {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        self.dialogs(ui, ctx);
+        if self.table_open && !running {
+            self.table_window(ui, ctx);
         }
     }
 }
@@ -184,31 +235,7 @@ impl ProgramPanel {
             }
         });
         if let Some(name) = pick {
-            self.load_builtin(&name);
-        }
-        ui.horizontal(|ui| {
-            let label = ui.label("File");
-            let edit = ui
-                .add(
-                    egui::TextEdit::singleline(&mut self.path_text)
-                        .hint_text("program.json")
-                        .desired_width((ui.available_width() - 60.0).max(60.0)),
-                )
-                .labelled_by(label.id);
-            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-            if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
-                let path = PathBuf::from(self.path_text.trim());
-                match self.load_file(&path) {
-                    Ok(()) => ctx.info(format!("loaded {}", path.display())),
-                    Err(e) => ctx.error(e),
-                }
-            }
-        });
-        if self.source != "built-in" {
-            ui.add(
-                egui::Label::new(egui::RichText::new(format!("{}: {}", self.program.name, self.source)).weak())
-                    .truncate(),
-            );
+            self.request_open(files::OpenRequest::Builtin(name), ctx);
         }
     }
 
@@ -231,36 +258,6 @@ impl ProgramPanel {
                 ui.weak("pre-flight: when the arm stands still");
             }
         });
-    }
-
-    fn step_list(&self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
-        let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
-        egui::ScrollArea::vertical()
-            .id_salt("program-steps")
-            .max_height(STEP_LIST_HEIGHT)
-            .auto_shrink([false, true])
-            .show(ui, |ui| {
-                for (i, s) in self.program.steps.iter().enumerate() {
-                    let (mark, strong) = match progress {
-                        Some(p) if !p.state.is_finished() && i == p.step => (">", true),
-                        Some(p) if i < p.steps_done => ("+", false),
-                        _ => (" ", false),
-                    };
-                    let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
-                    ui.horizontal(|ui| {
-                        ui.monospace(format!("{mark}{:>3}", i + 1));
-                        let text = egui::RichText::new(s.step.summary());
-                        let text = if strong { text.strong() } else { text };
-                        let text = match worst {
-                            Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
-                            Some(Severity::Warning) => text.color(palette::rgb(palette::PATH_WARNING)),
-                            None => text,
-                        };
-                        // one line per step, cut to the column: the panel never widens
-                        ui.add(egui::Label::new(text).truncate());
-                    });
-                }
-            });
     }
 
     fn controls(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, progress: Option<&RunProgress>) {

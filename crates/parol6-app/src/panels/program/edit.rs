@@ -1,0 +1,257 @@
+//! Editing in the program panel: the step list (click to select), the edit toolbar (teach the
+//! current pose as a joint or Cartesian step, duplicate, delete, move up / down, undo / redo,
+//! the table window), the editor of the selected step's numbers, and the shortcuts
+//! (Ctrl+Z, Ctrl+Y / Ctrl+Shift+Z, Ctrl+D, Delete, Alt+↑/↓, Ctrl+S).
+//!
+//! Teaching takes the pose the arm is at: the simulation's joints, or the robot's measured
+//! joints when the hardware drives the state.
+
+use eframe::egui;
+use parol6_core::program::runner::RunProgress;
+use parol6_core::program::{PoseMm, Step};
+
+use super::ProgramPanel;
+use crate::palette;
+use crate::panels::PanelContext;
+use crate::panels::entry::{self, EntryEvent};
+use crate::panels::step_fields::{step_fields, with_field};
+use parol6_core::program::check::Severity;
+
+/// A joint step at the arm's pose (degrees, as programs store them).
+pub(super) fn taught_joint_step(q_rad: &[f64]) -> Step {
+    Step::MoveJoints { joints_deg: q_rad.iter().map(|v| v.to_degrees()).collect(), speed_fraction: None }
+}
+
+/// A Cartesian (line) step to the TCP pose of `q_rad`.
+pub(super) fn taught_pose_step(model: &parol6_core::RobotModel, q_rad: &[f64]) -> Step {
+    Step::MoveL { pose: PoseMm::from_isometry(&model.tcp_isometry(q_rad)), speed_mm_s: None, blend_mm: None }
+}
+
+impl ProgramPanel {
+    /// Applies an editor result: on success the program is shared and checked again; an
+    /// error is shown.
+    fn edited<T>(
+        &mut self,
+        result: Result<T, parol6_core::program::edit::EditError>,
+        ctx: &mut PanelContext<'_>,
+    ) -> Option<T> {
+        match result {
+            Ok(v) => {
+                self.program_changed();
+                Some(v)
+            }
+            Err(e) => {
+                ctx.error(format!("program: {e}"));
+                None
+            }
+        }
+    }
+
+    /// Inserts a taught step after the selection (or at the end) and selects it.
+    fn teach(&mut self, step: Step, ctx: &mut PanelContext<'_>) {
+        let at = self.selected.map_or(self.editor.program().steps.len(), |i| i + 1);
+        let r = self.editor.insert(at, step);
+        if self.edited(r, ctx).is_some() {
+            self.selected = Some(at);
+        }
+    }
+
+    fn undo(&mut self) {
+        if self.editor.undo() {
+            self.program_changed();
+        }
+    }
+
+    fn redo(&mut self) {
+        if self.editor.redo() {
+            self.program_changed();
+        }
+    }
+
+    fn duplicate(&mut self, ctx: &mut PanelContext<'_>) {
+        if let Some(i) = self.selected {
+            let r = self.editor.duplicate(i);
+            if let Some(j) = self.edited(r, ctx) {
+                self.selected = Some(j);
+            }
+        }
+    }
+
+    fn delete(&mut self, ctx: &mut PanelContext<'_>) {
+        if let Some(i) = self.selected {
+            let r = self.editor.delete(i);
+            self.edited(r, ctx);
+        }
+    }
+
+    fn move_selected(&mut self, up: bool, ctx: &mut PanelContext<'_>) {
+        if let Some(i) = self.selected {
+            let r = self.editor.move_step(i, up);
+            if let Some(j) = self.edited(r, ctx) {
+                self.selected = Some(j);
+            }
+        }
+    }
+
+    /// The steps, one line each (cut to the column so the panel never widens); click selects.
+    pub(super) fn step_list(&mut self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
+        let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
+        let mut clicked = None;
+        egui::ScrollArea::vertical()
+            .id_salt("program-steps")
+            .max_height(super::STEP_LIST_HEIGHT)
+            .auto_shrink([false, true])
+            .show(ui, |ui| {
+                for (i, s) in self.program.steps.iter().enumerate() {
+                    let (mark, strong) = match progress {
+                        Some(p) if !p.state.is_finished() && i == p.step => (">", true),
+                        Some(p) if i < p.steps_done => ("+", false),
+                        _ => (" ", false),
+                    };
+                    let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
+                    let text = egui::RichText::new(format!("{mark}{:>3}  {}", i + 1, s.step.summary())).monospace();
+                    let text = if strong { text.strong() } else { text };
+                    let text = match worst {
+                        Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
+                        Some(Severity::Warning) => text.color(palette::rgb(palette::PATH_WARNING)),
+                        None => text,
+                    };
+                    let selected = self.selected == Some(i);
+                    let r = ui.add(egui::Button::selectable(selected, text).truncate());
+                    if r.clicked() {
+                        clicked = Some(if selected { None } else { Some(i) });
+                    }
+                }
+            });
+        if let Some(sel) = clicked {
+            self.selected = sel;
+        }
+    }
+
+    /// Teach / duplicate / delete / reorder / undo / redo / table.
+    pub(super) fn edit_toolbar(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let q = ctx.robot.q.clone();
+        let source = if ctx.link.is_some() { "measured robot" } else { "simulation" };
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("Teach joints")
+                .on_hover_text(format!("Insert a joint move to the arm's pose ({source})"))
+                .clicked()
+            {
+                self.teach(taught_joint_step(&q), ctx);
+            }
+            if ui.button("Teach pose").on_hover_text(format!("Insert a line to the TCP pose ({source})")).clicked() {
+                let step = taught_pose_step(ctx.model, &q);
+                self.teach(step, ctx);
+            }
+            let has = self.selected.is_some();
+            if ui.add_enabled(has, egui::Button::new("Dup")).on_hover_text("Duplicate the step (Ctrl+D)").clicked() {
+                self.duplicate(ctx);
+            }
+            if ui.add_enabled(has, egui::Button::new("Del")).on_hover_text("Delete the step (Delete)").clicked() {
+                self.delete(ctx);
+            }
+            if ui.add_enabled(has, egui::Button::new("Up")).on_hover_text("Move the step up (Alt+Up)").clicked() {
+                self.move_selected(true, ctx);
+            }
+            if ui.add_enabled(has, egui::Button::new("Down")).on_hover_text("Move the step down (Alt+Down)").clicked() {
+                self.move_selected(false, ctx);
+            }
+            if ui.add_enabled(self.editor.can_undo(), egui::Button::new("Undo")).on_hover_text("Ctrl+Z").clicked() {
+                self.undo();
+            }
+            if ui.add_enabled(self.editor.can_redo(), egui::Button::new("Redo")).on_hover_text("Ctrl+Y").clicked() {
+                self.redo();
+            }
+            if ui.selectable_label(self.table_open, "Table").on_hover_text("Every step's numbers in a grid").clicked() {
+                self.table_open = !self.table_open;
+            }
+        });
+    }
+
+    /// The selected step's numbers, each committed on Enter or focus loss (one undo entry).
+    pub(super) fn step_editor(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let Some(i) = self.selected else { return };
+        let Some(step) = self.editor.program().steps.get(i).map(|s| s.step.clone()) else { return };
+        let fields = step_fields(&step, ctx.settings, &self.editor.program().speed);
+        if fields.is_empty() {
+            ui.weak(format!("step {}: {} (edit it in the file)", i + 1, step.kind()));
+            return;
+        }
+        let mut change = None;
+        egui::Grid::new("program-step-editor").num_columns(4).spacing([4.0, 2.0]).show(ui, |ui| {
+            for (k, f) in fields.iter().enumerate() {
+                ui.label(&f.label);
+                let name = format!("step {} {}", i + 1, f.label);
+                let (_, event) = entry::numeric_entry(ui, &name, f.value, f.decimals, 64.0, f.suffix);
+                match event {
+                    Some(EntryEvent::Committed(v)) => change = Some((f.slot, v, f.label.clone())),
+                    Some(EntryEvent::Invalid(why)) => ctx.error(format!("step {} {}: {why}", i + 1, f.label)),
+                    None => {}
+                }
+                if k % 2 == 1 {
+                    ui.end_row();
+                }
+            }
+        });
+        if let Some((slot, v, label)) = change {
+            match with_field(&step, slot, v, ctx.settings) {
+                Ok(new) => {
+                    let r = self.editor.set_step(i, new);
+                    self.edited(r, ctx);
+                }
+                Err(why) => ctx.error(format!("step {} {label}: {why}", i + 1)),
+            }
+        }
+    }
+
+    /// Editing shortcuts, unless a text field has the keyboard.
+    pub(super) fn shortcuts(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        if ui.ctx().egui_wants_keyboard_input() {
+            return;
+        }
+        use egui::{Key, KeyboardShortcut, Modifiers};
+        let pressed = |m: Modifiers, k: Key| ui.input_mut(|i| i.consume_shortcut(&KeyboardShortcut::new(m, k)));
+        let redo = pressed(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z) || pressed(Modifiers::COMMAND, Key::Y);
+        let undo = pressed(Modifiers::COMMAND, Key::Z);
+        let dup = pressed(Modifiers::COMMAND, Key::D);
+        let save = pressed(Modifiers::COMMAND, Key::S);
+        let del = pressed(Modifiers::NONE, Key::Delete);
+        let up = pressed(Modifiers::ALT, Key::ArrowUp);
+        let down = pressed(Modifiers::ALT, Key::ArrowDown);
+        if redo {
+            self.redo();
+        } else if undo {
+            self.undo();
+        }
+        if dup {
+            self.duplicate(ctx);
+        }
+        if del {
+            self.delete(ctx);
+        }
+        if up || down {
+            self.move_selected(up, ctx);
+        }
+        if save {
+            self.save(ctx);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn taught_steps_reach_the_taught_pose() {
+        let model = parol6_core::RobotModel::parol6();
+        let q = parol6_core::parol6::standby_rad().to_vec();
+        let Step::MoveJoints { joints_deg, .. } = taught_joint_step(&q) else { panic!() };
+        assert!(joints_deg.iter().zip(&q).all(|(d, r)| (d.to_radians() - r).abs() < 1e-12));
+        let Step::MoveL { pose, .. } = taught_pose_step(&model, &q) else { panic!() };
+        let tcp = model.tcp_isometry(&q);
+        assert!((pose.isometry().translation.vector - tcp.translation.vector).norm() < 1e-9);
+        assert!(pose.isometry().rotation.angle_to(&tcp.rotation) < 1e-9);
+    }
+}

@@ -1,0 +1,227 @@
+//! Program files in the panel: open (typed path, file dialog, recent files, built-ins), save,
+//! save as. Opening over unsaved edits asks first; a file that fails to load leaves the
+//! program in memory as it is; saving writes atomically and names the file in every message.
+
+use std::path::{Path, PathBuf};
+
+use eframe::egui;
+use parol6_core::program::files::{FormatContext, ProgramFormat, read_program, write_program};
+
+use super::ProgramPanel;
+use crate::panels::PanelContext;
+
+/// What the operator asked to open.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum OpenRequest {
+    /// A built-in program, by name.
+    Builtin(String),
+    /// A program file.
+    File(PathBuf),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum DialogKind {
+    Open,
+    SaveAs,
+}
+
+/// The panel's file state between frames.
+#[derive(Default)]
+pub(super) struct FileState {
+    /// The open file dialog, if one is shown.
+    dialog: Option<(DialogKind, egui_file::FileDialog)>,
+    /// An open that waits for "discard unsaved edits?".
+    pending: Option<OpenRequest>,
+}
+
+/// Files the dialogs list: the formats the program reads.
+fn is_program_file(path: &Path) -> bool {
+    ProgramFormat::from_path(path).is_ok()
+}
+
+impl ProgramPanel {
+    /// The file rows: typed path + Open, Browse / Save / Save as / Recent, the source line and
+    /// the discard question when one is pending.
+    pub(super) fn file_row(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.horizontal(|ui| {
+            let label = ui.label("File");
+            let edit = ui
+                .add(
+                    egui::TextEdit::singleline(&mut self.path_text)
+                        .hint_text("program.json / .gcode / .csv / .txt")
+                        .desired_width((ui.available_width() - 60.0).max(60.0)),
+                )
+                .labelled_by(label.id);
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
+                let path = PathBuf::from(self.path_text.trim());
+                self.request_open(OpenRequest::File(path), ctx);
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Browse…").on_hover_text(format!("Open a program file ({})", ProgramFormat::list())).clicked()
+            {
+                self.show_dialog(DialogKind::Open);
+            }
+            let save = ui.button("Save").on_hover_text("Save to the file it came from (Ctrl+S)");
+            if save.clicked() {
+                self.save(ctx);
+            }
+            if ui.button("Save as…").clicked() {
+                self.show_dialog(DialogKind::SaveAs);
+            }
+            let recent = ctx.settings.recent_programs.clone();
+            ui.add_enabled_ui(!recent.is_empty(), |ui| {
+                ui.menu_button("Recent", |ui| {
+                    for path in recent {
+                        if ui.button(&path).clicked() {
+                            self.request_open(OpenRequest::File(PathBuf::from(&path)), ctx);
+                            ui.close();
+                        }
+                    }
+                });
+            });
+        });
+        let mark = if self.editor.is_dirty() { " (unsaved changes)" } else { "" };
+        ui.add(
+            egui::Label::new(egui::RichText::new(format!("{}: {}{mark}", self.program.name, self.source)).weak())
+                .truncate(),
+        );
+        if let Some(request) = self.files.pending.clone() {
+            ui.horizontal_wrapped(|ui| {
+                ui.colored_label(
+                    crate::palette::rgb(crate::palette::PATH_WARNING),
+                    format!("Unsaved changes to {}. Discard them?", self.program.name),
+                );
+                if ui.button("Discard").clicked() {
+                    self.files.pending = None;
+                    self.open_now(request, ctx);
+                }
+                if ui.button("Keep editing").clicked() {
+                    self.files.pending = None;
+                }
+            });
+        }
+    }
+
+    /// Opens `request`, first asking when there are unsaved edits.
+    pub(super) fn request_open(&mut self, request: OpenRequest, ctx: &mut PanelContext<'_>) {
+        if self.editor.is_dirty() {
+            self.files.pending = Some(request);
+        } else {
+            self.open_now(request, ctx);
+        }
+    }
+
+    fn open_now(&mut self, request: OpenRequest, ctx: &mut PanelContext<'_>) {
+        match request {
+            OpenRequest::Builtin(name) => {
+                self.load_builtin(&name);
+            }
+            OpenRequest::File(path) => match self.load_file(&path, ctx) {
+                Ok(()) => ctx.info(format!("loaded {}", path.display())),
+                Err(e) => ctx.error(e),
+            },
+        }
+    }
+
+    /// Loads a program file of any format (by extension), from the commanded pose; on an error
+    /// the program in memory stays as it is.
+    pub fn load_file(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
+        let start_q = ctx.robot.commanded.q.clone();
+        let fctx = FormatContext { model: ctx.model, start_q: &start_q };
+        let program = read_program(path, &fctx).map_err(|e| e.to_string())?;
+        let shown = path.display().to_string();
+        self.set_program(program, shown.clone(), Some(path.to_path_buf()));
+        self.path_text = shown.clone();
+        ctx.settings.remember_program(&shown);
+        Ok(())
+    }
+
+    /// Saves to `path` (format from the extension); the program stays loaded and now comes
+    /// from that file.
+    pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
+        let start_q = ctx.robot.commanded.q.clone();
+        let fctx = FormatContext { model: ctx.model, start_q: &start_q };
+        write_program(self.editor.program(), path, &fctx).map_err(|e| e.to_string())?;
+        self.editor.mark_saved();
+        let shown = path.display().to_string();
+        self.source = shown.clone();
+        self.file = Some(path.to_path_buf());
+        self.path_text = shown.clone();
+        ctx.settings.remember_program(&shown);
+        Ok(())
+    }
+
+    /// "Save": to the file it came from, else "Save as".
+    pub(super) fn save(&mut self, ctx: &mut PanelContext<'_>) {
+        match self.file.clone() {
+            Some(path) => match self.save_to(&path, ctx) {
+                Ok(()) => ctx.info(format!("saved {}", path.display())),
+                Err(e) => ctx.error(e),
+            },
+            None => self.show_dialog(DialogKind::SaveAs),
+        }
+    }
+
+    fn show_dialog(&mut self, kind: DialogKind) {
+        let start = self.file.as_ref().and_then(|f| f.parent().map(Path::to_path_buf));
+        let mut dialog = match kind {
+            DialogKind::Open => egui_file::FileDialog::open_file().title("Open program"),
+            DialogKind::SaveAs => {
+                let name = self.file.as_ref().and_then(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned());
+                egui_file::FileDialog::save_file()
+                    .title("Save program as (.json, .gcode, .csv, .txt)")
+                    .default_filename(name.unwrap_or_else(|| format!("{}.json", file_stem(&self.program.name))))
+            }
+        };
+        dialog = dialog
+            .show_files_filter(Box::new(|p: &Path| is_program_file(p)))
+            .id(egui::Id::unique("program-file-dialog"));
+        if let Some(dir) = start {
+            dialog = dialog.initial_path(dir);
+        }
+        dialog.open();
+        self.files.dialog = Some((kind, dialog));
+    }
+
+    /// Shows the file dialog if open; opens or saves what the operator picked.
+    pub(super) fn dialogs(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let Some((kind, dialog)) = &mut self.files.dialog else { return };
+        let kind = *kind;
+        let picked = dialog.show(ui.ctx()).selected().then(|| dialog.path().map(Path::to_path_buf)).flatten();
+        if !dialog.visible() {
+            self.files.dialog = None;
+        }
+        let Some(path) = picked else { return };
+        self.files.dialog = None;
+        match kind {
+            DialogKind::Open => self.request_open(OpenRequest::File(path), ctx),
+            DialogKind::SaveAs => {
+                let path = if path.extension().is_none() { path.with_extension("json") } else { path };
+                match self.save_to(&path, ctx) {
+                    Ok(()) => ctx.info(format!("saved {}", path.display())),
+                    Err(e) => ctx.error(e),
+                }
+            }
+        }
+    }
+}
+
+/// A file name from a program name (letters, digits, `-`, `_`; others become `_`).
+fn file_stem(name: &str) -> String {
+    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
+    if s.trim_matches('_').is_empty() { "program".into() } else { s }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_stems_are_safe() {
+        assert_eq!(file_stem("Pick & place"), "Pick___place");
+        assert_eq!(file_stem(""), "program");
+        assert_eq!(file_stem("../etc"), "___etc");
+    }
+}

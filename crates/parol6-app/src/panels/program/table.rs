@@ -1,0 +1,98 @@
+//! The point-table window: every step's numbers in a grid (joint angles in the chosen unit,
+//! positions in mm, orientations in the chosen convention, speeds), each cell committed on
+//! Enter or focus loss as one undoable edit. A header row is repeated where the columns
+//! change (a joint step after Cartesian ones). Steps without numbers here (arcs, splines,
+//! gripper, I/O) show their summary.
+
+use eframe::egui;
+
+use super::ProgramPanel;
+use crate::panels::PanelContext;
+use crate::panels::entry::{self, EntryEvent};
+use crate::panels::step_fields::{FieldSlot, step_fields, with_field};
+
+/// Width of one number cell, px.
+const CELL_WIDTH: f32 = 62.0;
+
+impl ProgramPanel {
+    /// Shows the window while [`ProgramPanel::table_open`].
+    pub(super) fn table_window(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let mut open = true;
+        let mut change: Option<(usize, FieldSlot, f64, String)> = None;
+        let mut select = None;
+        let program = std::sync::Arc::clone(&self.program);
+        egui::Window::new(format!("Point table: {}", program.name))
+            .id(egui::Id::unique("program-point-table"))
+            .open(&mut open)
+            .default_size([640.0, 360.0])
+            .resizable(true)
+            .show(ui.ctx(), |ui| {
+                ui.weak(format!(
+                    "{} steps. Type a value, then Enter or Tab; Ctrl+Z undoes. Angles: {}, {}.",
+                    program.steps.len(),
+                    ctx.settings.unit.suffix().trim(),
+                    ctx.settings.angle_convention.describe()
+                ));
+                egui::ScrollArea::both().auto_shrink([false, false]).show(ui, |ui| {
+                    egui::Grid::new("program-point-table-grid").striped(true).spacing([4.0, 2.0]).show(ui, |ui| {
+                        let mut header: Vec<String> = Vec::new();
+                        for (i, s) in program.steps.iter().enumerate() {
+                            let fields = step_fields(&s.step, ctx.settings, &program.speed);
+                            let labels: Vec<String> =
+                                fields.iter().map(|f| format!("{} ({})", f.label, f.suffix)).collect();
+                            if !fields.is_empty() && labels != header {
+                                ui.strong("#");
+                                ui.strong("step");
+                                for l in &labels {
+                                    ui.strong(l);
+                                }
+                                ui.end_row();
+                                header = labels;
+                            }
+                            let selected = self.selected == Some(i);
+                            if ui.selectable_label(selected, format!("{}", i + 1)).clicked() {
+                                select = Some(i);
+                            }
+                            ui.label(s.step.kind());
+                            if fields.is_empty() {
+                                ui.add(egui::Label::new(egui::RichText::new(s.step.summary()).weak()).truncate());
+                            }
+                            for f in &fields {
+                                let name = format!("table {} {}", i + 1, f.label);
+                                let (_, event) = entry::numeric_entry(ui, &name, f.value, f.decimals, CELL_WIDTH, "");
+                                match event {
+                                    Some(EntryEvent::Committed(v)) => change = Some((i, f.slot, v, f.label.clone())),
+                                    Some(EntryEvent::Invalid(why)) => {
+                                        ctx.error(format!("table row {}, {}: {why}", i + 1, f.label))
+                                    }
+                                    None => {}
+                                }
+                            }
+                            ui.end_row();
+                        }
+                    });
+                });
+            });
+        if !open {
+            self.table_open = false;
+        }
+        if let Some(i) = select {
+            self.selected = Some(i);
+        }
+        if let Some((i, slot, v, label)) = change
+            && let Some(step) = self.editor.program().steps.get(i).map(|s| s.step.clone())
+        {
+            match with_field(&step, slot, v, ctx.settings) {
+                Ok(new) => {
+                    let r = self.editor.set_step(i, new);
+                    if let Err(e) = r {
+                        ctx.error(format!("table row {}: {e}", i + 1));
+                    } else {
+                        self.program_changed();
+                    }
+                }
+                Err(why) => ctx.error(format!("table row {}, {label}: {why}", i + 1)),
+            }
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! Editing programs in the GUI, driven headless through egui's kittest harness on the full
+//! app: teach the pose, type numbers (decimals, negatives) into a step, undo / redo,
+//! duplicate, delete, save and read back; the point-table window; the "discard unsaved
+//! changes?" question; and the official RX/RY/RZ angle convention in the readouts.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::app_harness;
+
+use parol6_app::app::Parol6App;
+use parol6_core::angles::{AngleConvention, rpy_to_abc_deg};
+use parol6_core::program::{Step, json};
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("parol6-edit-ui-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
+    h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
+}
+
+/// Types `text` into the entry called `name` and presses Enter.
+fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
+    h.get_by_label(name).click();
+    h.run_steps(1);
+    h.get_by_label(name).type_text(text);
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+}
+
+fn open_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    h.get_by_label("File").click();
+    h.run_steps(1);
+    h.get_by_label("File").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    h.run_steps(3);
+}
+
+#[test]
+fn teach_type_undo_redo_duplicate_delete_then_save_and_read_back() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("teach");
+    let path = dir.join("taught.json");
+    std::fs::write(
+        &path,
+        json::to_string(&parol6_core::program::Program::from_steps("taught", vec![Step::Dwell { seconds: 1.0 }])),
+    )
+    .unwrap();
+    open_file(&mut h, &path);
+    assert_eq!(steps(&h).len(), 1, "the file is loaded");
+
+    h.get_by_label("Teach joints").click();
+    h.run_steps(2);
+    let s = steps(&h);
+    assert_eq!(s.len(), 2);
+    let Step::MoveJoints { joints_deg: taught, .. } = s[1].clone() else { panic!("{:?}", s[1]) };
+    let standby: Vec<f64> = parol6_core::parol6::standby_rad().iter().map(|v| v.to_degrees()).collect();
+    assert!(taught.iter().zip(&standby).all(|(a, b)| (a - b).abs() < 0.05), "{taught:?} vs {standby:?}");
+    assert!(h.state().program_panel().is_dirty());
+
+    // the taught step is selected: its editor takes a negative decimal
+    type_into(&mut h, "step 2 J2", "-12.5");
+    let Step::MoveJoints { joints_deg, .. } = steps(&h)[1].clone() else { panic!() };
+    assert_eq!(joints_deg[1], -12.5, "typed value kept exactly");
+    type_into(&mut h, "step 2 speed", "0,35");
+    let Step::MoveJoints { speed_fraction, .. } = steps(&h)[1].clone() else { panic!() };
+    assert_eq!(speed_fraction, Some(0.35), "a comma decimal mark is taken");
+
+    h.get_by_label("Undo").click();
+    h.run_steps(2);
+    h.get_by_label("Undo").click();
+    h.run_steps(2);
+    let Step::MoveJoints { joints_deg, speed_fraction } = steps(&h)[1].clone() else { panic!() };
+    assert_eq!((joints_deg[1], speed_fraction), (taught[1], None), "two undos restore the taught step");
+    h.get_by_label("Redo").click();
+    h.run_steps(2);
+    let Step::MoveJoints { joints_deg, .. } = steps(&h)[1].clone() else { panic!() };
+    assert_eq!(joints_deg[1], -12.5, "redo replays the edit");
+
+    h.get_by_label("Dup").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h).len(), 3);
+    h.get_by_label("Up").click();
+    h.run_steps(2);
+    h.get_by_label("Del").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h).len(), 2);
+
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    assert!(!h.state().program_panel().is_dirty(), "saved");
+    let back = json::parse(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let saved: Vec<Step> = back.steps.into_iter().map(|s| s.step).collect();
+    assert_eq!(saved, steps(&h), "the file holds what the panel shows");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn opening_over_unsaved_edits_asks_first() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let before = steps(&h);
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h).len(), before.len() + 1);
+    h.get_by_label("Draw").click();
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("Discard them?").is_some(), "asks");
+    assert_eq!(steps(&h).len(), before.len() + 1, "nothing lost yet");
+    h.get_by_label("Keep editing").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h).len(), before.len() + 1);
+    h.get_by_label("Draw").click();
+    h.run_steps(2);
+    h.get_by_label("Discard").click();
+    h.run_steps(2);
+    assert_eq!(h.state().program_panel().program().name, "Draw");
+}
+
+#[test]
+fn the_point_table_edits_any_row() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("table");
+    let path = dir.join("table.json");
+    let program = parol6_core::program::Program::from_steps(
+        "table",
+        vec![
+            Step::Dwell { seconds: 1.0 },
+            Step::MoveJoints { joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: None },
+        ],
+    );
+    std::fs::write(&path, json::to_string(&program)).unwrap();
+    open_file(&mut h, &path);
+    h.get_by_label("Table").click();
+    h.run_steps(3);
+    type_into(&mut h, "table 1 time", "2.25");
+    type_into(&mut h, "table 2 J1", "-7.75");
+    let s = steps(&h);
+    assert_eq!(s[0], Step::Dwell { seconds: 2.25 });
+    let Step::MoveJoints { joints_deg, .. } = &s[1] else { panic!() };
+    assert_eq!(joints_deg[0], -7.75);
+    // a refused value changes nothing and says why
+    type_into(&mut h, "table 1 time", "-3");
+    assert_eq!(steps(&h)[0], Step::Dwell { seconds: 2.25 });
+    assert!(h.state().notices().iter().any(|n| n.error && n.text.contains("table row 1")));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn official_convention_reads_rx_ry_rz_like_the_official_tools() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().settings_mut().angle_convention = AngleConvention::OfficialAbc;
+    h.run_steps(3);
+    assert!(h.query_all_by_label("RX").count() >= 2, "TCP readout and target label their angles RX/RY/RZ");
+    assert!(h.query_by_label("Roll").is_none(), "no roll/pitch/yaw label is left");
+    // the TCP readout shows the official angles of a pose where they differ from ours
+    let q: Vec<f64> = [10.0f64, -80.0, 170.0, 15.0, 25.0, 160.0].iter().map(|d| d.to_radians()).collect();
+    h.state_mut().teleport(q.clone()).unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    while (h.state().backend().state().q[0] - q[0]).abs() > 1e-3 {
+        assert!(std::time::Instant::now() < deadline, "teleport");
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    h.run_steps(3);
+    let rpy = h.state().backend().state().tcp.rpy_rad.map(f64::to_degrees);
+    let abc = rpy_to_abc_deg(rpy);
+    for (k, v) in abc.iter().enumerate() {
+        let shown = format!("{v:.2}°");
+        assert!(h.query_by_label_contains(&shown).is_some(), "angle {k}: {shown} (ours {rpy:?})");
+    }
+    assert!(h.query_by_label_contains(&format!("{:.2}°", rpy[0])).is_none(), "our roll is not shown");
+    // the Cartesian target takes official angles
+    assert!(h.query_by_label("target RZ").is_some());
+}

@@ -1,6 +1,6 @@
-//! `parol6 program check|run`: pre-flight a program file, or run it on the headless simulation,
-//! the controller emulator (`--fake-robot`) or the robot (`--port`), with the same runner the
-//! window uses.
+//! `parol6 program check|run|convert`: pre-flight a program file of any format, run it on the
+//! headless simulation, the controller emulator (`--fake-robot`) or the robot (`--port`) with
+//! the same runner the window uses, or convert it between formats (by extension).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -10,7 +10,8 @@ use parol6_core::RobotModel;
 use parol6_core::motion::{RobotBackend, RobotState};
 use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
 use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
-use parol6_core::program::{Program, json};
+use parol6_core::program::Program;
+use parol6_core::program::files::{FormatContext, ProgramIoError, read_program, write_program};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 
@@ -37,7 +38,7 @@ pub enum ProgramCommand {
     /// Pre-flight a program before anything moves: reachability, limits, joint and motor
     /// speeds, singularities, collisions, duration. Exit 2 when it finds an error.
     Check {
-        /// Program file (native JSON).
+        /// Program file: .json (native), .gcode/.nc, .csv point table, .txt commander program.
         file: PathBuf,
         /// Start pose J1,…,J6 in degrees (default: the standby pose).
         #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
@@ -49,7 +50,7 @@ pub enum ProgramCommand {
     /// Run a program: on the headless simulation (as fast as it can unless --realtime), or
     /// with --fake-robot / --port on the controller. Prints a JSON summary.
     Run {
-        /// Program file (native JSON).
+        /// Program file: .json (native), .gcode/.nc, .csv point table, .txt commander program.
         file: PathBuf,
         /// Speed override: every step's speed × this, 0.01–1.
         #[arg(long, default_value_t = 1.0, value_parser = f64_within(0.01, 1.0))]
@@ -64,6 +65,19 @@ pub enum ProgramCommand {
         #[command(flatten)]
         rate: RateArgs,
     },
+    /// Convert a program between formats, chosen by the extensions: .json (native),
+    /// .gcode/.nc, .csv point table, .txt commander program. A step the target format cannot
+    /// hold is an error naming it; nothing is written then.
+    Convert {
+        /// The program to read.
+        input: PathBuf,
+        /// The file to write (replaced atomically).
+        output: PathBuf,
+        /// The pose the program starts from, J1,…,J6 in degrees (default: the standby pose):
+        /// where G-code axes that are not yet set take their values.
+        #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
+        start_deg: Option<String>,
+    },
 }
 
 impl ProgramCommand {
@@ -72,6 +86,7 @@ impl ProgramCommand {
         match self {
             Self::Check { .. } => "check",
             Self::Run { .. } => "run",
+            Self::Convert { .. } => "convert",
         }
     }
 
@@ -86,11 +101,8 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
     match &args.command {
         ProgramCommand::Check { file, start_deg, json } => {
             let model = robot.load()?;
-            let program = load(file)?;
-            let start = match start_deg {
-                Some(text) => parse_joints_deg(text, model.dof())?,
-                None => parol6_core::motion::home_position(&model),
-            };
+            let start = start_pose(start_deg.as_deref(), &model)?;
+            let program = load(file, &model, &start)?;
             let report = check_program(&model, &program, &start, CheckOptions::default());
             if *json {
                 print_json(&serde_json::to_value(&report).map_err(|e| CliError::runtime(e.to_string()))?)?;
@@ -101,7 +113,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
         }
         ProgramCommand::Run { file, speed, realtime, rate, record } => {
             let model = robot.load()?;
-            let program = load(file)?;
+            let program = load(file, &model, &parol6_core::motion::home_position(&model))?;
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
             let robot_link = connect.port.is_some() || connect.fake_robot;
             if robot_link && *realtime {
@@ -136,6 +148,36 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             print_json(&summary.json)?;
             summary.outcome
         }
+        ProgramCommand::Convert { input, output, start_deg } => {
+            let model = robot.load()?;
+            let start = start_pose(start_deg.as_deref(), &model)?;
+            let program = load(input, &model, &start)?;
+            let ctx = FormatContext { model: &model, start_q: &start };
+            write_program(&program, output, &ctx).map_err(cli_error)?;
+            print_json(&serde_json::json!({
+                "input": input.display().to_string(),
+                "output": output.display().to_string(),
+                "name": program.name,
+                "steps": program.steps.len(),
+            }))
+        }
+    }
+}
+
+/// `--start-deg`, or the standby / home pose.
+fn start_pose(text: Option<&str>, model: &RobotModel) -> Result<Vec<f64>, CliError> {
+    match text {
+        Some(text) => parse_joints_deg(text, model.dof()),
+        None => Ok(parol6_core::motion::home_position(model)),
+    }
+}
+
+/// A file that cannot be read or written is a runtime error (exit 1); bad content, an unknown
+/// extension or a step the format cannot hold is a usage error (exit 2).
+fn cli_error(e: ProgramIoError) -> CliError {
+    match e {
+        ProgramIoError::Io { .. } => CliError::runtime(e.to_string()),
+        _ => CliError::usage(e.to_string()),
     }
 }
 
@@ -220,22 +262,10 @@ fn run_on(
     RunSummary { json, outcome }
 }
 
-/// Reads a program file; errors name the file and where in it.
-pub fn load(path: &Path) -> Result<Program, CliError> {
-    let meta = std::fs::metadata(path).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))?;
-    if meta.len() > json::MAX_FILE_BYTES as u64 {
-        return Err(CliError::usage(format!(
-            "{}: {} bytes; program files are limited to {} MiB",
-            path.display(),
-            meta.len(),
-            json::MAX_FILE_BYTES / (1024 * 1024)
-        )));
-    }
-    let bytes = std::fs::read(path).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        CliError::usage(format!("{}: not UTF-8 text (byte {})", path.display(), e.utf8_error().valid_up_to()))
-    })?;
-    json::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", path.display())))
+/// Reads a program file of any format (by extension), starting from `start_q` where the format
+/// needs a start pose; errors name the file and where in it.
+pub fn load(path: &Path, model: &RobotModel, start_q: &[f64]) -> Result<Program, CliError> {
+    read_program(path, &FormatContext { model, start_q }).map_err(cli_error)
 }
 
 fn parse_joints_deg(text: &str, dof: usize) -> Result<Vec<f64>, CliError> {

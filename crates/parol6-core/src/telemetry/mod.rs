@@ -23,6 +23,7 @@ pub mod recorder;
 pub mod ring;
 pub mod sample;
 pub mod schema;
+pub mod series;
 pub mod writer;
 
 pub use event::{EventDetector, EventKind, TelemetryEvent};
@@ -30,6 +31,7 @@ pub use reader::{Recording, RecordingError, read_recording};
 pub use recorder::{Recorder, RecorderConfig, RecorderStats};
 pub use ring::{LiveRing, LiveView};
 pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
+pub use series::{Quantity, SeriesId, SeriesStore, WindowStats};
 pub use writer::{McapSink, RecordingInfo, RecordingSummary};
 
 /// Why telemetry could not be recorded or read.

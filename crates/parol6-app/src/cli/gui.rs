@@ -7,6 +7,7 @@
 use eframe::egui;
 use parol6_core::RobotModel;
 use serde_json::json;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
@@ -15,10 +16,32 @@ use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
 use crate::ui_screenshot::{HeadlessApp, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
 
-/// Opens the window; returns when it is closed.
-pub fn run(robot: &RobotArgs, connection: &ConnectArgs) -> CliResult {
+/// Arguments of `parol6 replay`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReplayArgs {
+    /// The recording (.mcap) to open.
+    #[arg(value_name = "FILE.mcap")]
+    pub file: PathBuf,
+}
+
+/// Opens the window (recording the backend to `record`, or with the recording `replay` open);
+/// returns when it is closed.
+pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, replay: Option<&Path>) -> CliResult {
     let started = Instant::now();
     let model = robot.load()?;
+    if let Some(file) = replay {
+        // refuse a bad file before any window opens; the window reads it again (off its UI thread)
+        let data = crate::app::read_replay(file, &model).map_err(CliError::usage)?;
+        for w in &data.warnings {
+            super::warn(format!("{}: {w}", file.display()));
+        }
+    }
+    let recording_info = parol6_core::telemetry::RecordingInfo {
+        app_version: env!("CARGO_PKG_VERSION").to_string(),
+        tool: super::record::tool_of(robot).name().to_string(),
+        program: String::new(),
+        urdf_text: super::record::urdf_text(robot)?,
+    };
     let test_script = TestScript::from_env().map_err(|e| CliError::usage(format!("{e:#}")))?;
     let connect = match (&connection.port, connection.fake_robot) {
         (Some(p), _) => Some(ConnectTarget::Port(p.clone())),
@@ -38,7 +61,17 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs) -> CliResult {
         ..Default::default()
     };
     let msaa_samples = crate::viewport::configure_native_options(&mut native);
-    let opts = LaunchOptions { model, connect, settings_path: settings_path(), test_script, started, msaa_samples };
+    let opts = LaunchOptions {
+        model,
+        connect,
+        settings_path: settings_path(),
+        test_script,
+        started,
+        msaa_samples,
+        record: record.map(Path::to_path_buf),
+        replay: replay.map(Path::to_path_buf),
+        recording_info,
+    };
 
     let exit_code = std::sync::Arc::new(std::sync::atomic::AtomicI32::new(0));
     let exit_slot = std::sync::Arc::clone(&exit_code);

@@ -20,10 +20,13 @@ pub mod connection;
 pub mod entry;
 pub mod help;
 pub mod joints;
+pub mod plot_export;
+pub mod plots;
 pub mod program;
 pub mod registry;
 pub mod status_bar;
 pub mod tcp;
+pub mod timeline;
 
 /// A panel of the operator UI.
 pub trait Panel {
@@ -31,6 +34,10 @@ pub trait Panel {
     fn title(&self) -> &'static str;
     /// Draws the panel for this frame.
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>);
+    /// Whether the panel is shown now (default: always).
+    fn shown(&self, _settings: &Settings) -> bool {
+        true
+    }
 }
 
 /// Angle display unit, chosen once for the whole UI.
@@ -106,6 +113,8 @@ pub struct Settings {
     pub jog_speed_fraction: f64,
     /// Cartesian jog speed fraction (0–1] of the 1–160 mm/s, 1–80 °/s range.
     pub cartesian_jog_fraction: f64,
+    /// Plots panel shown (under the 3D view).
+    pub show_plots: bool,
 }
 
 impl Default for Settings {
@@ -120,6 +129,7 @@ impl Default for Settings {
             view: crate::viewport::ViewportOptions::default(),
             jog_speed_fraction: 0.2,
             cartesian_jog_fraction: 0.25,
+            show_plots: false,
         }
     }
 }
@@ -182,6 +192,14 @@ pub enum AppCommand {
     ResetView,
     /// Hardware link command (connection panel).
     Link(LinkCommand),
+    /// Open a recording (MCAP) for replay.
+    OpenRecording(std::path::PathBuf),
+    /// Close the open recording (back to live).
+    CloseRecording,
+    /// Move the replay cursor to this motion time, s.
+    SeekReplay(f64),
+    /// Start writing the active backend to this MCAP file (`None`: stop writing).
+    Record(Option<std::path::PathBuf>),
 }
 
 /// Commands of the connection panel, executed by the app against the serial session.

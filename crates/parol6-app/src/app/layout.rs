@@ -47,7 +47,7 @@ impl FileMenu {
             let edit = egui::TextEdit::singleline(&mut self.open_path).desired_width(240.0).hint_text("run.mcap");
             let r = ui.add(edit).labelled_by(label.id);
             let enter = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-            if (ui.button("Open").clicked() || enter) && !self.open_path.trim().is_empty() {
+            if (ui.button("Open recording").clicked() || enter) && !self.open_path.trim().is_empty() {
                 pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
             }
         });

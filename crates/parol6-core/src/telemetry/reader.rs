@@ -365,4 +365,4 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -124,3 +124,47 @@ pub fn load_replay(bytes: &[u8], model: &RobotModel) -> Result<ReplayData, Recor
         truncated: rec.truncated,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::telemetry::reader::tests::recording_bytes;
+    use crate::telemetry::series::{Quantity, SeriesId};
+
+    #[test]
+    fn a_recording_is_thinned_to_the_replay_rate_with_its_events() {
+        // 2.5 s at 1 kHz
+        let data = load_replay(&recording_bytes(2500), &RobotModel::parol6()).expect("replay");
+        assert_eq!(data.samples_in_file, 2500);
+        let kept = data.store.len();
+        assert!((620..=630).contains(&kept), "about 250 Hz kept: {kept}");
+        assert_eq!(data.events.len(), 1);
+        let (t0, _) = data.store.time_range_s().expect("samples");
+        assert!((data.events[0].time_s - 0.5).abs() < 1e-6 && t0 < 0.01, "event on the motion clock");
+        assert_eq!(data.program, "demo");
+        let tcp_x = data.store.column(SeriesId { quantity: Quantity::TcpPosition, index: 0 }).expect("column");
+        assert!(data.store.window_stats(tcp_x, 0.0, 10.0).is_some_and(|s| s.max.is_finite()), "TCP from FK");
+        assert!(data.warnings.is_empty() && !data.truncated, "{:?}", data.warnings);
+    }
+
+    #[test]
+    fn bad_files_are_named_and_a_cut_file_replays_what_it_holds() {
+        let model = RobotModel::parol6();
+        assert!(matches!(load_replay(&[], &model), Err(RecordingError::Empty)));
+        assert!(matches!(load_replay(b"not a recording", &model), Err(RecordingError::NotMcap)));
+        let bytes = recording_bytes(2500);
+        let cut = load_replay(&bytes[..bytes.len() * 2 / 3], &model).expect("the complete chunks");
+        assert!(cut.truncated && cut.warnings.iter().any(|w| w.contains("cut short")), "{:?}", cut.warnings);
+        assert!(!cut.store.is_empty() && cut.store.len() < 600, "{}", cut.store.len());
+        let other = RobotModel::from_urdf_str(
+            r#"<robot name="two"><link name="a"/><link name="b"/>
+            <joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#,
+            &crate::model::LoadOptions::default(),
+        )
+        .expect("model");
+        match load_replay(&bytes, &other) {
+            Err(e @ RecordingError::OtherRobot { .. }) => assert!(e.to_string().contains("\"parol6\""), "{e}"),
+            other => panic!("{other:?}"),
+        }
+    }
+}

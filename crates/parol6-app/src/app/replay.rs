@@ -103,6 +103,17 @@ impl Parol6App {
         playing
     }
 
+    /// Opens `data` (read from `path`) for replay at once, with the plots shown over
+    /// `window_s` seconds, playing or not (the render benchmark uses it).
+    pub fn show_replay(&mut self, path: PathBuf, data: ReplayData, playing: bool, window_s: f64) {
+        let mut replay = Replay::new(path, Arc::new(data));
+        replay.playing = playing;
+        self.panels.timeline.replay = Some(replay);
+        self.settings.show_plots = true;
+        self.panels.plots.follow = true;
+        self.panels.plots.window_s = window_s;
+    }
+
     /// The open recording, if any.
     pub fn replay(&self) -> Option<&Replay> {
         self.panels.timeline.replay.as_ref()

@@ -60,7 +60,7 @@ impl Parol6App {
 
     /// Passes this frame's state, link health and program step to the active recorder.
     pub(super) fn feed_telemetry(&mut self, robot: &Arc<RobotState>) {
-        let step = self.program.as_ref().filter(|r| !r.is_finished()).and_then(|_| self.program_progress.as_ref());
+        let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.program_progress.as_ref());
         let step = step.map(|p| p.step);
         let link = self.hw.as_ref().map(|l| link_health(&l.session.snapshot()));
         let step_changed = self.last_program_step != Some(step);

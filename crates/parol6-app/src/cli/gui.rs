@@ -107,13 +107,17 @@ pub struct BenchRenderArgs {
     /// Exit 1 when the targets (FPS median, UI CPU p50, peak RSS) are not met.
     #[arg(long)]
     pub check: bool,
+    /// With the plots panel open on a synthetic ten-minute 250 Hz recording (6 joints, every
+    /// quantity), all ten minutes visible, replaying.
+    #[arg(long)]
+    pub plots: bool,
 }
 
 /// Runs `parol6 bench render`.
 pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let (w, h) = super::render::parse_size(&a.size)?;
     let model = robot.load()?;
-    bench_render_model(model, a.seconds, w, h, a.check)
+    bench_render_model(model, a.seconds, w, h, a.check, a.plots)
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
@@ -121,13 +125,20 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.
-fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool) -> CliResult {
+fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool, plots: bool) -> CliResult {
     if !(seconds.is_finite() && seconds > 0.0) {
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
-    let mut headless = HeadlessApp::new(model, width, height).map_err(CliError::from)?;
+    let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
     if !headless.app.start_program("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
+    }
+    let mut plotted_samples = 0;
+    if plots {
+        let bytes = super::bench_replay::synthetic_recording(&model, 10.0, 250.0)?;
+        let data = parol6_core::telemetry::load_replay(&bytes, &model).map_err(CliError::runtime)?;
+        plotted_samples = data.store.len();
+        headless.app.show_replay("synthetic.mcap".into(), data, true, 600.0);
     }
     // Warm-up: pipelines, fonts, first uploads.
     for _ in 0..5 {
@@ -174,6 +185,8 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         "app_ui_ms_p50": percentile(&app_ms, 0.5),
         "rss_mb_peak": rss,
         "adapter": headless.adapter_info(),
+        "plots": plots,
+        "plotted_samples": plotted_samples,
         "targets": {"fps_median_min": TARGET_FPS_MEDIAN, "ui_cpu_ms_p50_max": TARGET_UI_CPU_MS_P50, "rss_mb_max": TARGET_RSS_MB},
         "pass": pass,
     }))?;

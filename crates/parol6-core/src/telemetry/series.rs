@@ -261,7 +261,7 @@ impl SeriesStore {
                 sq.push_back(prev + add);
             }
             let mut k = FIRST_LEVEL;
-            while (i + 1) % (1u64 << k) == 0 {
+            while (i + 1).is_multiple_of(1u64 << k) {
                 let block = i >> k;
                 let mm = if k == FIRST_LEVEL {
                     let from = (block << k).max(self.base);
@@ -372,7 +372,7 @@ impl SeriesStore {
         let b = b.min(self.end());
         let top = FIRST_LEVEL + col.pyramid.levels.len() as u32;
         while p < b {
-            let level = (FIRST_LEVEL..top).rev().find(|&k| p % (1u64 << k) == 0 && p + (1u64 << k) <= b);
+            let level = (FIRST_LEVEL..top).rev().find(|&k| p.is_multiple_of(1u64 << k) && p + (1u64 << k) <= b);
             match level.and_then(|k| col.pyramid.entry(k, p >> k).map(|e| (k, e))) {
                 Some((k, e)) => {
                     mm = merge(mm, e);
@@ -396,7 +396,7 @@ impl SeriesStore {
     pub fn decimated(&self, col: usize, t0_s: f64, t1_s: f64, columns_px: usize, out: &mut Vec<[f64; 2]>) {
         out.clear();
         let Some(column) = self.columns.get(col) else { return };
-        if !(t1_s > t0_s) || columns_px == 0 {
+        if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) || columns_px == 0 {
             return;
         }
         // one sample either side, so the line reaches the edges

@@ -17,6 +17,7 @@ use ui_support::app_harness;
 
 use parol6_app::app::Parol6App;
 use parol6_core::RobotModel;
+use parol6_core::telemetry::EventKind;
 
 /// Runs frames until `f` holds (at most `s` seconds of wall time).
 fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
@@ -69,6 +70,10 @@ fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
     h.get_by_label("Run (F5)").click();
     until(&mut h, "the tracking statistics", 20.0, |h| has_label(h, "J2 RMS") && has_label(h, "J1 RMS"));
     assert!(has_label(&h, "°, max"), "RMS and max in degrees");
+    // the program's steps reach the recorder as events
+    until(&mut h, "a program step event", 20.0, |h| {
+        h.state().live_view().events.iter().any(|e| matches!(e.kind, EventKind::ProgramStep { step: Some(_) }))
+    });
     // J1's toggle in the plots panel (the joints panel's J1 label comes first)
     let j1_toggle = h.query_all_by_label("J1").last().expect("the plots' J1 toggle");
     j1_toggle.click();

@@ -540,6 +540,7 @@ impl eframe::App for Parol6App {
 
     fn on_exit(&mut self) {
         self.save_settings();
+        self.stop_file_recording();
         self.disconnect();
     }
 }

@@ -32,9 +32,10 @@ fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness
 
 /// Types `path` into the program panel's file field.
 fn type_path(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
-    h.get_by_label("File").click();
+    // the program panel's File field (the menu bar's File menu comes first)
+    h.query_all_by_label("File").last().expect("the File field").click();
     h.run_steps(1);
-    h.get_by_label("File").type_text(&path.display().to_string());
+    h.query_all_by_label("File").last().expect("the File field").type_text(&path.display().to_string());
     h.run_steps(1);
 }
 

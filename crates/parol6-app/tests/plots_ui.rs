@@ -107,6 +107,21 @@ fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
     let cursor = h.state().replay().map(|r| r.cursor_s).expect("open");
     assert!((cursor - 20.0).abs() < 0.01, "the cursor jumped to the event: {cursor}");
     assert!(has_label(&h, "cmd - meas"), "the plots opened with the recording");
+    // export the plots as SVG, then the visible window as CSV, to the typed path
+    let out = dir.join("export.out");
+    h.get_by_label("Export to").click();
+    h.run_steps(1);
+    h.get_by_label("Export to").type_text(&out.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("SVG of the plots").click();
+    h.run_steps(3);
+    let svg = std::fs::read_to_string(&out).expect("the SVG was written");
+    assert!(svg.starts_with("<svg") && svg.contains("<polyline"), "{}", &svg[..80.min(svg.len())]);
+    h.get_by_label("CSV of the visible window").click();
+    h.run_steps(2);
+    let text = std::fs::read_to_string(&out).expect("the CSV was written");
+    assert!(text.starts_with("t_s,j1_q_rad,"), "{}", &text[..80.min(text.len())]);
+    assert!(text.lines().count() > 100, "the visible window's samples: {}", text.lines().count());
     h.get_by_label("Close recording").click();
     h.run_steps(2);
     assert!(h.state().replay().is_none());

@@ -68,8 +68,21 @@ pub const PATH_WARNING: [u8; 3] = [255, 176, 0];
 pub const PATH_ERROR: [u8; 3] = [255, 70, 70];
 
 // ---------------------------------------------------------------------------------------------
-// Plots (reserved for the plots panel)
+// Plots
 // ---------------------------------------------------------------------------------------------
+
+/// Plot series, one per joint (J1…J6) or axis (x / roll, y / pitch, z / yaw): distinct hues
+/// that read on the dark panel background.
+pub const PLOT_SERIES: [[u8; 3]; 6] =
+    [[86, 180, 233], [230, 159, 0], [0, 200, 140], [240, 228, 66], [213, 94, 200], [255, 110, 90]];
+/// The replay cursor on the plots.
+pub const PLOT_CURSOR: [u8; 3] = [255, 255, 255];
+/// Information events in the replay timeline.
+pub const PLOT_EVENT_INFO: [u8; 3] = [140, 200, 255];
+/// Frames of the plots in an exported SVG (white background).
+pub const PLOT_SVG_FRAME: [u8; 3] = [120, 120, 120];
+/// Text in an exported SVG.
+pub const PLOT_SVG_TEXT: [u8; 3] = [40, 40, 40];
 
 // ---------------------------------------------------------------------------------------------
 // 3D view: background, grid, robot, ghost, trail, frames, overlays

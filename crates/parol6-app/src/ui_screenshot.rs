@@ -57,6 +57,9 @@ impl HeadlessApp {
             test_script: None,
             started,
             msaa_samples: renderer.sample_count(),
+            record: None,
+            replay: None,
+            recording_info: Default::default(),
         };
         let app = Parol6App::new(opts, Some(&render_state))?;
         let ctx = egui::Context::default();

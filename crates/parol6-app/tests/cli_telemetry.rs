@@ -113,3 +113,21 @@ fn bad_files_and_paths_get_clear_messages_and_exit_codes() {
         let _ = std::fs::remove_file(f);
     }
 }
+
+#[test]
+fn replay_refuses_bad_files_before_opening_a_window() {
+    let empty = temp("replay-empty.mcap");
+    std::fs::write(&empty, b"").unwrap();
+    run(&["replay", &s(&empty)]).assert_refused("empty", "the file is empty (0 bytes)");
+    let garbage = temp("replay-garbage.mcap");
+    std::fs::write(&garbage, b"GIF89a not a recording at all").unwrap();
+    run(&["replay", &s(&garbage)]).assert_refused("garbage", "not an MCAP file");
+    let missing = run(&["replay", "/nonexistent-parol6/x.mcap"]);
+    missing.assert_no_panic("missing");
+    assert!(missing.stderr.contains("cannot read /nonexistent-parol6/x.mcap"), "{missing:?}");
+    run(&["--record", &s(&temp("x.mcap")), "mcap", "info", &s(&empty)])
+        .assert_refused("--record with a subcommand", "applies to the window only");
+    for f in [empty, garbage] {
+        let _ = std::fs::remove_file(f);
+    }
+}

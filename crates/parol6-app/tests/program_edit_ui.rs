@@ -37,9 +37,9 @@ fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
 }
 
 fn open_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
-    h.get_by_label("File").click();
+    h.get_by_label("Program file").click();
     h.run_steps(1);
-    h.get_by_label("File").type_text(&path.display().to_string());
+    h.get_by_label("Program file").type_text(&path.display().to_string());
     h.run_steps(1);
     h.get_by_label("Open").click();
     h.run_steps(3);

@@ -32,9 +32,9 @@ fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness
 
 /// Types `path` into the program panel's file field.
 fn type_path(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
-    h.get_by_label("File").click();
+    h.get_by_label("Program file").click();
     h.run_steps(1);
-    h.get_by_label("File").type_text(&path.display().to_string());
+    h.get_by_label("Program file").type_text(&path.display().to_string());
     h.run_steps(1);
 }
 

@@ -28,6 +28,16 @@ impl Parol6App {
                 }
             }
             AppCommand::Link(l) => self.execute_link(l),
+            AppCommand::OpenRecording(path) => self.open_recording(path),
+            AppCommand::CloseRecording => self.close_recording(),
+            AppCommand::SeekReplay(t_s) => {
+                if let Some(r) = &mut self.panels.timeline.replay {
+                    r.seek(t_s);
+                    r.playing = false;
+                }
+            }
+            AppCommand::Record(Some(path)) => self.start_file_recording(&path),
+            AppCommand::Record(None) => self.stop_file_recording(),
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
                     self.stop_program();

@@ -13,13 +13,69 @@ use std::path::Path;
 use super::{Parol6App, WINDOW_TITLE};
 use crate::palette;
 use crate::panels::registry::{Dock, Panels};
-use crate::panels::{AngleUnit, PanelContext, help};
+use crate::panels::{AngleUnit, AppCommand, PanelContext, help};
 use crate::viewport::{SceneFrame, Viewport};
 
 /// Width of the left (joints) column, points. Fixed: it never follows its contents.
 pub const LEFT_PANEL_WIDTH: f32 = 350.0;
 /// Width of the right (TCP / Cartesian jog / target) column, points.
 pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
+/// Height of the area under the 3D view (replay timeline, plots) when it opens, points.
+pub const LOWER_DEFAULT_HEIGHT: f32 = 360.0;
+/// Smallest height of that area, points.
+pub const LOWER_MIN_HEIGHT: f32 = 120.0;
+
+/// The File menu: open a recording for replay, record to a file (typed paths: there is no
+/// file dialog).
+#[derive(Debug, Default)]
+pub struct FileMenu {
+    /// Typed path of a recording to open.
+    pub open_path: String,
+    /// Typed path of a recording to write.
+    pub record_path: String,
+    /// The file being written (set by the app each frame).
+    pub recording: Option<String>,
+    /// A recording is open for replay (set by the app each frame).
+    pub replaying: bool,
+}
+
+impl FileMenu {
+    fn ui(&mut self, ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
+        ui.label("Open recording (.mcap)");
+        ui.horizontal(|ui| {
+            let label = ui.label("Recording");
+            let edit = egui::TextEdit::singleline(&mut self.open_path).desired_width(240.0).hint_text("run.mcap");
+            let r = ui.add(edit).labelled_by(label.id);
+            let enter = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("Open recording").clicked() || enter) && !self.open_path.trim().is_empty() {
+                pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
+            }
+        });
+        if self.replaying && ui.button("Close recording").clicked() {
+            pctx.send(AppCommand::CloseRecording);
+        }
+        ui.separator();
+        match &self.recording {
+            Some(path) => {
+                ui.label(format!("recording to {path}"));
+                if ui.button("Stop recording").clicked() {
+                    pctx.send(AppCommand::Record(None));
+                }
+            }
+            None => {
+                ui.label("Record the active backend (.mcap)");
+                ui.horizontal(|ui| {
+                    let label = ui.label("Record to");
+                    let edit = egui::TextEdit::singleline(&mut self.record_path).desired_width(240.0);
+                    ui.add(edit.hint_text("out.mcap")).labelled_by(label.id);
+                    if ui.button("Start recording").clicked() && !self.record_path.trim().is_empty() {
+                        pctx.send(AppCommand::Record(Some(self.record_path.trim().into())));
+                    }
+                });
+            }
+        }
+    }
+}
 
 impl Parol6App {
     /// Draws the menu bar, the docked panels and the help window.
@@ -30,6 +86,7 @@ impl Parol6App {
         viewport: Option<&mut Viewport>,
         settings_path: Option<&Path>,
         show_help: &mut bool,
+        files: &mut FileMenu,
     ) {
         egui::Panel::top("menu").show(ui, |ui| {
             egui::MenuBar::new().ui(ui, |ui| {
@@ -37,9 +94,11 @@ impl Parol6App {
                 ui.separator();
                 // Menus of toggles stay open while the operator clicks them.
                 let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+                MenuButton::new("File").config(stay_open.clone()).ui(ui, |ui| files.ui(ui, pctx));
                 MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
                     ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
                     ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
+                    ui.checkbox(&mut pctx.settings.show_plots, "Plots");
                     ui.separator();
                     if let Some(v) = viewport {
                         v.options_ui(ui);
@@ -89,6 +148,22 @@ impl Parol6App {
                     }
                 });
             });
+        }
+        let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx.settings));
+        if lower_shown {
+            let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
+            egui::Panel::bottom("lower")
+                .resizable(true)
+                .default_size(LOWER_DEFAULT_HEIGHT.min(max_h))
+                .size_range(LOWER_MIN_HEIGHT..=max_h)
+                .show(ui, |ui| {
+                    for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
+                        if p.shown(pctx.settings) {
+                            p.ui(ui, pctx);
+                            ui.separator();
+                        }
+                    }
+                });
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);

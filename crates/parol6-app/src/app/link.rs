@@ -8,6 +8,9 @@ use std::time::Instant;
 use parol6_core::RobotModel;
 
 use super::ConnectTarget;
+
+/// A backend's sample tap.
+type Tap = crossbeam_channel::Sender<parol6_core::motion::MotionSample>;
 use crate::panels::connection::LinkView;
 
 /// An open serial session (real port or the built-in emulator).
@@ -21,6 +24,8 @@ pub(super) struct HwLink {
     pub(super) opened_at: Instant,
     /// The link state the operator was last told about.
     pub(super) told: Option<parol6_hw::LinkState>,
+    /// Telemetry of the link (fed by the session's sample tap).
+    pub(super) recorder: Option<parol6_core::telemetry::Recorder>,
 }
 
 impl HwLink {
@@ -29,17 +34,22 @@ impl HwLink {
             anyhow::bail!("the serial link drives a PAROL6 only; this model is \"{}\"", model.name);
         }
         let config = parol6_hw::SessionConfig::default();
-        match target {
+        let recorder = super::telemetry::start_recorder(model);
+        let tap = recorder.as_ref().map(parol6_core::telemetry::Recorder::tap);
+        let mut link = match target {
             ConnectTarget::Port(p) => {
-                let session = parol6_hw::Session::open(p, config)?;
-                Ok(Self::new(session, None))
+                let session = parol6_hw::Session::open_with_tap(p, config, tap)?;
+                Self::new(session, None)
             }
-            ConnectTarget::Emulator => Self::connect_emulator(config),
-        }
+            ConnectTarget::Emulator => Self::connect_emulator(config, tap)?,
+        };
+        link.recorder = recorder;
+        Ok(link)
     }
 
     fn new(session: parol6_hw::Session, emulator: Option<parol6_hw::EmulatorHandle>) -> Self {
         Self {
+            recorder: None,
             session: Arc::new(session),
             emulated: emulator.is_some(),
             _emulator: emulator,
@@ -50,14 +60,14 @@ impl HwLink {
     }
 
     #[cfg(unix)]
-    fn connect_emulator(config: parol6_hw::SessionConfig) -> anyhow::Result<Self> {
+    fn connect_emulator(config: parol6_hw::SessionConfig, tap: Option<Tap>) -> anyhow::Result<Self> {
         let emu = parol6_hw::EmulatorHandle::spawn(parol6_hw::EmulatorConfig::homed_at_standby())?;
-        let session = parol6_hw::Session::open(emu.path(), config)?;
+        let session = parol6_hw::Session::open_with_tap(emu.path(), config, tap)?;
         Ok(Self::new(session, Some(emu)))
     }
 
     #[cfg(not(unix))]
-    fn connect_emulator(_config: parol6_hw::SessionConfig) -> anyhow::Result<Self> {
+    fn connect_emulator(_config: parol6_hw::SessionConfig, _tap: Option<Tap>) -> anyhow::Result<Self> {
         anyhow::bail!("the built-in emulator needs a pseudo-terminal (Unix only)")
     }
 

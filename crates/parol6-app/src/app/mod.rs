@@ -30,15 +30,20 @@ mod execute;
 mod icon;
 mod layout;
 mod link;
+mod replay;
 mod settings_store;
+mod telemetry;
 mod test_hooks;
 #[cfg(test)]
 mod tests;
 
 pub use icon::window_icon;
+pub use layout::FileMenu;
 use link::HwLink;
+pub use replay::read_replay;
 use settings_store::save_settings;
 pub use settings_store::{load_settings, settings_path};
+pub use telemetry::link_health;
 pub use test_hooks::TestScript;
 use test_hooks::{SmokeStep, SweepRun, TestRunner};
 
@@ -85,6 +90,12 @@ pub struct LaunchOptions {
     pub started: Instant,
     /// MSAA sample count of the render target the 3D view draws into (the window's).
     pub msaa_samples: u32,
+    /// Record the backend the window opens on to this MCAP file (`--record`).
+    pub record: Option<PathBuf>,
+    /// Open this recording for replay at start (`parol6 replay FILE`).
+    pub replay: Option<PathBuf>,
+    /// Tool and URDF text written into recordings.
+    pub recording_info: parol6_core::telemetry::RecordingInfo,
 }
 
 /// The application state.
@@ -120,6 +131,17 @@ pub struct Parol6App {
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
+    /// Telemetry of the simulation (its live view feeds the plots while no robot is connected).
+    sim_recorder: Option<parol6_core::telemetry::Recorder>,
+    /// The MCAP file being written.
+    recording: Option<telemetry::FileRecording>,
+    /// Program step last passed to the recorder.
+    last_program_step: Option<Option<usize>>,
+    recording_info: parol6_core::telemetry::RecordingInfo,
+    /// A recording being read for replay.
+    replay_loading: Option<replay::ReplayLoading>,
+    /// The File menu.
+    files: FileMenu,
 }
 
 impl Parol6App {
@@ -127,7 +149,11 @@ impl Parol6App {
     /// plain placeholder without one), connects to a controller if asked.
     pub fn new(opts: LaunchOptions, render_state: Option<&egui_wgpu::RenderState>) -> anyhow::Result<Self> {
         let model = opts.model;
-        let sim = Arc::new(SimHandle::spawn(model.clone(), SimConfig::default()).context("starting the simulation")?);
+        let sim_recorder = telemetry::start_recorder(&model);
+        let tap = sim_recorder.as_ref().map(parol6_core::telemetry::Recorder::tap);
+        let sim = Arc::new(
+            SimHandle::spawn_with_tap(model.clone(), SimConfig::default(), tap).context("starting the simulation")?,
+        );
         let settings = load_settings(opts.settings_path.as_deref());
         let (viewport, viewport_error) = match render_state {
             Some(rs) => match Viewport::with_target(rs, &model, opts.msaa_samples, Some(crate::viewport::DEPTH_FORMAT))
@@ -178,6 +204,12 @@ impl Parol6App {
             exit_code: Arc::new(AtomicI32::new(0)),
             started: opts.started,
             show_help: false,
+            sim_recorder,
+            recording: None,
+            last_program_step: None,
+            recording_info: opts.recording_info,
+            replay_loading: None,
+            files: FileMenu::default(),
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -190,6 +222,15 @@ impl Parol6App {
         }
         if let Some(target) = opts.connect {
             app.connect(&target);
+        }
+        if let Some(path) = opts.record {
+            app.start_file_recording(&path);
+            if app.recording.is_none() {
+                anyhow::bail!("--record {}: the recording did not start (see the notice above)", path.display());
+            }
+        }
+        if let Some(path) = opts.replay {
+            app.open_recording(path);
         }
         Ok(app)
     }
@@ -280,6 +321,9 @@ impl Parol6App {
 
     fn disconnect(&mut self) {
         self.stop_program();
+        if self.recording.as_ref().is_some_and(|r| r.on_robot) {
+            self.stop_file_recording();
+        }
         if let Some(link) = self.hw.take() {
             // Hand the view back to the simulation where the robot last was (when that pose
             // is valid), so the arm does not jump back to its pose from before connecting.
@@ -368,6 +412,10 @@ impl Parol6App {
         let robot_arc = self.robot_state();
         let robot: &RobotState = &robot_arc;
         self.refusal_notices(robot);
+        self.feed_telemetry(&robot_arc);
+        let replay_playing = self.replay_frame(t0);
+        self.files.recording = self.recording.as_ref().map(|r| r.path.display().to_string());
+        self.files.replaying = self.panels.timeline.replay.is_some();
         if let Some(run) = &self.program {
             let p = run.progress();
             if let parol6_core::program::runner::RunState::Failed(why) = &p.state
@@ -422,6 +470,7 @@ impl Parol6App {
                 self.viewport.as_mut(),
                 self.settings_path.as_deref(),
                 &mut self.show_help,
+                &mut self.files,
             );
         }
         self.notices = notices;
@@ -433,12 +482,22 @@ impl Parol6App {
             differs.then(|| robot.target_q.clone())
         });
         let zones: Vec<LimitZone> = robot.zones.iter().map(|z| z.zone).collect();
-        let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
-        scene.planned_path = self.panels.program.overlay();
-        let snap = self.sim.snapshot();
-        if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
-            scene.link_poses = snap.link_poses.clone();
-        }
+        let recorded = self.panels.timeline.replay.as_ref().and_then(|r| r.joints_at_cursor());
+        let scene = match &recorded {
+            Some((q, cmd)) => {
+                let differs = cmd.iter().zip(q).any(|(c, q)| (c - q).abs() > GHOST_MIN_DIFF_RAD);
+                SceneFrame::from_joints(&self.model, q, differs.then_some(cmd.as_slice()))
+            }
+            None => {
+                let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
+                scene.planned_path = self.panels.program.overlay();
+                let snap = self.sim.snapshot();
+                if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
+                    scene.link_poses = snap.link_poses.clone();
+                }
+                scene
+            }
+        };
         self.central(ui, &scene);
 
         for c in &commands {
@@ -455,7 +514,11 @@ impl Parol6App {
         }
 
         // Repaint policy: continuous only while something moves or the link is live.
-        let busy = robot.moving || self.program_running() || Instant::now() < self.repaint_until;
+        let busy = robot.moving
+            || self.program_running()
+            || replay_playing
+            || self.replay_loading.is_some()
+            || Instant::now() < self.repaint_until;
         if busy || self.test.is_some() || self.sweep.is_some() {
             ctx.request_repaint();
         } else if self.hw.is_some() {
@@ -487,6 +550,7 @@ impl eframe::App for Parol6App {
 
     fn on_exit(&mut self) {
         self.save_settings();
+        self.stop_file_recording();
         self.disconnect();
     }
 }

@@ -31,6 +31,9 @@ fn launch(connect: Option<ConnectTarget>) -> Parol6App {
         test_script: None,
         started: Instant::now(),
         msaa_samples: 1,
+        record: None,
+        replay: None,
+        recording_info: Default::default(),
     };
     Parol6App::new(opts, None).expect("app")
 }

@@ -65,6 +65,18 @@ pub enum BenchTarget {
         #[arg(long, default_value_t = 5.0, value_parser = f64_within(0.0, 600.0))]
         runner_seconds: f64,
     },
+    /// Opening a synthetic recording for replay (`open_ms_median`; ≤ 1000 ms for ten minutes).
+    Replay {
+        /// Length of the recording, minutes, > 0 and ≤ 60.
+        #[arg(long, default_value_t = 10.0, value_parser = f64_above(0.0, 60.0))]
+        minutes: f64,
+        /// Sample rate of the recording, Hz, 10–2000 (1000: the simulation's).
+        #[arg(long, default_value_t = 1000.0, value_parser = f64_within(10.0, 2000.0))]
+        rate: f64,
+        /// Timed opens, 1–100.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
+        repeats: u64,
+    },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
     Latency {
@@ -88,6 +100,7 @@ impl BenchTarget {
             Self::Physics { .. } => "physics",
             Self::Latency { .. } => "latency",
             Self::Motion { .. } => "motion",
+            Self::Replay { .. } => "replay",
         }
     }
 }
@@ -108,6 +121,9 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         }
         BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(count(*n)?, *cpu_seconds),
         BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(count(*n)?, *interval_us),
+        BenchTarget::Replay { minutes, rate, repeats } => {
+            super::bench_replay::bench_replay(*minutes, *rate, count(*repeats)?)
+        }
         BenchTarget::Motion { repeats, runner_seconds } => {
             super::bench_motion::bench_motion(count(*repeats)?, *runner_seconds)
         }

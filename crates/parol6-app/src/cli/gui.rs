@@ -7,6 +7,7 @@
 use eframe::egui;
 use parol6_core::RobotModel;
 use serde_json::json;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
@@ -15,10 +16,32 @@ use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
 use crate::ui_screenshot::{HeadlessApp, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
 
-/// Opens the window; returns when it is closed.
-pub fn run(robot: &RobotArgs, connection: &ConnectArgs) -> CliResult {
+/// Arguments of `parol6 replay`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReplayArgs {
+    /// The recording (.mcap) to open.
+    #[arg(value_name = "FILE.mcap")]
+    pub file: PathBuf,
+}
+
+/// Opens the window (recording the backend to `record`, or with the recording `replay` open);
+/// returns when it is closed.
+pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, replay: Option<&Path>) -> CliResult {
     let started = Instant::now();
     let model = robot.load()?;
+    if let Some(file) = replay {
+        // refuse a bad file before any window opens; the window reads it again (off its UI thread)
+        let data = crate::app::read_replay(file, &model).map_err(CliError::usage)?;
+        for w in &data.warnings {
+            super::warn(format!("{}: {w}", file.display()));
+        }
+    }
+    let recording_info = parol6_core::telemetry::RecordingInfo {
+        app_version: env!("CARGO_PKG_VERSION").to_string(),
+        tool: super::record::tool_of(robot).name().to_string(),
+        program: String::new(),
+        urdf_text: super::record::urdf_text(robot)?,
+    };
     let test_script = TestScript::from_env().map_err(|e| CliError::usage(format!("{e:#}")))?;
     let connect = match (&connection.port, connection.fake_robot) {
         (Some(p), _) => Some(ConnectTarget::Port(p.clone())),
@@ -38,7 +61,17 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs) -> CliResult {
         ..Default::default()
     };
     let msaa_samples = crate::viewport::configure_native_options(&mut native);
-    let opts = LaunchOptions { model, connect, settings_path: settings_path(), test_script, started, msaa_samples };
+    let opts = LaunchOptions {
+        model,
+        connect,
+        settings_path: settings_path(),
+        test_script,
+        started,
+        msaa_samples,
+        record: record.map(Path::to_path_buf),
+        replay: replay.map(Path::to_path_buf),
+        recording_info,
+    };
 
     let exit_code = std::sync::Arc::new(std::sync::atomic::AtomicI32::new(0));
     let exit_slot = std::sync::Arc::clone(&exit_code);
@@ -74,13 +107,17 @@ pub struct BenchRenderArgs {
     /// Exit 1 when the targets (FPS median, UI CPU p50, peak RSS) are not met.
     #[arg(long)]
     pub check: bool,
+    /// With the plots panel open on a synthetic ten-minute 250 Hz recording (6 joints, every
+    /// quantity), all ten minutes visible, replaying.
+    #[arg(long)]
+    pub plots: bool,
 }
 
 /// Runs `parol6 bench render`.
 pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let (w, h) = super::render::parse_size(&a.size)?;
     let model = robot.load()?;
-    bench_render_model(model, a.seconds, w, h, a.check)
+    bench_render_model(model, a.seconds, w, h, a.check, a.plots)
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
@@ -88,13 +125,20 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.
-fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool) -> CliResult {
+fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool, plots: bool) -> CliResult {
     if !(seconds.is_finite() && seconds > 0.0) {
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
-    let mut headless = HeadlessApp::new(model, width, height).map_err(CliError::from)?;
+    let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
     if !headless.app.start_program("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
+    }
+    let mut plotted_samples = 0;
+    if plots {
+        let bytes = super::bench_replay::synthetic_recording(&model, 10.0, 250.0)?;
+        let data = parol6_core::telemetry::load_replay(&bytes, &model).map_err(CliError::runtime)?;
+        plotted_samples = data.store.len();
+        headless.app.show_replay("synthetic.mcap".into(), data, true, 600.0);
     }
     // Warm-up: pipelines, fonts, first uploads.
     for _ in 0..5 {
@@ -141,6 +185,8 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         "app_ui_ms_p50": percentile(&app_ms, 0.5),
         "rss_mb_peak": rss,
         "adapter": headless.adapter_info(),
+        "plots": plots,
+        "plotted_samples": plotted_samples,
         "targets": {"fps_median_min": TARGET_FPS_MEDIAN, "ui_cpu_ms_p50_max": TARGET_UI_CPU_MS_P50, "rss_mb_max": TARGET_RSS_MB},
         "pass": pass,
     }))?;

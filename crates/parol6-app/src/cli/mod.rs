@@ -14,6 +14,7 @@ use clap::{Parser, Subcommand};
 
 pub mod bench;
 pub mod bench_motion;
+pub mod bench_replay;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;
@@ -79,6 +80,10 @@ pub struct Cli {
     /// Controller connection (global).
     #[command(flatten)]
     pub connect: options::ConnectArgs,
+    /// The window only: record the backend it opens on (the simulation, or the robot with
+    /// --port / --fake-robot) to this MCAP file until the window closes.
+    #[arg(long, value_name = "OUT.mcap")]
+    pub record: Option<std::path::PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -101,6 +106,8 @@ pub enum Command {
     Record(record::RecordArgs),
     /// Read MCAP recordings: info (JSON), csv.
     Mcap(mcap::McapArgs),
+    /// Open the window on a recording: the 3D view and the plots follow its timeline.
+    Replay(gui::ReplayArgs),
 }
 
 impl Cli {
@@ -117,6 +124,7 @@ impl Cli {
             Some(Command::Program(p)) => format!("program {}", p.command.name()),
             Some(Command::Record(_)) => "record".into(),
             Some(Command::Mcap(m)) => format!("mcap {}", m.command.name()),
+            Some(Command::Replay(_)) => "replay".into(),
         }
     }
 
@@ -130,6 +138,7 @@ impl Cli {
             Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
             Some(Command::Hw(_) | Command::Mcap(_)) => false,
             Some(Command::Program(_)) => true,
+            Some(Command::Replay(_)) => true,
         };
         let uses_connection = match &self.command {
             None | Some(Command::Record(_)) => true,
@@ -141,6 +150,13 @@ impl Cli {
             (!uses_robot).then(|| self.robot.first_given()).flatten(),
             (!uses_connection).then(|| self.connect.first_given()).flatten(),
         ];
+        if self.command.is_some() && self.record.is_some() {
+            return Err(CliError::usage(format!(
+                "--record before the subcommand applies to the window only; `parol6 {}` does not take it there \
+                 (program run, hw jog|move and record take their own --record)",
+                self.command_name()
+            )));
+        }
         match unused.into_iter().flatten().next() {
             Some(option) => {
                 Err(CliError::usage(format!("{option} does not apply to `parol6 {}`", self.command_name())))
@@ -179,7 +195,8 @@ pub fn main() -> ExitCode {
 
 fn run(cli: &Cli) -> CliResult {
     match &cli.command {
-        None => gui::run(&cli.robot, &cli.connect),
+        None => gui::run(&cli.robot, &cli.connect, cli.record.as_deref(), None),
+        Some(Command::Replay(a)) => gui::run(&cli.robot, &cli.connect, None, Some(&a.file)),
         Some(Command::Fk(a)) => kin::run_fk(a, &cli.robot),
         Some(Command::Ik(a)) => kin::run_ik(a, &cli.robot),
         Some(Command::Bench(a)) => bench::run(a, &cli.robot),

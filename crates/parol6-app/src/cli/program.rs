@@ -8,10 +8,10 @@ use std::time::{Duration, Instant};
 
 use parol6_core::RobotModel;
 use parol6_core::motion::{RobotBackend, RobotState};
-use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
-use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::program::Program;
+use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
 use parol6_core::program::files::{FormatContext, ProgramIoError, read_program, write_program};
+use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 

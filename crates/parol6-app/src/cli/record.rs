@@ -15,7 +15,6 @@ use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{SimConfig, SimHandle};
 use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo};
 use parol6_core::{RobotModel, Tool};
-use parol6_hw::session::Snapshot;
 use serde_json::json;
 
 use super::hw::{RateArgs, open};
@@ -37,16 +36,7 @@ pub struct RecordArgs {
     pub demo: bool,
 }
 
-/// The link health of a session snapshot.
-pub fn link_health(s: &Snapshot) -> LinkHealth {
-    LinkHealth {
-        state: format!("{:?}", s.link),
-        loop_rate_hz: s.loop_rate_hz,
-        missing_replies: s.missing_replies,
-        link_losses: s.link_losses,
-        estop_pressed: s.estop_pressed,
-    }
-}
+pub use crate::app::link_health;
 
 /// A recorder writing one file, for one command.
 pub struct Telemetry {

@@ -21,11 +21,14 @@ pub mod connection;
 pub mod entry;
 pub mod help;
 pub mod joints;
+pub mod plot_export;
+pub mod plots;
 pub mod program;
 pub mod registry;
 pub mod status_bar;
 pub mod step_fields;
 pub mod tcp;
+pub mod timeline;
 
 /// A panel of the operator UI.
 pub trait Panel {
@@ -33,6 +36,10 @@ pub trait Panel {
     fn title(&self) -> &'static str;
     /// Draws the panel for this frame.
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>);
+    /// Whether the panel is shown now (default: always).
+    fn shown(&self, _settings: &Settings) -> bool {
+        true
+    }
 }
 
 /// Angle display unit, chosen once for the whole UI.
@@ -113,6 +120,8 @@ pub struct Settings {
     pub angle_convention: AngleConvention,
     /// Program files opened or saved, newest first (at most [`RECENT_PROGRAMS`]).
     pub recent_programs: Vec<String>,
+    /// Plots panel shown (under the 3D view).
+    pub show_plots: bool,
 }
 
 /// Recent program files remembered.
@@ -156,6 +165,7 @@ impl Default for Settings {
             cartesian_jog_fraction: 0.25,
             angle_convention: AngleConvention::UrdfRpy,
             recent_programs: Vec::new(),
+            show_plots: false,
         }
     }
 }
@@ -218,6 +228,14 @@ pub enum AppCommand {
     ResetView,
     /// Hardware link command (connection panel).
     Link(LinkCommand),
+    /// Open a recording (MCAP) for replay.
+    OpenRecording(std::path::PathBuf),
+    /// Close the open recording (back to live).
+    CloseRecording,
+    /// Move the replay cursor to this motion time, s.
+    SeekReplay(f64),
+    /// Start writing the active backend to this MCAP file (`None`: stop writing).
+    Record(Option<std::path::PathBuf>),
 }
 
 /// Commands of the connection panel, executed by the app against the serial session.

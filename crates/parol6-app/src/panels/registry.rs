@@ -9,9 +9,11 @@ use super::cartesian_jog::CartesianJogPanel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
 use super::joints::JointsPanel;
+use super::plots::PlotsPanel;
 use super::program::ProgramPanel;
 use super::status_bar::StatusBar;
 use super::tcp::TcpPanel;
+use super::timeline::TimelinePanel;
 
 /// Where a panel sits in the window.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,6 +24,9 @@ pub enum Dock {
     Right,
     /// The status bar at the bottom.
     Bottom,
+    /// Under the 3D view, between the columns, resizable: replay timeline and plots (each
+    /// shown when [`super::Panel::shown`] says so).
+    Lower,
 }
 
 /// All operator panels. The named fields give the app typed access where it needs it (the
@@ -41,6 +46,10 @@ pub struct Panels {
     pub program: ProgramPanel,
     /// Status bar.
     pub status: StatusBar,
+    /// Replay timeline of an open recording.
+    pub timeline: TimelinePanel,
+    /// Plots of the live telemetry or of the open recording.
+    pub plots: PlotsPanel,
 }
 
 impl Panels {
@@ -54,6 +63,8 @@ impl Panels {
             cartesian_jog: CartesianJogPanel::default(),
             program: ProgramPanel::new(model),
             status: StatusBar,
+            timeline: TimelinePanel::default(),
+            plots: PlotsPanel::new(model.dof()),
         }
     }
 
@@ -67,6 +78,8 @@ impl Panels {
             (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),
             (Dock::Bottom, &mut self.status),
+            (Dock::Lower, &mut self.timeline),
+            (Dock::Lower, &mut self.plots),
         ]
     }
 }

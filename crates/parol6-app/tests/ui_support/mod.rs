@@ -20,6 +20,9 @@ pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
         test_script: None,
         started: Instant::now(),
         msaa_samples: 1,
+        record: None,
+        replay: None,
+        recording_info: Default::default(),
     };
     let app = Parol6App::new(opts, None).expect("app");
     let mut h = Harness::builder()

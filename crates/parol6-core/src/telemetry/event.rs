@@ -36,6 +36,11 @@ pub enum EventKind {
         /// Lost.
         lost: bool,
     },
+    /// The program step under way changed (0-based; `None`: no program step any more).
+    ProgramStep {
+        /// The new step.
+        step: Option<usize>,
+    },
     /// Anything else the caller reports (program start / end …).
     Note,
 }
@@ -55,7 +60,7 @@ impl TelemetryEvent {
     /// Foxglove log level: 2 INFO, 3 WARNING, 4 ERROR.
     pub fn log_level(&self) -> u8 {
         match &self.kind {
-            EventKind::Note => 2,
+            EventKind::Note | EventKind::ProgramStep { .. } => 2,
             EventKind::Blocked { blocked: false } | EventKind::EStop { pressed: false } => 2,
             EventKind::LinkLoss { lost: false } => 2,
             EventKind::LimitWarning { .. } | EventKind::Refusal | EventKind::Blocked { .. } => 3,

@@ -20,16 +20,20 @@ pub mod event;
 pub mod frames;
 pub mod reader;
 pub mod recorder;
+pub mod replay;
 pub mod ring;
 pub mod sample;
 pub mod schema;
+pub mod series;
 pub mod writer;
 
 pub use event::{EventDetector, EventKind, TelemetryEvent};
 pub use reader::{Recording, RecordingError, read_recording};
 pub use recorder::{Recorder, RecorderConfig, RecorderStats};
+pub use replay::{ReplayData, ReplayEvent, load_replay};
 pub use ring::{LiveRing, LiveView};
 pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
+pub use series::{Quantity, SeriesId, SeriesStore, WindowStats};
 pub use writer::{McapSink, RecordingInfo, RecordingSummary};
 
 /// Why telemetry could not be recorded or read.

@@ -123,6 +123,9 @@ struct Channels {
     /// channel id → (topic, schema id)
     channels: HashMap<u16, (String, u16)>,
     schemas: HashMap<u16, String>,
+    filter: ScanFilter,
+    /// Log time of the last joint message kept, per channel.
+    last_kept_ns: HashMap<u16, u64>,
 }
 
 /// Reads a whole recording from `bytes`, keeping every joint state and command in
@@ -146,6 +149,25 @@ pub fn read_recording(bytes: &[u8]) -> Result<Recording, RecordingError> {
 /// `visit` (topic, message) in file order instead of keeping them: memory stays small for long
 /// recordings. The returned [`Recording`] has empty `measured` and `commanded`.
 pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) -> Result<Recording, RecordingError> {
+    scan_recording_filtered(bytes, ScanFilter::default(), visit)
+}
+
+/// Which joint messages [`scan_recording_filtered`] parses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ScanFilter {
+    /// Per topic, a `/joint_states` or `/joint_commands` message logged less than this after
+    /// the last one kept is skipped unparsed (0: keep all). Measured and commanded messages of
+    /// a tick share their log time, so the same ticks are kept on both.
+    pub joint_min_interval_ns: u64,
+}
+
+/// [`scan_recording`], skipping the joint messages `filter` thins out (they are still counted
+/// in [`Recording::topics`]).
+pub fn scan_recording_filtered(
+    bytes: &[u8],
+    filter: ScanFilter,
+    visit: &mut dyn FnMut(&str, JointStateMsg),
+) -> Result<Recording, RecordingError> {
     if bytes.is_empty() {
         return Err(RecordingError::Empty);
     }
@@ -170,7 +192,7 @@ pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) 
         }
         None => bytes,
     };
-    let mut ids = Channels::default();
+    let mut ids = Channels { filter, ..Channels::default() };
     let mut pos = 0usize;
     let mut any_record = false;
     let mut saw_footer = false;
@@ -310,6 +332,13 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
                     rec.warnings.push(format!("a {topic} message (sequence {}) is not valid: {e}", header.sequence));
                 }
             };
+            if ids.filter.joint_min_interval_ns > 0 && matches!(topic.as_str(), "/joint_states" | "/joint_commands") {
+                let last = ids.last_kept_ns.entry(header.channel_id).or_insert(0);
+                if *last != 0 && t >= *last && t - *last < ids.filter.joint_min_interval_ns {
+                    return;
+                }
+                *last = t;
+            }
             match topic.as_str() {
                 "/joint_states" | "/joint_commands" => match serde_json::from_slice::<JointStateMsg>(&data) {
                     Ok(m) => {
@@ -336,4 +365,4 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -143,6 +143,7 @@ impl Recorder {
             last_seq: None,
             last_time_s: 0.0,
             events: Vec::new(),
+            early_events: Vec::new(),
             shared: Arc::clone(&shared),
             publish_every: Duration::from_secs_f64(config.publish_interval_s.clamp(0.001, 10.0)),
             dirty: false,
@@ -252,6 +253,8 @@ struct Worker {
     last_seq: Option<u64>,
     last_time_s: f64,
     events: Vec<TelemetryEvent>,
+    /// Events raised before the first sample (stamped with its time).
+    early_events: Vec<TelemetryEvent>,
     shared: Arc<Shared>,
     publish_every: Duration,
     dirty: bool,
@@ -322,6 +325,10 @@ impl Worker {
         c.samples.fetch_add(1, Ordering::Relaxed);
         let s = self.builder.build(m);
         self.last_time_s = s.time_s;
+        for mut e in self.early_events.drain(..) {
+            e.time_s = s.time_s;
+            self.events.push(e);
+        }
         self.ring.push(&s);
         self.detector.observe_sample(&s, &mut self.events);
         if let Some(sink) = self.sink.as_mut() {
@@ -343,7 +350,19 @@ impl Worker {
                 self.detector.observe_link(self.last_time_s, &h, &mut self.events);
                 self.builder.link = Some(h);
             }
-            Control::ProgramStep(step) => self.builder.program_step = step,
+            Control::ProgramStep(step) => {
+                if step != self.builder.program_step {
+                    let message = match step {
+                        Some(i) => format!("program step {}", i + 1),
+                        None => "program ended".to_string(),
+                    };
+                    let kind = super::event::EventKind::ProgramStep { step };
+                    let event = TelemetryEvent { time_s: self.last_time_s, kind, message };
+                    // before the first sample there is no motion time yet: it takes the first's
+                    if self.last_seq.is_none() { self.early_events.push(event) } else { self.events.push(event) }
+                }
+                self.builder.program_step = step;
+            }
             Control::Event(mut e) => {
                 if !e.time_s.is_finite() {
                     e.time_s = self.last_time_s;

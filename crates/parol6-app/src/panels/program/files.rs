@@ -44,7 +44,7 @@ impl ProgramPanel {
     /// the discard question when one is pending.
     pub(super) fn file_row(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.horizontal(|ui| {
-            let label = ui.label("File");
+            let label = ui.label("Program file");
             let edit = ui
                 .add(
                     egui::TextEdit::singleline(&mut self.path_text)

@@ -86,6 +86,11 @@ fn samples_reach_the_file_and_the_live_view_without_gaps() {
     assert_eq!(file.commanded.len() as u64, n);
     assert!(file.measured.iter().zip(1..).all(|(m, k)| m.seq == k), "sequence numbers are contiguous");
     assert!(file.measured.iter().all(|m| m.program_step == Some(2) || m.seq < 20));
+    assert!(
+        file.events.iter().any(|e| e.message == "program step 3" && e.level == 2),
+        "the step change is an event: {:?}",
+        file.events
+    );
     assert_eq!(file.topics.get("/tf").map(|t| t.messages), Some(300), "tf at 100 Hz");
     assert!((file.duration_s() - 2.999).abs() < 1e-6, "{}", file.duration_s());
     assert_eq!(file.robot(), "parol6");

@@ -1,0 +1,126 @@
+//! Replay in the window: opening a recording off the UI thread (File → Open recording,
+//! `parol6 replay FILE.mcap`), moving its cursor each frame while it plays, and handing the
+//! recording and cursor to the plots. While a recording is open the 3D view shows the
+//! recorded arm at the cursor (the commanded pose as the ghost).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use crossbeam_channel::{Receiver, TryRecvError, bounded};
+use parol6_core::telemetry::{ReplayData, load_replay};
+
+use super::Parol6App;
+use crate::panels::timeline::Replay;
+
+/// A recording being read: its path and where the result arrives.
+pub(super) type ReplayLoading = (PathBuf, Receiver<Result<ReplayData, String>>);
+
+/// Reads `path` and loads it for replay with `model`: a clear message for a file that cannot
+/// be read, is empty, is not a recording of ours or is of another robot.
+pub fn read_replay(path: &std::path::Path, model: &parol6_core::RobotModel) -> Result<ReplayData, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    load_replay(&bytes, model).map_err(|e| format!("cannot replay {}: {e}", path.display()))
+}
+
+impl Parol6App {
+    /// Starts reading `path` on a thread; the replay opens when it is read.
+    pub(super) fn open_recording(&mut self, path: PathBuf) {
+        let (tx, rx) = bounded(1);
+        let model = self.model.clone();
+        let p = path.clone();
+        let spawned = std::thread::Builder::new().name("parol6-replay-load".into()).spawn(move || {
+            let _ = tx.send(read_replay(&p, &model));
+        });
+        match spawned {
+            Ok(_) => {
+                self.notice(format!("opening {}", path.display()), false);
+                self.replay_loading = Some((path, rx));
+            }
+            Err(e) => self.notice(format!("cannot start reading {}: {e}", path.display()), true),
+        }
+    }
+
+    /// Takes the loaded recording (or its error) when it has arrived.
+    pub(super) fn poll_replay_loading(&mut self) {
+        let Some((path, rx)) = &self.replay_loading else { return };
+        let result = match rx.try_recv() {
+            Ok(r) => r,
+            Err(TryRecvError::Empty) => return,
+            Err(TryRecvError::Disconnected) => Err(format!("reading {} stopped", path.display())),
+        };
+        let path = path.clone();
+        self.replay_loading = None;
+        match result {
+            Ok(data) => {
+                for w in &data.warnings {
+                    self.notice(format!("{}: {w}", path.display()), true);
+                }
+                let samples = data.store.len();
+                let replay = Replay::new(path.clone(), Arc::new(data));
+                let (t0, t1) = replay.span_s();
+                self.notice(
+                    format!(
+                        "replaying {} ({:.1} s, {samples} samples): the 3D view shows the recording",
+                        path.display(),
+                        t1 - t0
+                    ),
+                    false,
+                );
+                self.panels.timeline.replay = Some(replay);
+                self.panels.plots.follow = true;
+                self.settings.show_plots = true;
+                if let Some(v) = &mut self.viewport {
+                    v.clear_trail();
+                }
+            }
+            Err(e) => self.notice(e, true),
+        }
+    }
+
+    /// Closes the open recording: the 3D view and the plots show the live robot again.
+    pub(super) fn close_recording(&mut self) {
+        if self.panels.timeline.replay.take().is_some() {
+            self.panels.plots.set_replay(None);
+            if let Some(v) = &mut self.viewport {
+                v.clear_trail();
+            }
+        }
+    }
+
+    /// Moves the cursor of a playing replay and hands the recording to the plots, or the live
+    /// view when none is open (only while the plots are shown). Returns true while playing.
+    pub(super) fn replay_frame(&mut self, now: Instant) -> bool {
+        self.poll_replay_loading();
+        let playing = self.panels.timeline.replay.as_mut().is_some_and(|r| r.advance(now));
+        let handed = self.panels.timeline.replay.as_ref().map(|r| (Arc::clone(&r.data), r.cursor_s));
+        let live = handed.is_none() && self.settings.show_plots;
+        self.panels.plots.set_replay(handed);
+        if live {
+            let view = self.live_view();
+            self.panels.plots.feed_live(&view);
+        }
+        playing
+    }
+
+    /// Opens `data` (read from `path`) for replay at once, with the plots shown over
+    /// `window_s` seconds, playing or not (the render benchmark uses it).
+    pub fn show_replay(&mut self, path: PathBuf, data: ReplayData, playing: bool, window_s: f64) {
+        let mut replay = Replay::new(path, Arc::new(data));
+        replay.playing = playing;
+        self.panels.timeline.replay = Some(replay);
+        self.settings.show_plots = true;
+        self.panels.plots.follow = true;
+        self.panels.plots.window_s = window_s;
+    }
+
+    /// The open recording, if any.
+    pub fn replay(&self) -> Option<&Replay> {
+        self.panels.timeline.replay.as_ref()
+    }
+
+    /// True while a recording is being read.
+    pub fn replay_loading(&self) -> bool {
+        self.replay_loading.is_some()
+    }
+}

@@ -1,0 +1,134 @@
+//! Telemetry in the window: one [`Recorder`] per backend (the simulation's from the start, the
+//! serial link's while connected) fed by the backend's sample tap; each frame passes the
+//! shown state, the link health and the running program's step to the active one. Its live
+//! view (the last ten minutes) feeds the plots; `--record OUT.mcap` and File → Record write
+//! the active backend to a file.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use parol6_core::RobotModel;
+use parol6_core::telemetry::{LinkHealth, LiveView, Recorder, RecorderConfig, RecordingInfo};
+use parol6_hw::session::Snapshot;
+
+use super::Parol6App;
+use crate::panels::RobotState;
+
+/// The link health of a session snapshot, as the recorder keeps it.
+pub fn link_health(s: &Snapshot) -> LinkHealth {
+    LinkHealth {
+        state: format!("{:?}", s.link),
+        loop_rate_hz: s.loop_rate_hz,
+        missing_replies: s.missing_replies,
+        link_losses: s.link_losses,
+        estop_pressed: s.estop_pressed,
+    }
+}
+
+/// Starts a recorder for `model`'s joints.
+pub(super) fn start_recorder(model: &RobotModel) -> Option<Recorder> {
+    match Recorder::start(model.clone(), RecorderConfig::default()) {
+        Ok(r) => Some(r),
+        Err(e) => {
+            tracing::warn!("telemetry: {e}");
+            None
+        }
+    }
+}
+
+/// A file being written.
+#[derive(Debug, Clone)]
+pub(super) struct FileRecording {
+    pub(super) path: PathBuf,
+    /// True when it records the serial link (it ends when the link closes).
+    pub(super) on_robot: bool,
+}
+
+impl Parol6App {
+    /// The recorder of the active backend.
+    pub(super) fn active_recorder(&self) -> Option<&Recorder> {
+        match &self.hw {
+            Some(link) => link.recorder.as_ref(),
+            None => self.sim_recorder.as_ref(),
+        }
+    }
+
+    /// The live view of the active backend (empty without a recorder).
+    pub fn live_view(&self) -> Arc<LiveView> {
+        self.active_recorder().map(Recorder::live).unwrap_or_default()
+    }
+
+    /// Passes this frame's state, link health and program step to the active recorder.
+    pub(super) fn feed_telemetry(&mut self, robot: &Arc<RobotState>) {
+        let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.program_progress.as_ref());
+        let step = step.map(|p| p.step);
+        let link = self.hw.as_ref().map(|l| link_health(&l.session.snapshot()));
+        let step_changed = self.last_program_step != Some(step);
+        let Some(rec) = self.active_recorder() else { return };
+        rec.observe_state(Arc::clone(robot));
+        if let Some(h) = link {
+            rec.set_link_health(h);
+        }
+        if step_changed {
+            rec.set_program_step(step);
+        }
+        let error = rec.last_error();
+        if step_changed {
+            self.last_program_step = Some(step);
+        }
+        if let Some(e) = error
+            && self.recording.is_some()
+        {
+            self.recording = None;
+            self.notice(e, true);
+        }
+    }
+
+    /// Starts writing the active backend to `path`.
+    pub(super) fn start_file_recording(&mut self, path: &Path) {
+        if let Some(r) = &self.recording {
+            let shown = r.path.display().to_string();
+            self.notice(format!("already recording to {shown}: stop it first"), true);
+            return;
+        }
+        let on_robot = self.hw.is_some();
+        let Some(rec) = self.active_recorder() else {
+            self.notice("cannot record: the telemetry recorder did not start", true);
+            return;
+        };
+        let info = RecordingInfo {
+            app_version: env!("CARGO_PKG_VERSION").to_string(),
+            program: self.program_progress.as_ref().map(|p| p.name.clone()).unwrap_or_default(),
+            ..self.recording_info.clone()
+        };
+        match rec.start_recording(path, &info) {
+            Ok(()) => {
+                self.recording = Some(FileRecording { path: path.to_path_buf(), on_robot });
+                let what = if on_robot { "the robot" } else { "the simulation" };
+                self.notice(format!("recording {what} to {}", path.display()), false);
+            }
+            Err(e) => self.notice(format!("cannot record to {}: {e}", path.display()), true),
+        }
+    }
+
+    /// Stops writing (the file gets its summary and index).
+    pub(super) fn stop_file_recording(&mut self) {
+        let Some(r) = self.recording.take() else { return };
+        let rec =
+            if r.on_robot { self.hw.as_ref().and_then(|l| l.recorder.as_ref()) } else { self.sim_recorder.as_ref() };
+        let result = rec.map(Recorder::stop_recording);
+        match result {
+            Some(Ok(Some(s))) => self.notice(
+                format!("recorded {} samples ({:.1} s) to {}", s.samples, s.duration_s, r.path.display()),
+                false,
+            ),
+            Some(Ok(None)) | None => {}
+            Some(Err(e)) => self.notice(format!("{}: {e}", r.path.display()), true),
+        }
+    }
+
+    /// The file being written, if any.
+    pub fn recording_path(&self) -> Option<&Path> {
+        self.recording.as_ref().map(|r| r.path.as_path())
+    }
+}

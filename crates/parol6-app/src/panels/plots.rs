@@ -1,0 +1,336 @@
+//! Lower panel: plots (egui_plot) of the live telemetry (the last ten minutes of the active
+//! backend) or of the open recording. Position, velocity, acceleration and drive (torque or
+//! step rate) per joint, TCP x / y / z, roll / pitch / yaw, and commanded − measured per joint
+//! with its RMS and maximum over the visible window (the hardware-in-the-loop view).
+//!
+//! Selectable quantities and joints, one time axis for all plots, follow / pause, zoom and
+//! pan when paused, units from the Units menu. Every line is decimated by the core's
+//! [`SeriesStore`] to about two points per pixel column (min / max from its pyramid), so ten
+//! minutes at 250 Hz cost the same per frame as ten seconds. CSV and SVG export of what is
+//! shown: [`super::plot_export`].
+
+use std::sync::Arc;
+
+use eframe::egui;
+use egui_plot::{Line, Plot, PlotPoints, VLine};
+use parol6_core::telemetry::{DriveKind, LiveView, Quantity, ReplayData, SeriesId, SeriesStore};
+
+use super::plot_export::{self, DrawnGroup, DrawnLine};
+use super::{AngleUnit, AppCommand, Panel, PanelContext};
+use crate::palette;
+
+/// Time windows offered, s.
+pub const WINDOWS_S: [(f64, &str); 6] =
+    [(10.0, "10 s"), (30.0, "30 s"), (60.0, "1 min"), (300.0, "5 min"), (600.0, "10 min"), (3600.0, "1 h")];
+
+/// Live history kept for the plots, s (the recorder's live view holds the same).
+pub const LIVE_SPAN_S: f64 = 600.0;
+
+/// Smallest plot height, points.
+const MIN_PLOT_HEIGHT: f32 = 70.0;
+
+/// Display scale and unit of a quantity.
+pub fn unit_of(q: Quantity, angle: AngleUnit, drive: DriveKind) -> (f64, &'static str) {
+    let deg = angle == AngleUnit::Deg;
+    let d = if deg { 180.0 / std::f64::consts::PI } else { 1.0 };
+    match q {
+        Quantity::Position | Quantity::TrackingError | Quantity::TcpOrientation => (d, if deg { "°" } else { "rad" }),
+        Quantity::Velocity => (d, if deg { "°/s" } else { "rad/s" }),
+        Quantity::Acceleration => (d, if deg { "°/s²" } else { "rad/s²" }),
+        Quantity::Drive => match drive {
+            DriveKind::TorqueNm => (1.0, "N·m"),
+            DriveKind::StepsPerS => (1.0, "steps/s"),
+        },
+        Quantity::TcpPosition => (1000.0, "mm"),
+    }
+}
+
+/// Short name of a quantity on its toggle.
+pub fn toggle_label(q: Quantity) -> &'static str {
+    match q {
+        Quantity::Position => "position",
+        Quantity::Velocity => "velocity",
+        Quantity::Acceleration => "acceleration",
+        Quantity::Drive => "torque",
+        Quantity::TrackingError => "cmd - meas",
+        Quantity::TcpPosition => "TCP xyz",
+        Quantity::TcpOrientation => "TCP rpy",
+    }
+}
+
+/// Name of a series in legends and files.
+pub fn series_name(id: SeriesId) -> String {
+    match id.quantity {
+        Quantity::TcpPosition => ["x", "y", "z"].get(id.index).copied().unwrap_or("?").to_string(),
+        Quantity::TcpOrientation => ["roll", "pitch", "yaw"].get(id.index).copied().unwrap_or("?").to_string(),
+        _ => format!("J{}", id.index + 1),
+    }
+}
+
+fn series_color(index: usize) -> egui::Color32 {
+    palette::rgb(palette::PLOT_SERIES[index % palette::PLOT_SERIES.len()])
+}
+
+/// The plots panel.
+pub struct PlotsPanel {
+    live: SeriesStore,
+    replay: Option<(Arc<ReplayData>, f64)>,
+    /// Quantities shown, in [`Quantity::ALL`] order.
+    pub quantities: [bool; 7],
+    /// Joints shown (TCP axes are always all three).
+    pub joints: Vec<bool>,
+    /// Visible time span while following, s.
+    pub window_s: f64,
+    /// Follow the newest sample (live) or the cursor (replay); off while zoomed or panned.
+    pub follow: bool,
+    /// Typed path of the export file (CSV or SVG).
+    pub export_path: String,
+    /// The visible time window of the last frame, s.
+    visible_s: Option<(f64, f64)>,
+    points: Vec<[f64; 2]>,
+    svg_pending: Option<std::path::PathBuf>,
+}
+
+impl PlotsPanel {
+    /// The panel for `joints` joints: position and commanded − measured of every joint.
+    pub fn new(joints: usize) -> Self {
+        let mut quantities = [false; 7];
+        quantities[0] = true;
+        quantities[4] = true;
+        Self {
+            live: SeriesStore::new(joints, LIVE_SPAN_S),
+            replay: None,
+            quantities,
+            joints: vec![true; joints],
+            window_s: 30.0,
+            follow: true,
+            export_path: String::new(),
+            visible_s: None,
+            points: Vec::new(),
+            svg_pending: None,
+        }
+    }
+
+    /// Takes the new samples of the active backend's live view.
+    pub fn feed_live(&mut self, view: &LiveView) -> usize {
+        self.live.ingest_live(view)
+    }
+
+    /// Shows the open recording (with its cursor, s) instead of the live data, or live again.
+    pub fn set_replay(&mut self, replay: Option<(Arc<ReplayData>, f64)>) {
+        self.replay = replay;
+    }
+
+    /// The series shown: the recording's while one is open, else the live ones.
+    pub fn store(&self) -> &SeriesStore {
+        self.replay.as_ref().map_or(&self.live, |(d, _)| &d.store)
+    }
+
+    /// The visible time window of the last frame, s.
+    pub fn visible_s(&self) -> Option<(f64, f64)> {
+        self.visible_s
+    }
+
+    /// Selected series of quantity `q`.
+    fn selected(&self, q: Quantity) -> Vec<SeriesId> {
+        let store = self.store();
+        store
+            .ids()
+            .iter()
+            .copied()
+            .filter(|id| id.quantity == q && (!q.per_joint() || self.joints.get(id.index).copied().unwrap_or(false)))
+            .collect()
+    }
+
+    /// The time window to show while following.
+    fn follow_window(&self) -> Option<(f64, f64)> {
+        let (first, last) = self.store().time_range_s()?;
+        Some(match &self.replay {
+            Some((_, cursor)) => {
+                let x0 = (cursor - 0.75 * self.window_s).max(first);
+                (x0, x0 + self.window_s)
+            }
+            None => ((last - self.window_s).max(first.min(last - self.window_s)), last),
+        })
+    }
+
+    /// RMS and maximum of commanded − measured of the selected joints over the visible window.
+    pub fn tracking_stats(&self, angle: AngleUnit) -> Vec<(String, f64, f64, &'static str)> {
+        let Some((t0, t1)) = self.visible_s else { return Vec::new() };
+        let store = self.store();
+        let (scale, unit) = unit_of(Quantity::TrackingError, angle, store.drive());
+        self.selected(Quantity::TrackingError)
+            .into_iter()
+            .filter_map(|id| {
+                let s = store.window_stats(store.column(id)?, t0, t1)?;
+                Some((series_name(id), s.rms? * scale, s.max_abs * scale, unit))
+            })
+            .collect()
+    }
+
+    fn toolbar(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            for (on, q) in self.quantities.iter_mut().zip(Quantity::ALL) {
+                ui.toggle_value(on, toggle_label(q));
+            }
+            ui.separator();
+            for (i, on) in self.joints.iter_mut().enumerate() {
+                let text = egui::RichText::new(format!("J{}", i + 1)).color(series_color(i));
+                ui.toggle_value(on, text);
+            }
+            ui.separator();
+            let shown = WINDOWS_S.iter().find(|(s, _)| *s == self.window_s).map_or("?", |(_, l)| *l);
+            egui::ComboBox::from_id_salt("plot_window").selected_text(shown).width(64.0).show_ui(ui, |ui| {
+                for (s, label) in WINDOWS_S {
+                    ui.selectable_value(&mut self.window_s, s, label);
+                }
+            });
+            let follow_label = if self.replay.is_some() { "Follow cursor" } else { "Follow live" };
+            if ui.selectable_label(self.follow, follow_label).on_hover_text("off: zoom and pan freely").clicked() {
+                self.follow = !self.follow;
+            }
+        });
+    }
+
+    fn export_row(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.horizontal(|ui| {
+            let label = ui.label("Export to");
+            ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(220.0).hint_text("plots.csv"))
+                .labelled_by(label.id);
+            let path = std::path::PathBuf::from(self.export_path.trim());
+            let has_path = !self.export_path.trim().is_empty();
+            if ui.add_enabled(has_path, egui::Button::new("CSV of the visible window")).clicked() {
+                match self.visible_s {
+                    Some((t0, t1)) => match plot_export::write_csv(&path, self.store(), t0, t1) {
+                        Ok(rows) => ctx.info(format!("wrote {rows} rows to {}", path.display())),
+                        Err(e) => ctx.error(e),
+                    },
+                    None => ctx.error("nothing is plotted yet"),
+                }
+            }
+            if ui.add_enabled(has_path, egui::Button::new("SVG of the plots")).clicked() {
+                self.svg_pending = Some(path);
+            }
+        });
+    }
+}
+
+impl Panel for PlotsPanel {
+    fn title(&self) -> &'static str {
+        "Plots"
+    }
+
+    fn shown(&self, settings: &super::Settings) -> bool {
+        settings.show_plots
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        self.toolbar(ui);
+        let stats = if self.quantities[4] { self.tracking_stats(ctx.settings.unit) } else { Vec::new() };
+        if !stats.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("cmd - meas over the visible window:");
+                for (name, rms, max, unit) in &stats {
+                    ui.label(format!("{name} RMS {rms:.3} {unit}, max {max:.3} {unit}"));
+                }
+            });
+        }
+        self.export_row(ui, ctx);
+        let shown: Vec<Quantity> =
+            Quantity::ALL.into_iter().zip(self.quantities).filter(|(_, on)| *on).map(|(q, _)| q).collect();
+        if self.store().is_empty() {
+            ui.weak("no telemetry yet: move the arm, run a program or open a recording");
+            return;
+        }
+        if shown.is_empty() {
+            ui.weak("pick a quantity to plot");
+            return;
+        }
+        let gaps = 6.0 * shown.len() as f32;
+        let height = ((ui.available_height() - gaps) / shown.len() as f32).max(MIN_PLOT_HEIGHT);
+        let follow_window = if self.follow { self.follow_window() } else { None };
+        let link = ui.make_persistent_id("plots_time_axis");
+        let mut svg_groups: Vec<DrawnGroup> = Vec::new();
+        let collect_svg = self.svg_pending.is_some();
+        let mut visible = None;
+        let mut interacted = false;
+        let mut seek = None;
+        let cursor = self.replay.as_ref().map(|(_, c)| *c);
+        let id_lists: Vec<Vec<SeriesId>> = shown.iter().map(|q| self.selected(*q)).collect();
+        egui::ScrollArea::vertical().id_salt("plots_scroll").auto_shrink([false, false]).show(ui, |ui| {
+            for (k, (q, ids)) in shown.iter().zip(&id_lists).enumerate() {
+                let store = self.replay.as_ref().map_or(&self.live, |(d, _)| &d.store);
+                let (scale, unit) = unit_of(*q, ctx.settings.unit, store.drive());
+                let points = &mut self.points;
+                let mut plot = Plot::new(("plot", k))
+                    .height(height)
+                    .link_axis(link, [true, false])
+                    .link_cursor(link, [true, false])
+                    .y_axis_label(format!("{} ({unit})", q.label()))
+                    .y_axis_min_width(48.0)
+                    .show_x(true)
+                    .allow_scroll(false);
+                if k + 1 == shown.len() {
+                    plot = plot.x_axis_label("time (s)");
+                }
+                let resp = plot.show(ui, |pui| {
+                    let b = pui.plot_bounds();
+                    let (x0, x1) = match follow_window {
+                        Some(w) => {
+                            pui.set_plot_bounds_x(w.0..=w.1);
+                            pui.set_auto_bounds([false, true]);
+                            w
+                        }
+                        None => (b.min()[0], b.max()[0]),
+                    };
+                    let width_px = (pui.transform().frame().width() * pui.ctx().pixels_per_point()).max(1.0) as usize;
+                    let mut group = DrawnGroup { title: format!("{} ({unit})", q.label()), lines: Vec::new() };
+                    for id in ids {
+                        let Some(col) = store.column(*id) else { continue };
+                        store.decimated(col, x0, x1, width_px, points);
+                        let scaled: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1] * scale]).collect();
+                        if collect_svg {
+                            let color = series_color(id.index);
+                            group.lines.push(DrawnLine { name: series_name(*id), color, points: scaled.clone() });
+                        }
+                        let line = Line::new(series_name(*id), PlotPoints::new(scaled)).color(series_color(id.index));
+                        pui.line(line.width(1.0));
+                    }
+                    if let Some(c) = cursor {
+                        pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
+                    }
+                    let clicked_at = pui.response().clicked().then(|| pui.pointer_coordinate()).flatten();
+                    ((x0, x1), group, clicked_at.map(|p| p.x))
+                });
+                let ((x0, x1), group, clicked_at) = resp.inner;
+                visible.get_or_insert((x0, x1));
+                if collect_svg {
+                    svg_groups.push(group);
+                }
+                let r = &resp.response;
+                let wheel =
+                    r.hovered() && ui.input(|i| i.smooth_scroll_delta != egui::Vec2::ZERO || i.zoom_delta() != 1.0);
+                if r.dragged() || wheel {
+                    interacted = true;
+                }
+                if cursor.is_some() && clicked_at.is_some() {
+                    seek = clicked_at;
+                }
+            }
+        });
+        self.visible_s = visible;
+        if interacted {
+            self.follow = false;
+        }
+        if let Some(t) = seek {
+            ctx.send(AppCommand::SeekReplay(t));
+        }
+        if let Some(path) = self.svg_pending.take() {
+            let (t0, t1) = visible.unwrap_or((0.0, 1.0));
+            match plot_export::write_svg(&path, &svg_groups, t0, t1) {
+                Ok(()) => ctx.info(format!("wrote {}", path.display())),
+                Err(e) => ctx.error(e),
+            }
+        }
+    }
+}

@@ -1,0 +1,146 @@
+//! Plots and replay, driven headless through egui's kittest harness on the full app: the plots
+//! panel opens from the View menu, shows the tracking error's RMS and maximum with units while
+//! a program runs, and its joint toggles take series off; a recording opens from the File
+//! menu into the replay timeline, plays, and jumps to an event; an empty file is refused with
+//! a message that says so.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use std::time::{Duration, Instant};
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::app_harness;
+
+use parol6_app::app::Parol6App;
+use parol6_core::RobotModel;
+use parol6_core::telemetry::EventKind;
+
+/// Runs frames until `f` holds (at most `s` seconds of wall time).
+fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs_f64(s);
+    loop {
+        h.run_steps(1);
+        if f(h) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
+    h.query_all_by_label_contains(text).next().is_some()
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("parol6-plots-ui-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    dir
+}
+
+/// Types `path` into the File menu's recording field and presses Enter.
+fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    // the menu bar's File comes before the program panel's File field
+    h.query_all_by_label("File").next().expect("the File menu").click();
+    h.run_steps(2);
+    h.get_by_label("Recording").click();
+    h.run_steps(1);
+    h.get_by_label("Recording").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(1);
+}
+
+#[test]
+fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    assert!(!has_label(&h, "cmd - meas"), "the plots start hidden");
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label("Plots").click();
+    h.run_steps(2);
+    // close the menu, then move the arm: a program makes the commanded and measured differ
+    h.key_press(egui::Key::Escape);
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "the tracking statistics", 20.0, |h| has_label(h, "J2 RMS") && has_label(h, "J1 RMS"));
+    assert!(has_label(&h, "°, max"), "RMS and max in degrees");
+    // the program's steps reach the recorder as events
+    until(&mut h, "a program step event", 20.0, |h| {
+        h.state().live_view().events.iter().any(|e| matches!(e.kind, EventKind::ProgramStep { step: Some(_) }))
+    });
+    // J1's toggle in the plots panel (the joints panel's J1 label comes first)
+    let j1_toggle = h.query_all_by_label("J1").last().expect("the plots' J1 toggle");
+    j1_toggle.click();
+    until(&mut h, "J1 taken off", 5.0, |h| !has_label(h, "J1 RMS"));
+    assert!(has_label(&h, "J2 RMS"), "the other joints stay");
+    // radians from the Units menu
+    h.get_by_label("Units").click();
+    h.run_steps(2);
+    h.get_by_label("Radians").click();
+    until(&mut h, "radians", 5.0, |h| has_label(h, " rad, max"));
+}
+
+#[test]
+fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
+    let dir = temp_dir("replay");
+    let path = dir.join("short.mcap");
+    let bytes =
+        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), 0.5, 250.0).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: short.mcap"));
+    let start = h.state().replay().map(|r| r.cursor_s).expect("open");
+    h.get_by_label("Play").click();
+    until(&mut h, "the cursor to move", 5.0, |h| h.state().replay().is_some_and(|r| r.cursor_s > start + 0.05));
+    h.get_by_label("Pause").click();
+    h.run_steps(2);
+    // the third program step starts at 20 s
+    h.get_by_label_contains("program step 3").click();
+    h.run_steps(2);
+    let cursor = h.state().replay().map(|r| r.cursor_s).expect("open");
+    assert!((cursor - 20.0).abs() < 0.01, "the cursor jumped to the event: {cursor}");
+    assert!(has_label(&h, "cmd - meas"), "the plots opened with the recording");
+    // export the plots as SVG, then the visible window as CSV, to the typed path
+    let out = dir.join("export.out");
+    h.get_by_label("Export to").click();
+    h.run_steps(1);
+    h.get_by_label("Export to").type_text(&out.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("SVG of the plots").click();
+    h.run_steps(3);
+    let svg = std::fs::read_to_string(&out).expect("the SVG was written");
+    assert!(svg.starts_with("<svg") && svg.contains("<polyline"), "{}", &svg[..80.min(svg.len())]);
+    h.get_by_label("CSV of the visible window").click();
+    h.run_steps(2);
+    let text = std::fs::read_to_string(&out).expect("the CSV was written");
+    assert!(text.starts_with("t_s,j1_q_rad,"), "{}", &text[..80.min(text.len())]);
+    assert!(text.lines().count() > 100, "the visible window's samples: {}", text.lines().count());
+    h.get_by_label("Close recording").click();
+    h.run_steps(2);
+    assert!(h.state().replay().is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_empty_file_is_refused_with_a_clear_message() {
+    let dir = temp_dir("empty");
+    let path = dir.join("empty.mcap");
+    std::fs::write(&path, b"").expect("write");
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    open_recording(&mut h, &path);
+    until(&mut h, "the error notice", 10.0, |h| {
+        h.state()
+            .notices()
+            .iter()
+            .any(|n| n.error && n.text.contains("empty.mcap") && n.text.contains("empty (0 bytes)"))
+    });
+    assert!(h.state().replay().is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,494 @@
+//! [`SeriesStore`]: telemetry as columns of plot series (joint position, velocity,
+//! acceleration, drive, tracking error per joint; TCP position and orientation), for the plots
+//! and the replay.
+//!
+//! Every column keeps a min/max pyramid (level `k` holds the minimum and maximum of aligned
+//! blocks of `2^k` samples), so [`SeriesStore::decimated`] returns about two points per pixel
+//! column of any time window in `O(columns · log n)`, never walking the raw samples; the
+//! tracking-error columns also keep running sums of squares for the RMS over a window
+//! ([`SeriesStore::window_stats`]). Samples older than the store's span are dropped
+//! ([`SeriesStore::new`]), so the same store serves the live view (10 minutes, appended to)
+//! and a replay (everything, built once).
+
+use std::collections::VecDeque;
+
+use super::ring::LiveView;
+use super::sample::{DriveKind, TelemetrySample};
+
+/// Level of the first pyramid level kept: blocks of 8 samples (the raw values serve below).
+const FIRST_LEVEL: u32 = 3;
+
+/// What a series measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Quantity {
+    /// Measured joint position, rad.
+    Position,
+    /// Measured joint velocity, rad/s.
+    Velocity,
+    /// Measured joint acceleration, rad/s².
+    Acceleration,
+    /// Joint torque (N·m, simulation) or step rate (steps/s, robot).
+    Drive,
+    /// Commanded − measured joint position, rad (the hardware-in-the-loop view).
+    TrackingError,
+    /// TCP position x, y, z, m.
+    TcpPosition,
+    /// TCP roll, pitch, yaw (`R = Rz(yaw)·Ry(pitch)·Rx(roll)`), rad.
+    TcpOrientation,
+}
+
+impl Quantity {
+    /// Every quantity, in column order.
+    pub const ALL: [Quantity; 7] = [
+        Quantity::Position,
+        Quantity::Velocity,
+        Quantity::Acceleration,
+        Quantity::Drive,
+        Quantity::TrackingError,
+        Quantity::TcpPosition,
+        Quantity::TcpOrientation,
+    ];
+
+    /// True for the per-joint quantities (the others have three axes).
+    pub fn per_joint(self) -> bool {
+        !matches!(self, Quantity::TcpPosition | Quantity::TcpOrientation)
+    }
+
+    /// Name for headings and CSV columns.
+    pub fn label(self) -> &'static str {
+        match self {
+            Quantity::Position => "position",
+            Quantity::Velocity => "velocity",
+            Quantity::Acceleration => "acceleration",
+            Quantity::Drive => "drive",
+            Quantity::TrackingError => "commanded − measured",
+            Quantity::TcpPosition => "TCP position",
+            Quantity::TcpOrientation => "TCP roll / pitch / yaw",
+        }
+    }
+}
+
+/// One series: a quantity of one joint (0-based) or one axis (0 x / roll, 1 y / pitch, 2 z / yaw).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SeriesId {
+    /// The quantity.
+    pub quantity: Quantity,
+    /// Joint or axis, 0-based.
+    pub index: usize,
+}
+
+/// Min, max, RMS and peak magnitude of a series over a time window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowStats {
+    /// Samples in the window.
+    pub samples: usize,
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Largest magnitude.
+    pub max_abs: f64,
+    /// Root mean square (tracking-error series only).
+    pub rms: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct Pyramid {
+    /// `levels[i]` is level `FIRST_LEVEL + i`; its front entry is block `first_block[i]`.
+    levels: Vec<VecDeque<(f32, f32)>>,
+    first_block: Vec<u64>,
+}
+
+impl Pyramid {
+    fn entry(&self, level: u32, block: u64) -> Option<(f32, f32)> {
+        let i = usize::try_from(level.checked_sub(FIRST_LEVEL)?).ok()?;
+        let at = usize::try_from(block.checked_sub(*self.first_block.get(i)?)?).ok()?;
+        self.levels.get(i)?.get(at).copied()
+    }
+
+    fn push(&mut self, level: u32, block: u64, mm: (f32, f32)) {
+        let i = (level - FIRST_LEVEL) as usize;
+        if self.levels.len() <= i {
+            self.levels.resize_with(i + 1, VecDeque::new);
+            self.first_block.resize(i + 1, 0);
+        }
+        if self.levels[i].is_empty() {
+            self.first_block[i] = block;
+        }
+        self.levels[i].push_back(mm);
+    }
+
+    /// Drops the blocks that end at or before absolute sample `base`.
+    fn expire(&mut self, base: u64) {
+        for (i, (level, first)) in self.levels.iter_mut().zip(self.first_block.iter_mut()).enumerate() {
+            let k = FIRST_LEVEL + i as u32;
+            while !level.is_empty() && (*first + 1) << k <= base {
+                level.pop_front();
+                *first += 1;
+            }
+        }
+    }
+
+    fn clear(&mut self) {
+        self.levels.clear();
+        self.first_block.clear();
+    }
+}
+
+fn merge(a: (f32, f32), b: (f32, f32)) -> (f32, f32) {
+    (a.0.min(b.0), a.1.max(b.1))
+}
+
+const EMPTY: (f32, f32) = (f32::INFINITY, f32::NEG_INFINITY);
+
+#[derive(Debug, Clone, Default)]
+struct Column {
+    values: VecDeque<f32>,
+    pyramid: Pyramid,
+    /// Running sum of squares up to and including each kept sample (tracking error only).
+    squares: Option<VecDeque<f64>>,
+    /// The running sum before the first kept sample.
+    squares_before: f64,
+}
+
+/// Telemetry as plot series. See the module docs.
+#[derive(Debug, Clone)]
+pub struct SeriesStore {
+    joints: usize,
+    ids: Vec<SeriesId>,
+    times_s: VecDeque<f64>,
+    /// Absolute index of `times_s[0]`.
+    base: u64,
+    columns: Vec<Column>,
+    span_s: f64,
+    drive: DriveKind,
+    row: Vec<f32>,
+}
+
+impl SeriesStore {
+    /// An empty store for `joints` joints keeping `span_s` seconds (infinite: everything).
+    pub fn new(joints: usize, span_s: f64) -> Self {
+        let mut ids = Vec::new();
+        for q in Quantity::ALL {
+            let n = if q.per_joint() { joints } else { 3 };
+            ids.extend((0..n).map(|index| SeriesId { quantity: q, index }));
+        }
+        let columns = ids
+            .iter()
+            .map(|id| Column {
+                squares: (id.quantity == Quantity::TrackingError).then(VecDeque::new),
+                ..Column::default()
+            })
+            .collect();
+        Self {
+            joints,
+            ids,
+            times_s: VecDeque::new(),
+            base: 0,
+            columns,
+            span_s: if span_s > 0.0 { span_s } else { f64::INFINITY },
+            drive: DriveKind::TorqueNm,
+            row: Vec::new(),
+        }
+    }
+
+    /// Joints per sample.
+    pub fn joints(&self) -> usize {
+        self.joints
+    }
+
+    /// The series, in column order.
+    pub fn ids(&self) -> &[SeriesId] {
+        &self.ids
+    }
+
+    /// The column of a series.
+    pub fn column(&self, id: SeriesId) -> Option<usize> {
+        self.ids.iter().position(|i| *i == id)
+    }
+
+    /// What the drive series hold (of the newest sample).
+    pub fn drive(&self) -> DriveKind {
+        self.drive
+    }
+
+    /// Samples kept.
+    pub fn len(&self) -> usize {
+        self.times_s.len()
+    }
+
+    /// True when nothing is kept.
+    pub fn is_empty(&self) -> bool {
+        self.times_s.is_empty()
+    }
+
+    /// First and last sample time, s.
+    pub fn time_range_s(&self) -> Option<(f64, f64)> {
+        Some((*self.times_s.front()?, *self.times_s.back()?))
+    }
+
+    /// Drops everything.
+    pub fn clear(&mut self) {
+        self.times_s.clear();
+        self.base = 0;
+        for c in &mut self.columns {
+            c.values.clear();
+            c.pyramid.clear();
+            if let Some(s) = c.squares.as_mut() {
+                s.clear();
+            }
+            c.squares_before = 0.0;
+        }
+    }
+
+    /// Appends one sample of every series (`row` in [`SeriesStore::ids`] order; missing values
+    /// are NaN). A time before the newest sample starts the store again (a new source).
+    pub fn push_row(&mut self, time_s: f64, row: &[f32]) {
+        if !time_s.is_finite() {
+            return;
+        }
+        if self.times_s.back().is_some_and(|&last| time_s < last) {
+            self.clear();
+        }
+        let i = self.base + self.times_s.len() as u64;
+        self.times_s.push_back(time_s);
+        for (c, col) in self.columns.iter_mut().enumerate() {
+            let v = row.get(c).copied().unwrap_or(f32::NAN);
+            col.values.push_back(v);
+            if let Some(sq) = col.squares.as_mut() {
+                let prev = sq.back().copied().unwrap_or(col.squares_before);
+                let add = if v.is_finite() { f64::from(v) * f64::from(v) } else { 0.0 };
+                sq.push_back(prev + add);
+            }
+            let mut k = FIRST_LEVEL;
+            while (i + 1).is_multiple_of(1u64 << k) {
+                let block = i >> k;
+                let mm = if k == FIRST_LEVEL {
+                    let from = (block << k).max(self.base);
+                    (from..=i)
+                        .filter_map(|a| col.values.get((a - self.base) as usize))
+                        .fold(EMPTY, |m, &v| merge(m, (v, v)))
+                } else {
+                    let lo = col.pyramid.entry(k - 1, 2 * block).unwrap_or(EMPTY);
+                    let hi = col.pyramid.entry(k - 1, 2 * block + 1).unwrap_or(EMPTY);
+                    merge(lo, hi)
+                };
+                col.pyramid.push(k, block, mm);
+                k += 1;
+            }
+        }
+        self.expire(time_s);
+    }
+
+    fn expire(&mut self, now_s: f64) {
+        let oldest = now_s - self.span_s;
+        let mut dropped = 0u64;
+        while self.times_s.front().is_some_and(|&t| t < oldest) {
+            self.times_s.pop_front();
+            dropped += 1;
+        }
+        if dropped == 0 {
+            return;
+        }
+        self.base += dropped;
+        for col in &mut self.columns {
+            for _ in 0..dropped {
+                col.values.pop_front();
+                if let Some(sq) = col.squares.as_mut()
+                    && let Some(s) = sq.pop_front()
+                {
+                    col.squares_before = s;
+                }
+            }
+            col.pyramid.expire(self.base);
+        }
+    }
+
+    /// Appends a telemetry sample.
+    pub fn push_sample(&mut self, s: &TelemetrySample) {
+        let mut row = std::mem::take(&mut self.row);
+        row.clear();
+        let n = self.joints;
+        let joint = |i: usize| s.joints.get(i);
+        let f = |v: Option<f64>| v.map_or(f32::NAN, |v| v as f32);
+        row.extend((0..n).map(|i| f(joint(i).map(|j| j.q_rad))));
+        row.extend((0..n).map(|i| f(joint(i).map(|j| j.qd_rad_s))));
+        row.extend((0..n).map(|i| f(joint(i).map(|j| j.qdd_rad_s2))));
+        row.extend((0..n).map(|i| f(joint(i).map(|j| j.drive))));
+        row.extend((0..n).map(|i| f(joint(i).map(|j| j.cmd_q_rad - j.q_rad))));
+        row.extend(s.tcp.position_m.iter().map(|&v| v as f32));
+        row.extend(s.tcp.rpy_rad.iter().map(|&v| v as f32));
+        self.drive = s.drive;
+        self.push_row(s.time_s, &row);
+        self.row = row;
+    }
+
+    /// Sets what the drive series hold (a replay sets it from the file).
+    pub fn set_drive(&mut self, drive: DriveKind) {
+        self.drive = drive;
+    }
+
+    /// Appends the samples of `view` newer than the newest kept one; returns how many. When
+    /// the view's newest sample is older than the store's (another backend), starts again.
+    pub fn ingest_live(&mut self, view: &LiveView) -> usize {
+        let Some(latest) = view.latest().map(|s| s.time_s) else { return 0 };
+        let last = match self.times_s.back() {
+            Some(&last) if latest < last => {
+                self.clear();
+                None
+            }
+            other => other.copied(),
+        };
+        // the new samples sit in the last blocks: find the first block that has any
+        let first_block = match last {
+            None => 0,
+            Some(last) => view.blocks.iter().rposition(|b| b.first().is_some_and(|s| s.time_s <= last)).unwrap_or(0),
+        };
+        let mut added = 0;
+        for block in &view.blocks[first_block..] {
+            for s in block.iter() {
+                if last.is_none_or(|last| s.time_s > last) {
+                    self.push_sample(s);
+                    added += 1;
+                }
+            }
+        }
+        added
+    }
+
+    /// Absolute index of the first sample at or after `t_s`.
+    fn index_at(&self, t_s: f64) -> u64 {
+        self.base + self.times_s.partition_point(|&t| t < t_s) as u64
+    }
+
+    fn end(&self) -> u64 {
+        self.base + self.times_s.len() as u64
+    }
+
+    /// Min and max of column `col` over absolute samples `[a, b)`, from the pyramid.
+    fn range_min_max(&self, col: &Column, a: u64, b: u64) -> (f32, f32) {
+        let mut mm = EMPTY;
+        let mut p = a.max(self.base);
+        let b = b.min(self.end());
+        let top = FIRST_LEVEL + col.pyramid.levels.len() as u32;
+        while p < b {
+            let level = (FIRST_LEVEL..top).rev().find(|&k| p.is_multiple_of(1u64 << k) && p + (1u64 << k) <= b);
+            match level.and_then(|k| col.pyramid.entry(k, p >> k).map(|e| (k, e))) {
+                Some((k, e)) => {
+                    mm = merge(mm, e);
+                    p += 1u64 << k;
+                }
+                None => {
+                    if let Some(&v) = col.values.get((p - self.base) as usize) {
+                        mm = merge(mm, (v, v));
+                    }
+                    p += 1;
+                }
+            }
+        }
+        mm
+    }
+
+    /// The points of column `col` between `t0_s` and `t1_s` for a plot `columns_px` pixels
+    /// wide: the raw samples when there are fewer than two per pixel, else per pixel column its
+    /// minimum and maximum (in the order they likely occurred). Appends `[t_s, value]` to `out`
+    /// (cleared first); NaN values are left out.
+    pub fn decimated(&self, col: usize, t0_s: f64, t1_s: f64, columns_px: usize, out: &mut Vec<[f64; 2]>) {
+        out.clear();
+        let Some(column) = self.columns.get(col) else { return };
+        if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) || columns_px == 0 {
+            return;
+        }
+        // one sample either side, so the line reaches the edges
+        let a = self.index_at(t0_s).saturating_sub(1).max(self.base);
+        let b = (self.index_at(t1_s) + 1).min(self.end());
+        if b <= a {
+            return;
+        }
+        let raw = |i: u64| -> Option<[f64; 2]> {
+            let at = (i - self.base) as usize;
+            let v = *column.values.get(at)?;
+            v.is_finite().then(|| [self.times_s[at], f64::from(v)])
+        };
+        if (b - a) as usize <= 2 * columns_px {
+            out.extend((a..b).filter_map(raw));
+            return;
+        }
+        out.extend(raw(a));
+        let dt = (t1_s - t0_s) / columns_px as f64;
+        let mut ca = self.index_at(t0_s);
+        for c in 0..columns_px {
+            let cb = if c + 1 == columns_px { self.index_at(t1_s) } else { self.index_at(t0_s + (c + 1) as f64 * dt) };
+            if cb > ca {
+                let (lo, hi) = self.range_min_max(column, ca, cb);
+                if lo <= hi {
+                    let (ta, tb) =
+                        (self.times_s[(ca - self.base) as usize], self.times_s[(cb - 1 - self.base) as usize]);
+                    let first = column.values[(ca - self.base) as usize];
+                    // the first sample nearer the maximum: the maximum came first
+                    let max_first = (f64::from(first) - f64::from(hi)).abs() < (f64::from(first) - f64::from(lo)).abs();
+                    let (v0, v1) = if max_first { (hi, lo) } else { (lo, hi) };
+                    out.push([ta, f64::from(v0)]);
+                    out.push([tb.max(ta), f64::from(v1)]);
+                }
+                ca = cb;
+            }
+        }
+        if b > self.index_at(t1_s) {
+            out.extend(raw(b - 1));
+        }
+    }
+
+    /// Min, max, peak magnitude and (tracking-error columns) RMS of column `col` over the
+    /// samples between `t0_s` and `t1_s`; `None` without a finite sample there.
+    pub fn window_stats(&self, col: usize, t0_s: f64, t1_s: f64) -> Option<WindowStats> {
+        let column = self.columns.get(col)?;
+        let a = self.index_at(t0_s);
+        let b = self.base + self.times_s.partition_point(|&t| t <= t1_s) as u64;
+        if b <= a {
+            return None;
+        }
+        let (lo, hi) = self.range_min_max(column, a, b);
+        if lo > hi {
+            return None;
+        }
+        let rms = column.squares.as_ref().and_then(|sq| {
+            let at = |i: u64| sq.get((i - self.base) as usize).copied();
+            let before = if a == self.base { column.squares_before } else { at(a - 1)? };
+            let sum = at(b - 1)? - before;
+            Some((sum.max(0.0) / (b - a) as f64).sqrt())
+        });
+        let (min, max) = (f64::from(lo), f64::from(hi));
+        Some(WindowStats { samples: (b - a) as usize, min, max, max_abs: min.abs().max(max.abs()), rms })
+    }
+
+    /// The newest sample at or before `t_s` (the first one before the store starts): its time
+    /// and every column's value.
+    pub fn row_at(&self, t_s: f64) -> Option<(f64, Vec<f32>)> {
+        let after = self.times_s.partition_point(|&t| t <= t_s);
+        let at = after.saturating_sub(1);
+        let t = *self.times_s.get(at)?;
+        Some((t, self.columns.iter().map(|c| c.values.get(at).copied().unwrap_or(f32::NAN)).collect()))
+    }
+
+    /// The measured joint positions (rad) at or before `t_s`.
+    pub fn joint_positions_at(&self, t_s: f64) -> Option<Vec<f64>> {
+        let (_, row) = self.row_at(t_s)?;
+        Some(row.iter().take(self.joints).map(|&v| f64::from(v)).collect())
+    }
+
+    /// Every kept sample between `t0_s` and `t1_s`: its time and every column's value (CSV
+    /// export of the visible window).
+    pub fn raw_window(&self, t0_s: f64, t1_s: f64) -> impl Iterator<Item = (f64, Vec<f32>)> + '_ {
+        let a = self.times_s.partition_point(|&t| t < t0_s);
+        let b = self.times_s.partition_point(|&t| t <= t1_s);
+        (a..b.max(a)).filter_map(move |i| {
+            let t = *self.times_s.get(i)?;
+            Some((t, self.columns.iter().map(|c| c.values.get(i).copied().unwrap_or(f32::NAN)).collect()))
+        })
+    }
+}
+
+#[cfg(test)]
+#[path = "series_tests.rs"]
+mod tests;

@@ -1,0 +1,156 @@
+use super::*;
+use crate::kinematics::TcpPose;
+use crate::limits::LimitZone;
+use crate::telemetry::ring::LiveRing;
+use crate::telemetry::sample::JointTelemetry;
+
+fn sample(t: f64, q0: f64, cmd0: f64) -> TelemetrySample {
+    let joint = |q: f64, cmd: f64| JointTelemetry {
+        cmd_q_rad: cmd,
+        cmd_qd_rad_s: 0.0,
+        cmd_qdd_rad_s2: 0.0,
+        q_rad: q,
+        qd_rad_s: 0.0,
+        qdd_rad_s2: 0.0,
+        drive: 2.0,
+        zone: LimitZone::Safe,
+    };
+    TelemetrySample {
+        seq: (t * 1000.0) as u64,
+        time_s: t,
+        joints: vec![joint(q0, cmd0), joint(0.5, 0.5)],
+        drive: DriveKind::TorqueNm,
+        tcp: TcpPose::from_xyz_rpy([0.1, 0.2, 0.3], [0.0, 0.1, 0.2]),
+        worst_zone: None,
+        program_step: None,
+        link: None,
+    }
+}
+
+/// A store of `n` samples at 250 Hz of a sine on joint 1.
+fn sine_store(n: usize) -> SeriesStore {
+    let mut st = SeriesStore::new(2, f64::INFINITY);
+    for k in 0..n {
+        let t = k as f64 / 250.0;
+        st.push_sample(&sample(t, (t * 3.0).sin(), 0.0));
+    }
+    st
+}
+
+fn brute_min_max(st: &SeriesStore, col: usize, a: usize, b: usize) -> (f32, f32) {
+    (a..b).map(|i| st.columns[col].values[i]).fold(EMPTY, |m, v| merge(m, (v, v)))
+}
+
+#[test]
+fn columns_are_named_in_order() {
+    let st = SeriesStore::new(6, 600.0);
+    assert_eq!(st.ids().len(), 5 * 6 + 6);
+    assert_eq!(st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }), Some(24));
+    assert_eq!(st.column(SeriesId { quantity: Quantity::TcpOrientation, index: 2 }), Some(35));
+    assert_eq!(st.column(SeriesId { quantity: Quantity::Position, index: 6 }), None);
+}
+
+#[test]
+fn pyramid_ranges_match_the_raw_samples() {
+    let st = sine_store(5000);
+    for (a, b) in [(0, 5000), (3, 4), (7, 9), (8, 16), (1, 4999), (123, 2345), (4096, 5000), (17, 18)] {
+        assert_eq!(st.range_min_max(&st.columns[0], a as u64, b as u64), brute_min_max(&st, 0, a, b), "[{a}, {b})");
+    }
+}
+
+#[test]
+fn decimation_gives_two_points_per_pixel_and_keeps_the_extremes() {
+    let st = sine_store(150_000); // 10 minutes at 250 Hz
+    let mut out = Vec::new();
+    st.decimated(0, 0.0, 600.0, 800, &mut out);
+    assert!(out.len() <= 2 * 800 + 2 && out.len() >= 2 * 800 - 2, "{} points", out.len());
+    let lo = out.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+    let hi = out.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+    let (blo, bhi) = brute_min_max(&st, 0, 0, 150_000);
+    assert_eq!((lo as f32, hi as f32), (blo, bhi));
+    assert!(out.windows(2).all(|w| w[1][0] >= w[0][0]), "time never goes back");
+    // a short window is drawn from the raw samples
+    st.decimated(0, 10.0, 11.0, 800, &mut out);
+    assert_eq!(out.len(), 250 + 2);
+    // nothing outside the data, nothing for an empty window
+    st.decimated(0, 700.0, 800.0, 800, &mut out);
+    assert!(out.len() <= 1);
+    st.decimated(0, 5.0, 5.0, 800, &mut out);
+    assert!(out.is_empty());
+}
+
+#[test]
+fn tracking_error_rms_and_max_over_a_window() {
+    let mut st = SeriesStore::new(2, f64::INFINITY);
+    // error +0.01 for 100 samples then −0.03 for 100 samples
+    for k in 0..200 {
+        let e = if k < 100 { 0.01 } else { -0.03 };
+        st.push_sample(&sample(k as f64 * 0.01, 0.0, e));
+    }
+    let col = st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }).unwrap_or(usize::MAX);
+    let s = st.window_stats(col, 0.0, 0.995).unwrap();
+    assert_eq!(s.samples, 100);
+    assert!((s.rms.unwrap() - 0.01).abs() < 1e-6 && (s.max_abs - 0.01).abs() < 1e-6, "{s:?}");
+    let s = st.window_stats(col, 0.0, 10.0).unwrap();
+    let expect = ((0.01f64.powi(2) + 0.03f64.powi(2)) / 2.0).sqrt();
+    assert!((s.rms.unwrap() - expect).abs() < 1e-6, "{s:?}");
+    assert!((s.max_abs - 0.03).abs() < 1e-6 && (s.min + 0.03).abs() < 1e-6);
+    // position series have no RMS
+    assert_eq!(st.window_stats(0, 0.0, 10.0).map(|s| s.rms), Some(None));
+    assert!(st.window_stats(col, 50.0, 60.0).is_none());
+}
+
+#[test]
+fn a_live_span_expires_old_samples_and_stays_exact() {
+    let mut st = SeriesStore::new(2, 10.0);
+    for k in 0..10_000 {
+        let t = k as f64 * 0.004;
+        st.push_sample(&sample(t, (t * 7.0).sin(), 0.02 * (t * 5.0).cos()));
+    }
+    let (t0, t1) = st.time_range_s().unwrap();
+    assert!((t1 - t0 - 10.0).abs() < 0.005, "{t0} {t1}");
+    assert_eq!(st.len(), 2501);
+    let n = st.len();
+    assert_eq!(st.range_min_max(&st.columns[0], st.base, st.end()), brute_min_max(&st, 0, 0, n));
+    let off = st.base as usize;
+    for (a, b) in [(5, 2000), (0, 1), (1000, 2501), (0, 2501)] {
+        let got = st.range_min_max(&st.columns[0], (off + a) as u64, (off + b) as u64);
+        assert_eq!(got, brute_min_max(&st, 0, a, b));
+    }
+    // the RMS after expiry equals a direct computation
+    let col = st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }).unwrap_or(0);
+    let direct = (st.columns[col].values.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / n as f64).sqrt();
+    let rms = st.window_stats(col, t0, t1).and_then(|s| s.rms).unwrap();
+    assert!((rms - direct).abs() < 1e-6, "{rms} vs {direct}");
+}
+
+#[test]
+fn live_views_are_ingested_once_and_a_new_source_starts_again() {
+    let mut ring = LiveRing::new(600.0, 250.0);
+    for k in 0..1000 {
+        ring.push(&sample(k as f64 * 0.004, 0.0, 0.0));
+    }
+    let mut st = SeriesStore::new(2, 600.0);
+    assert_eq!(st.ingest_live(&ring.view()), 1000);
+    assert_eq!(st.ingest_live(&ring.view()), 0);
+    for k in 1000..1300 {
+        ring.push(&sample(k as f64 * 0.004, 0.0, 0.0));
+    }
+    assert_eq!(st.ingest_live(&ring.view()), 300);
+    assert_eq!(st.len(), 1300);
+    let mut other = LiveRing::new(600.0, 250.0);
+    other.push(&sample(0.5, 0.0, 0.0));
+    assert_eq!(st.ingest_live(&other.view()), 1);
+    assert_eq!(st.len(), 1);
+}
+
+#[test]
+fn rows_at_a_time_and_raw_windows() {
+    let st = sine_store(1000);
+    let q = st.joint_positions_at(1.0).unwrap();
+    assert_eq!(q.len(), 2);
+    assert!((q[0] - 3.0f64.sin()).abs() < 1e-6);
+    assert!((st.joint_positions_at(-5.0).unwrap()[0]).abs() < 1e-9, "before the start: the first sample");
+    assert_eq!(st.raw_window(1.0, 2.0).count(), 251);
+    assert!(SeriesStore::new(2, 1.0).row_at(0.0).is_none());
+}

@@ -425,7 +425,7 @@ impl State {
         match code {
             0 | 1 if !has_axes => Ok(()),
             0 => {
-                self.push(line, Step::MovePose { pose: pose_of(&target), speed_fraction: Some(1.0) });
+                self.push(line, Step::MovePose { pose: pose_of(&target), speed_fraction: None });
                 self.pos = target;
                 Ok(())
             }

@@ -24,7 +24,7 @@
 //!
 //! | word | meaning here |
 //! |---|---|
-//! | `G0` | joint move to the pose (`move_pose`) at the full joint speed (official: `MOVEPOSE` at 100 %) |
+//! | `G0` | joint move to the pose (`move_pose`) at the program's joint speed (*here*: the official `MOVEPOSE` at 100 % can drive the PAROL6's differential wrist past its motor step rate, which pre-flight refuses) |
 //! | `G1` | straight TCP line (`move_l`) at the feed `F`, orientation slerped |
 //! | `G2` / `G3` | arc clockwise / counter-clockwise seen from the positive normal of the plane (G17 +Z, G18 +Y, G19 +X), centre by `I J K` (offsets from the start, always relative) or radius `R` (negative: the arc over 180°); end point = start with `I/J/K` only: a full circle. A partial arc is a `move_c` through the arc's midpoint (orientation slerped to the end's `A B C`), a full circle a `move_circle` (orientation kept). Helical arcs (the third axis changing) are refused, as are start and end more than 0.01 mm apart in radius |
 //! | `G4` | dwell: `P` in **milliseconds** or `S` in seconds (official meaning; LinuxCNC's `P` is seconds) |

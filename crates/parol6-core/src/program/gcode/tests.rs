@@ -61,7 +61,7 @@ fn g0_g1_feed_and_axes_left_out() {
     assert_eq!(s.len(), 3);
     match &s[0] {
         Step::MovePose { pose, speed_fraction } => {
-            assert_eq!(*speed_fraction, Some(1.0));
+            assert_eq!(*speed_fraction, None);
             assert!(near(pose.position_mm, [100.0, 0.0, 300.0], 1e-12));
             assert!(turn_deg(pose.rpy_deg, START.rpy_deg) < 1e-9);
         }
@@ -475,7 +475,7 @@ fn build(moves: &[Move], start: PoseMm) -> Program {
             }
             Move::Rapid { d, abc } => {
                 let p = [at.position_mm[0] + d[0], at.position_mm[1] + d[1], at.position_mm[2] + d[2]];
-                Step::MovePose { pose: pose(p, *abc), speed_fraction: Some(1.0) }
+                Step::MovePose { pose: pose(p, *abc), speed_fraction: None }
             }
             Move::Arc { plane, r, phase, sweep, abc, speed } => {
                 let plane = arc::Plane::ALL[*plane];

@@ -406,7 +406,7 @@ impl State {
             let v = if k < 3 { w.value * self.mm_per_unit } else { w.value };
             t[k] = if self.absolute { v + self.offsets[self.work][k] } else { self.pos[k] + v };
             let (limit, unit) = if k < 3 { (MAX_POSITION_MM, "mm") } else { (MAX_ANGLE_DEG, "°") };
-            if !(t[k].abs() <= limit) {
+            if !(t[k].is_finite() && t[k].abs() <= limit) {
                 return Err(GcodeError::at_word(
                     line,
                     &w.text,
@@ -549,8 +549,13 @@ impl State {
         let sweep = arc::sweep(s, e, centre, ccw, full);
         let mut centre_3d = [0.0; 3];
         (centre_3d[ia], centre_3d[ib], centre_3d[n]) = (centre[0], centre[1], self.pos[n]);
-        if centre_3d.iter().any(|v| !(v.abs() <= MAX_POSITION_MM)) {
-            return Err(GcodeError::at_word(line, at, format!("the arc's centre lies beyond ±{MAX_POSITION_MM} mm")));
+        let radius = (s[0] - centre[0]).hypot(s[1] - centre[1]);
+        if [centre[0], centre[1]].iter().any(|v| !(v.is_finite() && v.abs() + radius <= MAX_POSITION_MM)) {
+            return Err(GcodeError::at_word(
+                line,
+                at,
+                format!("the arc's circle reaches beyond ±{MAX_POSITION_MM} mm"),
+            ));
         }
         let step = if full {
             if (3..6).any(|k| (target[k] - self.pos[k]).abs() > 1e-9) {
@@ -566,9 +571,6 @@ impl State {
             let mid = arc::rotate(s, centre, 0.5 * sweep);
             let mut via = [0.0; 3];
             (via[ia], via[ib], via[n]) = (mid[0], mid[1], 0.5 * (self.pos[n] + target[n]));
-            if via.iter().any(|v| !(v.abs() <= MAX_POSITION_MM)) {
-                return Err(GcodeError::at_word(line, at, format!("the arc passes beyond ±{MAX_POSITION_MM} mm")));
-            }
             Step::MoveC { via_mm: via, pose: pose_of(&target), speed_mm_s: self.feed_mm_s }
         };
         self.push(line, step);

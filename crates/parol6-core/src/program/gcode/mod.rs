@@ -43,7 +43,8 @@
 //! Refused with an error: any other `G` or `M` code, `T` (the tool is set in PAROL6 Studio),
 //! `S` except on `G4` (no spindle), `I J K R` off an arc, words that appear twice on a line, two
 //! codes of one group on a line (`G0 G1`, `G20 G21`), more than one `M` code on a line, axis
-//! words before any motion code, numbers that do not parse, are too long or leave ±10 000 mm.
+//! words before any motion code, numbers that do not parse or are too long, positions beyond
+//! ±10 000 mm and arcs whose circle reaches beyond them.
 //!
 //! A line runs in this order: units, plane, distance mode, work offset, path mode, feed,
 //! `G10`, gripper, then `G4` / `G28` / the motion, then `M0 M1 M2 M30`.

@@ -28,9 +28,8 @@ impl Default for PathTolerance {
 
 impl PathTolerance {
     pub(crate) fn check(&self) -> Result<(), GcodeExportError> {
-        if !(self.position_mm >= 0.001 && self.position_mm.is_finite())
-            || !(self.orientation_deg >= 0.001 && self.orientation_deg.is_finite())
-        {
+        let valid = |v: f64| v.is_finite() && v >= 0.001;
+        if !valid(self.position_mm) || !valid(self.orientation_deg) {
             return Err(GcodeExportError::Input(format!(
                 "the tolerance must be at least 0.001 mm and 0.001°, got {} mm and {}°",
                 self.position_mm, self.orientation_deg

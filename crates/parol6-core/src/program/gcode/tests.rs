@@ -235,6 +235,7 @@ fn broken_lines_give_exact_errors() {
         ("G20 G0 X500", "line 1: word \"X500\": X would be 12700 mm, beyond ±10000 mm"),
         ("G1 X1 P5", "line 1: word \"P5\": P is only used by G4, G10, G64 and M3/M4/M5"),
         ("G38.2 Z0", "line 1: word \"G38.2\": unsupported G code"),
+        ("G2 I9000", "line 1: word \"G2\": the arc's circle reaches beyond ±10000 mm"),
     ];
     for (text, expected) in cases {
         assert_eq!(err(text), expected, "{text}");

@@ -21,11 +21,12 @@ use parol6_hw::{ControllerModel, EmulatorConfig};
 pub type FuzzBody = fn(&[u8]);
 
 /// The fuzz targets, by the name of their `fuzz/fuzz_targets/<name>.rs` and corpus folders.
-pub const TARGETS: [(&str, FuzzBody); 4] = [
+pub const TARGETS: [(&str, FuzzBody); 5] = [
     ("status_parser", status_parser),
     ("command_emulator", command_emulator),
     ("urdf_loader", urdf_loader),
     ("program_file", program_file),
+    ("gcode", gcode),
 ];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser
@@ -250,5 +251,35 @@ pub fn program_file(data: &[u8]) {
         let start = parol6_core::motion::home_position(&model);
         let report = check_program(&model, &program, &start, CheckOptions::default());
         assert_eq!(report.ok, !report.issues.iter().any(|i| i.severity == Severity::Error));
+    }
+}
+
+/// G-code import: any text either reads or gets an error naming a line of it (or the whole
+/// file); a program it reads has every step on a line of the text, and when it exports, the
+/// G-code written reads back with as many steps or more (arcs outside the three planes become
+/// lines).
+pub fn gcode(data: &[u8]) {
+    use parol6_core::program::gcode::{GcodeExportOptions, GcodeImportOptions, parse_gcode, program_to_gcode};
+    static MODEL: std::sync::OnceLock<RobotModel> = std::sync::OnceLock::new();
+    let model = MODEL.get_or_init(RobotModel::parol6);
+    let start_q = parol6_core::motion::home_position(model);
+    let options = GcodeImportOptions::for_model(model, &start_q);
+    let text = String::from_utf8_lossy(data);
+    let lines = text.split('\n').count();
+    let program = match parse_gcode(&text, &options) {
+        Ok(p) => p,
+        Err(e) => {
+            assert!(e.line <= lines, "error on line {} of {lines}: {e}", e.line);
+            assert!(!e.message.is_empty());
+            return;
+        }
+    };
+    assert!(program.steps.iter().all(|s| (1..=lines).contains(&s.line)));
+    let Ok(written) = program_to_gcode(&program, model, &GcodeExportOptions::new(&program, start_q.clone())) else {
+        return;
+    };
+    match parse_gcode(&written, &options) {
+        Ok(again) => assert!(again.steps.len() >= program.steps.len(), "{written}"),
+        Err(e) => panic!("the G-code written for a program read from G-code must read back: {e}\n{written}"),
     }
 }

@@ -316,7 +316,7 @@ impl TcpPath {
 }
 
 /// Centre and unit normal of the circle through three points (None when collinear).
-fn circle_through(a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> Option<(Point3<f64>, Vector3<f64>)> {
+pub(crate) fn circle_through(a: &Point3<f64>, b: &Point3<f64>, c: &Point3<f64>) -> Option<(Point3<f64>, Vector3<f64>)> {
     let (ab, ac) = (b - a, c - a);
     let n = ab.cross(&ac);
     let n2 = n.norm_squared();

@@ -51,6 +51,11 @@ pub enum StepAction {
         /// Give up after, s.
         timeout_s: f64,
     },
+    /// Pause until the operator resumes (an optional pause only when the run says so).
+    Pause {
+        /// Only with optional pauses on.
+        optional: bool,
+    },
 }
 
 /// One executable step.
@@ -275,6 +280,7 @@ fn compile_one(
             }
             StepAction::WaitInput { input: *input, on: *on, timeout_s }
         }
+        Step::Pause { optional } => StepAction::Pause { optional: *optional },
     };
     Ok(action)
 }

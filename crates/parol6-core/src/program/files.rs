@@ -4,11 +4,13 @@
 //! | extension | format |
 //! | --- | --- |
 //! | `.json` | the native format ([`super::json`]) |
+//! | `.gcode`, `.nc`, `.ngc` | G-code in the official PAROL6 dialect ([`super::gcode`]) |
 //!
 //! Loading never touches a program in memory: it returns a new one or an error.
 
 use std::path::Path;
 
+use super::gcode::{GcodeExportOptions, GcodeImportOptions, parse_gcode, program_to_gcode};
 use super::{Program, json};
 use crate::RobotModel;
 
@@ -20,11 +22,14 @@ pub const MAX_PROGRAM_FILE_BYTES: u64 = json::MAX_FILE_BYTES as u64;
 pub enum ProgramFormat {
     /// The native JSON format.
     Json,
+    /// G-code (official PAROL6 dialect).
+    Gcode,
 }
 
 impl ProgramFormat {
     /// Every format, with its extensions (the first is the one written by "save as").
-    pub const ALL: [(ProgramFormat, &'static [&'static str]); 1] = [(ProgramFormat::Json, &["json"])];
+    pub const ALL: [(ProgramFormat, &'static [&'static str]); 2] =
+        [(ProgramFormat::Json, &["json"]), (ProgramFormat::Gcode, &["gcode", "nc", "ngc"])];
 
     /// The format of `path`, from its extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<Self, ProgramIoError> {
@@ -43,6 +48,7 @@ impl ProgramFormat {
     pub fn name(self) -> &'static str {
         match self {
             ProgramFormat::Json => "program JSON",
+            ProgramFormat::Gcode => "G-code",
         }
     }
 }
@@ -108,12 +114,14 @@ pub enum ProgramIoError {
 pub fn parse_program(
     text: &str,
     format: ProgramFormat,
-    _ctx: &FormatContext<'_>,
+    ctx: &FormatContext<'_>,
     origin: &str,
 ) -> Result<Program, ProgramIoError> {
     let content = |message: String| ProgramIoError::Content { path: origin.to_string(), message };
     match format {
         ProgramFormat::Json => json::parse(text).map_err(|e| content(e.to_string())),
+        ProgramFormat::Gcode => parse_gcode(text, &GcodeImportOptions::for_model(ctx.model, ctx.start_q))
+            .map_err(|e| content(e.to_string())),
     }
 }
 
@@ -140,12 +148,16 @@ pub fn read_program(path: &Path, ctx: &FormatContext<'_>) -> Result<Program, Pro
 pub fn format_program(
     program: &Program,
     format: ProgramFormat,
-    _ctx: &FormatContext<'_>,
+    ctx: &FormatContext<'_>,
     origin: &str,
 ) -> Result<String, ProgramIoError> {
-    let _ = origin;
+    let content = |message: String| ProgramIoError::Content { path: origin.to_string(), message };
     match format {
         ProgramFormat::Json => Ok(json::to_string(program)),
+        ProgramFormat::Gcode => {
+            program_to_gcode(program, ctx.model, &GcodeExportOptions::new(program, ctx.start_q.to_vec()))
+                .map_err(|e| content(e.to_string()))
+        }
     }
 }
 
@@ -173,6 +185,23 @@ mod tests {
 
     fn model() -> RobotModel {
         RobotModel::parol6()
+    }
+
+    #[test]
+    fn gcode_files_read_and_write_by_extension() {
+        let m = model();
+        let q = crate::parol6::standby_rad().to_vec();
+        let ctx = FormatContext { model: &m, start_q: &q };
+        let text = "G21 G90\nG1 X0 Y250 Z300 A90 B0 C180 F3000\nG4 P500\n";
+        let p = parse_program(text, ProgramFormat::Gcode, &ctx, "t.gcode").unwrap();
+        assert_eq!(p.steps.len(), 2);
+        assert_eq!(p.steps[1].step, Step::Dwell { seconds: 0.5 });
+        let out = format_program(&p, ProgramFormat::Gcode, &ctx, "t.gcode").unwrap();
+        let back = parse_program(&out, ProgramFormat::Gcode, &ctx, "t.gcode").unwrap();
+        assert_eq!(back.steps.len(), 2);
+        let e = parse_program("G1 X1 Q5\n", ProgramFormat::Gcode, &ctx, "bad.gcode").unwrap_err().to_string();
+        assert!(e.starts_with("bad.gcode: line 1"), "{e}");
+        assert_eq!(ProgramFormat::from_path(Path::new("a.NC")).unwrap(), ProgramFormat::Gcode);
     }
 
     #[test]

@@ -25,6 +25,7 @@ pub mod check;
 pub mod compile;
 pub mod edit;
 pub mod files;
+pub mod gcode;
 pub mod json;
 pub mod runner;
 
@@ -170,6 +171,14 @@ pub enum Step {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         timeout_s: Option<f64>,
     },
+    /// The run pauses here until the operator resumes (G-code `M0`); an optional pause
+    /// (`M1`) only when the run has optional pauses on
+    /// ([`RunOptions::optional_pauses`](runner::RunOptions::optional_pauses)).
+    Pause {
+        /// Only with optional pauses on.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        optional: bool,
+    },
 }
 
 impl Step {
@@ -187,6 +196,7 @@ impl Step {
             Step::Gripper { .. } => "gripper",
             Step::SetOutput { .. } => "set_output",
             Step::WaitInput { .. } => "wait_input",
+            Step::Pause { .. } => "pause",
         }
     }
 
@@ -220,6 +230,8 @@ impl Step {
             },
             Step::SetOutput { output, on } => format!("output {output} {}", if *on { "on" } else { "off" }),
             Step::WaitInput { input, on, .. } => format!("wait for input {input} {}", if *on { "high" } else { "low" }),
+            Step::Pause { optional: false } => "pause until resumed".into(),
+            Step::Pause { optional: true } => "optional pause".into(),
         }
     }
 }

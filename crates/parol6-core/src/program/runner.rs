@@ -132,11 +132,13 @@ pub struct RunOptions {
     /// Start over after the last step (each pass is checked and planned again from where
     /// the arm is).
     pub looping: bool,
+    /// Optional pauses (`pause` steps with `optional`, G-code `M1`) pause the run too.
+    pub optional_pauses: bool,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        Self { speed_override: 1.0, single_step: false, looping: false }
+        Self { speed_override: 1.0, single_step: false, looping: false, optional_pauses: false }
     }
 }
 
@@ -188,6 +190,7 @@ impl ProgramRunner {
                 control: &rx,
                 abort: &a,
                 single: false,
+                optional_pauses: opts.optional_pauses,
                 exec_cpu_ns: None,
                 last_end_s: 0.0,
             };
@@ -253,6 +256,8 @@ struct Run<'a> {
     control: &'a Receiver<RunnerControl>,
     abort: &'a AtomicBool,
     single: bool,
+    /// Optional pause steps pause the run.
+    optional_pauses: bool,
     /// Thread CPU time when the first step was scheduled (planning excluded), ns.
     exec_cpu_ns: Option<u64>,
     /// Motion clock at which the last finished step ended (as scheduled), s.
@@ -364,7 +369,8 @@ impl Run<'_> {
             // wait for an input ends the batch: what follows it starts when the input comes)
             while slots.len() < LOOKAHEAD && next < compiled.len() && !(self.single && hold_at_boundary) {
                 let c = &compiled[next];
-                let wait = matches!(c.action, StepAction::WaitInput { .. });
+                // what follows a wait for an input or the operator is scheduled once it ends
+                let wait = matches!(c.action, StepAction::WaitInput { .. } | StepAction::Pause { .. });
                 if wait && !slots.is_empty() {
                     break;
                 }
@@ -442,6 +448,18 @@ impl Run<'_> {
                 }
                 StepAction::WaitInput { input, on, timeout_s } => {
                     self.wait_input(*input, *on, *timeout_s)?;
+                    self.finish_slot(&mut slots, compiled);
+                    clock = start_clock(self.backend.state().time_s);
+                }
+                StepAction::Pause { optional } => {
+                    if !*optional || self.optional_pauses {
+                        self.publish(|p| {
+                            p.step = c.steps.start;
+                            p.waiting_for = Some("the operator: a pause step (Resume goes on)".into());
+                        });
+                        self.idle_until_control()?;
+                        self.publish(|p| p.waiting_for = None);
+                    }
                     self.finish_slot(&mut slots, compiled);
                     clock = start_clock(self.backend.state().time_s);
                 }

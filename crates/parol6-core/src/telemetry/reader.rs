@@ -13,7 +13,7 @@ use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOp
 
 use crate::model::RobotModel;
 
-use super::schema::{self, JointStateMsg, LogMsg};
+use super::schema::{self, JointStateMsg, LogMsg, PoseInFrame};
 
 /// Largest record (a decompressed chunk included) read from a file smaller than this: our
 /// chunks close at 8 MiB; a damaged length field must not make the reader allocate more.
@@ -80,6 +80,8 @@ pub struct Recording {
     pub commanded: Vec<JointStateMsg>,
     /// `/events` messages.
     pub events: Vec<LogMsg>,
+    /// `/tcp_pose` messages (the TCP path, at most 100 Hz), in file order.
+    pub tcp_path: Vec<PoseInFrame>,
     /// The URDF text of `/robot_description` (empty when absent).
     pub urdf_text: String,
     /// Per topic.
@@ -351,6 +353,10 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
                 },
                 "/events" => match serde_json::from_slice::<LogMsg>(&data) {
                     Ok(m) => rec.events.push(m),
+                    Err(e) => warn(rec, e),
+                },
+                "/tcp_pose" => match serde_json::from_slice::<PoseInFrame>(&data) {
+                    Ok(m) => rec.tcp_path.push(m),
                     Err(e) => warn(rec, e),
                 },
                 "/robot_description" => match serde_json::from_slice::<schema::RobotDescription>(&data) {

@@ -119,7 +119,12 @@ impl ProgramPanel {
     pub fn run_command(&self, single_step: bool) -> AppCommand {
         AppCommand::RunProgram {
             program: Arc::clone(&self.program),
-            opts: RunOptions { speed_override: self.speed_override, single_step, looping: self.looping },
+            opts: RunOptions {
+                speed_override: self.speed_override,
+                single_step,
+                looping: self.looping,
+                ..RunOptions::default()
+            },
         }
     }
 

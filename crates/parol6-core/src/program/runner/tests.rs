@@ -162,3 +162,33 @@ fn a_program_that_fails_pre_flight_never_moves() {
     }
     assert_eq!(sim.state().commands_applied, before, "nothing was sent");
 }
+
+#[test]
+fn a_pause_step_waits_for_resume_and_an_optional_one_only_when_asked() {
+    let (model, sim) = sim(4.0);
+    let (_, steps) = square(&model);
+    let mut with_pause = steps.clone();
+    with_pause.insert(2, Step::Pause { optional: false });
+    with_pause.insert(4, Step::Pause { optional: true });
+    let program = Program::from_steps("pauses", with_pause);
+    // optional pauses off: it stops at the M0 only
+    let runner =
+        ProgramRunner::start(sim.clone(), model.clone(), program.clone(), RunOptions::default()).expect("thread");
+    let p = wait_for(&runner, "the pause", |p| p.state == RunState::Paused);
+    assert_eq!((p.step, p.steps_done), (2, 2), "{p:?}");
+    assert!(p.waiting_for.as_deref().is_some_and(|w| w.contains("operator")), "{p:?}");
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(runner.progress().state, RunState::Paused, "it waits for the operator");
+    assert!(!sim.state().moving);
+    runner.control(RunnerControl::Resume);
+    let done = runner.join();
+    assert_eq!((&done.state, done.steps_done), (&RunState::Done, 8), "{done:?}");
+    // optional pauses on: both pause
+    let opts = RunOptions { optional_pauses: true, ..RunOptions::default() };
+    let runner = ProgramRunner::start(sim.clone(), model, program, opts).expect("thread");
+    wait_for(&runner, "the first pause", |p| p.state == RunState::Paused && p.steps_done == 2);
+    runner.control(RunnerControl::Resume);
+    wait_for(&runner, "the optional pause", |p| p.state == RunState::Paused && p.steps_done == 4);
+    runner.control(RunnerControl::Resume);
+    assert_eq!(runner.join().state, RunState::Done);
+}

@@ -67,6 +67,8 @@ fn a_whole_recording_reads_back() {
     assert_eq!(rec.metadata.get("program").map(String::as_str), Some("demo"));
     assert_eq!(rec.urdf_text, PAROL6_URDF);
     assert_eq!(rec.topics.get("/tcp_pose").map(|t| t.schema.as_str()), Some("foxglove.PoseInFrame"));
+    assert_eq!(rec.tcp_path.len() as u64, rec.topics.get("/tcp_pose").map_or(0, |t| t.messages));
+    assert!((rec.tcp_path[0].pose.position.x - 0.2).abs() < 1e-12, "{:?}", rec.tcp_path[0]);
     rec.check_robot(&RobotModel::parol6()).expect("same robot");
 }
 

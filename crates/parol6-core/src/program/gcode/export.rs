@@ -1,0 +1,308 @@
+//! [`Program`] → G-code (see the [module docs](super) for what each step becomes).
+
+use nalgebra::{Isometry3, Point3, Translation3, Vector3};
+
+use super::arc::Plane;
+use super::path::{PathTolerance, simplify};
+use super::{GcodeGripper, format_number};
+use crate::angles::rpy_to_abc_deg;
+use crate::model::RobotModel;
+use crate::motion::home_position;
+use crate::motion::path::{TcpPath, circle_through};
+use crate::program::{GripperAction, PoseMm, Program, Step};
+
+/// How to write G-code.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GcodeExportOptions {
+    /// Joint values the program starts from, rad: an arc or spline at the start begins at
+    /// their forward-kinematics pose (read the file back from the same start pose).
+    pub start_q: Vec<f64>,
+    /// What `M3`/`M4`/`M5` drive: `gripper` steps need [`GcodeGripper::Electric`],
+    /// `set_output` steps [`GcodeGripper::Pneumatic`].
+    pub gripper: GcodeGripper,
+    /// How far the `G1` lines of sampled moves (splines, arcs outside the XY / ZX / YZ planes)
+    /// may leave the path.
+    pub tolerance: PathTolerance,
+}
+
+impl GcodeExportOptions {
+    /// Starting at `start_q`, gripper words as fit `program`'s tool, default tolerance.
+    pub fn new(program: &Program, start_q: Vec<f64>) -> Self {
+        Self { start_q, gripper: GcodeGripper::for_tool(program.tool), tolerance: PathTolerance::default() }
+    }
+}
+
+/// Why a program or path cannot be written as G-code.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GcodeExportError {
+    /// A step with no G-code equivalent, or one that cannot be computed.
+    #[error("step {} ({kind}): {message}", index + 1)]
+    Step {
+        /// 0-based step index.
+        index: usize,
+        /// Step type.
+        kind: &'static str,
+        /// Why.
+        message: String,
+    },
+    /// Bad options or input.
+    #[error("{0}")]
+    Input(String),
+}
+
+/// `X… Y… Z… A… B… C…` of a pose (A/B/C in the official convention).
+pub(crate) fn axis_words(p: &PoseMm) -> String {
+    let abc = rpy_to_abc_deg(p.rpy_deg);
+    let v = [p.position_mm[0], p.position_mm[1], p.position_mm[2], abc[0], abc[1], abc[2]];
+    ["X", "Y", "Z", "A", "B", "C"]
+        .iter()
+        .zip(v)
+        .map(|(l, v)| format!("{l}{}", format_number(v)))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Writes `program` for `model` as G-code.
+pub fn program_to_gcode(
+    program: &Program,
+    model: &RobotModel,
+    options: &GcodeExportOptions,
+) -> Result<String, GcodeExportError> {
+    options.tolerance.check()?;
+    if options.start_q.len() != model.dof() || !options.start_q.iter().all(|v| v.is_finite()) {
+        return Err(GcodeExportError::Input(format!(
+            "the start pose needs {} finite joint values, got {}",
+            model.dof(),
+            options.start_q.len()
+        )));
+    }
+    let mut w = Writer {
+        out: String::new(),
+        pose: model.tcp_isometry(&options.start_q),
+        feed_mm_min: None,
+        plane: Plane::Xy,
+        blend_mm: None,
+        options,
+    };
+    for line in [&program.name, &program.description] {
+        if !line.is_empty() {
+            w.line(&format!("; {}", line.replace(['\n', '\r'], " ")));
+        }
+    }
+    w.line("; X Y Z mm in the base frame; A B C deg, R = Rx(C)·Ry(B)·Rz(A) (official PAROL6 API)");
+    w.line("G21 G90 G17");
+    for (index, s) in program.steps.iter().enumerate() {
+        let kind = s.step.kind();
+        w.step(&s.step, program, model).map_err(|message| GcodeExportError::Step { index, kind, message })?;
+    }
+    w.line("M30");
+    Ok(w.out)
+}
+
+struct Writer<'a> {
+    out: String,
+    /// Where the TCP is.
+    pose: Isometry3<f64>,
+    feed_mm_min: Option<f64>,
+    plane: Plane,
+    blend_mm: Option<f64>,
+    options: &'a GcodeExportOptions,
+}
+
+impl Writer<'_> {
+    fn line(&mut self, text: &str) {
+        self.out.push_str(text);
+        self.out.push('\n');
+    }
+
+    fn feed_word(&mut self, speed_mm_s: f64) -> String {
+        let f = speed_mm_s * 60.0;
+        if self.feed_mm_min == Some(f) {
+            String::new()
+        } else {
+            self.feed_mm_min = Some(f);
+            format!(" F{}", format_number(f))
+        }
+    }
+
+    fn rapid(&mut self, goal: Isometry3<f64>, comment: &str) {
+        let text = format!("G0 {}{comment}", axis_words(&PoseMm::from_isometry(&goal)));
+        self.line(&text);
+        self.pose = goal;
+    }
+
+    fn step(&mut self, step: &Step, program: &Program, model: &RobotModel) -> Result<(), String> {
+        let speed_of = |s: &Option<f64>| s.unwrap_or(program.speed.tcp_speed_mm_s);
+        match step {
+            Step::Home { .. } => {
+                self.line("G28");
+                self.pose = model.tcp_isometry(&home_position(model));
+            }
+            Step::MoveJoints { joints_deg, .. } => {
+                if joints_deg.len() != model.dof() || !joints_deg.iter().all(|v| v.is_finite()) {
+                    return Err(format!("needs {} finite joint values", model.dof()));
+                }
+                let q: Vec<f64> = joints_deg.iter().map(|d| d.to_radians()).collect();
+                let shown: Vec<String> = joints_deg.iter().map(|v| format_number(*v)).collect();
+                self.rapid(model.tcp_isometry(&q), &format!(" ; joints [{}] deg", shown.join(", ")));
+            }
+            Step::MovePose { pose, .. } => self.rapid(checked(pose)?, ""),
+            Step::MoveL { pose, speed_mm_s, blend_mm } => {
+                let blend = blend_mm.filter(|b| *b > 0.0);
+                if blend != self.blend_mm {
+                    match blend {
+                        Some(b) => self.line(&format!("G64 P{}", format_number(b))),
+                        None => self.line("G61"),
+                    }
+                    self.blend_mm = blend;
+                }
+                let goal = checked(pose)?;
+                let f = self.feed_word(speed_of(speed_mm_s));
+                self.line(&format!("G1 {}{f}", axis_words(pose)));
+                self.pose = goal;
+            }
+            Step::MoveC { via_mm, pose, speed_mm_s } => {
+                let goal = checked(pose)?;
+                let (a, c) = (Point3::from(self.pose.translation.vector), Point3::from(goal.translation.vector));
+                let via = Point3::from(Vector3::from(*via_mm) / 1000.0);
+                let (centre, normal) =
+                    circle_through(&a, &via, &c).ok_or("the start, via and end points lie on one line")?;
+                let speed = speed_of(speed_mm_s);
+                match principal(&normal) {
+                    Some((plane, ccw)) => self.arc(plane, ccw, &centre, &goal, speed),
+                    None => {
+                        let path = TcpPath::arc_through(&self.pose, &via, &goal).map_err(|e| e.to_string())?;
+                        self.sampled(&path, speed, "an arc outside the XY, ZX and YZ planes");
+                    }
+                }
+                self.pose = goal;
+            }
+            Step::MoveCircle { center_mm, normal, angle_deg, speed_mm_s } => {
+                let centre = Point3::from(Vector3::from(*center_mm) / 1000.0);
+                let n = Vector3::from(*normal);
+                let path =
+                    TcpPath::arc_about(&self.pose, &centre, &n, angle_deg.to_radians()).map_err(|e| e.to_string())?;
+                let end = path.pose(path.parameter_length_m());
+                let speed = speed_of(speed_mm_s);
+                match principal(&n) {
+                    Some((plane, positive)) => {
+                        // the centre in the start's plane
+                        let start = Point3::from(self.pose.translation.vector);
+                        let axis = n.normalize();
+                        let centre = centre + axis * (start - centre).dot(&axis);
+                        let ccw = positive == (*angle_deg > 0.0);
+                        let end = Isometry3::from_parts(Translation3::from(end.translation.vector), self.pose.rotation);
+                        self.arc(plane, ccw, &centre, &end, speed);
+                    }
+                    None => self.sampled(&path, speed, "an arc outside the XY, ZX and YZ planes"),
+                }
+                self.pose = end;
+            }
+            Step::Spline { waypoints, speed_mm_s } => {
+                let mut pts = vec![self.pose];
+                for p in waypoints {
+                    pts.push(checked(p)?);
+                }
+                let path = TcpPath::spline(&pts).map_err(|e| e.to_string())?;
+                self.sampled(&path, speed_of(speed_mm_s), "a spline");
+                self.pose = pts[pts.len() - 1];
+            }
+            Step::Dwell { seconds } => {
+                if !seconds.is_finite() || *seconds < 0.0 {
+                    return Err(format!("the dwell {seconds} s is not a time"));
+                }
+                self.line(&format!("G4 P{}", format_number(seconds * 1000.0)));
+            }
+            Step::Gripper { action, position, speed, current_ma } => {
+                if self.options.gripper != GcodeGripper::Electric {
+                    return Err("the electric gripper has no G-code word when M3/M5 drive the pneumatic one (export with the electric gripper)".into());
+                }
+                if speed.is_some() || current_ma.is_some() {
+                    return Err("a gripper speed or current has no G-code equivalent".into());
+                }
+                match action {
+                    GripperAction::Open => self.line("M5"),
+                    GripperAction::Close => self.line("M3"),
+                    GripperAction::Position => {
+                        return Err(format!(
+                            "a gripper position ({}) has no G-code equivalent (only open M5 and close M3)",
+                            position.map_or("none".into(), |p| p.to_string())
+                        ));
+                    }
+                }
+            }
+            Step::SetOutput { output, on } => {
+                if self.options.gripper != GcodeGripper::Pneumatic {
+                    return Err("a digital output has no G-code word when M3/M5 drive the electric gripper".into());
+                }
+                if !(1..=2).contains(output) {
+                    return Err(format!("output {output} has no G-code word (M3/M5 drive outputs 1 and 2)"));
+                }
+                // the pneumatic gripper opens (M5) with its output high
+                self.line(&format!("{} P{output}", if *on { "M5" } else { "M3" }));
+            }
+            Step::WaitInput { .. } => {
+                return Err("waiting for an input has no G-code equivalent in this dialect".into());
+            }
+            Step::Pause { optional } => self.line(if *optional { "M1" } else { "M0" }),
+        }
+        Ok(())
+    }
+
+    /// `G2`/`G3` from where the TCP is to `goal` about `centre` (in `plane` through the start).
+    fn arc(&mut self, plane: Plane, ccw: bool, centre: &Point3<f64>, goal: &Isometry3<f64>, speed_mm_s: f64) {
+        if plane != self.plane {
+            self.line(plane.code());
+            self.plane = plane;
+        }
+        let start = self.pose.translation.vector * 1000.0;
+        let offset = centre.coords * 1000.0 - start;
+        let (a, b, _) = plane.axes();
+        let mut words = String::new();
+        for k in [a.min(b), a.max(b)] {
+            words.push_str(&format!(" {}{}", ['I', 'J', 'K'][k], format_number(offset[k])));
+        }
+        let f = self.feed_word(speed_mm_s);
+        let text = format!("{} {}{words}{f}", if ccw { "G3" } else { "G2" }, axis_words(&PoseMm::from_isometry(goal)));
+        self.line(&text);
+    }
+
+    /// `G1` lines along `path` within the tolerance.
+    fn sampled(&mut self, path: &TcpPath, speed_mm_s: f64, what: &str) {
+        let tol = self.options.tolerance;
+        let step_m = (tol.position_mm.min(0.5) / 1000.0).max(1e-5);
+        let n = ((path.parameter_length_m() / step_m).ceil() as usize).clamp(8, 200_000);
+        let poses: Vec<Isometry3<f64>> =
+            (0..=n).map(|k| path.pose(path.parameter_length_m() * k as f64 / n as f64)).collect();
+        let kept = simplify(&poses, &tol);
+        self.line(&format!(
+            "; {what}: {} lines within {} mm and {} deg",
+            kept.len() - 1,
+            format_number(tol.position_mm),
+            format_number(tol.orientation_deg)
+        ));
+        for k in kept.into_iter().skip(1) {
+            let f = self.feed_word(speed_mm_s);
+            let text = format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&poses[k])));
+            self.line(&text);
+        }
+    }
+}
+
+fn checked(p: &PoseMm) -> Result<Isometry3<f64>, String> {
+    if p.position_mm.iter().chain(&p.rpy_deg).all(|v| v.is_finite()) {
+        Ok(p.isometry())
+    } else {
+        Err("the pose is not finite numbers".into())
+    }
+}
+
+/// The G-code plane whose normal is parallel to `normal`, and whether `normal` points along
+/// the plane's positive normal.
+fn principal(normal: &Vector3<f64>) -> Option<(Plane, bool)> {
+    let n = normal.try_normalize(1e-12)?;
+    Plane::ALL.into_iter().find_map(|p| {
+        let d = n.dot(&Vector3::from(p.normal()));
+        (d.abs() > 1.0 - 1e-9).then_some((p, d > 0.0))
+    })
+}

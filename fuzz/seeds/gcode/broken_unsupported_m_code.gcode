@@ -1,0 +1,2 @@
+G21
+M8 ; coolant on

@@ -151,7 +151,8 @@ pub fn write(samples: &[PoseSample]) -> String {
         let c = &s.commanded;
         let a = &s.attained;
         for v in c.position_mm.iter().chain(&c.rpy_deg).chain(&a.position_mm).chain(&a.rpy_deg) {
-            let _ = write!(out, ",{v:.6}");
+            // rounded first, so a tiny negative value is written 0.000000, not -0.000000
+            let _ = write!(out, ",{:.6}", (v * 1e6).round() / 1e6 + 0.0);
         }
         out.push('\n');
     }

@@ -148,7 +148,7 @@ pub fn html(report: &Report) -> String {
         "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>PAROL6 ISO 9283 measurement</title>\
          <style>body{{font-family:sans-serif;color:{ink};background:{paper};margin:24px;max-width:1120px}}\
          table{{border-collapse:collapse;margin:8px 0}}td,th{{border:1px solid {grid};padding:3px 8px;text-align:right}}\
-         th{{background:{grid}}}td:first-child,th:first-child{{text-align:left}}.plots{{display:flex;flex-wrap:wrap;gap:8px}}\
+         th{{background:{grid}}}#setup td{{text-align:left}}td:first-child,th:first-child{{text-align:left}}.plots{{display:flex;flex-wrap:wrap;gap:8px}}\
          h2{{margin-top:28px}}</style></head><body>",
         ink = hex(REPORT_INK),
         paper = hex(REPORT_PAPER),

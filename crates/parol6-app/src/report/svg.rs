@@ -96,7 +96,8 @@ pub fn xy_plot(title: &str, x_label: &str, y_label: &str, series: &[Series], equ
         let step = tick_step(range[1] - range[0]);
         let mut v = (range[0] / step).ceil() * step;
         while v <= range[1] {
-            let label = format!("{}", (v / step).round() * step);
+            // + 0.0: no "-0"
+            let label = format!("{}", (v / step).round() * step + 0.0);
             let label = if label.len() > 8 { format!("{v:.3e}") } else { label };
             if vertical {
                 let x = sx(v);
@@ -174,7 +175,10 @@ pub fn xy_plot(title: &str, x_label: &str, y_label: &str, series: &[Series], equ
                 }
             }
         }
-        // legend, top right
+        // legend, top right (series without a label share the entry before them)
+        if ser.label.is_empty() {
+            continue;
+        }
         let ly = MT + 14.0 + 14.0 * i as f64;
         let _ = write!(
             s,

@@ -326,6 +326,7 @@ impl Ctx {
         self.publish(|p| p.phase = Phase::Approaching);
         // every cycle's P1 is approached from P2: so is the first
         self.run(plan.move_to(1), &mut || {})?;
+        self.settle(plan.settle_s, &mut || {})?;
         let commanded = plan.cube.poses().map(|p| PoseMm::from_isometry(&p.isometry()));
         let mut out = Vec::with_capacity(plan.cycles * CYCLE_ORDER.len());
         let total = (plan.cycles * CYCLE_ORDER.len()) as f64;

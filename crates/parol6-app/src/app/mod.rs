@@ -424,7 +424,7 @@ impl Parol6App {
         });
         let zones: Vec<LimitZone> = robot.zones.iter().map(|z| z.zone).collect();
         let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
-        scene.planned_path = self.panels.program.overlay();
+        scene.planned_path = self.panels.measure.overlay().or_else(|| self.panels.program.overlay());
         let snap = self.sim.snapshot();
         if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
             scene.link_poses = snap.link_poses.clone();

@@ -20,6 +20,7 @@ pub mod connection;
 pub mod entry;
 pub mod help;
 pub mod joints;
+pub mod measure;
 pub mod program;
 pub mod registry;
 pub mod status_bar;
@@ -176,6 +177,8 @@ pub enum AppCommand {
     },
     /// Pause, resume, single-step or stop the running program.
     Program(RunnerControl),
+    /// Start the ISO 9283 pose test on the active backend (the measurement panel follows it).
+    StartMeasurement(parol6_core::measure::PoseTestPlan),
     /// Clear the TCP trail of the 3D view.
     ClearTrail,
     /// Reset the 3D camera.

@@ -113,6 +113,12 @@ pub struct Report {
     pub paths: Vec<PathReport>,
 }
 
+/// The tool whose TCP offset the model has (none when no tool matches).
+pub fn tool_of_model(model: &RobotModel) -> Tool {
+    let offset = model.tool.translation.vector;
+    Tool::ALL.iter().copied().find(|t| (offset - Vector3::from(t.tcp_offset_m())).norm() < 1e-9).unwrap_or(Tool::None)
+}
+
 /// The current date and time, UTC, as `YYYY-MM-DD HH:MM:SS UTC`.
 pub fn now_utc() -> String {
     let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());

@@ -234,6 +234,11 @@ impl Parol6App {
         }
     }
 
+    /// The measurement panel (its test set-up), for scripted use and tests.
+    pub fn measure_panel(&mut self) -> &mut crate::panels::measure::MeasurePanel {
+        &mut self.panels.measure
+    }
+
     /// The figures of the last frame.
     pub fn perf(&self) -> &PerfStats {
         &self.perf

@@ -65,7 +65,7 @@ pub fn points_along(polyline: &[[f64; 3]], m: usize) -> Option<Vec<PathPoint>> {
     let p = to_vec(polyline);
     let lengths: Vec<f64> = p.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
     let total: f64 = lengths.iter().sum();
-    if !(total > 1e-9) || m == 0 {
+    if total.is_nan() || total <= 1e-9 || m == 0 {
         return None;
     }
     let mut out = Vec::with_capacity(m);

@@ -9,6 +9,7 @@ pub mod app;
 pub mod cli;
 pub mod palette;
 pub mod panels;
+pub mod report;
 pub mod theme;
 pub mod ui_screenshot;
 pub mod viewport;

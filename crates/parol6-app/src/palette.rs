@@ -157,6 +157,35 @@ pub const VIEW_HINT_TEXT: [u8; 3] = [170, 170, 170];
 /// Warning text drawn over the 3D view (mesh problems).
 pub const VIEW_WARNING_TEXT: [u8; 3] = [255, 176, 0];
 
+// ---------------------------------------------------------------------------------------------
+// Measurement: the cube overlay in the 3D view, the panel's plots and the HTML report
+// ---------------------------------------------------------------------------------------------
+
+/// The test cube's edges in the 3D view and the report.
+pub const MEASURE_CUBE: [u8; 3] = [150, 160, 175];
+/// The cube's diagonal plane (the test poses and paths lie on it).
+pub const MEASURE_PLANE: [u8; 3] = [115, 204, 255];
+/// Commanded poses and paths.
+pub const MEASURE_COMMANDED: [u8; 3] = [40, 40, 40];
+/// Attained poses and paths of the run measured (the robot, or the simulation alone).
+pub const MEASURE_ATTAINED: [u8; 3] = [214, 96, 0];
+/// The simulation's attained poses and paths, overlaid on the robot's.
+pub const MEASURE_SIMULATION: [u8; 3] = [0, 114, 178];
+/// Report text and axes.
+pub const REPORT_INK: [u8; 3] = [30, 30, 30];
+/// Report plot grid lines.
+pub const REPORT_GRID: [u8; 3] = [220, 220, 220];
+/// Report page background.
+pub const REPORT_PAPER: [u8; 3] = [255, 255, 255];
+/// One line per joint in the per-joint plots (J1…J6).
+pub const MEASURE_JOINTS: [[u8; 3]; 6] =
+    [[230, 26, 26], [26, 160, 38], [38, 77, 255], [200, 120, 0], [150, 40, 180], [0, 150, 150]];
+
+/// A colour as CSS / SVG hex (`#rrggbb`).
+pub fn hex(c: [u8; 3]) -> String {
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
 #[cfg(test)]
 mod view_colour_tests {
     use super::*;

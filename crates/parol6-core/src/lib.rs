@@ -8,7 +8,8 @@
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
 //! planner, the [`motion::RobotBackend`] trait, pre-flight validation of planned programs in
 //! [`motion::preflight`]), robot programs ([`program`]: steps, the native file format,
-//! compiling, pre-flight and the runner thread), the keep-out shapes of the robot's
+//! compiling, pre-flight and the runner thread), ISO 9283 measurement ([`measure`]: the test
+//! cube, pose and path figures, the measurement CSV, the test driver on any backend), the keep-out shapes of the robot's
 //! surroundings ([`scene`]), the PAROL6 facts of the reference pack ([`parol6`]), the size /
 //! nesting bounds every URDF text passes before parsing ([`urdf_input`]), sample statistics
 //! with one percentile rule ([`stats`]), and telemetry ([`telemetry`]: the recorder thread with
@@ -24,6 +25,7 @@ pub mod angles;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;
+pub mod measure;
 pub mod model;
 pub mod motion;
 pub mod parol6;

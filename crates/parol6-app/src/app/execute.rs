@@ -41,6 +41,7 @@ impl Parol6App {
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
                     self.stop_program();
+                    self.panels.measure.abort();
                 }
                 if let Err(e) = self.backend().send(m) {
                     self.stop_program();
@@ -61,6 +62,18 @@ impl Parol6App {
                         self.program = Some(r);
                     }
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
+                }
+            }
+            AppCommand::StartMeasurement(plan) => {
+                if self.program_running() || self.panels.measure.running() {
+                    self.notice("a program or measurement is running: stop it first".to_string(), true);
+                    return;
+                }
+                let backend = self.backend();
+                let state = backend.state();
+                match parol6_core::measure::driver::start_pose_test(backend, self.model.clone(), plan) {
+                    Ok(run) => self.panels.measure.attach(run, state.source, state.backend.clone()),
+                    Err(e) => self.notice(format!("cannot start the measurement: {e}"), true),
                 }
             }
             AppCommand::Program(control) => {

@@ -285,6 +285,11 @@ impl Parol6App {
         }
     }
 
+    /// The measurement panel (its test set-up), for scripted use and tests.
+    pub fn measure_panel(&mut self) -> &mut crate::panels::measure::MeasurePanel {
+        &mut self.panels.measure
+    }
+
     /// The figures of the last frame.
     pub fn perf(&self) -> &PerfStats {
         &self.perf
@@ -490,7 +495,7 @@ impl Parol6App {
             }
             None => {
                 let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
-                scene.planned_path = self.panels.program.overlay();
+                scene.planned_path = self.panels.measure.overlay().or_else(|| self.panels.program.overlay());
                 let snap = self.sim.snapshot();
                 if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
                     scene.link_poses = snap.link_poses.clone();

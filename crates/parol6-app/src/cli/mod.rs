@@ -6,7 +6,8 @@
 //! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
-//! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run).
+//! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
+//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]).
 
 use std::process::ExitCode;
 
@@ -20,6 +21,8 @@ pub mod hw;
 pub mod hw_bench;
 pub mod kin;
 pub mod mcap;
+pub mod measure;
+pub mod measure_backend;
 pub mod options;
 pub mod output;
 pub mod program;
@@ -108,6 +111,12 @@ pub enum Command {
     Mcap(mcap::McapArgs),
     /// Open the window on a recording: the 3D view and the plots follow its timeline.
     Replay(gui::ReplayArgs),
+    /// ISO 9283 pose accuracy / repeatability on the simulation (default) or the robot, or
+    /// from a measurement CSV (--measurements).
+    Iso9283(measure::Iso9283Args),
+    /// ISO 9283 path accuracy / repeatability (line, circle, triangle in the cube's diagonal
+    /// plane) on the simulation (default) or the robot.
+    PathTest(measure::PathTestArgs),
 }
 
 impl Cli {
@@ -125,6 +134,8 @@ impl Cli {
             Some(Command::Record(_)) => "record".into(),
             Some(Command::Mcap(m)) => format!("mcap {}", m.command.name()),
             Some(Command::Replay(_)) => "replay".into(),
+            Some(Command::Iso9283(_)) => "iso9283".into(),
+            Some(Command::PathTest(_)) => "path-test".into(),
         }
     }
 
@@ -137,13 +148,15 @@ impl Cli {
             ) => true,
             Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
             Some(Command::Hw(_) | Command::Mcap(_)) => false,
-            Some(Command::Program(_)) => true,
+            Some(Command::Program(_) | Command::Iso9283(_) | Command::PathTest(_)) => true,
             Some(Command::Replay(_)) => true,
         };
         let uses_connection = match &self.command {
             None | Some(Command::Record(_)) => true,
             Some(Command::Hw(h)) => h.command.talks_to_controller(),
             Some(Command::Program(p)) => p.command.talks_to_controller(),
+            Some(Command::Iso9283(a)) => a.measurements.is_none(),
+            Some(Command::PathTest(_)) => true,
             Some(_) => false,
         };
         let unused = [
@@ -206,5 +219,7 @@ fn run(cli: &Cli) -> CliResult {
         Some(Command::Program(a)) => program::run(a, &cli.robot, &cli.connect),
         Some(Command::Record(a)) => record::run(a, &cli.robot, &cli.connect),
         Some(Command::Mcap(a)) => mcap::run(a),
+        Some(Command::Iso9283(a)) => measure::run_iso9283(a, &cli.robot, &cli.connect),
+        Some(Command::PathTest(a)) => measure::run_path_test(a, &cli.robot, &cli.connect),
     }
 }

@@ -23,6 +23,7 @@ pub mod help;
 pub mod joints;
 pub mod plot_export;
 pub mod plots;
+pub mod measure;
 pub mod program;
 pub mod registry;
 pub mod status_bar;
@@ -222,6 +223,8 @@ pub enum AppCommand {
     },
     /// Pause, resume, single-step or stop the running program.
     Program(RunnerControl),
+    /// Start the ISO 9283 pose test on the active backend (the measurement panel follows it).
+    StartMeasurement(parol6_core::measure::PoseTestPlan),
     /// Clear the TCP trail of the 3D view.
     ClearTrail,
     /// Reset the 3D camera.

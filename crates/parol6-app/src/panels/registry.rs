@@ -10,6 +10,7 @@ use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
 use super::joints::JointsPanel;
 use super::plots::PlotsPanel;
+use super::measure::MeasurePanel;
 use super::program::ProgramPanel;
 use super::status_bar::StatusBar;
 use super::tcp::TcpPanel;
@@ -44,6 +45,8 @@ pub struct Panels {
     pub cartesian_jog: CartesianJogPanel,
     /// Programs: built-in and files, pre-flight, run / pause / step / stop.
     pub program: ProgramPanel,
+    /// ISO 9283 measurement: cube, pre-flight, run / abort, figures, report.
+    pub measure: MeasurePanel,
     /// Status bar.
     pub status: StatusBar,
     /// Replay timeline of an open recording.
@@ -62,6 +65,7 @@ impl Panels {
             target: CartesianTargetPanel::default(),
             cartesian_jog: CartesianJogPanel::default(),
             program: ProgramPanel::new(model),
+            measure: MeasurePanel::default(),
             status: StatusBar,
             timeline: TimelinePanel::default(),
             plots: PlotsPanel::new(model.dof()),
@@ -77,6 +81,7 @@ impl Panels {
             (Dock::Right, &mut self.tcp),
             (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),
+            (Dock::Right, &mut self.measure),
             (Dock::Bottom, &mut self.status),
             (Dock::Lower, &mut self.timeline),
             (Dock::Lower, &mut self.plots),

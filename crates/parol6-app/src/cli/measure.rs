@@ -1,0 +1,376 @@
+//! `parol6 iso9283` and `parol6 path-test`: ISO 9283 pose and path tests on the simulation
+//! (default) or the controller (`--port`, `--fake-robot`), or the pose figures of an external
+//! measurement file (`--measurements`). With a controller and `--report`, the same test also
+//! runs on the simulation and the report overlays both.
+
+use std::path::{Path, PathBuf};
+
+use parol6_core::RobotModel;
+use parol6_core::measure::cube::MAX_EDGE_MM;
+use parol6_core::measure::driver::{PathRecording, start_path_test, start_pose_test};
+use parol6_core::measure::plan::{DEFAULT_CYCLES, DEFAULT_PATH_CYCLES, MAX_CYCLES};
+use parol6_core::measure::pose_figures::{self, PoseSample, PoseTestFigures};
+use parol6_core::measure::{PathKind, PathTestPlan, PoseTestPlan, TestCube, compare, measurements};
+use serde_json::json;
+
+use super::hw::RateArgs;
+use super::measure_backend::{Opened, wait};
+use super::options::{ConnectArgs, RobotArgs, f64_within};
+use super::output::print_line;
+use super::record::tool_of;
+use super::{CliError, CliResult, print_json};
+use crate::report::{self, PathReport, PoseReport, Report, Setup};
+
+/// The cube options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CubeArgs {
+    /// Cube centre X,Y,Z in the base frame, mm (each within ±2000).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = triple(2000.0))]
+    pub center_mm: Option<[f64; 3]>,
+    /// Cube edge, mm, > 0 and ≤ 1000.
+    #[arg(long, value_name = "L", value_parser = super::options::f64_above(0.0, MAX_EDGE_MM))]
+    pub edge_mm: Option<f64>,
+    /// Tool orientation at every pose: our URDF ROLL,PITCH,YAW, deg (R = Rz(yaw)·Ry(pitch)·Rx(roll);
+    /// each within ±360).
+    #[arg(long, value_name = "ROLL,PITCH,YAW", allow_hyphen_values = true, value_parser = triple(360.0))]
+    pub orientation_deg: Option<[f64; 3]>,
+}
+
+impl CubeArgs {
+    fn cube(&self) -> Result<TestCube, CliError> {
+        match (self.center_mm, self.edge_mm, self.orientation_deg) {
+            (Some(center_mm), Some(edge_mm), Some(orientation_rpy_deg)) => {
+                Ok(TestCube { center_mm, edge_mm, orientation_rpy_deg })
+            }
+            _ => Err(CliError::usage("the test needs --center-mm, --edge-mm and --orientation-deg")),
+        }
+    }
+
+    fn any_given(&self) -> bool {
+        self.center_mm.is_some() || self.edge_mm.is_some() || self.orientation_deg.is_some()
+    }
+}
+
+/// A clap value parser: three comma-separated finite numbers, each within ±`max`.
+fn triple(max: f64) -> impl Fn(&str) -> Result<[f64; 3], String> + Clone + Send + Sync + 'static {
+    move |text: &str| {
+        let parts: Vec<&str> = text.split(',').collect();
+        if parts.len() != 3 {
+            return Err(format!("three comma-separated numbers expected, got {}", parts.len()));
+        }
+        let mut out = [0.0; 3];
+        for (i, (slot, p)) in out.iter_mut().zip(parts).enumerate() {
+            match p.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() && v.abs() <= max => *slot = v,
+                _ => return Err(format!("value {} (\"{}\") must be a number within ±{max}", i + 1, p.trim())),
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Arguments of `parol6 iso9283`.
+#[derive(Debug, clap::Args)]
+pub struct Iso9283Args {
+    /// The cube (not with --measurements).
+    #[command(flatten)]
+    pub cube: CubeArgs,
+    /// Cycles, 2–1000.
+    #[arg(long, default_value_t = DEFAULT_CYCLES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_CYCLES as u64))]
+    pub cycles: usize,
+    /// Fraction of the joint speed caps for the moves between poses, 0.01–1.
+    #[arg(long, default_value_t = 0.5, value_parser = f64_within(0.01, 1.0))]
+    pub speed: f64,
+    /// Rest at each pose before reading it, s of motion clock, 0–10.
+    #[arg(long, default_value_t = 0.3, value_parser = f64_within(0.0, 10.0))]
+    pub settle_s: f64,
+    /// Write the attained poses to this CSV (the --measurements format).
+    #[arg(long, value_name = "OUT.csv")]
+    pub raw: Option<PathBuf>,
+    /// Write the HTML report here.
+    #[arg(long, value_name = "OUT.html")]
+    pub report: Option<PathBuf>,
+    /// Print the figures as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Compute the figures from this measurement CSV (laser tracker, camera, --raw) instead
+    /// of running the test.
+    #[arg(long, value_name = "FILE.csv", conflicts_with_all = ["raw", "center_mm", "edge_mm", "orientation_deg"])]
+    pub measurements: Option<PathBuf>,
+    /// Session settings (robot only).
+    #[command(flatten)]
+    pub rate: RateArgs,
+}
+
+/// Which paths `path-test` runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PathChoice {
+    /// Line P2 → P4.
+    Line,
+    /// Circle about P1 in the diagonal plane.
+    Circle,
+    /// Right-angled triangle in the diagonal plane.
+    Triangle,
+    /// All three.
+    All,
+}
+
+/// Arguments of `parol6 path-test`.
+#[derive(Debug, clap::Args)]
+pub struct PathTestArgs {
+    /// The cube.
+    #[command(flatten)]
+    pub cube: CubeArgs,
+    /// Which path.
+    #[arg(long, value_enum, default_value_t = PathChoice::All)]
+    pub path: PathChoice,
+    /// Cycles, 2–1000.
+    #[arg(long, default_value_t = DEFAULT_PATH_CYCLES, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_CYCLES as u64))]
+    pub cycles: usize,
+    /// Fraction of the rated TCP speed (200 mm/s) along the path, 0.01–1.
+    #[arg(long, default_value_t = 0.5, value_parser = f64_within(0.01, 1.0))]
+    pub speed: f64,
+    /// Points along the path for AT_p / RT_p, 2–1000.
+    #[arg(long, default_value_t = 50, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=1000))]
+    pub points: usize,
+    /// Write the recorded paths to this CSV (path,cycle,t_s,cmd_x_mm,…,x_mm,…).
+    #[arg(long, value_name = "OUT.csv")]
+    pub raw: Option<PathBuf>,
+    /// Write the HTML report here.
+    #[arg(long, value_name = "OUT.html")]
+    pub report: Option<PathBuf>,
+    /// Print the figures as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Session settings (robot only).
+    #[command(flatten)]
+    pub rate: RateArgs,
+}
+
+fn uses_robot(connect: &ConnectArgs) -> bool {
+    connect.port.is_some() || connect.fake_robot
+}
+
+fn write_file(path: &Path, text: &str) -> CliResult {
+    std::fs::write(path, text).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))
+}
+
+fn setup(model: &RobotModel, robot: &RobotArgs, source: &str, speed: f64, cycles: usize, cube: TestCube) -> Setup {
+    Setup {
+        robot: if model.is_parol6 { "PAROL6".into() } else { model.name.clone() },
+        tool: tool_of(robot),
+        source: source.to_string(),
+        speed_fraction: speed,
+        cycles,
+        date_utc: report::now_utc(),
+        cube,
+    }
+}
+
+/// Runs `parol6 iso9283`.
+pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
+    let model = robot.load()?;
+    if let Some(file) = &args.measurements {
+        if uses_robot(connect) || args.cube.any_given() {
+            return Err(CliError::usage("--measurements computes from a file; it takes no cube and no robot"));
+        }
+        let samples = read_measurements(file)?;
+        let figures =
+            pose_figures::compute(&samples).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
+        if let Some(path) = &args.report {
+            let cycles = samples.iter().map(|s| s.cycle).max().unwrap_or(0) as usize;
+            let cube = cube_of_measurements(&samples);
+            let source = format!("measurement file {}", file.display());
+            let setup = setup(&model, robot, &source, 0.0, cycles, cube);
+            let pose = PoseReport { figures: figures.clone(), samples, simulation: None };
+            write_file(path, &report::html(&Report { setup, pose: Some(pose), paths: Vec::new() }))?;
+        }
+        return print_pose_figures(&figures, args.json);
+    }
+    let cube = args.cube.cube()?;
+    let plan = PoseTestPlan { cube, cycles: args.cycles, speed_fraction: args.speed, settle_s: args.settle_s };
+    let opened = Opened::from_args(&model, connect, &args.rate, false)?;
+    let run = start_pose_test(opened.backend.clone(), model.clone(), plan)
+        .map_err(|e| CliError::runtime(format!("cannot start the measurement thread: {e}")))?;
+    let samples = wait(run, &format!("ISO 9283 on the {}", opened.name))?;
+    let figures = pose_figures::compute(&samples).map_err(CliError::runtime)?;
+    if let Some(path) = &args.raw {
+        write_file(path, &measurements::write(&samples))?;
+    }
+    if let Some(path) = &args.report {
+        let simulation = if uses_robot(connect) {
+            let sim = Opened::simulation(&model, false)?;
+            let run = start_pose_test(sim.backend.clone(), model.clone(), plan)
+                .map_err(|e| CliError::runtime(format!("cannot start the measurement thread: {e}")))?;
+            let s = wait(run, "ISO 9283 on the simulation")?;
+            Some((pose_figures::compute(&s).map_err(CliError::runtime)?, s))
+        } else {
+            None
+        };
+        let setup = setup(&model, robot, &opened.name, args.speed, args.cycles, cube);
+        let pose = PoseReport { figures: figures.clone(), samples, simulation };
+        write_file(path, &report::html(&Report { setup, pose: Some(pose), paths: Vec::new() }))?;
+    }
+    print_pose_figures(&figures, args.json)
+}
+
+fn read_measurements(file: &Path) -> Result<Vec<PoseSample>, CliError> {
+    let meta = std::fs::metadata(file).map_err(|e| CliError::runtime(format!("{}: {e}", file.display())))?;
+    if meta.len() > measurements::MAX_FILE_BYTES as u64 {
+        return Err(CliError::usage(format!(
+            "{}: {}",
+            file.display(),
+            measurements::CsvError::TooLarge(meta.len() as usize)
+        )));
+    }
+    let bytes = std::fs::read(file).map_err(|e| CliError::runtime(format!("{}: {e}", file.display())))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CliError::usage(format!("{}: not UTF-8 text (byte {})", file.display(), e.utf8_error().valid_up_to()))
+    })?;
+    measurements::parse(&text).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))
+}
+
+/// The cube the commanded poses of a measurement file describe (P1 is the centre; the edge
+/// from P2–P4 when both are there).
+fn cube_of_measurements(samples: &[PoseSample]) -> TestCube {
+    let find = |pose: usize| samples.iter().find(|s| s.pose == pose).map(|s| s.commanded);
+    let center = find(0).or_else(|| samples.first().map(|s| s.commanded));
+    let edge = match (find(1), find(3)) {
+        (Some(a), Some(b)) => {
+            let d: f64 = (0..3).map(|k| (a.position_mm[k] - b.position_mm[k]).powi(2)).sum::<f64>().sqrt();
+            d / (0.8 * 3f64.sqrt())
+        }
+        _ => 0.0,
+    };
+    TestCube {
+        center_mm: center.map_or([0.0; 3], |c| c.position_mm),
+        edge_mm: edge,
+        orientation_rpy_deg: center.map_or([0.0; 3], |c| c.rpy_deg),
+    }
+}
+
+fn print_pose_figures(f: &PoseTestFigures, as_json: bool) -> CliResult {
+    if as_json {
+        return print_json(&serde_json::to_value(f).map_err(|e| CliError::runtime(e.to_string()))?);
+    }
+    let mut out = String::from(
+        "pose  AP_p mm  AP_x mm  AP_y mm  AP_z mm  RP_l mm  AP_a °   AP_b °   AP_c °   RP_a °   RP_b °   RP_c °\n",
+    );
+    for p in &f.poses {
+        out.push_str(&format!(
+            "{:<4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4}\n",
+            p.name,
+            p.ap_p_mm,
+            p.ap_x_mm,
+            p.ap_y_mm,
+            p.ap_z_mm,
+            p.rp_l_mm,
+            p.ap_a_deg,
+            p.ap_b_deg,
+            p.ap_c_deg,
+            p.rp_a_deg,
+            p.rp_b_deg,
+            p.rp_c_deg
+        ));
+    }
+    let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.4}"));
+    out.push_str(&format!("P2–P4 distance: AD_p {} mm, RD {} mm", opt(f.ad_p_mm), opt(f.rd_mm)));
+    print_line(&out)
+}
+
+/// Runs `parol6 path-test`.
+pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
+    let model = robot.load()?;
+    let cube = args.cube.cube()?;
+    let kinds: Vec<PathKind> = match args.path {
+        PathChoice::Line => vec![PathKind::Line],
+        PathChoice::Circle => vec![PathKind::Circle],
+        PathChoice::Triangle => vec![PathKind::Triangle],
+        PathChoice::All => PathKind::ALL.to_vec(),
+    };
+    let plans: Vec<PathTestPlan> = kinds
+        .iter()
+        .map(|&kind| PathTestPlan { cube, kind, cycles: args.cycles, speed_fraction: args.speed, points: args.points })
+        .collect();
+    let opened = Opened::from_args(&model, connect, &args.rate, true)?;
+    let run_all = |o: &Opened| -> Result<Vec<PathRecording>, CliError> {
+        plans
+            .iter()
+            .map(|plan| {
+                let run = start_path_test(o.backend.clone(), model.clone(), *plan, o.tap.clone())
+                    .map_err(|e| CliError::runtime(format!("cannot start the measurement thread: {e}")))?;
+                wait(run, &format!("{} path on the {}", plan.kind.name(), o.name))
+            })
+            .collect()
+    };
+    let recordings = run_all(&opened)?;
+    let simulation = if uses_robot(connect) { Some(run_all(&Opened::simulation(&model, true)?)?) } else { None };
+    let mut paths_json = Vec::new();
+    let mut reports = Vec::new();
+    for (i, rec) in recordings.iter().enumerate() {
+        let sim = simulation.as_ref().and_then(|s| s.get(i));
+        let r = PathReport::new(&model, rec, sim)
+            .map_err(|e| CliError::runtime(format!("{}: {e}", rec.plan.kind.name())))?;
+        let mut v = serde_json::to_value(&r.figures).map_err(|e| CliError::runtime(e.to_string()))?;
+        v["path"] = json!(rec.plan.kind.name());
+        if let Some((_, _, diff)) = &r.simulation {
+            v["robot_minus_simulation"] = serde_json::to_value(compare::summarize(diff)).unwrap_or_default();
+        }
+        paths_json.push(v);
+        reports.push(r);
+    }
+    if let Some(path) = &args.raw {
+        write_file(path, &path_csv(&model, &recordings))?;
+    }
+    if let Some(path) = &args.report {
+        let setup = setup(&model, robot, &opened.name, args.speed, args.cycles, cube);
+        write_file(path, &report::html(&Report { setup, pose: None, paths: reports }))?;
+    }
+    let out = json!({ "paths": paths_json });
+    if args.json {
+        print_json(&out)
+    } else {
+        let lines: Vec<String> = paths_json
+            .iter()
+            .map(|p| {
+                format!(
+                    "{:<8} AT_p {:.4} mm  RT_p {:.4} mm  max deviation {:.4} mm  RMS {:.4} mm",
+                    p["path"].as_str().unwrap_or(""),
+                    p["AT_p_mm"].as_f64().unwrap_or(f64::NAN),
+                    p["RT_p_mm"].as_f64().unwrap_or(f64::NAN),
+                    p["max_deviation_mm"].as_f64().unwrap_or(f64::NAN),
+                    p["rms_deviation_mm"].as_f64().unwrap_or(f64::NAN)
+                )
+            })
+            .collect();
+        print_line(&lines.join("\n"))
+    }
+}
+
+/// The recorded paths as CSV: one row per sample.
+fn path_csv(model: &RobotModel, recordings: &[PathRecording]) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::from("path,cycle,t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,x_mm,y_mm,z_mm\n");
+    for rec in recordings {
+        for (k, cycle) in rec.cycles.iter().enumerate() {
+            for s in cycle {
+                let c = model.tcp_isometry(&s.commanded_q).translation.vector * 1000.0;
+                let a = model.tcp_isometry(&s.measured_q).translation.vector * 1000.0;
+                let _ = writeln!(
+                    out,
+                    "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
+                    rec.plan.kind.name(),
+                    k + 1,
+                    s.t_s,
+                    c.x,
+                    c.y,
+                    c.z,
+                    a.x,
+                    a.y,
+                    a.z
+                );
+            }
+        }
+    }
+    out
+}

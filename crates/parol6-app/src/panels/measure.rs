@@ -1,0 +1,326 @@
+//! Right panel: ISO 9283 measurement. Set up the test cube (centre, edge, tool orientation),
+//! cycles and speed; the cube is pre-flight checked from where the arm is and drawn in the 3D
+//! view (green: every pose reachable, red: refused, the refusal named here). Run the pose test
+//! on the active backend (simulation or robot) with a progress bar and ABORT, watch the
+//! figures grow with every cycle, save the HTML report, and compare the last simulation run
+//! with the last robot run in the plot (attained − commanded per pose visit).
+//!
+//! The measurement runs on the core's driver thread; the app starts it
+//! ([`AppCommand::StartMeasurement`]) and hands it to this panel, which reads its progress.
+
+use std::sync::Arc;
+
+use eframe::egui;
+use egui_plot::{Legend, Line, Plot, PlotPoints};
+
+use parol6_core::RobotModel;
+use parol6_core::measure::driver::{MeasureError, MeasureRun};
+use parol6_core::measure::pose_figures::{self, PoseSample, PoseTestFigures};
+use parol6_core::measure::{PoseTestPlan, TestCube};
+use parol6_core::motion::StateSource;
+
+use super::{AppCommand, Panel, PanelContext};
+use crate::palette;
+use crate::report::{self, PoseReport, Report, Setup};
+use crate::viewport::{PathOverlay, PathPointStatus};
+
+/// A finished run: where it ran and what it attained.
+#[derive(Debug, Clone)]
+struct Finished {
+    source: StateSource,
+    backend: String,
+    samples: Vec<PoseSample>,
+}
+
+/// The measurement panel.
+pub struct MeasurePanel {
+    /// The test (cube, cycles, speed, settling).
+    pub plan: PoseTestPlan,
+    /// Draw the cube in the 3D view.
+    pub show_cube: bool,
+    /// Where "Save report" writes.
+    pub report_path: String,
+    preflight: Option<(PoseTestPlan, Vec<f64>, Result<(), String>)>,
+    overlay: Option<Arc<PathOverlay>>,
+    run: Option<(MeasureRun<Vec<PoseSample>>, StateSource, String)>,
+    /// The last finished run on the simulation and on the robot.
+    finished: Vec<Finished>,
+    message: Option<(String, bool)>,
+}
+
+impl Default for MeasurePanel {
+    fn default() -> Self {
+        let cube = TestCube { center_mm: [0.0, 250.0, 220.0], edge_mm: 60.0, orientation_rpy_deg: [90.0, 0.0, 0.0] };
+        Self {
+            plan: PoseTestPlan { cycles: 10, ..PoseTestPlan::new(cube) },
+            show_cube: true,
+            report_path: "parol6-iso9283.html".into(),
+            preflight: None,
+            overlay: None,
+            run: None,
+            finished: Vec::new(),
+            message: None,
+        }
+    }
+}
+
+impl MeasurePanel {
+    /// The cube for the 3D view (coloured by the pre-flight), when shown.
+    pub fn overlay(&self) -> Option<Arc<PathOverlay>> {
+        if self.show_cube { self.overlay.clone() } else { None }
+    }
+
+    /// True while a measurement runs.
+    pub fn running(&self) -> bool {
+        self.run.as_ref().is_some_and(|(r, _, _)| !r.is_finished())
+    }
+
+    /// Takes over a measurement the app started on the backend `backend` (`source`).
+    pub fn attach(&mut self, run: MeasureRun<Vec<PoseSample>>, source: StateSource, backend: String) {
+        self.message = None;
+        self.run = Some((run, source, backend));
+    }
+
+    /// Aborts the running measurement (STOP does too).
+    pub fn abort(&self) {
+        if let Some((r, _, _)) = &self.run {
+            r.abort();
+        }
+    }
+
+    fn refresh_preflight(&mut self, model: &RobotModel, start_q: &[f64]) {
+        if self.preflight.as_ref().is_some_and(|(p, q, _)| *p == self.plan && q.as_slice() == start_q) {
+            return;
+        }
+        let result = self.plan.preflight(model, start_q).map_err(|e| e.to_string());
+        let status = if result.is_ok() { PathPointStatus::Ok } else { PathPointStatus::Error };
+        self.overlay = Some(Arc::new(cube_overlay(&self.plan.cube, status)));
+        self.preflight = Some((self.plan, start_q.to_vec(), result));
+    }
+
+    /// Collects a finished run.
+    fn collect(&mut self) {
+        if self.running() {
+            return;
+        }
+        let Some((run, source, backend)) = self.run.take() else { return };
+        match run.join() {
+            Ok(samples) => {
+                self.finished.retain(|f| f.source != source);
+                self.message = Some((format!("{} poses measured on the {backend}", samples.len()), false));
+                self.finished.push(Finished { source, backend, samples });
+            }
+            Err(MeasureError::Aborted) => self.message = Some(("measurement aborted".into(), true)),
+            Err(e) => self.message = Some((format!("measurement failed: {e}"), true)),
+        }
+    }
+
+    fn latest(&self) -> Option<&Finished> {
+        self.finished.last()
+    }
+
+    fn save_report(&mut self, model: &RobotModel) {
+        let Some(last) = self.latest() else { return };
+        let figures = match pose_figures::compute(&last.samples) {
+            Ok(f) => f,
+            Err(e) => {
+                self.message = Some((format!("no report: {e}"), true));
+                return;
+            }
+        };
+        // the other backend's run, overlaid (simulation beside the robot)
+        let simulation = self
+            .finished
+            .iter()
+            .find(|f| f.source == StateSource::Simulation && last.source == StateSource::Robot)
+            .and_then(|f| pose_figures::compute(&f.samples).ok().map(|fig| (fig, f.samples.clone())));
+        let cycles = last.samples.iter().map(|s| s.cycle).max().unwrap_or(0) as usize;
+        let setup = Setup {
+            robot: if model.is_parol6 { "PAROL6".into() } else { model.name.clone() },
+            tool: report::tool_of_model(model),
+            source: last.backend.clone(),
+            speed_fraction: self.plan.speed_fraction,
+            cycles,
+            date_utc: report::now_utc(),
+            cube: self.plan.cube,
+        };
+        let html = report::html(&Report {
+            setup,
+            pose: Some(PoseReport { figures, samples: last.samples.clone(), simulation }),
+            paths: Vec::new(),
+        });
+        self.message = Some(match std::fs::write(&self.report_path, html) {
+            Ok(()) => (format!("report saved to {}", self.report_path), false),
+            Err(e) => (format!("cannot write {}: {e}", self.report_path), true),
+        });
+    }
+}
+
+/// The cube's edges and its diagonal plane as line strips (m), all in one status colour.
+pub fn cube_overlay(cube: &TestCube, status: PathPointStatus) -> PathOverlay {
+    let c = cube.corners_mm();
+    let m = |p: [f64; 3]| [(p[0] / 1000.0) as f32, (p[1] / 1000.0) as f32, (p[2] / 1000.0) as f32];
+    let mut o = PathOverlay::default();
+    let edges = [(0, 1), (1, 3), (3, 2), (2, 0), (4, 5), (5, 7), (7, 6), (6, 4), (0, 4), (1, 5), (2, 6), (3, 7)];
+    for (a, b) in edges {
+        o.break_strip();
+        o.push(m(c[a]), status);
+        o.push(m(c[b]), status);
+    }
+    let plane = cube.plane_corners_mm();
+    o.break_strip();
+    for p in plane.iter().chain(std::iter::once(&plane[0])) {
+        o.push(m(*p), status);
+    }
+    o
+}
+
+fn figures_grid(ui: &mut egui::Ui, f: &PoseTestFigures) {
+    egui::Grid::new("iso9283-figures").striped(true).show(ui, |ui| {
+        for h in ["pose", "AP_p mm", "RP_l mm", "AP_a °", "AP_b °", "AP_c °", "n"] {
+            ui.strong(h);
+        }
+        ui.end_row();
+        for p in &f.poses {
+            ui.label(&p.name);
+            for v in [p.ap_p_mm, p.rp_l_mm, p.ap_a_deg, p.ap_b_deg, p.ap_c_deg] {
+                ui.monospace(format!("{v:.4}"));
+            }
+            ui.label(p.cycles.to_string());
+            ui.end_row();
+        }
+    });
+    let opt = |v: Option<f64>| v.map_or_else(|| "–".into(), |v| format!("{v:.4}"));
+    ui.label(format!("P2–P4: AD_p {} mm, RD {} mm", opt(f.ad_p_mm), opt(f.rd_mm)));
+}
+
+impl Panel for MeasurePanel {
+    fn title(&self) -> &'static str {
+        "Measurement (ISO 9283)"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.heading(self.title());
+        self.collect();
+        let running = self.running();
+        ui.add_enabled_ui(!running, |ui| self.setup_ui(ui));
+        if !running && !ctx.robot.moving {
+            self.refresh_preflight(ctx.model, &ctx.robot.commanded.q.clone());
+        }
+        match self.preflight.as_ref().map(|p| &p.2) {
+            Some(Ok(())) => {
+                ui.colored_label(palette::rgb(palette::PATH_OK), "pre-flight: every pose reachable");
+            }
+            Some(Err(why)) => {
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), why);
+            }
+            None => {}
+        }
+        let ok = matches!(self.preflight.as_ref().map(|p| &p.2), Some(Ok(())));
+        ui.horizontal(|ui| {
+            if ui.add_enabled(ok && !running && !ctx.robot.moving, egui::Button::new("Run test")).clicked() {
+                ctx.send(AppCommand::StartMeasurement(self.plan));
+            }
+            if ui.add_enabled(running, egui::Button::new("Abort")).clicked() {
+                self.abort();
+            }
+            if ui.add_enabled(!running && self.latest().is_some(), egui::Button::new("Save report")).clicked() {
+                self.save_report(ctx.model);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Report");
+            ui.add(egui::TextEdit::singleline(&mut self.report_path).desired_width(200.0));
+        });
+        let live = self.run.as_ref().map(|(r, _, _)| r.progress());
+        if let Some(p) = &live {
+            ui.add(egui::ProgressBar::new(p.fraction as f32).text(format!(
+                "{:.0} % {}",
+                100.0 * p.fraction,
+                p.describe()
+            )));
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        if let Some((text, error)) = &self.message {
+            let color = if *error { palette::ERROR_TEXT } else { palette::PATH_OK };
+            ui.colored_label(palette::rgb(color), text);
+        }
+        let samples: Option<&[PoseSample]> = match &live {
+            Some(p) => Some(&p.attained),
+            None => self.latest().map(|f| f.samples.as_slice()),
+        };
+        if let Some(f) = samples.and_then(|s| pose_figures::compute(s).ok()) {
+            figures_grid(ui, &f);
+        }
+        self.plot(ui, live.as_ref().map(|p| p.attained.as_slice()));
+    }
+}
+
+impl MeasurePanel {
+    fn setup_ui(&mut self, ui: &mut egui::Ui) {
+        let c = &mut self.plan.cube;
+        egui::Grid::new("iso9283-setup").num_columns(4).show(ui, |ui| {
+            ui.label("Centre mm");
+            for (v, axis) in c.center_mm.iter_mut().zip(["x", "y", "z"]) {
+                ui.add(egui::DragValue::new(v).range(-1000.0..=1000.0).speed(1.0).prefix(format!("{axis} ")));
+            }
+            ui.end_row();
+            ui.label("Tool RPY °");
+            for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["r", "p", "y"]) {
+                ui.add(egui::DragValue::new(v).range(-180.0..=180.0).speed(1.0).prefix(format!("{axis} ")));
+            }
+            ui.end_row();
+            ui.label("Edge mm");
+            ui.add(egui::DragValue::new(&mut c.edge_mm).range(1.0..=500.0).speed(1.0));
+            ui.label("Cycles");
+            ui.add(egui::DragValue::new(&mut self.plan.cycles).range(2..=1000));
+            ui.end_row();
+            ui.label("Speed");
+            ui.add(egui::Slider::new(&mut self.plan.speed_fraction, 0.01..=1.0).fixed_decimals(2));
+            ui.checkbox(&mut self.show_cube, "Cube in 3D");
+            ui.end_row();
+        });
+    }
+
+    /// Attained − commanded position per pose visit, mm: the live run, and the last finished
+    /// run on each backend (simulation and robot overlaid).
+    fn plot(&self, ui: &mut egui::Ui, live: Option<&[PoseSample]>) {
+        let series = |s: &[PoseSample]| -> Vec<[f64; 2]> {
+            s.iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let d: f64 = (0..3).map(|k| (p.attained.position_mm[k] - p.commanded.position_mm[k]).powi(2)).sum();
+                    [i as f64 + 1.0, d.sqrt()]
+                })
+                .collect()
+        };
+        if live.is_none() && self.finished.is_empty() {
+            return;
+        }
+        Plot::new("iso9283-plot").height(140.0).legend(Legend::default()).show(ui, |plot| {
+            for f in &self.finished {
+                let (name, color) = match f.source {
+                    StateSource::Simulation => ("simulation", palette::MEASURE_SIMULATION),
+                    StateSource::Robot => ("robot", palette::MEASURE_ATTAINED),
+                };
+                plot.line(Line::new(name, PlotPoints::from(series(&f.samples))).color(palette::rgb(color)));
+            }
+            if let Some(s) = live {
+                plot.line(Line::new("running", PlotPoints::from(series(s))).color(palette::rgb(palette::PATH_OK)));
+            }
+        });
+        ui.small("attained − commanded position per pose visit, mm");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cube_overlay_has_twelve_edges_and_the_plane() {
+        let o = cube_overlay(&MeasurePanel::default().plan.cube, PathPointStatus::Error);
+        assert_eq!(o.len(), 12 * 2 + 5);
+        assert_eq!(o.worst(), Some(PathPointStatus::Error));
+    }
+}

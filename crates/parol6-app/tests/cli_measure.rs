@@ -1,0 +1,138 @@
+//! `parol6 iso9283` and `parol6 path-test` through the built binary: the JSON figures, the raw
+//! CSV read back with `--measurements`, refusals (an unreachable cube, a malformed CSV: exit 2
+//! naming the pose / row and column), and the HTML report rendered in headless Chromium.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod cli_support;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use cli_support::run;
+
+const CUBE: [&str; 6] = ["--center-mm", "0,250,220", "--edge-mm", "60", "--orientation-deg", "90,0,0"];
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("parol6-cli-measure-{}-{name}", std::process::id()))
+}
+
+fn s(p: &Path) -> String {
+    p.display().to_string()
+}
+
+fn args<'a>(head: &[&'a str], tail: &[&'a str]) -> Vec<&'a str> {
+    head.iter().chain(&CUBE).chain(tail).copied().collect()
+}
+
+#[test]
+fn iso9283_on_the_simulation_writes_json_raw_csv_and_reads_it_back() {
+    let raw = temp("raw.csv");
+    let out = run(&args(&["iso9283"], &["--cycles", "3", "--json", "--raw", &s(&raw)])).json("iso9283");
+    let poses = out["poses"].as_array().unwrap();
+    assert_eq!(poses.len(), 5);
+    assert_eq!(poses[0]["name"], "P1");
+    for p in poses {
+        for key in
+            ["AP_p_mm", "AP_x_mm", "AP_y_mm", "AP_z_mm", "AP_a_deg", "AP_b_deg", "AP_c_deg", "RP_l_mm", "RP_a_deg"]
+        {
+            let v = p[key].as_f64().unwrap_or_else(|| panic!("{key}: {out}"));
+            assert!(v.abs() < 0.5, "the simulation settles close: {key} = {v}");
+        }
+    }
+    assert!(out["AD_p_mm"].as_f64().unwrap().abs() < 0.5 && out["RD_mm"].as_f64().unwrap() < 0.5);
+    let text = std::fs::read_to_string(&raw).unwrap();
+    assert_eq!(text.lines().count(), 1 + 15, "{text}");
+    // the same figures from the file
+    let again = run(&["iso9283", "--measurements", &s(&raw), "--json"]).json("--measurements");
+    let a = out["poses"][3]["AP_p_mm"].as_f64().unwrap();
+    let b = again["poses"][3]["AP_p_mm"].as_f64().unwrap();
+    assert!((a - b).abs() < 1e-5, "{a} vs {b}");
+    let _ = std::fs::remove_file(raw);
+}
+
+#[test]
+fn refusals_name_the_pose_or_the_row_and_column() {
+    let far = ["iso9283", "--center-mm", "0,330,250", "--edge-mm", "300", "--orientation-deg", "90,0,0", "--json"];
+    run(&far).assert_refused("unreachable", "pre-flight refuses P");
+    run(&["iso9283", "--center-mm", "0,250,220", "--json"]).assert_refused("no edge", "--edge-mm");
+    run(&args(&["iso9283"], &["--cycles", "1"])).assert_refused("cycles", "2..=1000");
+    run(&args(&["iso9283"], &["--speed", "3"])).assert_refused("speed", "0.01…1");
+    let bad = temp("bad.csv");
+    let header = "cycle,pose,cmd_x_mm,cmd_y_mm,cmd_z_mm,cmd_a_deg,cmd_b_deg,cmd_c_deg,x_mm,y_mm,z_mm,a_deg,b_deg,c_deg";
+    std::fs::write(&bad, format!("{header}\n1,P1,0,0,0,0,0,0,0,0,0,0,0,0\n1,P2,0,0,0,0,0,0,x,0,0,0,0,0\n")).unwrap();
+    run(&["iso9283", "--measurements", &s(&bad)]).assert_refused("text in a number", "row 3, column `x_mm`");
+    std::fs::write(&bad, header.replace(",b_deg", "")).unwrap();
+    run(&["iso9283", "--measurements", &s(&bad)]).assert_refused("missing column", "column `b_deg` is missing");
+    std::fs::write(&bad, "").unwrap();
+    run(&["iso9283", "--measurements", &s(&bad)]).assert_refused("empty", "empty");
+    let _ = std::fs::remove_file(bad);
+}
+
+#[test]
+fn path_test_reports_every_path() {
+    let out = run(&args(&["path-test"], &["--cycles", "2", "--points", "20", "--json"])).json("path-test");
+    let paths = out["paths"].as_array().unwrap();
+    let names: Vec<&str> = paths.iter().map(|p| p["path"].as_str().unwrap()).collect();
+    assert_eq!(names, ["line", "circle", "triangle"]);
+    for p in paths {
+        assert!(p["AT_p_mm"].as_f64().unwrap() < 1.0 && p["RT_p_mm"].as_f64().unwrap() < 1.0, "{p}");
+        assert_eq!((p["points"].as_u64(), p["cycles"].as_u64()), (Some(20), Some(2)));
+    }
+}
+
+/// Chromium, when installed (CI installs it; without CI the test says it skips).
+fn chromium() -> Option<PathBuf> {
+    let found = ["/usr/bin/chromium", "/usr/bin/chromium-browser"].iter().map(PathBuf::from).find(|p| p.exists());
+    if found.is_none() {
+        assert!(std::env::var("CI").is_err(), "CI must have chromium (.ci/run installs it)");
+        eprintln!("SKIPPED: the report rendering test needs chromium (apt-get install chromium)");
+    }
+    found
+}
+
+fn headless(chromium: &Path, extra: &[&str], url: &str) -> std::process::Output {
+    let profile = temp(&format!("chromium-{}", extra.len()));
+    let _ = std::fs::create_dir_all(&profile);
+    let mut cmd = Command::new("timeout");
+    cmd.arg("120")
+        .arg(chromium)
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run"])
+        .args(["--disable-background-networking", "--disable-component-update", "--disable-sync"])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(extra)
+        .arg(url);
+    let out = cmd.output().expect("run chromium");
+    let _ = std::fs::remove_dir_all(profile);
+    out
+}
+
+#[test]
+fn the_report_is_self_contained_and_renders_in_headless_chromium() {
+    let report = temp("report.html");
+    let out = run(&args(&["iso9283"], &["--cycles", "2", "--json", "--report", &s(&report)]));
+    out.json("iso9283 --report");
+    let html = std::fs::read_to_string(&report).unwrap();
+    // no network: no external URL anywhere but the SVG namespace
+    let without_ns = html.replace("http://www.w3.org/2000/svg", "");
+    for needle in ["http://", "https://", "src=", "<script", "@import", "url("] {
+        assert!(!without_ns.contains(needle), "the report references {needle}");
+    }
+    let Some(chromium) = chromium() else { return };
+    let url = format!("file://{}", report.display());
+    let dom = headless(&chromium, &["--dump-dom"], &url);
+    assert!(dom.status.success(), "chromium: {}", String::from_utf8_lossy(&dom.stderr));
+    let dom = String::from_utf8_lossy(&dom.stdout).to_string();
+    assert!(dom.contains("<table id=\"figures\">"), "the figures table is in the DOM");
+    for pose in ["P1", "P2", "P3", "P4", "P5"] {
+        assert!(dom.contains(&format!("<tr><td>{pose}</td>")), "{pose} row");
+    }
+    // the cube snapshot and two scatter plots per pose
+    assert!(dom.matches("<svg").count() >= 11, "{} SVGs", dom.matches("<svg").count());
+    assert!(dom.contains("Cube, diagonal plane and test poses"));
+    let png = temp("report.png");
+    let shot = headless(&chromium, &["--window-size=1200,1600", &format!("--screenshot={}", png.display())], &url);
+    assert!(shot.status.success());
+    assert!(std::fs::metadata(&png).map(|m| m.len() > 10_000).unwrap_or(false), "a rendered page");
+    let _ = (std::fs::remove_file(report), std::fs::remove_file(png));
+}

@@ -1,0 +1,48 @@
+//! Measurement panel, driven headless through egui's kittest harness on the full app: the
+//! default cube passes the pre-flight; an unreachable cube is refused by the pre-flight (the
+//! pose named) and Run starts nothing.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use std::time::{Duration, Instant};
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::app_harness;
+
+use parol6_app::app::Parol6App;
+
+fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs_f64(s);
+    loop {
+        h.run_steps(1);
+        if f(h) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+fn count(h: &Harness<'_, Parol6App>, text: &str) -> usize {
+    h.query_all_by_label_contains(text).count()
+}
+
+#[test]
+fn the_pre_flight_passes_the_default_cube_and_names_an_unreachable_pose() {
+    let mut h = app_harness(egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
+    assert_eq!(count(&h, "Measurement (ISO 9283)"), 1);
+    h.state_mut().measure_panel().plan.cube.center_mm = [0.0, 330.0, 250.0];
+    h.state_mut().measure_panel().plan.cube.edge_mm = 300.0;
+    until(&mut h, "the refusal", 10.0, |h| count(h, "pre-flight refuses P") == 1);
+    // Run is disabled: a click starts nothing
+    let before = h.state().backend().state().commands_applied;
+    h.get_by_label("Run test").click();
+    h.run_steps(5);
+    assert!(!h.state_mut().measure_panel().running(), "no run started");
+    assert_eq!(h.state().backend().state().commands_applied, before, "nothing moved");
+}

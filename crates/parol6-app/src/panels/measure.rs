@@ -257,28 +257,41 @@ impl Panel for MeasurePanel {
 }
 
 impl MeasurePanel {
+    /// The cube and the run settings. Fixed-width fields in a grid: the panel keeps its width
+    /// whatever the values (a wider panel would slide under the 3D view's pointer area).
     fn setup_ui(&mut self, ui: &mut egui::Ui) {
         let c = &mut self.plan.cube;
-        egui::Grid::new("iso9283-setup").num_columns(4).show(ui, |ui| {
+        ui.spacing_mut().slider_width = 110.0;
+        let field = |ui: &mut egui::Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str| {
+            ui.add_sized([64.0, 18.0], egui::DragValue::new(v).range(range).speed(1.0).max_decimals(2))
+                .on_hover_text(format!("{name}: drag, or click and type (Enter)"));
+        };
+        egui::Grid::new("iso9283-setup").num_columns(4).spacing([4.0, 2.0]).show(ui, |ui| {
+            ui.label("");
+            for h in ["x / roll", "y / pitch", "z / yaw"] {
+                ui.weak(h);
+            }
+            ui.end_row();
             ui.label("Centre mm");
-            for (v, axis) in c.center_mm.iter_mut().zip(["x", "y", "z"]) {
-                ui.add(egui::DragValue::new(v).range(-1000.0..=1000.0).speed(1.0).prefix(format!("{axis} ")));
+            for (v, axis) in c.center_mm.iter_mut().zip(["centre x", "centre y", "centre z"]) {
+                field(ui, v, -1000.0..=1000.0, axis);
             }
             ui.end_row();
             ui.label("Tool RPY °");
-            for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["r", "p", "y"]) {
-                ui.add(egui::DragValue::new(v).range(-180.0..=180.0).speed(1.0).prefix(format!("{axis} ")));
+            for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["tool roll", "tool pitch", "tool yaw"]) {
+                field(ui, v, -180.0..=180.0, axis);
             }
             ui.end_row();
             ui.label("Edge mm");
-            ui.add(egui::DragValue::new(&mut c.edge_mm).range(1.0..=500.0).speed(1.0));
+            field(ui, &mut c.edge_mm, 1.0..=500.0, "edge");
             ui.label("Cycles");
-            ui.add(egui::DragValue::new(&mut self.plan.cycles).range(2..=1000));
+            ui.add_sized([64.0, 18.0], egui::DragValue::new(&mut self.plan.cycles).range(2..=1000));
             ui.end_row();
+        });
+        ui.horizontal(|ui| {
             ui.label("Speed");
             ui.add(egui::Slider::new(&mut self.plan.speed_fraction, 0.01..=1.0).fixed_decimals(2));
             ui.checkbox(&mut self.show_cube, "Cube in 3D");
-            ui.end_row();
         });
     }
 

@@ -395,3 +395,24 @@ fn branch_distances_follow_the_arm_once_it_stops() {
     let now = h.state().panel.solutions().expect("solutions")[0].distance_to_seed;
     assert!((now - 0.3).abs() < 1e-6, "distance not re-measured from the current joints: {now}");
 }
+
+#[test]
+fn every_control_lies_inside_the_window_with_every_panel_shown() {
+    // A panel whose content is wider than its column grows past the window edge and slides
+    // under the 3D view, which then takes the clicks meant for it (seen with the measurement
+    // panel): every button and field must lie inside the window.
+    for size in [egui::vec2(1280.0, 800.0), egui::vec2(1024.0, 768.0)] {
+        let mut h = app_harness(size);
+        h.state_mut().settings_mut().show_plots = true;
+        h.run_steps(3);
+        let outside: Vec<String> = h
+            .query_all(
+                egui_kittest::kittest::by()
+                    .predicate(|n| n.role() != egui::accesskit::Role::Window && n.bounding_box().is_some()),
+            )
+            .filter(|n| n.rect().right() > size.x + 0.5 || n.rect().left() < -0.5)
+            .map(|n| format!("{:?} at {:?}", n.accesskit_node().label(), n.rect()))
+            .collect();
+        assert!(outside.is_empty(), "at {size:?}: {outside:?}");
+    }
+}

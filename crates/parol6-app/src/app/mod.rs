@@ -267,6 +267,11 @@ impl Parol6App {
         &self.panels.program
     }
 
+    /// The dynamics panel (tests read its analysis).
+    pub fn dynamics_panel(&self) -> &crate::panels::dynamics::DynamicsPanel {
+        &self.panels.dynamics
+    }
+
     /// The notices shown over the 3D view now, oldest first.
     pub fn notices(&self) -> &[Notice] {
         &self.notices

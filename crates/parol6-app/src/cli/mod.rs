@@ -23,6 +23,7 @@ pub mod mcap;
 pub mod options;
 pub mod output;
 pub mod program;
+pub mod program_torques;
 pub mod record;
 pub mod render;
 pub mod sim;

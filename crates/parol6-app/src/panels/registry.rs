@@ -8,6 +8,7 @@ use super::Panel;
 use super::cartesian_jog::CartesianJogPanel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
+use super::dynamics::DynamicsPanel;
 use super::joints::JointsPanel;
 use super::plots::PlotsPanel;
 use super::program::ProgramPanel;
@@ -50,6 +51,8 @@ pub struct Panels {
     pub timeline: TimelinePanel,
     /// Plots of the live telemetry or of the open recording.
     pub plots: PlotsPanel,
+    /// Inverse dynamics of the program, forward dynamics on the simulation.
+    pub dynamics: DynamicsPanel,
 }
 
 impl Panels {
@@ -65,11 +68,13 @@ impl Panels {
             status: StatusBar,
             timeline: TimelinePanel::default(),
             plots: PlotsPanel::new(model.dof()),
+            dynamics: DynamicsPanel::new(model.dof()),
         }
     }
 
     /// Every panel with its dock, top to bottom within a dock.
     pub fn docked(&mut self) -> Vec<(Dock, &mut dyn Panel)> {
+        self.dynamics.set_program(self.program.program());
         vec![
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.program),
@@ -80,6 +85,7 @@ impl Panels {
             (Dock::Bottom, &mut self.status),
             (Dock::Lower, &mut self.timeline),
             (Dock::Lower, &mut self.plots),
+            (Dock::Lower, &mut self.dynamics),
         ]
     }
 }

@@ -12,7 +12,14 @@ use serde_json::json;
 use super::{CliError, CliResult, print_json};
 
 /// Compiles `program` from `start_q` (100 Hz samples, as pre-flight) and prints its torques.
-pub fn run(file: &Path, model: &RobotModel, program: &Program, start_q: &[f64], as_json: bool, series: bool) -> CliResult {
+pub fn run(
+    file: &Path,
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    as_json: bool,
+    series: bool,
+) -> CliResult {
     let steps = compile(model, program, start_q, CompileOptions::PREFLIGHT)
         .map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
     let t = program_torques(model, &steps, start_q, torque_limits_nm(model));

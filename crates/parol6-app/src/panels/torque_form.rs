@@ -124,12 +124,14 @@ impl TorqueForm {
                         }
                     },
                 );
-                let mut field = |ui: &mut egui::Ui, name: String, v: &mut f64, unit: &str| {
-                    match numeric_entry(ui, &name, *v, 3, 56.0, unit).1 {
-                        Some(EntryEvent::Committed(x)) => *v = x,
-                        Some(EntryEvent::Invalid(e)) => invalid = Some(format!("{name}: {e}")),
-                        None => {}
-                    }
+                let mut field = |ui: &mut egui::Ui, name: String, v: &mut f64, unit: &str| match numeric_entry(
+                    ui, &name, *v, 3, 56.0, unit,
+                )
+                .1
+                {
+                    Some(EntryEvent::Committed(x)) => *v = x,
+                    Some(EntryEvent::Invalid(e)) => invalid = Some(format!("{name}: {e}")),
+                    None => {}
                 };
                 field(ui, format!("J{j} torque"), &mut row.torque_nm, "N·m");
                 let [(n2, u2), (n3, u3)] = row.shape.extra_fields();

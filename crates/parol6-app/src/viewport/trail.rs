@@ -4,7 +4,6 @@
 //! vertex shader from the slot's age. Every point has its colour (linear RGB, a second vertex
 //! buffer of the same slots; [`super::trail_color`]).
 
-
 /// Default number of trail points.
 pub const DEFAULT_TRAIL_CAPACITY: usize = 2000;
 

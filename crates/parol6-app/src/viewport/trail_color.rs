@@ -58,7 +58,13 @@ pub fn trail_rgb(coloring: TrailColoring, sample: TrailSample) -> [f32; 3] {
 
 /// The scale at `x` (0 = low, 1 = top; clamped, NaN reads as 0), linear RGB.
 pub fn scale_rgb(x: f64) -> [f32; 3] {
-    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else if x > 0.0 { 1.0 } else { 0.0 } as f32;
+    let x = if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else if x > 0.0 {
+        1.0
+    } else {
+        0.0
+    } as f32;
     let [lo, mid, hi] = palette::VIEW_TRAIL_SCALE.map(palette::linear_rgb);
     let (a, b, f) = if x <= 0.5 { (lo, mid, x * 2.0) } else { (mid, hi, (x - 0.5) * 2.0) };
     std::array::from_fn(|i| a[i] * (1.0 - f) + b[i] * f)

@@ -126,7 +126,7 @@ pub fn program_torques(
             StepAction::Motion(traj) => {
                 let s = traj.samples();
                 let dt = traj.dt_s();
-                if s.is_empty() || !(dt > 0.0) {
+                if s.is_empty() || dt.is_nan() || dt <= 0.0 {
                     continue;
                 }
                 for k in 0..s.len() {

@@ -142,6 +142,9 @@ pub const VIEW_COLLISION_OPACITY: f32 = 0.4;
 pub const VIEW_TRAIL: [u8; 3] = [255, 217, 51];
 /// Opacity of the newest trail point (0…1).
 pub const VIEW_TRAIL_OPACITY: f32 = 0.95;
+/// TCP trail coloured by speed or tracking error: low, middle and top of the scale (blue → green
+/// → red, interpolated in linear light).
+pub const VIEW_TRAIL_SCALE: [[u8; 3]; 3] = [[60, 120, 255], [80, 220, 110], [255, 60, 50]];
 /// Frame axes (TCP and link frames): X arrow.
 pub const VIEW_FRAME_AXIS_X: [u8; 3] = [230, 26, 26];
 /// Frame axes: Y arrow.

@@ -91,6 +91,7 @@ fn empty_scene(model: &RobotModel) -> SceneFrame {
         tcp: far,
         ghost_link_poses: None,
         planned_path: None,
+        trail_sample: Default::default(),
     }
 }
 
@@ -252,6 +253,41 @@ fn ghost_trail_and_toggles_change_the_picture() {
         &ViewportOptions { show_trail: true, ..robot_only() },
     );
     assert_eq!(differing_pixels(&no_trail, &cleared), 0, "a cleared trail must not draw");
+}
+
+#[test]
+fn a_trail_coloured_by_speed_shows_slow_and_fast_apart() {
+    use parol6_app::viewport::trail_color::{TrailColoring, TrailSample};
+    let model = RobotModel::parol6();
+    let Some(mut r) = renderer(&model, "trail_by_speed") else { return };
+    let sweep = |r: &mut OffscreenRenderer, speed_m_s: f64, coloring: TrailColoring| {
+        r.clear_trail();
+        let mut qq = standby();
+        let mut last = None;
+        for i in 0..150 {
+            qq[0] = 1.5 - i as f64 * 0.02;
+            let mut scene = SceneFrame::from_joints(&model, &qq, None);
+            scene.trail_sample = TrailSample { tcp_speed_m_s: speed_m_s, tracking_error_rad: 0.0 };
+            let opts = ViewportOptions { show_trail: true, trail_coloring: coloring, ..robot_only() };
+            last = Some(render(r, &scene, &opts));
+        }
+        last.expect("rendered")
+    };
+    let slow = sweep(&mut r, 0.0, TrailColoring::Speed);
+    let fast = sweep(&mut r, 0.2, TrailColoring::Speed);
+    let plain = sweep(&mut r, 0.2, TrailColoring::Plain);
+    save(&fast, "trail_fast.png");
+    assert!(differing_pixels(&slow, &fast) > 100, "slow and fast trails look alike");
+    assert!(differing_pixels(&plain, &fast) > 100, "a speed-coloured trail looks like the plain one");
+    // blue at rest, red at full speed: where the pictures differ, the fast one is redder
+    let (mut red_fast, mut red_slow) = (0u64, 0u64);
+    for (a, b) in fast.pixels.chunks_exact(4).zip(slow.pixels.chunks_exact(4)) {
+        if a != b {
+            red_fast += u64::from(a[0]);
+            red_slow += u64::from(b[0]);
+        }
+    }
+    assert!(red_fast > red_slow, "red {red_fast} vs {red_slow}");
 }
 
 #[test]

@@ -73,6 +73,23 @@ pub const MAX_ACCEL_STEPS_S2: [f64; JOINT_COUNT] = [45000.0, 75000.0, 96000.0, 3
 /// API max joint jerk in motor steps/s³ (10 × max acceleration), ROBOT.md §5.
 pub const MAX_JERK_STEPS_S3: [f64; JOINT_COUNT] = [450000.0, 750000.0, 960000.0, 300000.0, 300000.0, 810000.0];
 
+/// Holding torque of each joint's stepper motor, N·m. Source: the PAROL6 bill of materials
+/// (`BOM/BOM.md` of the official PAROL6-Desktop-robot-arm repository, not in our reference
+/// pack): one 17HS08-1004S (16 N·cm, 1 A), three 17HS16-2004S1 (45 N·cm, 2 A), two
+/// 17HS24-2104S (65 N·cm, 2.1 A). The BOM does not say which motor drives which joint: the
+/// 1 A motor is taken for J6 (the only joint with a current setting near 1 A, 965 mA, ROBOT.md
+/// §1), and J1–J5 get the weakest of the other motors, 45 N·cm, so that a warning is never
+/// missed.
+pub const MOTOR_HOLDING_TORQUE_NM: [f64; JOINT_COUNT] = [0.45, 0.45, 0.45, 0.45, 0.45, 0.16];
+
+/// Joint torque limits, N·m (*derived*): motor holding torque × gear reduction (ROBOT.md §1),
+/// `MOTOR_HOLDING_TORQUE_NM[i] · GEAR_RATIOS[i]`. An upper bound: it ignores gearbox losses,
+/// the FW's current setting (×0.85 of the rated current, ROBOT.md §1) and a stepper's torque
+/// falling off with speed, so a torque near it is already a risk of lost steps.
+pub fn joint_torque_limits_nm() -> [f64; JOINT_COUNT] {
+    std::array::from_fn(|i| MOTOR_HOLDING_TORQUE_NM[i] * GEAR_RATIOS[i])
+}
+
 /// Radians per motor step for joint `i` (`2π / (6400 · ratio)`).
 pub const fn rad_per_step(joint: usize) -> f64 {
     2.0 * PI / (MICROSTEPS_PER_MOTOR_REV * GEAR_RATIOS[joint])

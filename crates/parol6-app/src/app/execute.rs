@@ -76,6 +76,15 @@ impl Parol6App {
                     Err(e) => self.notice(format!("cannot start the measurement: {e}"), true),
                 }
             }
+            AppCommand::RunTorques(run) => {
+                if self.hw.is_some() {
+                    self.notice("torque runs drive the simulation only: disconnect the robot first", true);
+                } else if self.program_running() {
+                    self.notice("a program is running: stop it first", true);
+                } else if let Err(e) = self.sim.send(parol6_core::sim::SimCommand::RunJointTorques(run)) {
+                    self.notice(format!("torque run refused: {e}"), true);
+                }
+            }
             AppCommand::Program(control) => {
                 if let Some(r) = &self.program {
                     r.control(control);

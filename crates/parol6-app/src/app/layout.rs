@@ -99,6 +99,7 @@ impl Parol6App {
                     ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
                     ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
                     ui.checkbox(&mut pctx.settings.show_plots, "Plots");
+                    ui.checkbox(&mut pctx.settings.show_dynamics, "Dynamics");
                     ui.separator();
                     if let Some(v) = viewport {
                         v.options_ui(ui);

@@ -267,6 +267,11 @@ impl Parol6App {
         &self.panels.program
     }
 
+    /// The dynamics panel (tests read its analysis).
+    pub fn dynamics_panel(&self) -> &crate::panels::dynamics::DynamicsPanel {
+        &self.panels.dynamics
+    }
+
     /// The notices shown over the 3D view now, oldest first.
     pub fn notices(&self) -> &[Notice] {
         &self.notices
@@ -491,11 +496,17 @@ impl Parol6App {
         let scene = match &recorded {
             Some((q, cmd)) => {
                 let differs = cmd.iter().zip(q).any(|(c, q)| (c - q).abs() > GHOST_MIN_DIFF_RAD);
-                SceneFrame::from_joints(&self.model, q, differs.then_some(cmd.as_slice()))
+                let mut scene = SceneFrame::from_joints(&self.model, q, differs.then_some(cmd.as_slice()));
+                scene.trail_sample.tracking_error_rad = max_abs_diff(cmd, q);
+                scene
             }
             None => {
                 let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
                 scene.planned_path = self.panels.measure.overlay().or_else(|| self.panels.program.overlay());
+                scene.trail_sample = crate::viewport::trail_color::TrailSample {
+                    tcp_speed_m_s: tcp_speed_m_s(&self.model, &robot.q, &robot.qd),
+                    tracking_error_rad: max_abs_diff(&robot.commanded.q, &robot.q),
+                };
                 let snap = self.sim.snapshot();
                 if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
                     scene.link_poses = snap.link_poses.clone();
@@ -558,4 +569,22 @@ impl eframe::App for Parol6App {
         self.stop_file_recording();
         self.disconnect();
     }
+}
+
+/// Largest |a − b| over the joints (0 for empty or mismatched vectors).
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return 0.0;
+    }
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// TCP linear speed from joint velocities (the Jacobian's linear rows), m/s.
+fn tcp_speed_m_s(model: &parol6_core::RobotModel, q: &[f64], qd: &[f64]) -> f64 {
+    if q.len() != model.dof() || qd.len() != model.dof() {
+        return 0.0;
+    }
+    let j = model.jacobian(q);
+    let v = j.fixed_rows::<3>(0) * parol6_core::na::DVector::from_column_slice(qd);
+    v.norm()
 }

@@ -26,6 +26,7 @@ pub mod measure_backend;
 pub mod options;
 pub mod output;
 pub mod program;
+pub mod program_torques;
 pub mod record;
 pub mod render;
 pub mod sim;

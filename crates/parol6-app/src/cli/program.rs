@@ -1,6 +1,7 @@
-//! `parol6 program check|run|convert`: pre-flight a program file of any format, run it on the
+//! `parol6 program check|run|torques|convert`: pre-flight a program file of any format, run it on the
 //! headless simulation, the controller emulator (`--fake-robot`) or the robot (`--port`) with
-//! the same runner the window uses, or convert it between formats (by extension).
+//! the same runner the window uses, show its joint torques before it runs
+//! ([`super::program_torques`]), or convert it between formats (by extension).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -65,6 +66,23 @@ pub enum ProgramCommand {
         #[command(flatten)]
         rate: RateArgs,
     },
+    /// Inverse dynamics of a program before it runs: the joint torques (gravity + inertial +
+    /// Coriolis) along its planned trajectories, each joint's peak against its limit, and a
+    /// warning for every stretch over a limit (the PAROL6's limits: motor holding torque ×
+    /// gear reduction).
+    Torques {
+        /// Program file: .json (native), .gcode/.nc, .csv point table, .txt commander program.
+        file: PathBuf,
+        /// Start pose J1,…,J6 in degrees (default: the standby pose).
+        #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
+        start_deg: Option<String>,
+        /// Print JSON (`{"joints","limits_nm","peak_abs_nm","duration_s","warnings":[…]}`).
+        #[arg(long)]
+        json: bool,
+        /// With --json, add the time series (`time_s`, `torques_nm[joint][sample]`, 100 Hz).
+        #[arg(long, requires = "json")]
+        series: bool,
+    },
     /// Convert a program between formats, chosen by the extensions: .json (native),
     /// .gcode/.nc, .csv point table, .txt commander program. A step the target format cannot
     /// hold is an error naming it; nothing is written then.
@@ -86,6 +104,7 @@ impl ProgramCommand {
         match self {
             Self::Check { .. } => "check",
             Self::Run { .. } => "run",
+            Self::Torques { .. } => "torques",
             Self::Convert { .. } => "convert",
         }
     }
@@ -147,6 +166,12 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             print_json(&summary.json)?;
             summary.outcome
+        }
+        ProgramCommand::Torques { file, start_deg, json, series } => {
+            let model = robot.load()?;
+            let start = start_pose(start_deg.as_deref(), &model)?;
+            let program = load(file, &model, &start)?;
+            super::program_torques::run(file, &model, &program, &start, *json, *series)
         }
         ProgramCommand::Convert { input, output, start_deg } => {
             let model = robot.load()?;

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 pub mod cartesian_jog;
 pub mod cartesian_target;
 pub mod connection;
+pub mod dynamics;
 pub mod entry;
 pub mod help;
 pub mod joints;
@@ -30,6 +31,7 @@ pub mod status_bar;
 pub mod step_fields;
 pub mod tcp;
 pub mod timeline;
+pub mod torque_form;
 
 /// A panel of the operator UI.
 pub trait Panel {
@@ -123,6 +125,8 @@ pub struct Settings {
     pub recent_programs: Vec<String>,
     /// Plots panel shown (under the 3D view).
     pub show_plots: bool,
+    /// Dynamics panel shown (under the 3D view).
+    pub show_dynamics: bool,
 }
 
 /// Recent program files remembered.
@@ -167,6 +171,7 @@ impl Default for Settings {
             angle_convention: AngleConvention::UrdfRpy,
             recent_programs: Vec::new(),
             show_plots: false,
+            show_dynamics: false,
         }
     }
 }
@@ -239,6 +244,8 @@ pub enum AppCommand {
     SeekReplay(f64),
     /// Start writing the active backend to this MCAP file (`None`: stop writing).
     Record(Option<std::path::PathBuf>),
+    /// Forward dynamics: run these joint torques on the simulation (refused on the robot).
+    RunTorques(parol6_core::sim::TorqueRun),
 }
 
 /// Commands of the connection panel, executed by the app against the serial session.

@@ -8,6 +8,7 @@ use super::Panel;
 use super::cartesian_jog::CartesianJogPanel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
+use super::dynamics::DynamicsPanel;
 use super::joints::JointsPanel;
 use super::measure::MeasurePanel;
 use super::plots::PlotsPanel;
@@ -53,6 +54,8 @@ pub struct Panels {
     pub timeline: TimelinePanel,
     /// Plots of the live telemetry or of the open recording.
     pub plots: PlotsPanel,
+    /// Inverse dynamics of the program, forward dynamics on the simulation.
+    pub dynamics: DynamicsPanel,
 }
 
 impl Panels {
@@ -69,11 +72,13 @@ impl Panels {
             status: StatusBar,
             timeline: TimelinePanel::default(),
             plots: PlotsPanel::new(model.dof()),
+            dynamics: DynamicsPanel::new(model.dof()),
         }
     }
 
     /// Every panel with its dock, top to bottom within a dock.
     pub fn docked(&mut self) -> Vec<(Dock, &mut dyn Panel)> {
+        self.dynamics.set_program(self.program.program());
         vec![
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.program),
@@ -85,6 +90,7 @@ impl Panels {
             (Dock::Bottom, &mut self.status),
             (Dock::Lower, &mut self.timeline),
             (Dock::Lower, &mut self.plots),
+            (Dock::Lower, &mut self.dynamics),
         ]
     }
 }

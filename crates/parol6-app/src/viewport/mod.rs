@@ -30,6 +30,7 @@ pub mod offscreen;
 pub mod path_overlay;
 pub mod renderer;
 pub mod trail;
+pub mod trail_color;
 
 pub use camera::OrbitCamera;
 pub use offscreen::{OffscreenRenderer, RgbaImage, write_png};
@@ -150,6 +151,8 @@ pub struct SceneFrame {
     pub tcp: Isometry3<f64>,
     /// Link poses of the target pose, drawn as a translucent ghost.
     pub ghost_link_poses: Option<Vec<Isometry3<f64>>>,
+    /// TCP speed and tracking error now, for a trail coloured by them.
+    pub trail_sample: trail_color::TrailSample,
     /// The planned TCP path of the loaded program, coloured by its pre-flight.
     pub planned_path: Option<Arc<PathOverlay>>,
 }
@@ -190,6 +193,7 @@ impl SceneFrame {
             tcp: model.tcp_isometry(q_rad),
             ghost_link_poses: ghost_q_rad.map(|g| model.link_poses(g)),
             planned_path: None,
+            trail_sample: trail_color::TrailSample::default(),
         }
     }
 }
@@ -210,6 +214,8 @@ pub struct ViewportOptions {
     pub show_ghost: bool,
     /// Draw the ground grid.
     pub show_grid: bool,
+    /// What colours the TCP trail.
+    pub trail_coloring: trail_color::TrailColoring,
 }
 
 impl Default for ViewportOptions {
@@ -221,6 +227,7 @@ impl Default for ViewportOptions {
             show_trail: true,
             show_ghost: true,
             show_grid: true,
+            trail_coloring: trail_color::TrailColoring::Plain,
         }
     }
 }
@@ -334,6 +341,9 @@ impl Viewport {
         let o = &mut self.options;
         ui.checkbox(&mut o.show_grid, "Grid");
         ui.checkbox(&mut o.show_trail, "TCP trail");
+        for c in trail_color::TrailColoring::ALL {
+            ui.radio_value(&mut o.trail_coloring, c, c.label());
+        }
         ui.checkbox(&mut o.show_ghost, "Target ghost");
         ui.checkbox(&mut o.show_link_frames, "Link frames");
         ui.checkbox(&mut o.show_link_names, "Link names");

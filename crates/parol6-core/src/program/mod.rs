@@ -8,6 +8,8 @@
 //! - [`compile`]: steps → planned joint trajectories ([`compile::CompiledStep`]), from a start
 //!   pose, at a chosen sample period (1 ms to run, 10 ms for pre-flight);
 //! - [`check`]: pre-flight of a whole program before anything moves;
+//! - [`torques`]: inverse dynamics over a compiled program (joint torques vs time, warnings
+//!   over the motor limits);
 //! - [`runner`]: runs a program on any [`RobotBackend`](crate::motion::RobotBackend) on its
 //!   own thread, with pause, resume, single step, stop and a progress readout.
 //!
@@ -28,6 +30,7 @@ pub mod files;
 pub mod gcode;
 pub mod json;
 pub mod runner;
+pub mod torques;
 
 /// A TCP pose as written in a program: position in mm, orientation as our URDF roll / pitch /
 /// yaw in degrees (R = Rz(yaw)·Ry(pitch)·Rx(roll)), in the robot's base frame.

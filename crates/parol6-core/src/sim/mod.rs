@@ -28,12 +28,14 @@ pub mod collision;
 pub mod dynamics;
 pub mod multibody;
 mod thread;
+pub mod torque_profile;
 mod types;
 
 pub use collision::{CollisionGuard, CollisionReport};
 pub use dynamics::{InverseDynamics, JointTorques};
 pub use multibody::{MotorGains, Physics};
 pub use thread::{SimHandle, SimStats, thread_cpu_time_ns};
+pub use torque_profile::{TorqueProfile, TorqueRun};
 pub use types::{SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
 
 /// Time constant of the low-pass filter on the measured joint acceleration, s.
@@ -51,6 +53,8 @@ pub struct Simulation {
     planner: MotionPlanner,
     /// Dynamic mode under user torques (motors off) instead of the planner.
     torque_control: bool,
+    /// The forward-dynamics run under way, with its start time, s.
+    torque_run: Option<(TorqueRun, f64)>,
     /// Commanded setpoint of the last step (position, velocity, acceleration).
     sp: Setpoint,
     user_torques: Vec<f64>,
@@ -138,6 +142,7 @@ impl Simulation {
             id,
             planner,
             torque_control: false,
+            torque_run: None,
             sp: Setpoint::at_rest(&home),
             user_torques: vec![0.0; n],
             io: crate::motion::IoState::default(),
@@ -203,7 +208,7 @@ impl Simulation {
 
     /// True while a move or jog is under way.
     pub fn is_moving(&self) -> bool {
-        !self.torque_control && self.planner.is_moving(self.sim_time_s())
+        self.torque_run.is_some() || (!self.torque_control && self.planner.is_moving(self.sim_time_s()))
     }
 
     /// The motion planner (read access).
@@ -321,6 +326,7 @@ impl Simulation {
                 self.user_torques.fill(0.0);
                 self.physics.set_motors_enabled(true);
                 self.torque_control = false;
+                self.torque_run = None;
                 self.planner.reset(&t);
                 self.collision = self.guard.check(&self.model, &self.q);
                 self.update_torques();
@@ -359,6 +365,17 @@ impl Simulation {
                 self.user_torques.copy_from_slice(&tau);
                 self.physics.set_motors_enabled(false);
                 self.torque_control = true;
+                self.torque_run = None;
+            }
+            SimCommand::RunJointTorques(run) => {
+                if self.mode != SimMode::Dynamic {
+                    return Err(SimError::InvalidCommand("a torque run needs dynamic mode".into()));
+                }
+                run.validate(self.model.dof()).map_err(SimError::InvalidCommand)?;
+                self.physics.set_motors_enabled(false);
+                self.torque_control = true;
+                self.torque_run = Some((run, now));
+                self.update_run_torques();
             }
         }
         Ok(())
@@ -368,6 +385,7 @@ impl Simulation {
     fn leave_torque_control(&mut self) {
         if self.torque_control {
             self.torque_control = false;
+            self.torque_run = None;
             self.user_torques.fill(0.0);
             self.physics.set_motors_enabled(true);
             let here: Vec<f64> = self.model.limits.iter().zip(&self.q).map(|(l, &v)| l.clamp(v)).collect();
@@ -396,6 +414,7 @@ impl Simulation {
     /// Advances the simulation by one fixed time step.
     pub fn step(&mut self) {
         let t0 = Instant::now();
+        self.update_run_torques();
         self.advance_setpoint();
         match self.mode {
             SimMode::Kinematic => {
@@ -446,6 +465,26 @@ impl Simulation {
             self.collision = self.guard.check(&self.model, &self.q);
         }
         self.last_step_ns = u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX);
+    }
+
+    /// A torque run: this step's profile torques (plus gravity when asked), or, once its time
+    /// is up, back to the motors holding where the arm is.
+    fn update_run_torques(&mut self) {
+        let Some((run, start_s)) = &self.torque_run else { return };
+        let t = self.sim_time_s() - start_s;
+        if t >= run.duration_s {
+            self.leave_torque_control();
+            return;
+        }
+        let gravity = run.gravity_compensation;
+        run.torques_into(t, &mut self.user_torques);
+        if gravity {
+            // missing velocities and accelerations read as 0: the gravity torques of `q`
+            self.id.compute_into(&self.model, &self.q, &[], &[], &mut self.ff);
+            for (u, g) in self.user_torques.iter_mut().zip(&self.ff) {
+                *u += g;
+            }
+        }
     }
 
     fn update_torques(&mut self) {

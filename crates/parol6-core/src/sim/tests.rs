@@ -732,3 +732,59 @@ fn inertials_merge_links_on_the_same_frame() {
     let urdf: f64 = model.links.iter().filter_map(|l| l.inertial.as_ref()).map(|i| i.mass_kg).sum();
     assert!((total - urdf).abs() < 1e-12);
 }
+
+fn j1_push(torque_nm: f64, duration_s: f64) -> TorqueRun {
+    let mut joints = vec![TorqueProfile::default(); 6];
+    joints[0] = TorqueProfile::Step { before_nm: torque_nm, after_nm: -torque_nm, at_s: duration_s / 2.0 };
+    TorqueRun { joints, duration_s, gravity_compensation: true }
+}
+
+#[test]
+fn a_torque_run_moves_the_arm_then_the_motors_hold_it() {
+    let mut s = sim(SimMode::Dynamic);
+    let q0 = vec![0.5, -1.2, 2.8, 0.2, 0.3, 1.0];
+    s.apply(SimCommand::Teleport(q0.clone())).expect("free");
+    s.apply(SimCommand::RunJointTorques(j1_push(0.05, 0.4))).expect("dynamic mode");
+    assert!(s.is_moving());
+    run_s(&mut s, 0.2);
+    assert!(s.qd()[0] > 0.02, "J1 accelerates under +0.05 N·m: {}", s.qd()[0]);
+    // the heavy joints held by gravity compensation alone (the wrist swings with J1)
+    assert!(max_abs_diff(&s.q()[1..3], &q0[1..3]) < 5e-3, "{:?}", s.q());
+    run_s(&mut s, 0.25);
+    // the run is over: motors on, holding where the arm is
+    assert!(!s.is_moving());
+    assert!(s.q()[0] > q0[0] + 0.002, "J1 moved: {} → {}", q0[0], s.q()[0]);
+    let here = s.q().to_vec();
+    run_s(&mut s, 0.5);
+    assert!(max_abs_diff(s.q(), &here) < 0.02, "{here:?} → {:?}", s.q());
+}
+
+#[test]
+fn stop_ends_a_torque_run_and_bad_runs_are_refused() {
+    let mut s = sim(SimMode::Dynamic);
+    s.apply(SimCommand::RunJointTorques(j1_push(0.05, 10.0))).expect("dynamic mode");
+    run_s(&mut s, 0.1);
+    s.apply(SimCommand::Motion(MotionCommand::Stop)).expect("stop");
+    assert!(!s.is_moving());
+    run_s(&mut s, 0.5);
+    assert!(s.qd().iter().all(|v| v.abs() < 1e-2), "{:?}", s.qd());
+    let mut bad = j1_push(0.05, 1.0);
+    bad.duration_s = f64::NAN;
+    assert!(matches!(s.apply(SimCommand::RunJointTorques(bad)), Err(SimError::InvalidCommand(_))));
+    let mut k = sim(SimMode::Kinematic);
+    assert!(matches!(k.apply(SimCommand::RunJointTorques(j1_push(0.05, 1.0))), Err(SimError::InvalidCommand(_))));
+}
+
+#[test]
+fn a_torque_run_cannot_drive_a_joint_past_its_limit() {
+    let mut s = sim(SimMode::Dynamic);
+    let mut joints = vec![TorqueProfile::default(); 6];
+    joints[0] = TorqueProfile::Constant { torque_nm: 2.0 };
+    s.apply(SimCommand::RunJointTorques(TorqueRun { joints, duration_s: 3.0, gravity_compensation: true }))
+        .expect("dynamic mode");
+    let max = s.model().limits.iter().next().map(|l| l.max).unwrap_or(0.0);
+    for _ in 0..30 {
+        run_s(&mut s, 0.1);
+        assert!(s.q()[0] <= max + 0.02, "J1 {} past its limit {max}", s.q()[0]);
+    }
+}

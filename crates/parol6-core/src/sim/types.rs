@@ -74,6 +74,10 @@ pub enum SimCommand {
     /// Dynamic mode: drive the joints with these torques (N·m), motors off, until a motion
     /// command. Kinematic mode refuses it.
     ApplyJointTorques(Vec<f64>),
+    /// Dynamic mode: forward dynamics, a torque profile per joint for a bounded time, motors
+    /// off; then the motors hold where the arm is. A motion command (STOP) ends it early; the
+    /// joint limits stay enforced. Kinematic mode refuses it.
+    RunJointTorques(super::TorqueRun),
 }
 
 impl From<MotionError> for SimError {

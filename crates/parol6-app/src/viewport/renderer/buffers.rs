@@ -70,6 +70,8 @@ pub(super) struct SceneBuffers {
     pub(super) grid_vertex_count: u32,
     /// Trail ring buffer plus one bridge slot (a copy of slot 0).
     pub(super) trail: wgpu::Buffer,
+    /// Colours of the trail slots (same slots, linear RGB).
+    pub(super) trail_color: wgpu::Buffer,
 }
 
 impl SceneBuffers {
@@ -111,6 +113,21 @@ impl SceneBuffers {
             usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { globals, vertices, indices, instances, grid, grid_vertex_count: grid_vertices.len() as u32, trail }
+        let trail_color = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("parol6 trail colours"),
+            size: ((trail_capacity + 1) * TRAIL_POINT_BYTES) as u64,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            globals,
+            vertices,
+            indices,
+            instances,
+            grid,
+            grid_vertex_count: grid_vertices.len() as u32,
+            trail,
+            trail_color,
+        }
     }
 }

@@ -168,7 +168,8 @@ impl FrameData {
         self.instances[4 * l] = Instance::new(&scene.tcp, TCP_AXES_LENGTH_M, NO_TINT, 1.0);
 
         let t = scene.tcp.translation.vector;
-        self.trail.push([t.x as f32, t.y as f32, t.z as f32]);
+        let rgb = super::super::trail_color::trail_rgb(options.trail_coloring, scene.trail_sample);
+        self.trail.push([t.x as f32, t.y as f32, t.z as f32], rgb);
 
         let eye = camera.eye_m();
         let to_eye = (eye - camera.target_m).try_normalize(1e-9).unwrap_or_else(Vector3::z);
@@ -209,15 +210,17 @@ impl FrameData {
         queue.write_buffer(&buffers.instances, 0, bytemuck::cast_slice(&self.instances));
         let cap = self.trail.capacity();
         for range in self.trail.take_pending().into_iter().flatten() {
-            let pts = &self.trail.slots()[range.clone()];
-            if range.end <= cap {
-                queue.write_buffer(&buffers.trail, (range.start * TRAIL_POINT_BYTES) as u64, bytemuck::cast_slice(pts));
-            }
-            // The bridge slot after the last one mirrors slot 0.
-            if range.start == 0
-                && let Some(first) = pts.first()
-            {
-                queue.write_buffer(&buffers.trail, (cap * TRAIL_POINT_BYTES) as u64, bytemuck::cast_slice(&[*first]));
+            for (buffer, slots) in [(&buffers.trail, self.trail.slots()), (&buffers.trail_color, self.trail.colors())] {
+                let pts = &slots[range.clone()];
+                if range.end <= cap {
+                    queue.write_buffer(buffer, (range.start * TRAIL_POINT_BYTES) as u64, bytemuck::cast_slice(pts));
+                }
+                // The bridge slot after the last one mirrors slot 0.
+                if range.start == 0
+                    && let Some(first) = pts.first()
+                {
+                    queue.write_buffer(buffer, (cap * TRAIL_POINT_BYTES) as u64, bytemuck::cast_slice(&[*first]));
+                }
             }
         }
         self.trail.draw_ranges()

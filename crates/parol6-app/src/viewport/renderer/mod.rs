@@ -120,11 +120,14 @@ impl SceneGpu {
         if self.draw.trail {
             pass.set_pipeline(&self.pipelines.trail);
             pass.set_vertex_buffer(0, self.buffers.trail.slice(..));
+            pass.set_vertex_buffer(1, self.buffers.trail_color.slice(..));
             for r in self.trail_ranges.iter().flatten() {
                 if r.end > r.start + 1 {
                     pass.draw(r.clone(), 0..1);
                 }
             }
+            // slot 1 held the trail colours: the instances again for the meshes below
+            pass.set_vertex_buffer(1, self.buffers.instances.slice(..));
         }
 
         pass.set_vertex_buffer(0, self.buffers.vertices.slice(..));

@@ -101,11 +101,19 @@ impl Pipelines {
             attributes: &line_attrs,
         })];
         let trail_attrs = wgpu::vertex_attr_array![0 => Float32x3];
-        let trail_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: TRAIL_POINT_BYTES as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &trail_attrs,
-        })];
+        let trail_color_attrs = wgpu::vertex_attr_array![1 => Float32x3];
+        let trail_buffers = [
+            Some(wgpu::VertexBufferLayout {
+                array_stride: TRAIL_POINT_BYTES as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &trail_attrs,
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: TRAIL_POINT_BYTES as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &trail_color_attrs,
+            }),
+        ];
 
         let make = |k: PipelineKind,
                     vs: &str,

@@ -121,7 +121,7 @@ fn fs_line(i: LineOut) -> @location(0) vec4<f32> {
 }
 
 @vertex
-fn vs_trail(@builtin(vertex_index) vi: u32, @location(0) pos: vec3<f32>) -> LineOut {
+fn vs_trail(@builtin(vertex_index) vi: u32, @location(0) pos: vec3<f32>, @location(1) rgb: vec3<f32>) -> LineOut {
     let cap = max(g.trail.z, 1u);
     var slot = vi;
     if (slot >= cap) {
@@ -132,7 +132,7 @@ fn vs_trail(@builtin(vertex_index) vi: u32, @location(0) pos: vec3<f32>) -> Line
     var o: LineOut;
     o.clip = g.view_proj * vec4<f32>(pos, 1.0);
     o.world = pos;
-    o.color = vec4<f32>(g.trail_rgba.rgb, g.trail_rgba.a * t * t);
+    o.color = vec4<f32>(rgb, g.trail_rgba.a * t * t);
     return o;
 }
 

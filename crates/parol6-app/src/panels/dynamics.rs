@@ -1,0 +1,222 @@
+//! Lower panel "Dynamics" (View menu), the two dynamics windows of the original GUI:
+//!
+//! - inverse dynamics of the program panel's program from the current pose, before it runs:
+//!   the torque of every joint vs time (egui_plot) with each joint's limit as dashed lines, the
+//!   peaks against the limits, and every stretch over a limit listed (the core's
+//!   [`program_torques`]); recomputed when the program or the start pose changes while the
+//!   arm stands still;
+//! - forward dynamics: torque profiles run on the simulation ([`super::torque_form`]).
+
+use std::sync::Arc;
+
+use eframe::egui;
+use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints};
+use parol6_core::RobotModel;
+use parol6_core::program::Program;
+use parol6_core::program::compile::{CompileOptions, compile};
+use parol6_core::program::torques::{ProgramTorques, program_torques, torque_limits_nm};
+
+use super::torque_form::TorqueForm;
+use super::{Panel, PanelContext, Settings};
+use crate::palette;
+
+/// Points drawn per joint at most (min / max per bucket beyond that).
+const MAX_POINTS_PER_LINE: usize = 2000;
+/// Stretches over a limit listed (the rest are counted).
+const WARNINGS_SHOWN: usize = 6;
+/// Height of the torque plot, points.
+const PLOT_HEIGHT: f32 = 180.0;
+
+/// What was computed, for which program and start pose.
+struct Computed {
+    program: Arc<Program>,
+    start_q: Vec<f64>,
+    result: Result<ProgramTorques, String>,
+    /// Decimated `[t, τ]` per joint.
+    lines: Vec<Vec<[f64; 2]>>,
+}
+
+/// The dynamics panel.
+pub struct DynamicsPanel {
+    program: Arc<Program>,
+    computed: Option<Computed>,
+    /// The forward-dynamics form.
+    pub form: TorqueForm,
+}
+
+impl DynamicsPanel {
+    /// The panel for a robot of `joints` joints.
+    pub fn new(joints: usize) -> Self {
+        Self { program: Arc::new(Program::default()), computed: None, form: TorqueForm::new(joints) }
+    }
+
+    /// The program to analyse (the program panel's; cheap, compared by pointer).
+    pub fn set_program(&mut self, program: &Arc<Program>) {
+        if !Arc::ptr_eq(&self.program, program) {
+            self.program = Arc::clone(program);
+        }
+    }
+
+    /// The torques of the last analysis (tests and the panel).
+    pub fn torques(&self) -> Option<&ProgramTorques> {
+        self.computed.as_ref().and_then(|c| c.result.as_ref().ok())
+    }
+
+    fn refresh(&mut self, model: &RobotModel, start_q: &[f64]) {
+        if self.computed.as_ref().is_some_and(|c| Arc::ptr_eq(&c.program, &self.program) && c.start_q == start_q) {
+            return;
+        }
+        let result = compile(model, &self.program, start_q, CompileOptions::PREFLIGHT)
+            .map(|steps| program_torques(model, &steps, start_q, torque_limits_nm(model)))
+            .map_err(|e| e.to_string());
+        let lines = match &result {
+            Ok(t) => t.torques_nm.iter().map(|col| decimate(&t.time_s, col, MAX_POINTS_PER_LINE)).collect(),
+            Err(_) => Vec::new(),
+        };
+        self.computed = Some(Computed { program: Arc::clone(&self.program), start_q: start_q.to_vec(), result, lines });
+    }
+}
+
+/// `[t, v]` points of a series, at most about `max_points`: beyond that each bucket of samples
+/// contributes its minimum and maximum in time order, so no peak is lost.
+pub fn decimate(time_s: &[f64], values: &[f64], max_points: usize) -> Vec<[f64; 2]> {
+    let n = time_s.len().min(values.len());
+    if n <= max_points || max_points < 2 {
+        return (0..n).map(|k| [time_s[k], values[k]]).collect();
+    }
+    let buckets = max_points / 2;
+    let mut out = Vec::with_capacity(buckets * 2);
+    for b in 0..buckets {
+        let (lo, hi) = (b * n / buckets, ((b + 1) * n / buckets).max(b * n / buckets + 1));
+        let (mut kmin, mut kmax) = (lo, lo);
+        for k in lo..hi.min(n) {
+            if values[k] < values[kmin] {
+                kmin = k;
+            }
+            if values[k] > values[kmax] {
+                kmax = k;
+            }
+        }
+        let (a, c) = if kmin <= kmax { (kmin, kmax) } else { (kmax, kmin) };
+        out.push([time_s[a], values[a]]);
+        if c != a {
+            out.push([time_s[c], values[c]]);
+        }
+    }
+    out
+}
+
+fn joint_color(j: usize) -> egui::Color32 {
+    palette::rgb(palette::PLOT_SERIES[j % palette::PLOT_SERIES.len()])
+}
+
+impl Panel for DynamicsPanel {
+    fn title(&self) -> &'static str {
+        "Dynamics"
+    }
+
+    fn shown(&self, settings: &Settings) -> bool {
+        settings.show_dynamics
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let running = ctx.program.is_some_and(|p| !p.state.is_finished());
+        if !running && !ctx.robot.moving {
+            let start = ctx.robot.commanded.q.clone();
+            self.refresh(ctx.model, &start);
+        }
+        ui.horizontal(|ui| {
+            ui.heading(self.title());
+            ui.label(format!("— joint torques of \"{}\" from the current pose, before it runs", self.program.name));
+        });
+        match self.computed.as_ref().map(|c| (&c.result, &c.lines)) {
+            None => {
+                ui.weak("computed once the arm stands still");
+            }
+            Some((Err(e), _)) => {
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("cannot plan the program: {e}"));
+            }
+            Some((Ok(t), lines)) => torque_view(ui, ctx.model, t, lines),
+        }
+        ui.separator();
+        self.form.ui(ui, ctx);
+        if ctx.robot.moving {
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+}
+
+fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines: &[Vec<[f64; 2]>]) {
+    let names = model.joint_names();
+    ui.horizontal_wrapped(|ui| {
+        for (j, peak) in t.peak_abs_nm.iter().enumerate() {
+            let name = names.get(j).copied().unwrap_or("?");
+            let text = match t.limits_nm.as_ref().and_then(|l| l.get(j)) {
+                Some(limit) => format!("{name} peak {peak:.2} / {limit:.2} N·m"),
+                None => format!("{name} peak {peak:.2} N·m"),
+            };
+            ui.label(egui::RichText::new(text).color(joint_color(j)));
+        }
+    });
+    match &t.limits_nm {
+        Some(_) if t.warnings.is_empty() => {
+            ui.colored_label(palette::rgb(palette::PATH_OK), "torques within the motor limits");
+        }
+        Some(_) => {
+            for w in t.warnings.iter().take(WARNINGS_SHOWN) {
+                ui.colored_label(
+                    palette::rgb(palette::WARN_TEXT),
+                    format!(
+                        "J{} over its limit: {:.2} N·m > {:.2} N·m at t = {:.2} s (line {}, {}; {:.2}–{:.2} s)",
+                        w.joint, w.peak_nm, w.limit_nm, w.peak_s, w.line, w.step_kind, w.start_s, w.end_s
+                    ),
+                );
+            }
+            let more = t.warnings.len().saturating_sub(WARNINGS_SHOWN) + t.warnings_dropped;
+            if more > 0 {
+                ui.colored_label(palette::rgb(palette::WARN_TEXT), format!("… {more} more stretches over a limit"));
+            }
+        }
+        None => {
+            ui.weak("no documented torque limits for this robot");
+        }
+    }
+    ui.weak("limits: motor holding torque × gear reduction (an upper bound at standstill)");
+    Plot::new("program_torques").height(PLOT_HEIGHT).legend(egui_plot::Legend::default()).x_axis_label("t (s)").show(
+        ui,
+        |pui| {
+            for (j, pts) in lines.iter().enumerate() {
+                let name = names.get(j).copied().unwrap_or("?").to_string();
+                pui.line(Line::new(name, PlotPoints::new(pts.clone())).color(joint_color(j)));
+                if let Some(limit) = t.limits_nm.as_ref().and_then(|l| l.get(j)) {
+                    for (side, y) in [("+", *limit), ("−", -*limit)] {
+                        pui.hline(
+                            HLine::new(format!("J{} limit {side}", j + 1), y)
+                                .color(joint_color(j))
+                                .style(LineStyle::dashed_loose())
+                                .width(0.8),
+                        );
+                    }
+                }
+            }
+        },
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimation_keeps_the_peaks_and_bounds_the_points() {
+        let t: Vec<f64> = (0..10_000).map(|k| k as f64 * 0.01).collect();
+        let mut v: Vec<f64> = t.iter().map(|x| x.sin()).collect();
+        v[4321] = 5.0;
+        v[7777] = -4.0;
+        let d = decimate(&t, &v, 500);
+        assert!(d.len() <= 500, "{}", d.len());
+        assert!(d.iter().any(|p| p[1] == 5.0) && d.iter().any(|p| p[1] == -4.0));
+        assert!(d.windows(2).all(|w| w[0][0] <= w[1][0]), "time order");
+        assert_eq!(decimate(&t[..10], &v[..10], 500).len(), 10);
+    }
+}

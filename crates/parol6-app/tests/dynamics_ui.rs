@@ -1,0 +1,75 @@
+//! The dynamics panel, driven headless through egui's kittest harness on the full app: it
+//! opens from the View menu with the program's joint torques against the motor limits, and a
+//! torque typed for J1 runs on the simulation: the arm moves, and stands still again once the
+//! run time is over.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use std::time::{Duration, Instant};
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::app_harness;
+
+use parol6_app::app::Parol6App;
+
+fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs_f64(s);
+    loop {
+        h.run_steps(1);
+        if f(h) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
+    h.query_all_by_label_contains(text).next().is_some()
+}
+
+fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
+    h.get_by_label(name).click();
+    h.run_steps(1);
+    h.get_by_label(name).type_text(text);
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+}
+
+#[test]
+fn the_dynamics_panel_shows_program_torques_and_runs_a_torque_on_the_simulation() {
+    let mut h = app_harness(egui::vec2(1400.0, 1500.0));
+    assert!(!has_label(&h, "Run torques"), "the dynamics panel starts hidden");
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label("Dynamics").click();
+    h.run_steps(2);
+    h.key_press(egui::Key::Escape);
+    h.run_steps(1);
+    // the program panel's program, from the pose the arm stands in
+    until(&mut h, "the program's torques", 10.0, |h| has_label(h, "J2 peak"));
+    let t = h.state().dynamics_panel().torques().expect("analysed").clone();
+    assert_eq!(t.torques_nm.len(), 6);
+    assert!(t.peak_abs_nm[1] > 0.5, "J2 carries the arm: {:?}", t.peak_abs_nm);
+    assert!(has_label(&h, "torques within the motor limits"));
+
+    let q0 = h.state().sim().snapshot().q.clone();
+    type_into(&mut h, "J1 torque", "0.1");
+    type_into(&mut h, "Run time", "0.6");
+    h.get_by_label("Run torques").click();
+    until(&mut h, "J1 to turn", 10.0, |h| (h.state().sim().snapshot().q[0] - q0[0]).abs() > 0.01);
+    // the run ends by itself: the motors take over and the arm stands still where it got to
+    until(&mut h, "the run to end", 10.0, |h| !h.state().sim().snapshot().moving);
+    std::thread::sleep(Duration::from_millis(300));
+    let a = h.state().sim().snapshot();
+    std::thread::sleep(Duration::from_millis(200));
+    let b = h.state().sim().snapshot();
+    assert!(b.q[0] - q0[0] > 0.01, "J1 turned the way the torque pushed: {} → {}", q0[0], b.q[0]);
+    assert!((b.q[0] - a.q[0]).abs() < 0.01, "J1 holds after the run: {} → {}", a.q[0], b.q[0]);
+    assert!(h.state().notices().iter().all(|n| !n.error), "{:?}", h.state().notices());
+}

@@ -1,0 +1,196 @@
+//! Inverse dynamics over a compiled program: the joint torques (gravity + inertial +
+//! Coriolis, [`InverseDynamics`]) every trajectory sample needs, on one time axis for the whole
+//! program, before anything moves; with a warning for every stretch where a joint's torque
+//! exceeds its limit ([`crate::parol6::joint_torque_limits_nm`] for the PAROL6).
+//!
+//! Velocities and accelerations come from central differences of the trajectory samples (the
+//! arm is at rest before and after every compiled step). Dwells, I/O and input waits hold the
+//! last pose: gravity only.
+
+use serde::Serialize;
+
+use super::compile::{CompiledStep, StepAction};
+use crate::model::RobotModel;
+use crate::sim::InverseDynamics;
+
+/// The most warnings kept (the rest are counted in [`ProgramTorques::warnings_dropped`]).
+pub const MAX_TORQUE_WARNINGS: usize = 200;
+
+/// One stretch of time where a joint's torque exceeds its limit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TorqueWarning {
+    /// 1-based joint.
+    pub joint: usize,
+    /// 1-based source line of the step (0: unknown).
+    pub line: usize,
+    /// Step type.
+    pub step_kind: &'static str,
+    /// Program time where the torque first exceeds the limit, s.
+    pub start_s: f64,
+    /// Program time where it is back within the limit, s.
+    pub end_s: f64,
+    /// Program time of the largest |torque| of the stretch, s.
+    pub peak_s: f64,
+    /// The torque there (signed), N·m.
+    pub peak_nm: f64,
+    /// The joint's limit, N·m.
+    pub limit_nm: f64,
+}
+
+/// Joint torques along a whole program.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ProgramTorques {
+    /// Program time of every sample, s (non-decreasing).
+    pub time_s: Vec<f64>,
+    /// Per joint, the torque at every sample, N·m (`torques_nm[joint][sample]`).
+    pub torques_nm: Vec<Vec<f64>>,
+    /// Per joint, the largest |torque|, N·m.
+    pub peak_abs_nm: Vec<f64>,
+    /// Per joint limits used for the warnings, N·m (`None`: no documented limit, no warnings).
+    pub limits_nm: Option<Vec<f64>>,
+    /// Stretches over a limit, in time order.
+    pub warnings: Vec<TorqueWarning>,
+    /// Warnings beyond [`MAX_TORQUE_WARNINGS`], not listed.
+    pub warnings_dropped: usize,
+}
+
+/// The documented joint torque limits of `model`: the PAROL6's (ROBOT.md §1 reductions ×
+/// motor holding torques), none for another robot.
+pub fn torque_limits_nm(model: &RobotModel) -> Option<Vec<f64>> {
+    (model.is_parol6 && model.dof() == crate::parol6::JOINT_COUNT)
+        .then(|| crate::parol6::joint_torque_limits_nm().to_vec())
+}
+
+/// Where a sample came from (for the warnings).
+#[derive(Clone, Copy)]
+struct Origin {
+    line: usize,
+    kind: &'static str,
+}
+
+struct Builder<'m> {
+    model: &'m RobotModel,
+    id: InverseDynamics,
+    out: ProgramTorques,
+    origins: Vec<Origin>,
+    tau: Vec<f64>,
+}
+
+impl Builder<'_> {
+    fn push(&mut self, t_s: f64, q: &[f64], qd: &[f64], qdd: &[f64], origin: Origin) {
+        self.id.compute_into(self.model, q, qd, qdd, &mut self.tau);
+        self.out.time_s.push(t_s);
+        for (j, &v) in self.tau.iter().enumerate() {
+            if let Some(col) = self.out.torques_nm.get_mut(j) {
+                col.push(v);
+            }
+            if let Some(p) = self.out.peak_abs_nm.get_mut(j) {
+                *p = p.max(v.abs());
+            }
+        }
+        self.origins.push(origin);
+    }
+}
+
+/// Torques of the compiled `steps` of a program starting at joints `start_q`, with warnings
+/// against `limits_nm` (one per joint; `None`: no warnings).
+pub fn program_torques(
+    model: &RobotModel,
+    steps: &[CompiledStep],
+    start_q: &[f64],
+    limits_nm: Option<Vec<f64>>,
+) -> ProgramTorques {
+    let n = model.dof();
+    let mut b = Builder {
+        model,
+        id: InverseDynamics::new(model),
+        out: ProgramTorques {
+            time_s: Vec::new(),
+            torques_nm: vec![Vec::new(); n],
+            peak_abs_nm: vec![0.0; n],
+            limits_nm: limits_nm.filter(|l| l.len() == n),
+            warnings: Vec::new(),
+            warnings_dropped: 0,
+        },
+        origins: Vec::new(),
+        tau: vec![0.0; n],
+    };
+    let zeros = vec![0.0; n];
+    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
+    let mut t0 = 0.0;
+    let mut q_end = start_q.to_vec();
+    b.push(0.0, start_q, &zeros, &zeros, Origin { line: steps.first().map_or(0, |s| s.line), kind: "start" });
+    for step in steps {
+        let origin = Origin { line: step.line, kind: step.kind };
+        match &step.action {
+            StepAction::Motion(traj) => {
+                let s = traj.samples();
+                let dt = traj.dt_s();
+                if s.is_empty() || dt.is_nan() || dt <= 0.0 {
+                    continue;
+                }
+                for k in 0..s.len() {
+                    let (a, c) = (&s[k.saturating_sub(1)], s.get(k + 1).unwrap_or(&s[k]));
+                    let b_ = &s[k];
+                    for i in 0..n {
+                        let at = |v: &Vec<f64>| v.get(i).copied().unwrap_or(0.0);
+                        qd[i] = (at(c) - at(a)) / (2.0 * dt);
+                        qdd[i] = (at(c) - 2.0 * at(b_) + at(a)) / (dt * dt);
+                    }
+                    b.push(t0 + k as f64 * dt, b_, &qd, &qdd, origin);
+                }
+                t0 += traj.duration_s();
+            }
+            StepAction::Dwell(d) => {
+                b.push(t0, &q_end, &zeros, &zeros, origin);
+                t0 += d.max(0.0);
+                b.push(t0, &q_end, &zeros, &zeros, origin);
+            }
+            StepAction::Io(_) | StepAction::WaitInput { .. } | StepAction::Pause { .. } => {}
+        }
+        q_end.clone_from(&step.end_q);
+    }
+    find_warnings(&mut b.out, &b.origins);
+    b.out
+}
+
+/// One warning per stretch over the limit, per joint, sorted by start time.
+fn find_warnings(out: &mut ProgramTorques, origins: &[Origin]) {
+    let Some(limits) = out.limits_nm.clone() else { return };
+    let mut all = Vec::new();
+    for (j, col) in out.torques_nm.iter().enumerate() {
+        let limit = limits[j];
+        let mut open: Option<TorqueWarning> = None;
+        for (k, &v) in col.iter().enumerate() {
+            let t = out.time_s[k];
+            if v.abs() > limit {
+                let w = open.get_or_insert_with(|| TorqueWarning {
+                    joint: j + 1,
+                    line: origins[k].line,
+                    step_kind: origins[k].kind,
+                    start_s: t,
+                    end_s: t,
+                    peak_s: t,
+                    peak_nm: v,
+                    limit_nm: limit,
+                });
+                w.end_s = t;
+                if v.abs() > w.peak_nm.abs() {
+                    w.peak_nm = v;
+                    w.peak_s = t;
+                }
+            } else if let Some(w) = open.take() {
+                all.push(w);
+            }
+        }
+        all.extend(open);
+    }
+    all.sort_by(|a, b| a.start_s.total_cmp(&b.start_s).then(a.joint.cmp(&b.joint)));
+    out.warnings_dropped = all.len().saturating_sub(MAX_TORQUE_WARNINGS);
+    all.truncate(MAX_TORQUE_WARNINGS);
+    out.warnings = all;
+}
+
+#[cfg(test)]
+#[path = "torques_tests.rs"]
+mod tests;

@@ -11,6 +11,7 @@ use std::time::Instant;
 use parol6_core::RobotModel;
 
 use crate::app::{LaunchOptions, Parol6App};
+use crate::viewport::offscreen::EguiPassTiming;
 use crate::viewport::{OffscreenRenderer, RgbaImage, write_png};
 
 /// Clear colour behind the panels (egui's dark panel fill).
@@ -31,6 +32,10 @@ pub struct FrameTiming {
     pub ui_cpu_ms: f64,
     /// CPU time of the app's own frame function (inside the egui pass), ms.
     pub app_ms: f64,
+    /// egui's tessellation of the frame's shapes (part of `ui_cpu_ms`), ms.
+    pub tessellate_ms: f64,
+    /// Uploads, the render pass and the read-back ([`EguiPassTiming`]).
+    pub gpu: EguiPassTiming,
 }
 
 /// The app running headless at a fixed size.
@@ -89,14 +94,17 @@ impl HeadlessApp {
             app_ms = app.perf().ui_cpu_ms;
         });
         let ppp = out.pixels_per_point;
+        let t_tess = Instant::now();
         let prims = self.ctx.tessellate(out.shapes, ppp);
+        let tessellate_ms = t_tess.elapsed().as_secs_f64() * 1000.0;
         let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
         let img = self
             .renderer
             .render_egui(&self.render_state, &prims, &out.textures_delta, ppp, CLEAR_SRGB)
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         let frame_ms = start.elapsed().as_secs_f64() * 1000.0;
-        Ok((img, FrameTiming { frame_ms, ui_cpu_ms, app_ms }))
+        let gpu = self.renderer.last_egui_timing();
+        Ok((img, FrameTiming { frame_ms, ui_cpu_ms, app_ms, tessellate_ms, gpu }))
     }
 }
 

@@ -22,6 +22,7 @@ pub mod entry;
 pub mod help;
 pub mod joints;
 pub mod plot_export;
+pub mod plot_line;
 pub mod plots;
 pub mod program;
 pub mod registry;

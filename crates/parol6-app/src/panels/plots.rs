@@ -6,16 +6,19 @@
 //! Selectable quantities and joints, one time axis for all plots, follow / pause, zoom and
 //! pan when paused, units from the Units menu. Every line is decimated by the core's
 //! [`SeriesStore`] to about two points per pixel column (min / max from its pyramid), so ten
-//! minutes at 250 Hz cost the same per frame as ten seconds. CSV and SVG export of what is
-//! shown: [`super::plot_export`].
+//! minutes at 250 Hz cost the same per frame as ten seconds, and drawn as unfeathered quads
+//! ([`ThinLine`]): cheap on software rasterizers. One quantity at a time by default (a click on
+//! a quantity shows it alone, Ctrl+click adds it), so one plot shares the panel's height. CSV
+//! and SVG export of what is shown: [`super::plot_export`].
 
 use std::sync::Arc;
 
 use eframe::egui;
-use egui_plot::{Line, Plot, PlotPoints, VLine};
+use egui_plot::{Plot, VLine};
 use parol6_core::telemetry::{DriveKind, LiveView, Quantity, ReplayData, SeriesId, SeriesStore};
 
 use super::plot_export::{self, DrawnGroup, DrawnLine};
+use super::plot_line::ThinLine;
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
 
@@ -92,11 +95,10 @@ pub struct PlotsPanel {
 }
 
 impl PlotsPanel {
-    /// The panel for `joints` joints: position and commanded − measured of every joint.
+    /// The panel for `joints` joints: the position of every joint.
     pub fn new(joints: usize) -> Self {
         let mut quantities = [false; 7];
         quantities[0] = true;
-        quantities[4] = true;
         Self {
             live: SeriesStore::new(joints, LIVE_SPAN_S),
             replay: None,
@@ -170,8 +172,17 @@ impl PlotsPanel {
 
     fn toolbar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            for (on, q) in self.quantities.iter_mut().zip(Quantity::ALL) {
-                ui.toggle_value(on, toggle_label(q));
+            let mut picked = None;
+            for (k, (on, q)) in self.quantities.iter().zip(Quantity::ALL).enumerate() {
+                let r = ui.selectable_label(*on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
+                if r.clicked() {
+                    picked = Some((k, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
+                }
+            }
+            match picked {
+                Some((k, true)) => self.quantities[k] = !self.quantities[k],
+                Some((k, false)) => self.quantities = std::array::from_fn(|i| i == k),
+                None => {}
             }
             ui.separator();
             for (i, on) in self.joints.iter_mut().enumerate() {
@@ -293,8 +304,8 @@ impl Panel for PlotsPanel {
                             let color = series_color(id.index);
                             group.lines.push(DrawnLine { name: series_name(*id), color, points: scaled.clone() });
                         }
-                        let line = Line::new(series_name(*id), PlotPoints::new(scaled)).color(series_color(id.index));
-                        pui.line(line.width(1.0));
+                        let line = ThinLine::new(series_name(*id), &scaled).color(series_color(id.index));
+                        pui.add(line.width(1.0));
                     }
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));

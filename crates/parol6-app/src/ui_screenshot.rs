@@ -36,6 +36,12 @@ pub struct FrameTiming {
     pub tessellate_ms: f64,
     /// Uploads, the render pass and the read-back ([`EguiPassTiming`]).
     pub gpu: EguiPassTiming,
+    /// Clipped primitives drawn (egui meshes and paint callbacks).
+    pub primitives: usize,
+    /// Vertices of the egui meshes.
+    pub vertices: usize,
+    /// Triangles of the egui meshes.
+    pub triangles: usize,
 }
 
 /// The app running headless at a fixed size.
@@ -47,6 +53,23 @@ pub struct HeadlessApp {
     pub app: Parol6App,
     size: (u32, u32),
     t0: Instant,
+    /// What is drawn (for the per-layer breakdown of `parol6 bench render --layers`).
+    pub layers: Layers,
+}
+
+/// Which layers of the frame [`HeadlessApp::frame`] draws; the UI pass always runs in full.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layers {
+    /// egui's meshes (panels, text, plots, overlays).
+    pub egui: bool,
+    /// The 3D view (egui-wgpu paint callbacks).
+    pub view_3d: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Self { egui: true, view_3d: true }
+    }
 }
 
 impl HeadlessApp {
@@ -69,7 +92,8 @@ impl HeadlessApp {
         let app = Parol6App::new(opts, Some(&render_state))?;
         let ctx = egui::Context::default();
         ctx.set_visuals(crate::theme::visuals());
-        Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started })
+        crate::viewport::configure_tessellation(&ctx, &render_state);
+        Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started, layers: Layers::default() })
     }
 
     /// Adapter description.
@@ -95,8 +119,20 @@ impl HeadlessApp {
         });
         let ppp = out.pixels_per_point;
         let t_tess = Instant::now();
-        let prims = self.ctx.tessellate(out.shapes, ppp);
+        let mut prims = self.ctx.tessellate(out.shapes, ppp);
         let tessellate_ms = t_tess.elapsed().as_secs_f64() * 1000.0;
+        let layers = self.layers;
+        prims.retain(|p| match p.primitive {
+            egui::epaint::Primitive::Mesh(_) => layers.egui,
+            egui::epaint::Primitive::Callback(_) => layers.view_3d,
+        });
+        let (mut vertices, mut indices) = (0, 0);
+        for p in &prims {
+            if let egui::epaint::Primitive::Mesh(m) = &p.primitive {
+                vertices += m.vertices.len();
+                indices += m.indices.len();
+            }
+        }
         let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
         let img = self
             .renderer
@@ -104,7 +140,18 @@ impl HeadlessApp {
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         let frame_ms = start.elapsed().as_secs_f64() * 1000.0;
         let gpu = self.renderer.last_egui_timing();
-        Ok((img, FrameTiming { frame_ms, ui_cpu_ms, app_ms, tessellate_ms, gpu }))
+        let primitives = prims.len();
+        let timing = FrameTiming {
+            frame_ms,
+            ui_cpu_ms,
+            app_ms,
+            tessellate_ms,
+            gpu,
+            primitives,
+            vertices,
+            triangles: indices / 3,
+        };
+        Ok((img, timing))
     }
 }
 

@@ -14,7 +14,7 @@ use std::time::Instant;
 use super::options::{ConnectArgs, RobotArgs, f64_above};
 use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
-use crate::ui_screenshot::{HeadlessApp, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
+use crate::ui_screenshot::{HeadlessApp, Layers, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
 
 /// Arguments of `parol6 replay`.
 #[derive(Debug, Clone, clap::Args)]
@@ -80,6 +80,9 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         native,
         Box::new(move |cc| {
             cc.egui_ctx.set_visuals(crate::theme::visuals());
+            if let Some(rs) = cc.wgpu_render_state.as_ref() {
+                crate::viewport::configure_tessellation(&cc.egui_ctx, rs);
+            }
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
             Ok(Box::new(app))
@@ -115,6 +118,10 @@ pub struct BenchRenderArgs {
     /// pybullet, matplotlib and numpy) after the measurement and print the frame-time ratio.
     #[arg(long)]
     pub compare_seed: bool,
+    /// Draw only these layers (the UI pass still runs in full), to see where the render
+    /// pass's time goes: all, egui (no 3D view) or 3d (the 3D view alone).
+    #[arg(long, value_enum, default_value = "all")]
+    pub layers: LayerChoice,
     /// The seed script (default: `$PAROL6_SHARED/../bench/seed_frame.py`).
     #[arg(long, value_name = "PATH")]
     pub seed_script: Option<PathBuf>,
@@ -126,6 +133,24 @@ pub struct BenchRenderArgs {
     pub seed_frames: u32,
 }
 
+/// `--layers` of `parol6 bench render`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LayerChoice {
+    /// The whole frame.
+    All,
+    /// egui's meshes only (no 3D view).
+    Egui,
+    /// The 3D view only (no egui meshes).
+    #[value(name = "3d")]
+    View3d,
+}
+
+impl LayerChoice {
+    fn layers(self) -> Layers {
+        Layers { egui: self != Self::View3d, view_3d: self != Self::Egui }
+    }
+}
+
 /// Runs `parol6 bench render`.
 pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let (w, h) = super::render::parse_size(&a.size)?;
@@ -133,7 +158,7 @@ pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let seed = a.compare_seed.then(|| {
         super::bench_seed::SeedSetup::from_env(a.seed_script.as_deref(), a.seed_python.as_deref(), a.seed_frames)
     });
-    bench_render_model(model, a.seconds, w, h, a.check, a.plots, seed)
+    bench_render_model(model, a.seconds, (w, h), a.check, a.plots, a.layers.layers(), seed)
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
@@ -144,16 +169,17 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 fn bench_render_model(
     model: RobotModel,
     seconds: f64,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     check: bool,
     plots: bool,
+    layers: Layers,
     seed: Option<super::bench_seed::SeedSetup>,
 ) -> CliResult {
     if !(seconds.is_finite() && seconds > 0.0) {
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
     let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
+    headless.layers = layers;
     if !headless.app.start_program("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
     }
@@ -173,6 +199,7 @@ fn bench_render_model(
     let mut app_ms = Vec::new();
     // per phase: tessellation, uploads, the render pass, the read-back
     let mut phases: [Vec<f64>; 4] = Default::default();
+    let mut drawn = (0, 0, 0);
     let mut moving_frames = 0usize;
     let t0 = Instant::now();
     while t0.elapsed().as_secs_f64() < seconds {
@@ -180,6 +207,7 @@ fn bench_render_model(
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
         app_ms.push(t.app_ms);
+        drawn = (t.primitives, t.vertices, t.triangles);
         for (v, ms) in phases.iter_mut().zip([t.tessellate_ms, t.gpu.upload_ms, t.gpu.draw_ms, t.gpu.readback_ms]) {
             v.push(ms);
         }
@@ -201,6 +229,8 @@ fn bench_render_model(
         "render_pass_ms_p50": percentile(draw, 0.5),
         "render_pass_ms_p99": percentile(draw, 0.99),
         "readback_ms_p50": percentile(readback, 0.5),
+        "last_frame": {"primitives": drawn.0, "egui_vertices": drawn.1, "egui_triangles": drawn.2},
+        "layers": format!("{layers:?}"),
     });
     let frame_p50 = percentile(&frame_ms, 0.5);
     let seed_json = match &seed {

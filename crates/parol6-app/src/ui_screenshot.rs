@@ -42,6 +42,8 @@ pub struct FrameTiming {
     pub vertices: usize,
     /// Triangles of the egui meshes.
     pub triangles: usize,
+    /// Pixels the egui meshes' triangles cover (overlaps counted twice).
+    pub egui_area_px: f64,
 }
 
 /// The app running headless at a fixed size.
@@ -121,19 +123,26 @@ impl HeadlessApp {
         let t_tess = Instant::now();
         let mut prims = self.ctx.tessellate(out.shapes, ppp);
         let tessellate_ms = t_tess.elapsed().as_secs_f64() * 1000.0;
+        let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
         let layers = self.layers;
         prims.retain(|p| match p.primitive {
             egui::epaint::Primitive::Mesh(_) => layers.egui,
             egui::epaint::Primitive::Callback(_) => layers.view_3d,
         });
-        let (mut vertices, mut indices) = (0, 0);
+        let (mut vertices, mut indices, mut area_px) = (0, 0, 0.0);
         for p in &prims {
             if let egui::epaint::Primitive::Mesh(m) = &p.primitive {
                 vertices += m.vertices.len();
                 indices += m.indices.len();
+                for t in m.indices.chunks_exact(3) {
+                    let [a, b, c] =
+                        [t[0], t[1], t[2]].map(|i| m.vertices.get(i as usize).map_or(egui::Pos2::ZERO, |v| v.pos));
+                    let area = 0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs() * ppp * ppp;
+                    area_px += f64::from(area);
+                }
             }
         }
-        let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
+
         let img = self
             .renderer
             .render_egui(&self.render_state, &prims, &out.textures_delta, ppp, CLEAR_SRGB)
@@ -150,6 +159,7 @@ impl HeadlessApp {
             primitives,
             vertices,
             triangles: indices / 3,
+            egui_area_px: area_px,
         };
         Ok((img, timing))
     }

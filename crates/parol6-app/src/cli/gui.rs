@@ -199,7 +199,7 @@ fn bench_render_model(
     let mut app_ms = Vec::new();
     // per phase: tessellation, uploads, the render pass, the read-back
     let mut phases: [Vec<f64>; 4] = Default::default();
-    let mut drawn = (0, 0, 0);
+    let mut drawn = (0, 0, 0, 0.0);
     let mut moving_frames = 0usize;
     let t0 = Instant::now();
     while t0.elapsed().as_secs_f64() < seconds {
@@ -207,7 +207,7 @@ fn bench_render_model(
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
         app_ms.push(t.app_ms);
-        drawn = (t.primitives, t.vertices, t.triangles);
+        drawn = (t.primitives, t.vertices, t.triangles, t.egui_area_px.round());
         for (v, ms) in phases.iter_mut().zip([t.tessellate_ms, t.gpu.upload_ms, t.gpu.draw_ms, t.gpu.readback_ms]) {
             v.push(ms);
         }
@@ -229,7 +229,7 @@ fn bench_render_model(
         "render_pass_ms_p50": percentile(draw, 0.5),
         "render_pass_ms_p99": percentile(draw, 0.99),
         "readback_ms_p50": percentile(readback, 0.5),
-        "last_frame": {"primitives": drawn.0, "egui_vertices": drawn.1, "egui_triangles": drawn.2},
+        "last_frame": {"primitives": drawn.0, "egui_vertices": drawn.1, "egui_triangles": drawn.2, "egui_area_px": drawn.3},
         "layers": format!("{layers:?}"),
     });
     let frame_p50 = percentile(&frame_ms, 0.5);

@@ -11,6 +11,7 @@ use std::time::Instant;
 use parol6_core::RobotModel;
 
 use crate::app::{LaunchOptions, Parol6App};
+use crate::viewport::offscreen::EguiPassTiming;
 use crate::viewport::{OffscreenRenderer, RgbaImage, write_png};
 
 /// Clear colour behind the panels (egui's dark panel fill).
@@ -31,6 +32,18 @@ pub struct FrameTiming {
     pub ui_cpu_ms: f64,
     /// CPU time of the app's own frame function (inside the egui pass), ms.
     pub app_ms: f64,
+    /// egui's tessellation of the frame's shapes (part of `ui_cpu_ms`), ms.
+    pub tessellate_ms: f64,
+    /// Uploads, the render pass and the read-back ([`EguiPassTiming`]).
+    pub gpu: EguiPassTiming,
+    /// Clipped primitives drawn (egui meshes and paint callbacks).
+    pub primitives: usize,
+    /// Vertices of the egui meshes.
+    pub vertices: usize,
+    /// Triangles of the egui meshes.
+    pub triangles: usize,
+    /// Pixels the egui meshes' triangles cover (overlaps counted twice).
+    pub egui_area_px: f64,
 }
 
 /// The app running headless at a fixed size.
@@ -42,6 +55,23 @@ pub struct HeadlessApp {
     pub app: Parol6App,
     size: (u32, u32),
     t0: Instant,
+    /// What is drawn (for the per-layer breakdown of `parol6 bench render --layers`).
+    pub layers: Layers,
+}
+
+/// Which layers of the frame [`HeadlessApp::frame`] draws; the UI pass always runs in full.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layers {
+    /// egui's meshes (panels, text, plots, overlays).
+    pub egui: bool,
+    /// The 3D view (egui-wgpu paint callbacks).
+    pub view_3d: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Self { egui: true, view_3d: true }
+    }
 }
 
 impl HeadlessApp {
@@ -64,7 +94,8 @@ impl HeadlessApp {
         let app = Parol6App::new(opts, Some(&render_state))?;
         let ctx = egui::Context::default();
         ctx.set_visuals(crate::theme::visuals());
-        Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started })
+        crate::viewport::configure_tessellation(&ctx, &render_state);
+        Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started, layers: Layers::default() })
     }
 
     /// Adapter description.
@@ -89,14 +120,48 @@ impl HeadlessApp {
             app_ms = app.perf().ui_cpu_ms;
         });
         let ppp = out.pixels_per_point;
-        let prims = self.ctx.tessellate(out.shapes, ppp);
+        let t_tess = Instant::now();
+        let mut prims = self.ctx.tessellate(out.shapes, ppp);
+        let tessellate_ms = t_tess.elapsed().as_secs_f64() * 1000.0;
         let ui_cpu_ms = start.elapsed().as_secs_f64() * 1000.0;
+        let layers = self.layers;
+        prims.retain(|p| match p.primitive {
+            egui::epaint::Primitive::Mesh(_) => layers.egui,
+            egui::epaint::Primitive::Callback(_) => layers.view_3d,
+        });
+        let (mut vertices, mut indices, mut area_px) = (0, 0, 0.0);
+        for p in &prims {
+            if let egui::epaint::Primitive::Mesh(m) = &p.primitive {
+                vertices += m.vertices.len();
+                indices += m.indices.len();
+                for t in m.indices.chunks_exact(3) {
+                    let [a, b, c] =
+                        [t[0], t[1], t[2]].map(|i| m.vertices.get(i as usize).map_or(egui::Pos2::ZERO, |v| v.pos));
+                    let area = 0.5 * ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs() * ppp * ppp;
+                    area_px += f64::from(area);
+                }
+            }
+        }
+
         let img = self
             .renderer
             .render_egui(&self.render_state, &prims, &out.textures_delta, ppp, CLEAR_SRGB)
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         let frame_ms = start.elapsed().as_secs_f64() * 1000.0;
-        Ok((img, FrameTiming { frame_ms, ui_cpu_ms, app_ms }))
+        let gpu = self.renderer.last_egui_timing();
+        let primitives = prims.len();
+        let timing = FrameTiming {
+            frame_ms,
+            ui_cpu_ms,
+            app_ms,
+            tessellate_ms,
+            gpu,
+            primitives,
+            vertices,
+            triangles: indices / 3,
+            egui_area_px: area_px,
+        };
+        Ok((img, timing))
     }
 }
 

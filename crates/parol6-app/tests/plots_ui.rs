@@ -65,6 +65,10 @@ fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
     h.run_steps(2);
     // close the menu, then move the arm: a program makes the commanded and measured differ
     h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    // one quantity at a time: the hardware-in-the-loop view
+    h.get_by_label("cmd - meas").click();
+    h.run_steps(2);
     h.get_by_label("Draw").click();
     until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
     h.get_by_label("Run (F5)").click();

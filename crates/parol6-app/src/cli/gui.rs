@@ -14,7 +14,7 @@ use std::time::Instant;
 use super::options::{ConnectArgs, RobotArgs, f64_above};
 use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
-use crate::ui_screenshot::{HeadlessApp, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
+use crate::ui_screenshot::{HeadlessApp, Layers, TARGET_FPS_MEDIAN, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb};
 
 /// Arguments of `parol6 replay`.
 #[derive(Debug, Clone, clap::Args)]
@@ -80,6 +80,9 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         native,
         Box::new(move |cc| {
             cc.egui_ctx.set_visuals(crate::theme::visuals());
+            if let Some(rs) = cc.wgpu_render_state.as_ref() {
+                crate::viewport::configure_tessellation(&cc.egui_ctx, rs);
+            }
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
             Ok(Box::new(app))
@@ -111,13 +114,51 @@ pub struct BenchRenderArgs {
     /// quantity), all ten minutes visible, replaying.
     #[arg(long)]
     pub plots: bool,
+    /// Also run the old HMI's per-frame work (`shared/bench/seed_frame.py`, needs Python with
+    /// pybullet, matplotlib and numpy) after the measurement and print the frame-time ratio.
+    #[arg(long)]
+    pub compare_seed: bool,
+    /// Draw only these layers (the UI pass still runs in full), to see where the render
+    /// pass's time goes: all, egui (no 3D view) or 3d (the 3D view alone).
+    #[arg(long, value_enum, default_value = "all")]
+    pub layers: LayerChoice,
+    /// The seed script (default: `$PAROL6_SHARED/../bench/seed_frame.py`).
+    #[arg(long, value_name = "PATH")]
+    pub seed_script: Option<PathBuf>,
+    /// Python interpreter for the seed script (default: `$PAROL6_SEED_PYTHON`, else python3).
+    #[arg(long, value_name = "PYTHON")]
+    pub seed_python: Option<String>,
+    /// Timed seed frames, 1–1000.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub seed_frames: u32,
+}
+
+/// `--layers` of `parol6 bench render`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LayerChoice {
+    /// The whole frame.
+    All,
+    /// egui's meshes only (no 3D view).
+    Egui,
+    /// The 3D view only (no egui meshes).
+    #[value(name = "3d")]
+    View3d,
+}
+
+impl LayerChoice {
+    fn layers(self) -> Layers {
+        Layers { egui: self != Self::View3d, view_3d: self != Self::Egui }
+    }
 }
 
 /// Runs `parol6 bench render`.
 pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let (w, h) = super::render::parse_size(&a.size)?;
     let model = robot.load()?;
-    bench_render_model(model, a.seconds, w, h, a.check, a.plots)
+    let seed = a.compare_seed.then(|| {
+        super::bench_seed::SeedSetup::from_env(a.seed_script.as_deref(), a.seed_python.as_deref(), a.seed_frames)
+    });
+    bench_render_model(model, a.seconds, (w, h), a.check, a.plots, a.layers.layers(), seed)
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
@@ -125,11 +166,20 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.
-fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, check: bool, plots: bool) -> CliResult {
+fn bench_render_model(
+    model: RobotModel,
+    seconds: f64,
+    (width, height): (u32, u32),
+    check: bool,
+    plots: bool,
+    layers: Layers,
+    seed: Option<super::bench_seed::SeedSetup>,
+) -> CliResult {
     if !(seconds.is_finite() && seconds > 0.0) {
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
     let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
+    headless.layers = layers;
     if !headless.app.start_program("Joint sweep", true) {
         return Err(CliError::runtime("no joint sweep demo"));
     }
@@ -147,6 +197,9 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
     let mut frame_ms = Vec::new();
     let mut ui_ms = Vec::new();
     let mut app_ms = Vec::new();
+    // per phase: tessellation, uploads, the render pass, the read-back
+    let mut phases: [Vec<f64>; 4] = Default::default();
+    let mut drawn = (0, 0, 0, 0.0);
     let mut moving_frames = 0usize;
     let t0 = Instant::now();
     while t0.elapsed().as_secs_f64() < seconds {
@@ -154,6 +207,10 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
         app_ms.push(t.app_ms);
+        drawn = (t.primitives, t.vertices, t.triangles, t.egui_area_px.round());
+        for (v, ms) in phases.iter_mut().zip([t.tessellate_ms, t.gpu.upload_ms, t.gpu.draw_ms, t.gpu.readback_ms]) {
+            v.push(ms);
+        }
         if headless.app.sim().snapshot().moving {
             moving_frames += 1;
         }
@@ -161,9 +218,29 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
     let wall_s = t0.elapsed().as_secs_f64();
     let n = frame_ms.len();
     let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
-    for v in [&mut frame_ms, &mut ui_ms, &mut app_ms, &mut fps] {
+    for v in [&mut frame_ms, &mut ui_ms, &mut app_ms, &mut fps].into_iter().chain(phases.iter_mut()) {
         v.sort_by(f64::total_cmp);
     }
+    let [tess, upload, draw, readback] = &phases;
+    let breakdown = json!({
+        "app_ui_ms_p50": percentile(&app_ms, 0.5),
+        "tessellate_ms_p50": percentile(tess, 0.5),
+        "upload_ms_p50": percentile(upload, 0.5),
+        "render_pass_ms_p50": percentile(draw, 0.5),
+        "render_pass_ms_p99": percentile(draw, 0.99),
+        "readback_ms_p50": percentile(readback, 0.5),
+        "last_frame": {"primitives": drawn.0, "egui_vertices": drawn.1, "egui_triangles": drawn.2, "egui_area_px": drawn.3},
+        "layers": format!("{layers:?}"),
+    });
+    let frame_p50 = percentile(&frame_ms, 0.5);
+    let seed_json = match &seed {
+        Some(setup) => {
+            let v = super::bench_seed::run_seed_frame(setup)?;
+            let seed_ms = v["seed_frame_ms_median"].as_f64().unwrap_or(f64::NAN);
+            json!({"seed": v, "ratio": seed_ms / frame_p50.max(1e-9)})
+        }
+        None => serde_json::Value::Null,
+    };
     let fps_median = percentile(&fps, 0.5);
     let ui_p50 = percentile(&ui_ms, 0.5);
     let rss = peak_rss_mb();
@@ -178,12 +255,14 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         "moving_frames": moving_frames,
         "fps_median": fps_median,
         "fps_mean": n as f64 / wall_s,
-        "frame_ms_p50": percentile(&frame_ms, 0.5),
+        "frame_ms_p50": frame_p50,
         "frame_ms_p99": percentile(&frame_ms, 0.99),
         "ui_cpu_ms_p50": ui_p50,
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
-        "app_ui_ms_p50": percentile(&app_ms, 0.5),
+        "breakdown": breakdown,
         "rss_mb_peak": rss,
+        "load_average_1min": load_average_1min(),
+        "compare_seed": seed_json,
         "adapter": headless.adapter_info(),
         "plots": plots,
         "plotted_samples": plotted_samples,
@@ -194,4 +273,9 @@ fn bench_render_model(model: RobotModel, seconds: f64, width: u32, height: u32, 
         return Err(CliError::runtime("render performance below the targets (see the JSON above)"));
     }
     Ok(())
+}
+
+/// The machine's 1-minute load average (Linux), to judge how shared the run was.
+fn load_average_1min() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
 }

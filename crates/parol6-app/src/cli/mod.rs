@@ -16,6 +16,7 @@ use clap::{Parser, Subcommand};
 pub mod bench;
 pub mod bench_motion;
 pub mod bench_replay;
+pub mod bench_seed;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;

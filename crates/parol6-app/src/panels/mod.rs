@@ -24,6 +24,7 @@ pub mod help;
 pub mod joints;
 pub mod measure;
 pub mod plot_export;
+pub mod plot_line;
 pub mod plots;
 pub mod program;
 pub mod registry;

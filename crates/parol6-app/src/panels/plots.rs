@@ -5,17 +5,20 @@
 //!
 //! Selectable quantities and joints, one time axis for all plots, follow / pause, zoom and
 //! pan when paused, units from the Units menu. Every line is decimated by the core's
-//! [`SeriesStore`] to about two points per pixel column (min / max from its pyramid), so ten
-//! minutes at 250 Hz cost the same per frame as ten seconds. CSV and SVG export of what is
-//! shown: [`super::plot_export`].
+//! [`SeriesStore`] to one point per pixel (a min / max pair from its pyramid every two pixels), so ten
+//! minutes at 250 Hz cost the same per frame as ten seconds, and drawn as unfeathered quads
+//! ([`ThinLine`]): cheap on software rasterizers. One quantity at a time by default (a click on
+//! a quantity shows it alone, Ctrl+click adds it), so one plot shares the panel's height. CSV
+//! and SVG export of what is shown: [`super::plot_export`].
 
 use std::sync::Arc;
 
 use eframe::egui;
-use egui_plot::{Line, Plot, PlotPoints, VLine};
+use egui_plot::{Plot, VLine};
 use parol6_core::telemetry::{DriveKind, LiveView, Quantity, ReplayData, SeriesId, SeriesStore};
 
 use super::plot_export::{self, DrawnGroup, DrawnLine};
+use super::plot_line::ThinLine;
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
 
@@ -25,6 +28,11 @@ pub const WINDOWS_S: [(f64, &str); 6] =
 
 /// Live history kept for the plots, s (the recorder's live view holds the same).
 pub const LIVE_SPAN_S: f64 = 600.0;
+
+/// Pixels per decimation column: each column gives a min / max pair, so a line has one point
+/// per pixel. Finer adds no visible detail to a one-pixel line and, on a software rasterizer,
+/// costs a third more of the plots' render time (measured with `bench render --plots`).
+const PX_PER_MIN_MAX_PAIR: usize = 2;
 
 /// Smallest plot height, points.
 const MIN_PLOT_HEIGHT: f32 = 70.0;
@@ -92,11 +100,10 @@ pub struct PlotsPanel {
 }
 
 impl PlotsPanel {
-    /// The panel for `joints` joints: position and commanded − measured of every joint.
+    /// The panel for `joints` joints: the position of every joint.
     pub fn new(joints: usize) -> Self {
         let mut quantities = [false; 7];
         quantities[0] = true;
-        quantities[4] = true;
         Self {
             live: SeriesStore::new(joints, LIVE_SPAN_S),
             replay: None,
@@ -170,8 +177,17 @@ impl PlotsPanel {
 
     fn toolbar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            for (on, q) in self.quantities.iter_mut().zip(Quantity::ALL) {
-                ui.toggle_value(on, toggle_label(q));
+            let mut picked = None;
+            for (k, (on, q)) in self.quantities.iter().zip(Quantity::ALL).enumerate() {
+                let r = ui.selectable_label(*on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
+                if r.clicked() {
+                    picked = Some((k, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
+                }
+            }
+            match picked {
+                Some((k, true)) => self.quantities[k] = !self.quantities[k],
+                Some((k, false)) => self.quantities = std::array::from_fn(|i| i == k),
+                None => {}
             }
             ui.separator();
             for (i, on) in self.joints.iter_mut().enumerate() {
@@ -269,6 +285,9 @@ impl Panel for PlotsPanel {
                     .y_axis_label(format!("{} ({unit})", q.label()))
                     .y_axis_min_width(48.0)
                     .show_x(true)
+                    // the panel's own colour behind the lines: a filled plot area is the
+                    // largest thing egui shades in the window (~0.4 Mpx at 1280×800)
+                    .show_background(false)
                     .allow_scroll(false);
                 if k + 1 == shown.len() {
                     plot = plot.x_axis_label("time (s)");
@@ -284,17 +303,19 @@ impl Panel for PlotsPanel {
                         None => (b.min()[0], b.max()[0]),
                     };
                     let width_px = (pui.transform().frame().width() * pui.ctx().pixels_per_point()).max(1.0) as usize;
+                    // one min / max pair per two pixels: one point per pixel
+                    let columns = width_px.div_ceil(PX_PER_MIN_MAX_PAIR);
                     let mut group = DrawnGroup { title: format!("{} ({unit})", q.label()), lines: Vec::new() };
                     for id in ids {
                         let Some(col) = store.column(*id) else { continue };
-                        store.decimated(col, x0, x1, width_px, points);
+                        store.decimated(col, x0, x1, columns, points);
                         let scaled: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1] * scale]).collect();
                         if collect_svg {
                             let color = series_color(id.index);
                             group.lines.push(DrawnLine { name: series_name(*id), color, points: scaled.clone() });
                         }
-                        let line = Line::new(series_name(*id), PlotPoints::new(scaled)).color(series_color(id.index));
-                        pui.line(line.width(1.0));
+                        let line = ThinLine::new(series_name(*id), &scaled).color(series_color(id.index));
+                        pui.add(line.width(1.0));
                     }
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));

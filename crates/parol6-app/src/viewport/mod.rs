@@ -89,6 +89,25 @@ pub const DEPTH_BUFFER_BITS: u8 = 32;
 /// Depth format of the 3D pass (egui-wgpu's format for `depth_buffer: 32`).
 pub const DEPTH_FORMAT: eframe::wgpu::TextureFormat = eframe::wgpu::TextureFormat::Depth32Float;
 
+/// Whether egui feathers (anti-aliases) its shapes on an adapter of `device_type`:
+/// `PAROL6_FEATHERING=0|1` when set, else on GPUs only. Feathering gives every filled shape a
+/// blended rim and every line three vertices per point: on a software rasterizer the UI's
+/// triangles roughly double and its render pass costs several milliseconds more at
+/// 1280×800, for edges that are one pixel softer.
+pub fn feathering_for(device_type: eframe::wgpu::DeviceType) -> bool {
+    match std::env::var("PAROL6_FEATHERING").ok().as_deref().map(str::trim) {
+        Some("0") => false,
+        Some("1") => true,
+        _ => device_type != eframe::wgpu::DeviceType::Cpu,
+    }
+}
+
+/// Sets egui's feathering on `ctx` for the adapter of `render_state` ([`feathering_for`]).
+pub fn configure_tessellation(ctx: &egui::Context, render_state: &egui_wgpu::RenderState) {
+    let on = feathering_for(render_state.adapter.get_info().device_type);
+    ctx.tessellation_options_mut(|o| o.feathering = on);
+}
+
 /// `PAROL6_MSAA=1|2|4` overrides [`MSAA_SAMPLES`] (1 is much cheaper on software
 /// rasterizers). [`OffscreenRenderer::new`] honours it; a window must use the same value.
 pub fn msaa_from_env() -> Option<u32> {

@@ -93,6 +93,17 @@ impl Targets {
     }
 }
 
+/// Where the time of the last [`OffscreenRenderer::render_egui`] went, ms (wall clock).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EguiPassTiming {
+    /// Texture and vertex / index / uniform uploads, including the 3D view's `prepare`.
+    pub upload_ms: f64,
+    /// The one render pass (clear, 3D view, every egui mesh) submitted and waited for.
+    pub draw_ms: f64,
+    /// Copy of the image into the read-back buffer, mapping it and copying the rows out.
+    pub readback_ms: f64,
+}
+
 /// Headless renderer of the robot scene.
 pub struct OffscreenRenderer {
     instance: wgpu::Instance,
@@ -106,6 +117,7 @@ pub struct OffscreenRenderer {
     /// The camera used by [`Self::render`].
     pub camera: OrbitCamera,
     warnings: Vec<String>,
+    last_egui_timing: EguiPassTiming,
 }
 
 impl OffscreenRenderer {
@@ -152,6 +164,7 @@ impl OffscreenRenderer {
             targets,
             camera: OrbitCamera::default(),
             warnings: meshes.warnings,
+            last_egui_timing: EguiPassTiming::default(),
         })
     }
 
@@ -193,6 +206,11 @@ impl OffscreenRenderer {
             self.targets = Targets::new(&self.device, width, height, self.samples);
         }
         Ok(())
+    }
+
+    /// Phase timings of the last [`Self::render_egui`].
+    pub fn last_egui_timing(&self) -> EguiPassTiming {
+        self.last_egui_timing
     }
 
     /// Empties the TCP trail of [`Self::render`] (each render adds the TCP to it).
@@ -329,6 +347,7 @@ impl OffscreenRenderer {
     ) -> Result<RgbaImage, ViewportError> {
         let screen =
             egui_wgpu::ScreenDescriptor { size_in_pixels: [self.targets.width, self.targets.height], pixels_per_point };
+        let t0 = std::time::Instant::now();
         let mut renderer = render_state.renderer.write();
         for (id, deltas) in &textures_delta.set {
             for delta in deltas {
@@ -339,6 +358,7 @@ impl OffscreenRenderer {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("parol6 offscreen egui") });
         let extra = renderer.update_buffers(&self.device, &self.queue, &mut encoder, primitives, &screen);
+        let t1 = std::time::Instant::now();
         let bg = clear_srgb.map(|c| c as f64 / 255.0);
         {
             let pass = self.begin_pass(&mut encoder, wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: 1.0 });
@@ -349,10 +369,21 @@ impl OffscreenRenderer {
             renderer.free_texture(id);
         }
         drop(renderer);
-        if !extra.is_empty() {
-            self.queue.submit(extra);
-        }
-        self.finish_and_read(encoder)
+        // The draw is submitted and waited for on its own, so that the read-back is timed apart.
+        self.queue.submit(extra.into_iter().chain([encoder.finish()]));
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ViewportError::Readback(e.to_string()))?;
+        let t2 = std::time::Instant::now();
+        let copy = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("parol6 offscreen read-back") });
+        let img = self.finish_and_read(copy)?;
+        let ms = |a: std::time::Instant, b: std::time::Instant| (b - a).as_secs_f64() * 1e3;
+        self.last_egui_timing = EguiPassTiming {
+            upload_ms: ms(t0, t1),
+            draw_ms: ms(t1, t2),
+            readback_ms: ms(t2, std::time::Instant::now()),
+        };
+        Ok(img)
     }
 }
 

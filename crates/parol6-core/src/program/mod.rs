@@ -23,6 +23,7 @@ pub mod check;
 pub mod compile;
 pub mod json;
 pub mod runner;
+pub mod table;
 pub mod timefn;
 
 /// A TCP pose as written in a program: position in mm, orientation as our URDF roll / pitch /

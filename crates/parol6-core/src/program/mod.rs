@@ -20,6 +20,7 @@ use crate::scene::KeepOut;
 
 pub mod builtin;
 pub mod check;
+pub mod commander;
 pub mod compile;
 pub mod json;
 pub mod runner;

@@ -78,8 +78,8 @@ fn walk(format: &str) {
             std::fs::write(&expected_path, format!("{got}\n")).unwrap();
             continue;
         }
-        let expected = std::fs::read_to_string(&expected_path)
-            .unwrap_or_else(|e| panic!("{}: {e}", expected_path.display()));
+        let expected =
+            std::fs::read_to_string(&expected_path).unwrap_or_else(|e| panic!("{}: {e}", expected_path.display()));
         if expected.trim_end_matches('\n') != got {
             wrong.push(format!("{}:\n  expected {}\n  got      {got}", path.display(), expected.trim_end()));
         }

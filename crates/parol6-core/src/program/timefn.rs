@@ -287,17 +287,16 @@ impl TimeFunction {
         let mut piece_start_s = 0.0;
         let step_s = 1.0 / self.sample_rate_hz;
         for (i, p) in self.pieces.iter().enumerate() {
-            let n = (p.duration_s / step_s).ceil().max(1.0) as usize;
+            // a duration of a whole number of samples gives no extra point for rounding
+            let n = (p.duration_s / step_s - 1e-9).ceil().max(1.0) as usize;
             for k in 0..=n {
                 let t = (k as f64 * step_s).min(p.duration_s);
                 let pose = self.pose_at(i, t, hold_rpy_deg)?;
-                if k == 0 {
-                    if let Some((_, prev)) = out.last() {
-                        check_join(i + 1, prev, &pose)?;
-                        continue;
-                    }
+                match out.last() {
+                    Some((_, prev)) if k == 0 => check_join(i + 1, prev, &pose)?,
+                    Some((last_s, _)) if piece_start_s + t <= *last_s => {}
+                    _ => out.push((piece_start_s + t, pose)),
                 }
-                out.push((piece_start_s + t, pose));
             }
             piece_start_s += p.duration_s;
         }

@@ -110,6 +110,18 @@ fn pieces_are_sampled_in_local_time_and_must_join() {
     assert_eq!(e.to_string(), "piece 2: starts 1.00 mm and 0.00° from where piece 1 ends (at most 0.1 mm and 0.1°)");
 }
 
+/// Regression (found by a `time_function` fuzz seed): 0.15 s at 20 Hz is 3.0000000000000004
+/// sample periods; the rounding gave a fifth point at the same time as the fourth.
+#[test]
+fn a_whole_number_of_samples_gave_a_repeated_point() {
+    let f = TimeFunction::new(&[TimePiece::position(0.15, "t", "0", "0")], 20.0).expect("parses");
+    let start = PoseMm { position_mm: [0.0; 3], rpy_deg: [0.0; 3] }.isometry();
+    let pts = f.sample(&start).expect("samples");
+    let times: Vec<f64> = pts.iter().map(|p| p.0).collect();
+    assert_eq!(times.len(), 4, "{times:?}");
+    assert!(times.windows(2).all(|w| w[1] > w[0]) && (times[3] - 0.15).abs() < 1e-12, "{times:?}");
+}
+
 #[test]
 fn angles_come_in_threes_and_bounds_hold() {
     let mut p = TimePiece::position(1.0, "0", "0", "0");

@@ -234,6 +234,18 @@ impl Step {
 
     /// A one-line description with units, for the program panel and reports.
     pub fn summary(&self) -> String {
+        let text = self.what();
+        match self {
+            Step::MoveJoints { duration_s: Some(d), .. }
+            | Step::MovePose { duration_s: Some(d), .. }
+            | Step::MoveL { duration_s: Some(d), .. }
+            | Step::MoveRelTool { duration_s: Some(d), .. } => format!("{text} in {d:.2} s"),
+            _ => text,
+        }
+    }
+
+    /// [`Step::summary`] without the duration.
+    fn what(&self) -> String {
         let pose = |p: &PoseMm| {
             format!(
                 "({:.1}, {:.1}, {:.1}) mm ({:.1}, {:.1}, {:.1})°",

@@ -83,10 +83,10 @@ fn a_value_that_is_not_finite_names_the_time() {
     let pieces = vec![TimePiece::position(2.0, "250", "1/(1-t)", "300")];
     let f = TimeFunction::new(&pieces, 100.0).expect("parses");
     let start = PoseMm { position_mm: [250.0, 1.0, 300.0], rpy_deg: [180.0, 0.0, 0.0] }.isometry();
-    let e = f.sample(&start).err().expect("inf at t = 1");
+    let e = f.sample(&start).expect_err("inf at t = 1");
     assert_eq!(e.to_string(), "piece 1, y(t) = \"1/(1-t)\": the value is inf, not a finite number at t = 1 s");
     let nan = vec![TimePiece::position(1.0, "sqrt(-1 - t)", "0", "0")];
-    let e = TimeFunction::new(&nan, 10.0).expect("parses").sample(&start).err().expect("NaN");
+    let e = TimeFunction::new(&nan, 10.0).expect("parses").sample(&start).expect_err("NaN");
     assert!(e.to_string().contains("NaN, not a finite number at t = 0 s"), "{e}");
 }
 
@@ -106,7 +106,7 @@ fn pieces_are_sampled_in_local_time_and_must_join() {
     assert!(pts.windows(2).all(|w| w[1].0 > w[0].0));
 
     let gap = vec![TimePiece::position(1.0, "10*t", "0", "300"), TimePiece::position(1.0, "11", "0", "300")];
-    let e = TimeFunction::new(&gap, 10.0).expect("parses").sample(&start).err().expect("gap");
+    let e = TimeFunction::new(&gap, 10.0).expect("parses").sample(&start).expect_err("gap");
     assert_eq!(e.to_string(), "piece 2: starts 1.00 mm and 0.00° from where piece 1 ends (at most 0.1 mm and 0.1°)");
 }
 

@@ -17,16 +17,23 @@ use parol6_hw::parser::{CommandParser, StatusParser};
 use parol6_hw::units::{FW_MAX_SPEED_STEPS_S, STANDBY_STEPS};
 use parol6_hw::{ControllerModel, EmulatorConfig};
 
+mod formats;
+
+pub use formats::{commander, csv_table, time_function};
+
 /// A fuzz target body: arbitrary bytes in, a panic on a broken invariant.
 pub type FuzzBody = fn(&[u8]);
 
 /// The fuzz targets, by the name of their `fuzz/fuzz_targets/<name>.rs` and corpus folders.
-pub const TARGETS: [(&str, FuzzBody); 5] = [
+pub const TARGETS: [(&str, FuzzBody); 8] = [
     ("status_parser", status_parser),
     ("command_emulator", command_emulator),
     ("urdf_loader", urdf_loader),
     ("program_file", program_file),
     ("gcode", gcode),
+    ("csv_table", csv_table),
+    ("time_function", time_function),
+    ("commander", commander),
 ];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser

@@ -41,13 +41,13 @@ fn program(model: &RobotModel) -> Program {
     Program::from_steps(
         "parity",
         vec![
-            Step::MoveJoints { joints_deg: work_deg.to_vec(), speed_fraction: Some(0.8) },
-            Step::MoveL { pose: at(30.0, 0.0), speed_mm_s: Some(120.0), blend_mm: None },
+            Step::MoveJoints { joints_deg: work_deg.to_vec(), speed_fraction: Some(0.8), duration_s: None },
+            Step::MoveL { pose: at(30.0, 0.0), speed_mm_s: Some(120.0), blend_mm: None, duration_s: None },
             Step::SetOutput { output: 1, on: true },
             Step::MoveCircle { center_mm: center, normal: [0.0, 0.0, 1.0], angle_deg: 90.0, speed_mm_s: Some(80.0) },
             Step::Dwell { seconds: 0.2 },
-            Step::MoveL { pose: at(0.0, 0.0), speed_mm_s: Some(120.0), blend_mm: None },
-            Step::MoveJoints { joints_deg: standby, speed_fraction: Some(0.8) },
+            Step::MoveL { pose: at(0.0, 0.0), speed_mm_s: Some(120.0), blend_mm: None, duration_s: None },
+            Step::MoveJoints { joints_deg: standby, speed_fraction: Some(0.8), duration_s: None },
         ],
     )
 }

@@ -79,7 +79,7 @@ fn teach_type_undo_redo_duplicate_delete_then_save_and_read_back() {
     h.run_steps(2);
     h.get_by_label("Undo").click();
     h.run_steps(2);
-    let Step::MoveJoints { joints_deg, speed_fraction } = steps(&h)[1].clone() else { panic!() };
+    let Step::MoveJoints { joints_deg, speed_fraction, .. } = steps(&h)[1].clone() else { panic!() };
     assert_eq!((joints_deg[1], speed_fraction), (taught[1], None), "two undos restore the taught step");
     h.get_by_label("Redo").click();
     h.run_steps(2);
@@ -134,7 +134,11 @@ fn the_point_table_edits_any_row() {
         "table",
         vec![
             Step::Dwell { seconds: 1.0 },
-            Step::MoveJoints { joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: None },
+            Step::MoveJoints {
+                joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 180.0],
+                speed_fraction: None,
+                duration_s: None,
+            },
         ],
     );
     std::fs::write(&path, json::to_string(&program)).unwrap();

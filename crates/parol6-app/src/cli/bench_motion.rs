@@ -96,10 +96,10 @@ fn thousand_steps(model: &RobotModel) -> Program {
     let stations = [[90.0, -80.0, 170.0, 0.0, 60.0, 180.0], [70.0, -80.0, 170.0, 0.0, 60.0, 160.0]];
     let mut steps = Vec::with_capacity(1000);
     for _ in 0..250 {
-        steps.push(Step::MoveJoints { joints_deg: stations[1].to_vec(), speed_fraction: Some(0.8) });
-        steps.push(Step::MoveJoints { joints_deg: stations[0].to_vec(), speed_fraction: Some(0.8) });
-        steps.push(Step::MoveL { pose: down, speed_mm_s: Some(100.0), blend_mm: None });
-        steps.push(Step::MoveL { pose: over, speed_mm_s: Some(100.0), blend_mm: None });
+        steps.push(Step::MoveJoints { joints_deg: stations[1].to_vec(), speed_fraction: Some(0.8), duration_s: None });
+        steps.push(Step::MoveJoints { joints_deg: stations[0].to_vec(), speed_fraction: Some(0.8), duration_s: None });
+        steps.push(Step::MoveL { pose: down, speed_mm_s: Some(100.0), blend_mm: None, duration_s: None });
+        steps.push(Step::MoveL { pose: over, speed_mm_s: Some(100.0), blend_mm: None, duration_s: None });
     }
     Program::from_steps("bench", steps)
 }
@@ -118,6 +118,7 @@ fn runner_cpu(model: &RobotModel, seconds: f64) -> Result<serde_json::Value, Cli
             step: Step::MoveJoints {
                 joints_deg: vec![90.0, -80.0, 170.0, 0.0, 60.0, 180.0],
                 speed_fraction: Some(1.0),
+                duration_s: None,
             },
             line: 0,
         },

@@ -205,6 +205,7 @@ mod tests {
             pose: PoseMm { position_mm: [200.0, 0.0, 300.0], rpy_deg: [0.0, 20.0, 90.0] },
             speed_mm_s: None,
             blend_mm: None,
+            duration_s: None,
         }
     }
 
@@ -225,19 +226,22 @@ mod tests {
     #[test]
     fn joints_in_radians_are_stored_in_degrees() {
         let settings = Settings { unit: AngleUnit::Rad, ..Settings::default() };
-        let step = Step::MoveJoints { joints_deg: vec![0.0; 6], speed_fraction: None };
+        let step = Step::MoveJoints { joints_deg: vec![0.0; 6], speed_fraction: None, duration_s: None };
         let s = with_field(&step, FieldSlot::Joint(1), -0.5, &settings).unwrap();
         let Step::MoveJoints { joints_deg, .. } = s else { panic!() };
         assert!((joints_deg[1] - (-0.5f64).to_degrees()).abs() < 1e-12);
-        let f =
-            step_fields(&Step::MoveJoints { joints_deg, speed_fraction: None }, &settings, &SpeedSettings::default());
+        let f = step_fields(
+            &Step::MoveJoints { joints_deg, speed_fraction: None, duration_s: None },
+            &settings,
+            &SpeedSettings::default(),
+        );
         assert!((f[1].value + 0.5).abs() < 1e-12 && f[1].suffix == "rad");
     }
 
     #[test]
     fn out_of_range_values_are_refused_and_leave_the_step() {
         let settings = Settings::default();
-        let step = Step::MoveJoints { joints_deg: vec![0.0; 6], speed_fraction: None };
+        let step = Step::MoveJoints { joints_deg: vec![0.0; 6], speed_fraction: None, duration_s: None };
         assert!(with_field(&step, FieldSlot::SpeedFraction, 1.5, &settings).unwrap_err().contains("(0, 1]"));
         assert!(with_field(&step, FieldSlot::SpeedFraction, 0.0, &settings).is_err());
         assert!(with_field(&Step::Dwell { seconds: 1.0 }, FieldSlot::Seconds, -1.0, &settings).is_err());

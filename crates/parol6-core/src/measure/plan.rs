@@ -105,7 +105,7 @@ impl PoseTestPlan {
         let target = self.cube.poses()[pose];
         Program::from_steps(
             POSE_NAMES[pose],
-            vec![Step::MovePose { pose: target, speed_fraction: Some(self.speed_fraction) }],
+            vec![Step::MovePose { pose: target, speed_fraction: Some(self.speed_fraction), duration_s: None }],
         )
     }
 
@@ -118,7 +118,7 @@ impl PoseTestPlan {
         let poses = self.cube.poses();
         let steps = Self::VISITS
             .iter()
-            .map(|&i| Step::MovePose { pose: poses[i], speed_fraction: Some(self.speed_fraction) })
+            .map(|&i| Step::MovePose { pose: poses[i], speed_fraction: Some(self.speed_fraction), duration_s: None })
             .collect();
         Program::from_steps("ISO 9283 pose cycle", steps)
     }
@@ -202,7 +202,7 @@ impl PathTestPlan {
 
     /// Brings the arm to the start, approaching it as every cycle will.
     pub fn approach(&self) -> Program {
-        let joint = |pose: PoseMm| Step::MovePose { pose, speed_fraction: Some(self.speed_fraction) };
+        let joint = |pose: PoseMm| Step::MovePose { pose, speed_fraction: Some(self.speed_fraction), duration_s: None };
         let mut steps = Vec::new();
         if let Some(end) = self.return_from_end() {
             // the line comes back to P2 from P4 every cycle: come from there the first time too
@@ -217,7 +217,7 @@ impl PathTestPlan {
     /// The measured part of one cycle, from the start.
     pub fn cycle(&self) -> Program {
         let v = Some(self.tcp_speed_mm_s());
-        let line = |p: [f64; 3]| Step::MoveL { pose: self.pose_at(p), speed_mm_s: v, blend_mm: None };
+        let line = |p: [f64; 3]| Step::MoveL { pose: self.pose_at(p), speed_mm_s: v, blend_mm: None, duration_s: None };
         let c = self.corners_mm();
         let steps = match self.kind {
             PathKind::Line => vec![line(c[1])],
@@ -241,6 +241,7 @@ impl PathTestPlan {
             pose: self.start(),
             speed_mm_s: Some(self.tcp_speed_mm_s()),
             blend_mm: None,
+            duration_s: None,
         })
     }
 

@@ -1,16 +1,17 @@
 //! The built-in programs: the old HMI's demos (pick & place, inspection, dodge) and a
-//! Cartesian drawing, embedded from `assets/programs/` in the native file format, plus a joint
+//! Cartesian drawing and the LabVIEW GUI's triangle as a time function, embedded from `assets/programs/` in the native file format, plus a joint
 //! sweep generated for any robot.
 
 use super::{Program, Step, json};
 use crate::model::RobotModel;
 
 /// The embedded program files: (file name, text).
-pub const FILES: [(&str, &str); 4] = [
+pub const FILES: [(&str, &str); 5] = [
     ("pick_place.json", include_str!("../../../../assets/programs/pick_place.json")),
     ("inspection.json", include_str!("../../../../assets/programs/inspection.json")),
     ("dodge.json", include_str!("../../../../assets/programs/dodge.json")),
     ("draw.json", include_str!("../../../../assets/programs/draw.json")),
+    ("triangle.json", include_str!("../../../../assets/programs/triangle.json")),
 ];
 
 /// The built-in programs for `model`: the PAROL6 programs on the PAROL6, and the joint sweep
@@ -36,7 +37,7 @@ pub fn joint_sweep(model: &RobotModel, speed_fraction: f64) -> Program {
             .map(f64::to_degrees)
             .collect()
     };
-    let mv = |f: f64| Step::MoveJoints { joints_deg: at(f), speed_fraction: Some(speed_fraction) };
+    let mv = |f: f64| Step::MoveJoints { joints_deg: at(f), speed_fraction: Some(speed_fraction), duration_s: None };
     let mut p = Program::from_steps("Joint sweep", vec![mv(0.25), mv(0.75), mv(0.5)]);
     p.description = "every joint between 25 % and 75 % of its range".into();
     p

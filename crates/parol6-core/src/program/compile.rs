@@ -167,8 +167,10 @@ pub fn compile(
 /// The index of the last `move_l` of a blended chain starting at `i` (`i` when none).
 fn blended_chain_end(program: &Program, i: usize) -> usize {
     let mut k = i;
-    while let Some(Step::MoveL { blend_mm: Some(b), .. }) = program.steps.get(k).map(|s| &s.step) {
-        if *b <= 0.0 || !matches!(program.steps.get(k + 1).map(|s| &s.step), Some(Step::MoveL { .. })) {
+    // a line with a fixed duration is never part of a blended chain
+    while let Some(Step::MoveL { blend_mm: Some(b), duration_s: None, .. }) = program.steps.get(k).map(|s| &s.step) {
+        if *b <= 0.0 || !matches!(program.steps.get(k + 1).map(|s| &s.step), Some(Step::MoveL { duration_s: None, .. }))
+        {
             break;
         }
         k += 1;
@@ -209,7 +211,7 @@ fn compile_one(
         Step::Home { speed_fraction } => {
             joint_move(q, &home_position(model), caps, joint_fraction(*speed_fraction)?, opts.dt_s)?
         }
-        Step::MoveJoints { joints_deg, speed_fraction } => {
+        Step::MoveJoints { joints_deg, speed_fraction, duration_s } => {
             if joints_deg.len() != q.len() {
                 return Err(
                     format!("joints_deg has {} values; the robot has {} joints", joints_deg.len(), q.len()).into()
@@ -217,19 +219,47 @@ fn compile_one(
             }
             let goal: Vec<f64> = joints_deg.iter().map(|d| d.to_radians()).collect();
             model.limits.check(&goal).map_err(|e| e.to_string())?;
-            joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?
+            match duration_s {
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts)?,
+                None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
+            }
         }
-        Step::MovePose { pose, speed_fraction } => {
+        Step::MovePose { pose, speed_fraction, duration_s } => {
             let target = checked_pose(pose)?;
             let branch = cartesian::start_branch(model, q);
             let goal = cartesian::solve_in_branch(model, &target, q, branch)
                 .map_err(|e| format!("the pose is not reachable: {e}"))?;
             model.limits.check(&goal).map_err(|e| e.to_string())?;
-            joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?
+            match duration_s {
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts)?,
+                None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
+            }
         }
-        Step::MoveL { pose, speed_mm_s, .. } => {
+        Step::MoveL { pose, speed_mm_s, blend_mm, duration_s } => {
             let path = TcpPath::line(&from, &checked_pose(pose)?);
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?
+            match duration_s {
+                Some(_) if blend_mm.is_some_and(|b| b > 0.0) => {
+                    return Err("a line with duration_s cannot blend into the next one (blend_mm)".to_string().into());
+                }
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?,
+            }
+        }
+        Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s, duration_s } => {
+            checked_mm(offset_mm, "offset_mm")?;
+            if !rotation_deg.iter().all(|a| a.is_finite()) {
+                return Err("rotation_deg must be three numbers".to_string().into());
+            }
+            let path = TcpPath::line(&from, &timed::tool_frame_goal(&from, offset_mm, rotation_deg));
+            match duration_s {
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?,
+            }
+        }
+        Step::TimeFunction { sample_rate_hz, pieces } => {
+            let function = super::timefn::TimeFunction::new(pieces, *sample_rate_hz).map_err(|e| e.to_string())?;
+            let points = function.sample(&from).map_err(|e| e.to_string())?;
+            timed::follow(model, q, &points, caps, opts)?
         }
         Step::MoveC { via_mm, pose, speed_mm_s } => {
             let via = Point3::from(checked_mm(via_mm, "via_mm")?);
@@ -296,7 +326,7 @@ fn compile_blended(
     let mut pts = vec![model.tcp_isometry(q)];
     let (mut radius_mm, mut speed_mm_s) = (f64::INFINITY, f64::INFINITY);
     for k in steps {
-        if let Step::MoveL { pose, speed_mm_s: s, blend_mm } = &program.steps[k].step {
+        if let Step::MoveL { pose, speed_mm_s: s, blend_mm, .. } = &program.steps[k].step {
             pts.push(checked_pose(pose).map_err(StepError::Message)?);
             speed_mm_s = speed_mm_s.min(s.unwrap_or(program.speed.tcp_speed_mm_s));
             if let Some(b) = blend_mm.filter(|b| *b > 0.0) {
@@ -408,6 +438,8 @@ fn checked_wait(s: f64, field: &str) -> Result<f64, String> {
         Err(format!("{field} must lie in 0–{MAX_WAIT_S} s, got {s}"))
     }
 }
+
+pub(crate) mod timed;
 
 #[cfg(test)]
 mod tests;

@@ -5,13 +5,15 @@
 //! | --- | --- |
 //! | `.json` | the native format ([`super::json`]) |
 //! | `.gcode`, `.nc`, `.ngc` | G-code in the official PAROL6 dialect ([`super::gcode`]) |
+//! | `.csv` | a point table ([`super::table`]) |
+//! | `.txt` | a PAROL commander program ([`super::commander`]) |
 //!
 //! Loading never touches a program in memory: it returns a new one or an error.
 
 use std::path::Path;
 
 use super::gcode::{GcodeExportOptions, GcodeImportOptions, parse_gcode, program_to_gcode};
-use super::{Program, json};
+use super::{Program, commander, json, table};
 use crate::RobotModel;
 
 /// Files larger than this are refused before reading, bytes (every format).
@@ -24,12 +26,20 @@ pub enum ProgramFormat {
     Json,
     /// G-code (official PAROL6 dialect).
     Gcode,
+    /// A CSV point table.
+    Csv,
+    /// A PAROL commander program.
+    Commander,
 }
 
 impl ProgramFormat {
     /// Every format, with its extensions (the first is the one written by "save as").
-    pub const ALL: [(ProgramFormat, &'static [&'static str]); 2] =
-        [(ProgramFormat::Json, &["json"]), (ProgramFormat::Gcode, &["gcode", "nc", "ngc"])];
+    pub const ALL: [(ProgramFormat, &'static [&'static str]); 4] = [
+        (ProgramFormat::Json, &["json"]),
+        (ProgramFormat::Gcode, &["gcode", "nc", "ngc"]),
+        (ProgramFormat::Csv, &["csv"]),
+        (ProgramFormat::Commander, &["txt"]),
+    ];
 
     /// The format of `path`, from its extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<Self, ProgramIoError> {
@@ -49,6 +59,8 @@ impl ProgramFormat {
         match self {
             ProgramFormat::Json => "program JSON",
             ProgramFormat::Gcode => "G-code",
+            ProgramFormat::Csv => "point table",
+            ProgramFormat::Commander => "commander program",
         }
     }
 }
@@ -122,6 +134,8 @@ pub fn parse_program(
         ProgramFormat::Json => json::parse(text).map_err(|e| content(e.to_string())),
         ProgramFormat::Gcode => parse_gcode(text, &GcodeImportOptions::for_model(ctx.model, ctx.start_q))
             .map_err(|e| content(e.to_string())),
+        ProgramFormat::Csv => table::parse_csv_table(text).map_err(|e| content(e.to_string())),
+        ProgramFormat::Commander => commander::parse_commander(text).map_err(|e| content(e.to_string())),
     }
 }
 
@@ -158,6 +172,8 @@ pub fn format_program(
             program_to_gcode(program, ctx.model, &GcodeExportOptions::new(program, ctx.start_q.to_vec()))
                 .map_err(|e| content(e.to_string()))
         }
+        ProgramFormat::Csv => table::program_to_csv(program).map_err(|e| content(e.to_string())),
+        ProgramFormat::Commander => commander::program_to_commander(program).map_err(|e| content(e.to_string())),
     }
 }
 
@@ -202,6 +218,31 @@ mod tests {
         let e = parse_program("G1 X1 Q5\n", ProgramFormat::Gcode, &ctx, "bad.gcode").unwrap_err().to_string();
         assert!(e.starts_with("bad.gcode: line 1"), "{e}");
         assert_eq!(ProgramFormat::from_path(Path::new("a.NC")).unwrap(), ProgramFormat::Gcode);
+    }
+
+    #[test]
+    fn tables_and_commander_programs_convert_through_files() {
+        let m = model();
+        let q = crate::parol6::standby_rad().to_vec();
+        let ctx = FormatContext { model: &m, start_q: &q };
+        let csv = "j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg\n90,-80,170,0,60,180\n80,-80,170,0,60,180\n";
+        let p = parse_program(csv, ProgramFormat::Csv, &ctx, "t.csv").unwrap();
+        assert_eq!(p.steps.len(), 2);
+        let txt = format_program(&p, ProgramFormat::Commander, &ctx, "t.txt").unwrap();
+        let back = parse_program(&txt, ProgramFormat::Commander, &ctx, "t.txt").unwrap();
+        let joints = |p: &Program| -> Vec<Vec<f64>> {
+            p.steps
+                .iter()
+                .filter_map(|s| match &s.step {
+                    Step::MoveJoints { joints_deg, .. } => Some(joints_deg.clone()),
+                    _ => None,
+                })
+                .collect()
+        };
+        assert_eq!(joints(&back), joints(&p), "table → commander → program keeps the joints");
+        let e = parse_program("x_mm,y_mm\n1,abc\n", ProgramFormat::Csv, &ctx, "bad.csv").unwrap_err().to_string();
+        assert!(e.starts_with("bad.csv: "), "{e}");
+        assert_eq!(ProgramFormat::from_path(Path::new("p.TXT")).unwrap(), ProgramFormat::Commander);
     }
 
     #[test]

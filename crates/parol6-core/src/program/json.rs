@@ -9,6 +9,7 @@
 //!   "tool": "Ssg48",
 //!   "speed": { "joint_fraction": 0.5, "tcp_speed_mm_s": 100, "tcp_accel_mm_s2": 500, "tcp_jerk_mm_s3": 5000 },
 //!   "keep_out": [ { "name": "fixture", "kind": "box", "center_mm": [250, 0, 50], "size_mm": [100, 100, 100] } ],
+//!   "looping": false,
 //!   "steps": [
 //!     { "type": "home" },
 //!     { "type": "move_l", "pose": { "position_mm": [0, 250, 300], "rpy_deg": [180, 0, 90] }, "speed_mm_s": 50 },
@@ -70,7 +71,13 @@ struct ProgramFile {
     speed: SpeedSettings,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     keep_out: Vec<KeepOut>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    looping: bool,
     steps: Vec<Step>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 #[derive(Deserialize)]
@@ -144,6 +151,7 @@ pub fn parse(text: &str) -> Result<Program, ProgramFileError> {
         speed: file.speed,
         keep_out: file.keep_out,
         steps,
+        looping: file.looping,
     })
 }
 
@@ -157,6 +165,7 @@ pub fn to_string(program: &Program) -> String {
         tool: program.tool,
         speed: program.speed,
         keep_out: program.keep_out.clone(),
+        looping: program.looping,
         steps: Vec::new(),
     };
     // the envelope pretty-printed, each step compact on its own line (a diff shows the steps)
@@ -284,7 +293,8 @@ mod tests {
             Step::MoveL {
                 pose: PoseMm { position_mm: [0.0, 250.0, 300.0], rpy_deg: [180.0, 0.0, 90.0] },
                 speed_mm_s: Some(50.0),
-                blend_mm: None
+                blend_mm: None,
+                duration_s: None
             }
         );
         assert!(matches!(p.steps[2].step, Step::Gripper { action: GripperAction::Close, .. }));

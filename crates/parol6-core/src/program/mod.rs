@@ -24,12 +24,15 @@ use crate::scene::KeepOut;
 
 pub mod builtin;
 pub mod check;
+pub mod commander;
 pub mod compile;
 pub mod edit;
 pub mod files;
 pub mod gcode;
 pub mod json;
 pub mod runner;
+pub mod table;
+pub mod timefn;
 pub mod torques;
 
 /// A TCP pose as written in a program: position in mm, orientation as our URDF roll / pitch /
@@ -86,6 +89,11 @@ pub enum Step {
         /// Fraction of the joint speed caps (0 < f ≤ 1).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         speed_fraction: Option<f64>,
+        /// Time the move takes, s (the commander's `t=`, a point table's `time_s`): the move is
+        /// stretched to take it and refused when the caps cannot make it that fast; the speed
+        /// is then not used.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        duration_s: Option<f64>,
     },
     /// Joint move to a TCP pose (the IK solution of the current branch nearest the start).
     MovePose {
@@ -94,6 +102,11 @@ pub enum Step {
         /// Fraction of the joint speed caps (0 < f ≤ 1).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         speed_fraction: Option<f64>,
+        /// Time the move takes, s (the commander's `t=`, a point table's `time_s`): the move is
+        /// stretched to take it and refused when the caps cannot make it that fast; the speed
+        /// is then not used.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        duration_s: Option<f64>,
     },
     /// Straight TCP line to `pose`, orientation slerped. Consecutive `move_l` steps with a
     /// `blend_mm` are joined into one path whose corners are rounded with that radius.
@@ -106,6 +119,11 @@ pub enum Step {
         /// Corner radius toward the next `move_l`, mm (0 or absent: stop at the corner).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         blend_mm: Option<f64>,
+        /// Time the move takes, s (the commander's `t=`, a point table's `time_s`): the move is
+        /// stretched to take it and refused when the caps cannot make it that fast; the speed
+        /// is then not used.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        duration_s: Option<f64>,
     },
     /// Circular arc through `via_mm` to `pose` (orientation slerped).
     MoveC {
@@ -137,6 +155,32 @@ pub enum Step {
         /// TCP speed, mm/s.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         speed_mm_s: Option<f64>,
+    },
+    /// Straight TCP line to a pose given relative to the TCP where the step starts (the
+    /// commander's `MoveCartRelTRF`): the goal is `start · Trans(offset) · Rx·Ry·Rz`, i.e. the
+    /// offset along the tool's own axes and then rotations about the tool's x, y and z axes.
+    MoveRelTool {
+        /// Offset along the tool's x, y, z axes, mm.
+        offset_mm: [f64; 3],
+        /// Rotation about the tool's x, then y, then z axis, deg.
+        #[serde(default)]
+        rotation_deg: [f64; 3],
+        /// TCP speed, mm/s.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        speed_mm_s: Option<f64>,
+        /// Time the move takes, s (the commander's `t=`, a point table's `time_s`): the move is
+        /// stretched to take it and refused when the caps cannot make it that fast; the speed
+        /// is then not used.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        duration_s: Option<f64>,
+    },
+    /// The TCP follows x(t), y(t), z(t) (and optionally roll/pitch/yaw(t)) piece by piece in
+    /// time; see [`timefn`]. Its first point must be where the TCP is when the step starts.
+    TimeFunction {
+        /// How often the expressions are evaluated, Hz (the path between is interpolated).
+        sample_rate_hz: f64,
+        /// The pieces, one after the other.
+        pieces: Vec<timefn::TimePiece>,
     },
     /// Hold still.
     Dwell {
@@ -195,6 +239,8 @@ impl Step {
             Step::MoveC { .. } => "move_c",
             Step::MoveCircle { .. } => "move_circle",
             Step::Spline { .. } => "spline",
+            Step::MoveRelTool { .. } => "move_rel_tool",
+            Step::TimeFunction { .. } => "time_function",
             Step::Dwell { .. } => "dwell",
             Step::Gripper { .. } => "gripper",
             Step::SetOutput { .. } => "set_output",
@@ -205,6 +251,18 @@ impl Step {
 
     /// A one-line description with units, for the program panel and reports.
     pub fn summary(&self) -> String {
+        let text = self.what();
+        match self {
+            Step::MoveJoints { duration_s: Some(d), .. }
+            | Step::MovePose { duration_s: Some(d), .. }
+            | Step::MoveL { duration_s: Some(d), .. }
+            | Step::MoveRelTool { duration_s: Some(d), .. } => format!("{text} in {d:.2} s"),
+            _ => text,
+        }
+    }
+
+    /// [`Step::summary`] without the duration.
+    fn what(&self) -> String {
         let pose = |p: &PoseMm| {
             format!(
                 "({:.1}, {:.1}, {:.1}) mm ({:.1}, {:.1}, {:.1})°",
@@ -225,6 +283,14 @@ impl Step {
             Step::MoveC { pose: p, .. } => format!("arc to {}", pose(p)),
             Step::MoveCircle { angle_deg, .. } => format!("arc of {angle_deg:.1}° about a centre"),
             Step::Spline { waypoints, .. } => format!("spline through {} waypoints", waypoints.len()),
+            Step::MoveRelTool { offset_mm: d, rotation_deg: r, .. } => format!(
+                "line by ({:.1}, {:.1}, {:.1}) mm ({:.1}, {:.1}, {:.1})° in the tool frame",
+                d[0], d[1], d[2], r[0], r[1], r[2]
+            ),
+            Step::TimeFunction { pieces, .. } => {
+                let total_s: f64 = pieces.iter().map(|p| p.duration_s).sum();
+                format!("time function, {} pieces, {total_s:.2} s", pieces.len())
+            }
             Step::Dwell { seconds } => format!("dwell {seconds:.2} s"),
             Step::Gripper { action, position, .. } => match action {
                 GripperAction::Open => "gripper open".into(),
@@ -284,6 +350,8 @@ pub struct Program {
     pub keep_out: Vec<KeepOut>,
     /// The steps in order.
     pub steps: Vec<SourcedStep>,
+    /// Run the steps over and over until stopped (the commander's `Loop()`).
+    pub looping: bool,
 }
 
 impl Program {

@@ -130,7 +130,7 @@ pub struct RunOptions {
     /// Start paused after the first step (single-step mode).
     pub single_step: bool,
     /// Start over after the last step (each pass is checked and planned again from where
-    /// the arm is).
+    /// the arm is). A program with [`Program::looping`] set loops either way.
     pub looping: bool,
     /// Optional pauses (`pause` steps with `optional`, G-code `M1`) pause the run too.
     pub optional_pauses: bool,
@@ -281,7 +281,7 @@ impl Run<'_> {
     fn run(&mut self, model: &RobotModel, program: &Program, opts: RunOptions) {
         self.single = opts.single_step;
         let mut outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
-        while opts.looping && outcome.is_ok() && !program.steps.is_empty() {
+        while (opts.looping || program.looping) && outcome.is_ok() && !program.steps.is_empty() {
             self.publish(|p| p.passes += 1);
             outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
         }

@@ -19,12 +19,21 @@ use parol6_core::program::check::Severity;
 
 /// A joint step at the arm's pose (degrees, as programs store them).
 pub(super) fn taught_joint_step(q_rad: &[f64]) -> Step {
-    Step::MoveJoints { joints_deg: q_rad.iter().map(|v| v.to_degrees()).collect(), speed_fraction: None }
+    Step::MoveJoints {
+        joints_deg: q_rad.iter().map(|v| v.to_degrees()).collect(),
+        speed_fraction: None,
+        duration_s: None,
+    }
 }
 
 /// A Cartesian (line) step to the TCP pose of `q_rad`.
 pub(super) fn taught_pose_step(model: &parol6_core::RobotModel, q_rad: &[f64]) -> Step {
-    Step::MoveL { pose: PoseMm::from_isometry(&model.tcp_isometry(q_rad)), speed_mm_s: None, blend_mm: None }
+    Step::MoveL {
+        pose: PoseMm::from_isometry(&model.tcp_isometry(q_rad)),
+        speed_mm_s: None,
+        blend_mm: None,
+        duration_s: None,
+    }
 }
 
 impl ProgramPanel {

@@ -34,15 +34,15 @@ fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
     let b = offset(&model, &q0, [30.0, 30.0, 0.0]);
     let c = offset(&model, &q0, [0.0, 30.0, 0.0]);
     let steps = vec![
-        Step::MoveL { pose: a, speed_mm_s: Some(80.0), blend_mm: None },
+        Step::MoveL { pose: a, speed_mm_s: Some(80.0), blend_mm: None, duration_s: None },
         Step::MoveC {
             via_mm: [here.position_mm[0] + 30.0 + 15.0, here.position_mm[1] + 15.0, here.position_mm[2]],
             pose: b,
             speed_mm_s: None,
         },
-        Step::MoveL { pose: c, speed_mm_s: None, blend_mm: Some(5.0) },
-        Step::MoveL { pose: here, speed_mm_s: None, blend_mm: Some(5.0) },
-        Step::MoveL { pose: a, speed_mm_s: None, blend_mm: None },
+        Step::MoveL { pose: c, speed_mm_s: None, blend_mm: Some(5.0), duration_s: None },
+        Step::MoveL { pose: here, speed_mm_s: None, blend_mm: Some(5.0), duration_s: None },
+        Step::MoveL { pose: a, speed_mm_s: None, blend_mm: None, duration_s: None },
         Step::MoveCircle {
             center_mm: [here.position_mm[0] + 15.0, here.position_mm[1], here.position_mm[2]],
             normal: [0.0, 0.0, 1.0],
@@ -50,8 +50,12 @@ fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
             speed_mm_s: Some(50.0),
         },
         Step::Spline { waypoints: vec![b, c, here], speed_mm_s: None },
-        Step::MoveJoints { joints_deg: q0.iter().map(|v| v.to_degrees() + 5.0).collect(), speed_fraction: Some(0.8) },
-        Step::MovePose { pose: here, speed_fraction: None },
+        Step::MoveJoints {
+            joints_deg: q0.iter().map(|v| v.to_degrees() + 5.0).collect(),
+            speed_fraction: Some(0.8),
+            duration_s: None,
+        },
+        Step::MovePose { pose: here, speed_fraction: None, duration_s: None },
         Step::Dwell { seconds: 0.25 },
         Step::Gripper { action: GripperAction::Close, position: None, speed: None, current_ma: None },
         Step::SetOutput { output: 2, on: true },
@@ -90,7 +94,10 @@ fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
 fn an_unreachable_line_names_the_step_line_time_and_tcp() {
     let (model, q0) = start();
     let far = offset(&model, &q0, [0.0, 0.0, 900.0]);
-    let p = program(vec![Step::Dwell { seconds: 0.1 }, Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None }]);
+    let p = program(vec![
+        Step::Dwell { seconds: 0.1 },
+        Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None, duration_s: None },
+    ]);
     let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("out of reach");
     assert_eq!((e.index, e.line, e.kind), (1, 11, "move_l"));
     assert!(e.t_s.is_some() && e.tcp_mm.is_some(), "{e:?}");
@@ -101,13 +108,32 @@ fn an_unreachable_line_names_the_step_line_time_and_tcp() {
 fn bad_arguments_name_the_step() {
     let (model, q0) = start();
     let cases = vec![
-        (Step::MoveJoints { joints_deg: vec![0.0; 5], speed_fraction: None }, "5 values"),
-        (Step::MoveJoints { joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 400.0], speed_fraction: None }, "joint 6"),
+        (Step::MoveJoints { joints_deg: vec![0.0; 5], speed_fraction: None, duration_s: None }, "5 values"),
         (
-            Step::MoveJoints { joints_deg: vec![90.0, -90.0, 180.0, 0.0, 0.0, 180.0], speed_fraction: Some(1.5) },
+            Step::MoveJoints {
+                joints_deg: vec![0.0, -90.0, 180.0, 0.0, 0.0, 400.0],
+                speed_fraction: None,
+                duration_s: None,
+            },
+            "joint 6",
+        ),
+        (
+            Step::MoveJoints {
+                joints_deg: vec![90.0, -90.0, 180.0, 0.0, 0.0, 180.0],
+                speed_fraction: Some(1.5),
+                duration_s: None,
+            },
             "speed_fraction",
         ),
-        (Step::MoveL { pose: offset(&model, &q0, [1.0, 0.0, 0.0]), speed_mm_s: Some(500.0), blend_mm: None }, "200"),
+        (
+            Step::MoveL {
+                pose: offset(&model, &q0, [1.0, 0.0, 0.0]),
+                speed_mm_s: Some(500.0),
+                blend_mm: None,
+                duration_s: None,
+            },
+            "200",
+        ),
         (Step::Dwell { seconds: -1.0 }, "seconds"),
         (Step::Dwell { seconds: f64::NAN }, "seconds"),
         (Step::SetOutput { output: 3, on: true }, "output 3"),
@@ -131,7 +157,7 @@ fn bad_arguments_name_the_step() {
 fn the_speed_override_slows_every_move() {
     let (model, q0) = start();
     let p = program(vec![
-        Step::MoveL { pose: offset(&model, &q0, [40.0, 0.0, 0.0]), speed_mm_s: None, blend_mm: None },
+        Step::MoveL { pose: offset(&model, &q0, [40.0, 0.0, 0.0]), speed_mm_s: None, blend_mm: None, duration_s: None },
         Step::Home { speed_fraction: None },
     ]);
     let full = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect("compiles");
@@ -175,4 +201,125 @@ fn an_arc_through_a_far_point_panicked() {
     to.translation.vector.z += 0.29;
     let via = nalgebra::Point3::new(-0.01, 2.8e110, 0.292);
     assert!(matches!(TcpPath::arc_through(&from, &via, &to), Err(crate::motion::path::PathError::DegenerateArc)));
+}
+
+fn motion(c: &CompiledStep) -> &SampledTrajectory {
+    match &c.action {
+        StepAction::Motion(t) => t,
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_move_with_a_duration_takes_that_long_and_ends_on_its_goal() {
+    let (model, q0) = start();
+    let goal_deg: Vec<f64> = q0.iter().map(|v| v.to_degrees() + 10.0).collect();
+    let a = offset(&model, &q0, [40.0, 0.0, 0.0]);
+    let p = program(vec![
+        Step::MoveJoints { joints_deg: goal_deg.clone(), speed_fraction: Some(0.1), duration_s: Some(2.5) },
+        Step::MoveL { pose: a, speed_mm_s: Some(10.0), blend_mm: None, duration_s: Some(1.5) },
+        Step::MovePose { pose: offset(&model, &q0, [0.0; 3]), speed_fraction: None, duration_s: Some(3.0) },
+    ]);
+    let c = compile(&model, &p, &q0, CompileOptions::RUN).expect("compiles");
+    for (step, want_s) in c.iter().zip([2.5, 1.5, 3.0]) {
+        assert!((step.duration_s() - want_s).abs() <= 0.001, "{}: {}", step.kind, step.duration_s());
+    }
+    assert!(motion(&c[0]).goal().iter().zip(&goal_deg).all(|(q, d)| (q - d.to_radians()).abs() < 1e-9));
+    let end = model.tcp_isometry(motion(&c[1]).goal());
+    assert!((end.translation.vector - a.isometry().translation.vector).norm() < 1e-6);
+    // the speed override stretches it
+    let slow = compile(&model, &p, &q0, CompileOptions { speed_override: 0.5, ..CompileOptions::RUN }).expect("ok");
+    assert!((slow[0].duration_s() - 5.0).abs() <= 0.001);
+}
+
+#[test]
+fn a_duration_the_caps_cannot_make_is_refused_naming_the_line() {
+    let (model, q0) = start();
+    let far: Vec<f64> = q0.iter().map(|v| v.to_degrees() + 10.0).collect();
+    let p = program(vec![
+        Step::Dwell { seconds: 0.1 },
+        Step::MoveJoints { joints_deg: far, speed_fraction: None, duration_s: Some(0.05) },
+    ]);
+    let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("too fast");
+    assert!(e.to_string().starts_with("step 2 (line 11, move_joints): duration_s 0.05 s is too short"), "{e}");
+    let line = Step::MoveL {
+        pose: offset(&model, &q0, [80.0, 0.0, 0.0]),
+        speed_mm_s: None,
+        blend_mm: None,
+        duration_s: Some(0.1),
+    };
+    let e = compile(&model, &program(vec![line]), &q0, CompileOptions::PREFLIGHT).expect_err("too fast");
+    assert!(e.message.contains("needs at least"), "{e}");
+    let bad = Step::MoveJoints {
+        joints_deg: q0.iter().map(|v| v.to_degrees()).collect(),
+        speed_fraction: None,
+        duration_s: Some(-1.0),
+    };
+    let e = compile(&model, &program(vec![bad]), &q0, CompileOptions::PREFLIGHT).expect_err("negative");
+    assert!(e.message.contains("duration_s must lie in"), "{e}");
+}
+
+#[test]
+fn a_relative_tool_move_ends_offset_along_the_tool_axes() {
+    let (model, q0) = start();
+    let p = program(vec![Step::MoveRelTool {
+        offset_mm: [0.0, 0.0, 20.0],
+        rotation_deg: [0.0, 0.0, 30.0],
+        speed_mm_s: Some(50.0),
+        duration_s: None,
+    }]);
+    let c = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect("compiles");
+    let from = model.tcp_isometry(&q0);
+    let to = model.tcp_isometry(motion(&c[0]).goal());
+    let rel = from.inverse() * to;
+    assert!((rel.translation.vector - Vector3::new(0.0, 0.0, 0.02)).norm() < 1e-6, "{rel:?}");
+    let want = nalgebra::UnitQuaternion::from_axis_angle(&Vector3::z_axis(), 30f64.to_radians());
+    assert!(rel.rotation.angle_to(&want) < 1e-6);
+}
+
+#[test]
+fn a_time_function_is_followed_in_time_from_where_the_tcp_is() {
+    use crate::program::timefn::TimePiece;
+    let (model, q0) = start();
+    let here = offset(&model, &q0, [0.0; 3]).position_mm;
+    let [x, y, z] = here.map(|v| format!("{v}"));
+    let pieces = vec![
+        TimePiece::position(1.0, &format!("{x} + 20*t"), &y, &z),
+        TimePiece::position(1.0, &format!("{x} + 20"), &format!("{y} + 20*t"), &z),
+        TimePiece::position(1.0, &format!("{x} + 20 - 20*t"), &format!("{y} + 20 - 20*t"), &z),
+    ];
+    let p = program(vec![Step::TimeFunction { sample_rate_hz: 50.0, pieces: pieces.clone() }]);
+    let c = compile(&model, &p, &q0, CompileOptions::RUN).expect("compiles");
+    let traj = motion(&c[0]);
+    assert!((traj.duration_s() - 3.0).abs() < 1e-9);
+    // at t = 1.5 s the TCP is halfway up the second side
+    let at = model.tcp_isometry(&traj.sample(1.5).q).translation.vector * 1000.0;
+    assert!((at - Vector3::new(here[0] + 20.0, here[1] + 10.0, here[2])).norm() < 0.05, "{at:?}");
+    let end = model.tcp_isometry(traj.goal()).translation.vector * 1000.0;
+    assert!((end - Vector3::from(here)).norm() < 0.05);
+
+    // a function that starts elsewhere is refused (no approach move)
+    let mut away = pieces.clone();
+    away[0].z_mm = format!("{z} + 5");
+    away[1].z_mm = away[0].z_mm.clone();
+    away[2].z_mm = away[0].z_mm.clone();
+    let e = compile(
+        &model,
+        &program(vec![Step::TimeFunction { sample_rate_hz: 50.0, pieces: away }]),
+        &q0,
+        CompileOptions::PREFLIGHT,
+    )
+    .expect_err("elsewhere");
+    assert!(e.message.contains("5.00 mm and 0.00° from where the TCP is"), "{e}");
+    // too fast for the PAROL6
+    let mut fast = pieces;
+    fast[0].x_mm = format!("{x} + 20*t^16");
+    let e = compile(
+        &model,
+        &program(vec![Step::TimeFunction { sample_rate_hz: 50.0, pieces: fast }]),
+        &q0,
+        CompileOptions::PREFLIGHT,
+    )
+    .expect_err("fast");
+    assert!(e.message.contains("mm/s at t ="), "{e}");
 }

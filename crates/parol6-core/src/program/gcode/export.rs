@@ -147,7 +147,7 @@ impl Writer<'_> {
                 self.rapid(model.tcp_isometry(&q), &format!(" ; joints [{}] deg", shown.join(", ")));
             }
             Step::MovePose { pose, .. } => self.rapid(checked(pose)?, ""),
-            Step::MoveL { pose, speed_mm_s, blend_mm } => {
+            Step::MoveL { pose, speed_mm_s, blend_mm, duration_s } => {
                 let blend = blend_mm.filter(|b| *b > 0.0);
                 if blend != self.blend_mm {
                     match blend {
@@ -157,9 +157,37 @@ impl Writer<'_> {
                     self.blend_mm = blend;
                 }
                 let goal = checked(pose)?;
-                let f = self.feed_word(speed_of(speed_mm_s));
+                let speed = timed_speed(&self.pose, &goal, *duration_s).unwrap_or_else(|| speed_of(speed_mm_s));
+                let f = self.feed_word(speed);
                 self.line(&format!("G1 {}{f}", axis_words(pose)));
                 self.pose = goal;
+            }
+            Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s, duration_s } => {
+                if !offset_mm.iter().chain(rotation_deg).all(|v| v.is_finite()) {
+                    return Err("the offset and rotation must be finite numbers".into());
+                }
+                let goal = crate::program::compile::timed::tool_frame_goal(&self.pose, offset_mm, rotation_deg);
+                let speed = timed_speed(&self.pose, &goal, *duration_s).unwrap_or_else(|| speed_of(speed_mm_s));
+                let f = self.feed_word(speed);
+                self.line(&format!("G1 {}{f} ; tool-frame move", axis_words(&PoseMm::from_isometry(&goal))));
+                self.pose = goal;
+            }
+            Step::TimeFunction { sample_rate_hz, pieces } => {
+                let function =
+                    crate::program::timefn::TimeFunction::new(pieces, *sample_rate_hz).map_err(|e| e.to_string())?;
+                let points = function.sample(&self.pose).map_err(|e| e.to_string())?;
+                self.line(&format!(
+                    "; time function: {} points at {} Hz",
+                    points.len(),
+                    format_number(*sample_rate_hz)
+                ));
+                for w in points.windows(2) {
+                    let ((t0, _), (t1, goal)) = (w[0], w[1]);
+                    let speed = timed_speed(&self.pose, &goal, Some(t1 - t0)).unwrap_or_else(|| speed_of(&None));
+                    let f = self.feed_word(speed);
+                    self.line(&format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&goal))));
+                    self.pose = goal;
+                }
             }
             Step::MoveC { via_mm, pose, speed_mm_s } => {
                 let goal = checked(pose)?;
@@ -305,4 +333,12 @@ fn principal(normal: &Vector3<f64>) -> Option<(Plane, bool)> {
         let d = n.dot(&Vector3::from(p.normal()));
         (d.abs() > 1.0 - 1e-9).then_some((p, d > 0.0))
     })
+}
+
+/// The TCP speed (mm/s) that covers `from` → `to` in `duration_s`, within the dialect's feed
+/// range (2–200 mm/s); `None` without a duration or for a move that does not travel.
+fn timed_speed(from: &Isometry3<f64>, to: &Isometry3<f64>, duration_s: Option<f64>) -> Option<f64> {
+    let d = duration_s.filter(|d| d.is_finite() && *d > 0.0)?;
+    let mm = (to.translation.vector - from.translation.vector).norm() * 1000.0;
+    (mm > 1e-9).then(|| (mm / d).clamp(2.0, 200.0))
 }

@@ -425,12 +425,17 @@ impl State {
         match code {
             0 | 1 if !has_axes => Ok(()),
             0 => {
-                self.push(line, Step::MovePose { pose: pose_of(&target), speed_fraction: None });
+                self.push(line, Step::MovePose { pose: pose_of(&target), speed_fraction: None, duration_s: None });
                 self.pos = target;
                 Ok(())
             }
             1 => {
-                let step = Step::MoveL { pose: pose_of(&target), speed_mm_s: self.feed_mm_s, blend_mm: self.blend_mm };
+                let step = Step::MoveL {
+                    pose: pose_of(&target),
+                    speed_mm_s: self.feed_mm_s,
+                    blend_mm: self.blend_mm,
+                    duration_s: None,
+                };
                 self.push(line, step);
                 self.pos = target;
                 Ok(())

@@ -49,7 +49,7 @@ fn official_angles_a90_b0_cm20_are_our_roll0_pitch20_yaw90() {
     let s = steps("G0 X250 Y0 Z300 A90 B0 C-20");
     let p = pose_of(&s[0]);
     assert!(near(p.rpy_deg, [0.0, 20.0, 90.0], 1e-9), "{p:?}");
-    let program = Program::from_steps("t", vec![Step::MovePose { pose: p, speed_fraction: None }]);
+    let program = Program::from_steps("t", vec![Step::MovePose { pose: p, speed_fraction: None, duration_s: None }]);
     let model = RobotModel::parol6();
     let text = program_to_gcode(&program, &model, &GcodeExportOptions::new(&program, vec![0.0; 6])).expect("export");
     assert!(text.contains("G0 X250 Y0 Z300 A90 B0 C-20\n"), "{text}");
@@ -60,7 +60,7 @@ fn g0_g1_feed_and_axes_left_out() {
     let s = steps("N1 G21 G90 G0 X100 ; rapid\nG1 Y50 F600\nZ250 A10\n");
     assert_eq!(s.len(), 3);
     match &s[0] {
-        Step::MovePose { pose, speed_fraction } => {
+        Step::MovePose { pose, speed_fraction, .. } => {
             assert_eq!(*speed_fraction, None);
             assert!(near(pose.position_mm, [100.0, 0.0, 300.0], 1e-12));
             assert!(turn_deg(pose.rpy_deg, START.rpy_deg) < 1e-9);
@@ -68,7 +68,7 @@ fn g0_g1_feed_and_axes_left_out() {
         other => panic!("{other:?}"),
     }
     match &s[2] {
-        Step::MoveL { pose, speed_mm_s, blend_mm } => {
+        Step::MoveL { pose, speed_mm_s, blend_mm, .. } => {
             assert_eq!((*speed_mm_s, *blend_mm), (Some(10.0), None));
             assert!(near(pose.position_mm, [100.0, 50.0, 250.0], 1e-12));
             let abc = rpy_to_abc_deg(pose.rpy_deg);
@@ -259,9 +259,13 @@ fn export_writes_every_step_type_it_can() {
         "all",
         vec![
             Step::Home { speed_fraction: None },
-            Step::MoveJoints { joints_deg: start.iter().map(|v| v.to_degrees()).collect(), speed_fraction: None },
-            Step::MoveL { pose: at(10.0, 0.0), speed_mm_s: Some(50.0), blend_mm: Some(2.0) },
-            Step::MoveL { pose: at(10.0, -10.0), speed_mm_s: Some(50.0), blend_mm: None },
+            Step::MoveJoints {
+                joints_deg: start.iter().map(|v| v.to_degrees()).collect(),
+                speed_fraction: None,
+                duration_s: None,
+            },
+            Step::MoveL { pose: at(10.0, 0.0), speed_mm_s: Some(50.0), blend_mm: Some(2.0), duration_s: None },
+            Step::MoveL { pose: at(10.0, -10.0), speed_mm_s: Some(50.0), blend_mm: None, duration_s: None },
             Step::Dwell { seconds: 0.5 },
             Step::SetOutput { output: 2, on: true },
             Step::Pause { optional: true },
@@ -472,11 +476,11 @@ fn build(moves: &[Move], start: PoseMm) -> Program {
         let step = match m {
             Move::Line { d, abc, speed, blend } => {
                 let p = [at.position_mm[0] + d[0], at.position_mm[1] + d[1], at.position_mm[2] + d[2]];
-                Step::MoveL { pose: pose(p, *abc), speed_mm_s: Some(*speed), blend_mm: *blend }
+                Step::MoveL { pose: pose(p, *abc), speed_mm_s: Some(*speed), blend_mm: *blend, duration_s: None }
             }
             Move::Rapid { d, abc } => {
                 let p = [at.position_mm[0] + d[0], at.position_mm[1] + d[1], at.position_mm[2] + d[2]];
-                Step::MovePose { pose: pose(p, *abc), speed_fraction: None }
+                Step::MovePose { pose: pose(p, *abc), speed_fraction: None, duration_s: None }
             }
             Move::Arc { plane, r, phase, sweep, abc, speed } => {
                 let plane = arc::Plane::ALL[*plane];
@@ -527,8 +531,8 @@ fn assert_same_path(a: &Program, b: &Program, tol: f64) {
         };
         let ok = match (x.step.clone(), y.step.clone()) {
             (
-                Step::MoveL { pose: p, speed_mm_s: s, blend_mm: bl },
-                Step::MoveL { pose: q, speed_mm_s: t, blend_mm: bm },
+                Step::MoveL { pose: p, speed_mm_s: s, blend_mm: bl, .. },
+                Step::MoveL { pose: q, speed_mm_s: t, blend_mm: bm, .. },
             ) => same_pose(p, q) && same_speed(s, t) && same_speed(bl, bm),
             (Step::MovePose { pose: p, .. }, Step::MovePose { pose: q, .. }) => same_pose(p, q),
             (Step::MoveC { via_mm: v, pose: p, speed_mm_s: s }, Step::MoveC { via_mm: w, pose: q, speed_mm_s: t }) => {

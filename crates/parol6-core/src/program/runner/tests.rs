@@ -25,12 +25,16 @@ fn square(model: &RobotModel) -> (Vec<f64>, Vec<Step>) {
         p
     };
     let steps = vec![
-        Step::MoveJoints { joints_deg: q.iter().map(|v| v.to_degrees()).collect(), speed_fraction: Some(1.0) },
-        Step::MoveL { pose: at(40.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None },
+        Step::MoveJoints {
+            joints_deg: q.iter().map(|v| v.to_degrees()).collect(),
+            speed_fraction: Some(1.0),
+            duration_s: None,
+        },
+        Step::MoveL { pose: at(40.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None, duration_s: None },
         Step::SetOutput { output: 1, on: true },
-        Step::MoveL { pose: at(40.0, 40.0), speed_mm_s: Some(100.0), blend_mm: None },
+        Step::MoveL { pose: at(40.0, 40.0), speed_mm_s: Some(100.0), blend_mm: None, duration_s: None },
         Step::Dwell { seconds: 0.1 },
-        Step::MoveL { pose: at(0.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None },
+        Step::MoveL { pose: at(0.0, 0.0), speed_mm_s: Some(100.0), blend_mm: None, duration_s: None },
     ];
     (q, steps)
 }
@@ -151,7 +155,7 @@ fn a_program_that_fails_pre_flight_never_moves() {
     let (q, mut steps) = square(&model);
     let mut far = PoseMm::from_isometry(&model.tcp_isometry(&q));
     far.position_mm[2] += 900.0;
-    steps.insert(2, Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None });
+    steps.insert(2, Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None, duration_s: None });
     let before = sim.state().commands_applied;
     let done = ProgramRunner::start(sim.clone(), model, Program::from_steps("bad", steps), RunOptions::default())
         .expect("thread")

@@ -1,0 +1,173 @@
+use super::*;
+
+const EXAMPLE: &str = "Begin()\nDelay(1)\nMoveJoint(90,-80,170,0,60,180,t=2)\n\nMoveJoint(90, -85, 175, 0, 55, 180, v=50, a=30, poly)\n\
+MovePose(30,263.6,292.1,90,-50,0)\nMoveCart(30,263.6,272.1,90,-50,0,t=1.5,trap,speed)\nMoveCartRelTRF(0,0,-10,0,0,15)\n\
+Output(1,HIGH)\nGripper(120,60,400)\nDummy()\r\nMoveJoint(90,-80,170,0,60,180,v=70)\nLoop()\n";
+
+#[test]
+fn every_command_maps_to_its_step_with_the_file_line() {
+    let p = parse_commander(EXAMPLE).expect("valid");
+    assert!(p.looping);
+    assert_eq!(p.speed.joint_fraction, COMMANDER_JOINT_FRACTION);
+    let lines: Vec<usize> = p.steps.iter().map(|s| s.line).collect();
+    assert_eq!(lines, vec![2, 3, 5, 6, 7, 8, 9, 10, 11, 12]);
+    let steps: Vec<&Step> = p.steps.iter().map(|s| &s.step).collect();
+    assert_eq!(*steps[0], Step::Dwell { seconds: 1.0 });
+    assert_eq!(
+        *steps[1],
+        Step::MoveJoints {
+            joints_deg: vec![90.0, -80.0, 170.0, 0.0, 60.0, 180.0],
+            speed_fraction: None,
+            duration_s: Some(2.0)
+        }
+    );
+    assert!(
+        matches!(steps[2], Step::MoveJoints { speed_fraction: Some(f), duration_s: None, .. } if (*f - 0.5).abs() < 1e-12)
+    );
+    match steps[3] {
+        Step::MovePose { pose, speed_fraction: None, duration_s: None } => {
+            // official (90, -50, 0) = Rx(0)·Ry(-50)·Rz(90)
+            let want = crate::angles::rotation_from_abc_deg([90.0, -50.0, 0.0]);
+            let got = pose.isometry().rotation.to_rotation_matrix();
+            assert!((want.matrix() - got.matrix()).norm() < 1e-9);
+            assert_eq!(pose.position_mm, [30.0, 263.6, 292.1]);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(steps[4], Step::MoveL { duration_s: Some(d), speed_mm_s: None, blend_mm: None, .. } if *d == 1.5));
+    assert_eq!(
+        *steps[5],
+        Step::MoveRelTool {
+            offset_mm: [0.0, 0.0, -10.0],
+            rotation_deg: [0.0, 0.0, 15.0],
+            speed_mm_s: None,
+            duration_s: Some(COMMANDER_CART_DURATION_S)
+        }
+    );
+    assert_eq!(*steps[6], Step::SetOutput { output: 1, on: true });
+    assert_eq!(
+        *steps[7],
+        Step::Gripper { action: GripperAction::Position, position: Some(120), speed: Some(60), current_ma: Some(400) }
+    );
+    assert_eq!(*steps[8], Step::Dwell { seconds: 0.0 });
+    // a lone v= is the commander's default, as it runs it
+    assert!(matches!(steps[9], Step::MoveJoints { speed_fraction: None, duration_s: None, .. }));
+}
+
+#[test]
+fn errors_name_the_line_and_command() {
+    let wrap = |body: &str| format!("Begin()\n{body}\nEnd()\n");
+    let cases = [
+        (wrap("MoveJoint(1,2,3)"), "line 2, MoveJoint: needs 6 numbers, got 3"),
+        (wrap("MoveJoint(1,2,3,4,5,x)"), "line 2, MoveJoint: \"x\" is not a number (written like -12.5)"),
+        (wrap("MoveJoint(1,2,3,4,5,6,v=150,a=10)"), "line 2, MoveJoint: v= is a percentage 0–100, got 150"),
+        (wrap("MoveCart(1,2,3,4,5,6,t=0)"), "line 2, MoveCart: t= is a time above 0 s, got 0"),
+        (
+            wrap("MoveCart(1,2,3,4,5,6,trap,poly)"),
+            "line 2, MoveCart: option \"poly\" repeats or conflicts with an earlier one",
+        ),
+        (
+            wrap("MovePose(1,2,3,4,5,6,fast)"),
+            "line 2, MovePose: \"fast\" is not a move option (v=%, a=%, t=s, trap or poly, speed) or comes before a number",
+        ),
+        (wrap("Delay(0.01)"), "line 2, Delay: the delay must be longer than 0.01 s, got 0.01"),
+        (wrap("Output(3,HIGH)"), "line 2, Output: the output is 1 or 2, got \"3\""),
+        (wrap("Output(1,ON)"), "line 2, Output: the level is HIGH or LOW, got \"ON\""),
+        (wrap("Gripper(300,10,500)"), "line 2, Gripper: the position is a whole number 0–255, got 300"),
+        (
+            wrap("Gripper_cal()"),
+            "line 2, Gripper_cal: gripper calibration has no program step here; calibrate from the gripper panel",
+        ),
+        (wrap("Home()"), "line 2, Home: the commander lists this command but does not implement it"),
+        (wrap("Jump(1)"), "line 2, Jump: is not a PAROL commander command"),
+        (wrap("Delay 1"), "line 2, Delay: a command is written Name(arguments)"),
+        (wrap("Dummy(1)"), "line 2, Dummy: Dummy() takes no arguments"),
+        ("Delay(1)\nEnd()\n".into(), "line 1, Delay: the program must start with Begin()"),
+        ("Begin()\nDelay(1)\n".into(), "line 2, Delay: the program must end with End() or Loop()"),
+        ("Begin()\n".into(), "line 1, Begin: the program must end with End() or Loop()"),
+        ("Begin()\nEnd()\nDelay(1)\nEnd()".into(), "line 2, End: End() must be the last command"),
+        ("\n \n".into(), "the program is empty: it needs Begin() … End()"),
+    ];
+    for (text, want) in cases {
+        assert_eq!(parse_commander(&text).expect_err(&text).to_string(), want, "{text}");
+    }
+}
+
+#[test]
+fn export_writes_what_has_an_equivalent_and_reads_back_the_same() {
+    let p = parse_commander(EXAMPLE).expect("valid");
+    let text = program_to_commander(&p).expect("writes");
+    assert!(
+        text.starts_with(
+            "Begin()\nDelay(1)\nMoveJoint(90,-80,170,0,60,180,t=2)\nMoveJoint(90,-85,175,0,55,180,v=50,a=50)\n"
+        ),
+        "{text}"
+    );
+    assert!(text.ends_with("Dummy()\nMoveJoint(90,-80,170,0,60,180)\nLoop()\n"), "{text}");
+    let back = parse_commander(&text).expect("reads its own output");
+    assert_eq!(back.steps.len(), p.steps.len());
+    for (a, b) in p.steps.iter().zip(&back.steps) {
+        match (&a.step, &b.step) {
+            (Step::MovePose { pose: x, .. }, Step::MovePose { pose: y, .. })
+            | (Step::MoveL { pose: x, .. }, Step::MoveL { pose: y, .. }) => {
+                assert!(x.isometry().rotation.angle_to(&y.isometry().rotation) < 1e-9);
+                assert_eq!(x.position_mm, y.position_mm);
+            }
+            (x, y) => assert_eq!(x, y),
+        }
+    }
+    let mut p2 = p.clone();
+    p2.steps[4].step = Step::MoveL {
+        pose: PoseMm { position_mm: [0.0; 3], rpy_deg: [0.0; 3] },
+        speed_mm_s: Some(50.0),
+        blend_mm: None,
+        duration_s: None,
+    };
+    assert_eq!(
+        program_to_commander(&p2).expect_err("no t").to_string(),
+        "step 5 (line 7, move_l): the commander times Cartesian moves only by t= (3.6 s without it); give the step a duration_s"
+    );
+    p2.steps[4].step = Step::Home { speed_fraction: None };
+    assert_eq!(
+        program_to_commander(&p2).expect_err("home").to_string(),
+        "step 5 (line 7, home): has no PAROL commander equivalent"
+    );
+}
+
+proptest::proptest! {
+    #[test]
+    fn parsing_never_panics(text in "[A-Za-z_(),.=0-9 \\n-]{0,200}") {
+        let _ = parse_commander(&text);
+    }
+
+    #[test]
+    fn parsing_any_text_never_panics(body in "\\PC{0,100}") {
+        let _ = parse_commander(&format!("Begin()\n{body}\nEnd()"));
+    }
+
+    /// Joint moves written out read back to the same steps.
+    #[test]
+    fn joint_moves_round_trip(
+        moves in proptest::collection::vec((proptest::collection::vec(-180.0f64..180.0, 6), 0.01f64..1.0, proptest::option::of(0.1f64..10.0)), 1..6)
+    ) {
+        let steps = moves.into_iter().map(|(joints_deg, f, d)| Step::MoveJoints { joints_deg, speed_fraction: Some(f), duration_s: d });
+        let p = Program::from_steps("p", steps.collect());
+        let back = parse_commander(&program_to_commander(&p).expect("writes")).expect("reads");
+        for (a, b) in p.steps.iter().zip(&back.steps) {
+            match (&a.step, &b.step) {
+                (Step::MoveJoints { joints_deg: ja, speed_fraction: fa, duration_s: Some(da) }, Step::MoveJoints { joints_deg: jb, duration_s: Some(db), speed_fraction: fb }) => {
+                    proptest::prop_assert_eq!(ja, jb);
+                    proptest::prop_assert_eq!(da, db);
+                    proptest::prop_assert!(fa.is_some() && fb.is_none());
+                }
+                (x, y) => {
+                    if let (Step::MoveJoints { speed_fraction: Some(fa), .. }, Step::MoveJoints { speed_fraction: Some(fb), .. }) = (x, y) {
+                        proptest::prop_assert!((fa - fb).abs() < 1e-12);
+                    } else {
+                        proptest::prop_assert!(false, "{x:?} vs {y:?}");
+                    }
+                }
+            }
+        }
+    }
+}

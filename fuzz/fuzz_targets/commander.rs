@@ -1,0 +1,8 @@
+//! Fuzz target `commander`: arbitrary bytes to the program exchange format's reader and writer.
+//! Body: `parol6_tests::fuzz_bodies::commander` (replayed on stable by `tests/fuzz_corpora.rs`).
+//! Run with `cargo +nightly fuzz run commander` from the repository root.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| parol6_tests::fuzz_bodies::commander(data));

@@ -1,0 +1,8 @@
+//! Fuzz target `csv_table`: arbitrary bytes to the program exchange format's reader and writer.
+//! Body: `parol6_tests::fuzz_bodies::csv_table` (replayed on stable by `tests/fuzz_corpora.rs`).
+//! Run with `cargo +nightly fuzz run csv_table` from the repository root.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| parol6_tests::fuzz_bodies::csv_table(data));

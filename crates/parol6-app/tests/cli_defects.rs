@@ -144,11 +144,15 @@ fn huge_numbers_panicked_and_nonsense_was_accepted() {
         // The option's --help states the same range (clap writes "a..=b" for integers).
         let sub: Vec<&str> = args.iter().copied().take_while(|a| !a.starts_with('-') && !a.ends_with(".png")).collect();
         let help = run(&[sub.as_slice(), &["--help"]].concat());
-        let help_line = help
-            .stdout
-            .lines()
-            .find(|line| line.trim_start().starts_with(&format!("{option} ")))
+        // the option's line and its description (clap moves a long description to the lines
+        // below the option when the option column is wide)
+        let lines: Vec<&str> = help.stdout.lines().collect();
+        let at = lines
+            .iter()
+            .position(|line| line.trim_start().starts_with(&format!("{option} ")))
             .unwrap_or_else(|| panic!("{option} in the help of {sub:?}: {}", help.stdout));
+        let more = lines[at + 1..].iter().take_while(|l| !l.trim_start().starts_with('-') && !l.trim().is_empty());
+        let help_line = std::iter::once(lines[at]).chain(more.copied()).collect::<Vec<_>>().join(" ");
         let hi = range.split_once("..=").or_else(|| range.split_once('…')).map_or(*range, |(_, hi)| hi);
         let digits = |s: &str| s.chars().filter(char::is_ascii_digit).collect::<String>();
         let help_digits = digits(&help_line.replace(' ', ""));

@@ -1,5 +1,5 @@
-//! `parol6 record`, `parol6 mcap info|csv` and `hw jog|move --record` through the built
-//! binary: what they write, and the exit status and message of bad input (2) and I/O
+//! `parol6 record`, `parol6 mcap info|csv`, `hw jog|move --record` and `program convert
+//! REC.mcap OUT.gcode` through the built binary: what they write, and the exit status and message of bad input (2) and I/O
 //! failures (1).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
@@ -51,6 +51,26 @@ fn record_the_simulation_then_info_and_csv() {
     assert!(seqs.windows(2).all(|w| w[1] == w[0] + 1));
     let _ = std::fs::remove_file(&file);
     let _ = std::fs::remove_file(&csv);
+}
+
+#[test]
+fn a_recorded_motion_converts_to_gcode_that_reads_back() {
+    // --demo moves the simulated arm: the recording has a TCP path to write as G1 lines
+    let file = temp("path.mcap");
+    run(&["record", "--seconds", "1", "-o", &s(&file), "--demo"]).json("record");
+    let gcode = temp("path.gcode");
+    let out = run(&["program", "convert", &s(&file), &s(&gcode)]).json("program convert");
+    let lines = out["g1_lines"].as_u64().unwrap();
+    assert!(lines >= 1, "{out}");
+    let text = std::fs::read_to_string(&gcode).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("G1")).count() as u64, lines);
+    // the G-code reads back as a program
+    let json = temp("path.json");
+    let back = run(&["program", "convert", &s(&gcode), &s(&json)]).json("G-code back to JSON");
+    assert!(back["steps"].as_u64().unwrap() >= lines, "{back}");
+    for f in [&file, &gcode, &json] {
+        let _ = std::fs::remove_file(f);
+    }
 }
 
 #[test]

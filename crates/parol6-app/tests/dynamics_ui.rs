@@ -5,41 +5,14 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 mod ui_support;
 
 use eframe::egui;
-use egui_kittest::Harness;
+
 use egui_kittest::kittest::Queryable;
-use ui_support::app_harness;
-
-use parol6_app::app::Parol6App;
-
-fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
-    let deadline = Instant::now() + Duration::from_secs_f64(s);
-    loop {
-        h.run_steps(1);
-        if f(h) {
-            return;
-        }
-        assert!(Instant::now() < deadline, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(15));
-    }
-}
-
-fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
-    h.query_all_by_label_contains(text).next().is_some()
-}
-
-fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
-    h.get_by_label(name).click();
-    h.run_steps(1);
-    h.get_by_label(name).type_text(text);
-    h.run_steps(1);
-    h.key_press(egui::Key::Enter);
-    h.run_steps(2);
-}
+use ui_support::{app_harness, has_label, type_into, until};
 
 #[test]
 fn the_dynamics_panel_shows_program_torques_and_runs_a_torque_on_the_simulation() {

@@ -5,28 +5,14 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::{Duration, Instant};
-
 mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::app_harness;
+use ui_support::{app_harness, until};
 
 use parol6_app::app::Parol6App;
-
-fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
-    let deadline = Instant::now() + Duration::from_secs_f64(s);
-    loop {
-        h.run_steps(1);
-        if f(h) {
-            return;
-        }
-        assert!(Instant::now() < deadline, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(15));
-    }
-}
 
 fn count(h: &Harness<'_, Parol6App>, text: &str) -> usize {
     h.query_all_by_label_contains(text).count()

@@ -10,7 +10,7 @@ mod ui_support;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::app_harness;
+use ui_support::{app_harness, type_into};
 
 use parol6_app::app::Parol6App;
 use parol6_core::angles::{AngleConvention, rpy_to_abc_deg};
@@ -24,16 +24,6 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 
 fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
     h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
-}
-
-/// Types `text` into the entry called `name` and presses Enter.
-fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
-    h.get_by_label(name).click();
-    h.run_steps(1);
-    h.get_by_label(name).type_text(text);
-    h.run_steps(1);
-    h.key_press(egui::Key::Enter);
-    h.run_steps(2);
 }
 
 fn open_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {

@@ -5,30 +5,17 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::app_harness;
+use ui_support::{app_harness, has_label, until};
 
 use parol6_app::app::Parol6App;
 use parol6_core::motion::PlannerMode;
-
-/// Runs frames until `f` holds (at most `s` seconds of wall time).
-fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
-    let deadline = Instant::now() + Duration::from_secs_f64(s);
-    loop {
-        h.run_steps(1);
-        if f(h) {
-            return;
-        }
-        assert!(Instant::now() < deadline, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(15));
-    }
-}
 
 /// Types `path` into the program panel's file field.
 fn type_path(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
@@ -36,10 +23,6 @@ fn type_path(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
     h.run_steps(1);
     h.get_by_label("Program file").type_text(&path.display().to_string());
     h.run_steps(1);
-}
-
-fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
-    h.query_by_label_contains(text).is_some()
 }
 
 #[test]

@@ -84,8 +84,9 @@ pub enum ProgramCommand {
         series: bool,
     },
     /// Convert a program between formats, chosen by the extensions: .json (native),
-    /// .gcode/.nc, .csv point table, .txt commander program. A step the target format cannot
-    /// hold is an error naming it; nothing is written then.
+    /// .gcode/.nc, .csv point table, .txt commander program; or a recording (.mcap) into
+    /// G-code of its TCP path. A step the target format cannot hold is an error naming it;
+    /// nothing is written then.
     Convert {
         /// The program to read.
         input: PathBuf,
@@ -174,6 +175,9 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             super::program_torques::run(file, &model, &program, &start, *json, *series)
         }
         ProgramCommand::Convert { input, output, start_deg } => {
+            if is_recording(input) {
+                return recording_to_gcode_file(input, output);
+            }
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
             let program = load(input, &model, &start)?;
@@ -187,6 +191,34 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }))
         }
     }
+}
+
+fn is_recording(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+}
+
+/// `program convert REC.mcap OUT.gcode`: the recorded TCP path (`/tcp_pose`) as G1 lines
+/// within 0.1 mm / 0.5° of it.
+fn recording_to_gcode_file(input: &Path, output: &Path) -> CliResult {
+    use parol6_core::program::gcode::{PathTolerance, recording_to_gcode};
+    let ext = output.extension().and_then(|e| e.to_str()).unwrap_or_default().to_ascii_lowercase();
+    if !["gcode", "nc", "ngc"].contains(&ext.as_str()) {
+        return Err(CliError::usage(format!(
+            "{}: a recording converts to G-code only (.gcode, .nc, .ngc)",
+            output.display()
+        )));
+    }
+    let bytes = std::fs::read(input).map_err(|e| CliError::runtime(format!("{}: {e}", input.display())))?;
+    let text = recording_to_gcode(&bytes, &PathTolerance::default())
+        .map_err(|e| CliError::usage(format!("{}: {e}", input.display())))?;
+    let lines = text.lines().filter(|l| l.starts_with("G1")).count();
+    std::fs::write(output, &text).map_err(|e| CliError::runtime(format!("{}: {e}", output.display())))?;
+    print_json(&serde_json::json!({
+        "input": input.display().to_string(),
+        "output": output.display().to_string(),
+        "g1_lines": lines,
+        "tolerance_mm": PathTolerance::default().position_mm,
+    }))
 }
 
 /// `--start-deg`, or the standby / home pose.

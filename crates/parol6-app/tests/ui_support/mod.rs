@@ -3,10 +3,11 @@
 
 #![allow(dead_code)]
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use eframe::egui;
 use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 
 use parol6_app::app::{LaunchOptions, Parol6App};
 use parol6_core::RobotModel;
@@ -31,4 +32,32 @@ pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
         .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
     h.run_steps(3);
     h
+}
+
+/// Runs frames until `f` holds (at most `s` seconds of wall time); fails naming `what`.
+pub fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Harness<'_, Parol6App>) -> bool) {
+    let deadline = Instant::now() + Duration::from_secs_f64(s);
+    loop {
+        h.run_steps(1);
+        if f(h) {
+            return;
+        }
+        assert!(Instant::now() < deadline, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+/// True when some widget's label contains `text`.
+pub fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
+    h.query_all_by_label_contains(text).next().is_some()
+}
+
+/// Types `text` into the entry called `name` and presses Enter.
+pub fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
+    h.get_by_label(name).click();
+    h.run_steps(1);
+    h.get_by_label(name).type_text(text);
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
 }

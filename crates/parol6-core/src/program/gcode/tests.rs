@@ -536,7 +536,9 @@ fn assert_same_path(a: &Program, b: &Program, tol: f64) {
             ) => same_pose(p, q) && same_speed(s, t) && same_speed(bl, bm),
             (Step::MovePose { pose: p, .. }, Step::MovePose { pose: q, .. }) => same_pose(p, q),
             (Step::MoveC { via_mm: v, pose: p, speed_mm_s: s }, Step::MoveC { via_mm: w, pose: q, speed_mm_s: t }) => {
-                near(v, w, tol) && same_pose(p, q) && same_speed(s, t)
+                // the via point is not in the G-code: it is rebuilt from the rounded centre and end,
+                // so it may move by a few nm more than the written numbers
+                near(v, w, 10.0 * tol) && same_pose(p, q) && same_speed(s, t)
             }
             (
                 Step::MoveCircle { center_mm: c, normal: n, angle_deg: g, speed_mm_s: s },

@@ -26,8 +26,9 @@ fn inputs(dir: &Path) -> Vec<PathBuf> {
 
 fn replay(kind: &str) -> usize {
     let mut total = 0;
-    for (target, body) in TARGETS {
-        for file in inputs(&fuzz_dir().join(kind).join(target)) {
+    for t in TARGETS {
+        let (target, body) = (t.name, t.body);
+        for file in inputs(&fuzz_dir().join(kind).join(t.corpus)) {
             let data = std::fs::read(&file).unwrap_or_else(|e| panic!("cannot read {}: {e}", file.display()));
             let outcome = std::panic::catch_unwind(|| body(&data));
             assert!(outcome.is_ok(), "fuzz target {target} fails on {}", file.display());
@@ -40,10 +41,11 @@ fn replay(kind: &str) -> usize {
 
 #[test]
 fn every_target_has_seeds_and_a_minimised_corpus() {
-    for (target, _) in TARGETS {
+    for t in TARGETS {
+        let (target, corpus) = (t.name, t.corpus);
         assert!(fuzz_dir().join("fuzz_targets").join(format!("{target}.rs")).is_file(), "{target}: no fuzz target");
-        assert!(!inputs(&fuzz_dir().join("seeds").join(target)).is_empty(), "{target}: no seeds");
-        assert!(!inputs(&fuzz_dir().join("corpus-min").join(target)).is_empty(), "{target}: no minimised corpus");
+        assert!(!inputs(&fuzz_dir().join("seeds").join(corpus)).is_empty(), "{target}: no seeds");
+        assert!(!inputs(&fuzz_dir().join("corpus-min").join(corpus)).is_empty(), "{target}: no minimised corpus");
     }
 }
 

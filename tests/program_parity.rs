@@ -174,3 +174,37 @@ fn an_e_stop_halts_a_program_on_the_robot_with_the_reason() {
         other => panic!("expected a refusal, got {other:?}"),
     }
 }
+
+/// Regression (found by the GUI soak): a looping program on the robot failed at the start of
+/// its second pass with "the arm is moving", because the measured joints still lagged the end
+/// of the first pass. The runner now waits for the arm to rest between passes.
+#[test]
+fn a_looping_program_on_the_robot_runs_pass_after_pass() {
+    let model = RobotModel::parol6();
+    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
+    let cfg = SessionConfig { status_timeout: Duration::from_millis(500), ..SessionConfig::default() };
+    let session = Arc::new(Session::open(emu.path(), cfg).expect("session"));
+    session.wait_until(LONG, |s| s.status_frames >= 10).expect("status");
+    std::thread::sleep(Duration::from_millis(100));
+    let standby: Vec<f64> = joints_steps_to_rad(&STANDBY_STEPS).iter().map(|r| r.to_degrees()).collect();
+    let mut away = standby.clone();
+    away[0] += 20.0;
+    let mut program = Program::from_steps(
+        "loop",
+        vec![
+            Step::MoveJoints { joints_deg: away, speed_fraction: Some(1.0), duration_s: None },
+            Step::MoveJoints { joints_deg: standby, speed_fraction: Some(1.0), duration_s: None },
+        ],
+    );
+    program.looping = true;
+    let runner = ProgramRunner::start(session.clone(), model, program, RunOptions::default()).expect("thread");
+    let end = std::time::Instant::now() + Duration::from_secs(30);
+    while runner.progress().passes < 3 && !runner.is_finished() && std::time::Instant::now() < end {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let p = runner.progress();
+    runner.control(parol6_core::program::runner::RunnerControl::Stop);
+    let last = runner.join();
+    assert!(p.passes >= 3, "only {} passes; state {:?}", p.passes, p.state);
+    assert_eq!(last.state, RunState::Stopped, "{last:?}");
+}

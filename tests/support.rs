@@ -1,7 +1,8 @@
 //! Helpers shared by the cross-crate integration tests: locating the reference pack
 //! `../shared/parol6` beside the repository, the bodies of the fuzz targets ([`fuzz_bodies`]),
-//! shared by `fuzz/` and the stable corpus replay test, and a fault-injecting serial peer
-//! ([`fault_peer`]) for the adversarial session tests.
+//! shared by `fuzz/` and the stable corpus replay test, a fault-injecting serial peer
+//! ([`fault_peer`]) for the adversarial session tests, and a watch on the hypervisor's steal
+//! time ([`steal_watch`]) for the timing tests.
 
 pub mod fuzz_bodies;
 
@@ -10,6 +11,9 @@ use std::path::PathBuf;
 #[cfg(unix)]
 #[path = "support/fault_peer.rs"]
 pub mod fault_peer;
+
+#[path = "support/steal_watch.rs"]
+pub mod steal_watch;
 
 /// The reference pack folder (`<repo>/../shared/parol6`), or `None` after printing a clear
 /// skip notice when it is absent. CI always has it.

@@ -32,6 +32,7 @@ mod layout;
 mod link;
 mod replay;
 mod settings_store;
+mod soak;
 mod telemetry;
 mod test_hooks;
 #[cfg(test)]
@@ -128,6 +129,7 @@ pub struct Parol6App {
     repaint_until: Instant,
     test: Option<TestRunner>,
     sweep: Option<SweepRun>,
+    soak: Option<soak::SoakRun>,
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
@@ -199,6 +201,10 @@ impl Parol6App {
             },
             sweep: match opts.test_script {
                 Some(TestScript::Sweep(seconds)) => Some(SweepRun { seconds, ..Default::default() }),
+                _ => None,
+            },
+            soak: match &opts.test_script {
+                Some(TestScript::Soak(seconds, program)) => Some(soak::SoakRun::new(*seconds, program.clone())),
                 _ => None,
             },
             exit_code: Arc::new(AtomicI32::new(0)),
@@ -436,6 +442,7 @@ impl Parol6App {
             self.program_progress = Some(p);
         }
         self.sweep_step(&ctx, t0, robot.moving);
+        self.soak_step(&ctx, t0);
 
         self.keyboard(&ctx);
         self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);
@@ -535,7 +542,7 @@ impl Parol6App {
             || replay_playing
             || self.replay_loading.is_some()
             || Instant::now() < self.repaint_until;
-        if busy || self.test.is_some() || self.sweep.is_some() {
+        if busy || self.test.is_some() || self.sweep.is_some() || self.soak.is_some() {
             ctx.request_repaint();
         } else if self.hw.is_some() {
             ctx.request_repaint_after(LINK_REPAINT);

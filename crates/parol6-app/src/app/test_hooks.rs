@@ -1,4 +1,5 @@
-//! Test hooks driven by `PAROL6_TEST_SCRIPT`: the GUI smoke test and the window sweep benchmark.
+//! Test hooks driven by `PAROL6_TEST_SCRIPT`: the GUI smoke test and the window sweep benchmark
+//! (the soak run is in `app::soak`).
 
 use eframe::egui;
 use std::path::{Path, PathBuf};
@@ -21,6 +22,9 @@ pub enum TestScript {
     /// as JSON (`fps_median`, `frame_ms_p50`, `frame_ms_p99`, `ui_cpu_ms_p50`, `first_frame_ms`,
     /// `rss_mb_peak`) and exit.
     Sweep(f64),
+    /// `soak:SECONDS[:PROGRAM]`: loop a built-in program for that long, sampling memory, the
+    /// link and the recorder (see `app::soak`), print a summary and exit (1 when not ok).
+    Soak(f64, Option<String>),
 }
 
 impl TestScript {
@@ -34,8 +38,19 @@ impl TestScript {
                     Ok(v) if v.is_finite() && v > 0.0 => Ok(Some(TestScript::Sweep(v))),
                     _ => anyhow::bail!("PAROL6_TEST_SCRIPT: sweep needs seconds > 0, got \"{secs}\""),
                 },
+                Some(("soak", rest)) => {
+                    let (secs, program) = match rest.split_once(':') {
+                        Some((secs, name)) if !name.is_empty() => (secs, Some(name.to_string())),
+                        _ => (rest, None),
+                    };
+                    match secs.parse::<f64>() {
+                        Ok(v) if v.is_finite() && v > 0.0 => Ok(Some(TestScript::Soak(v, program))),
+                        _ => anyhow::bail!("PAROL6_TEST_SCRIPT: soak needs seconds > 0, got \"{secs}\""),
+                    }
+                }
                 _ => anyhow::bail!(
-                    "PAROL6_TEST_SCRIPT: unknown script \"{s}\" (expected smoke:OUT.png or sweep:SECONDS)"
+                    "PAROL6_TEST_SCRIPT: unknown script \"{s}\" (expected smoke:OUT.png, sweep:SECONDS or \
+                     soak:SECONDS[:PROGRAM])"
                 ),
             },
         }

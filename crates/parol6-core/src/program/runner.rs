@@ -34,6 +34,8 @@ use crate::motion::{MotionCommand, PlannerMode, RobotBackend, RobotState};
 /// an output switches at most this late. At 20 ms the runner uses under 1 % of a core
 /// (`parol6 bench motion`); at 2 ms it used about 5 %.
 pub const POLL: Duration = Duration::from_millis(20);
+/// Longest wait for the arm to come to rest between the passes of a looping run.
+pub const SETTLE_BETWEEN_PASSES: Duration = Duration::from_secs(10);
 /// The time-left readout is published when it changed by this much, s.
 const PROGRESS_RESOLUTION_S: f64 = 0.1;
 /// At most this many steps are scheduled ahead of the motion clock.
@@ -283,7 +285,10 @@ impl Run<'_> {
         let mut outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
         while (opts.looping || program.looping) && outcome.is_ok() && !program.steps.is_empty() {
             self.publish(|p| p.passes += 1);
-            outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
+            outcome = self
+                .settle_between_passes()
+                .and_then(|()| self.prepare(model, program, opts))
+                .and_then(|compiled| self.execute(&compiled));
         }
         // a finished run ends when its last step was scheduled to end (not when this thread
         // noticed); an interrupted one when it stopped
@@ -310,6 +315,42 @@ impl Run<'_> {
                 p.steps_done = p.steps;
             }
         });
+    }
+
+    /// Between the passes of a looping run: waits until the arm is at rest (a robot's measured
+    /// joints lag the commanded ones and settle after the last step ends), at most
+    /// [`SETTLE_BETWEEN_PASSES`]; STOP, an abort or a blocked backend end the wait, PAUSE
+    /// pauses it.
+    fn settle_between_passes(&mut self) -> Result<(), Halt> {
+        let started = std::time::Instant::now();
+        loop {
+            let s = self.backend.state();
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted between passes: {b}")));
+            }
+            if !s.moving && s.mode == PlannerMode::Hold {
+                return Ok(());
+            }
+            if started.elapsed() > SETTLE_BETWEEN_PASSES {
+                return Err(Halt::Failed(format!(
+                    "the arm did not come to rest within {:.0} s after the pass",
+                    SETTLE_BETWEEN_PASSES.as_secs_f64()
+                )));
+            }
+            match self.poll_control() {
+                Some(RunnerControl::Stop) => {
+                    let _ = self.backend.send(MotionCommand::Stop);
+                    return Err(Halt::Stopped);
+                }
+                Some(RunnerControl::Pause) => self.idle_until_control()?,
+                Some(RunnerControl::Step) => self.single = true,
+                Some(RunnerControl::Resume) | None => {}
+            }
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
+            }
+            std::thread::sleep(POLL);
+        }
     }
 
     /// Refuses to start unless the backend accepts motion, is homed, holds still and the

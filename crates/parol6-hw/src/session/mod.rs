@@ -14,7 +14,7 @@
 //!   the joint's API speed limit × period of the previous target;
 //! - measured positions that jump impossibly are rejected and counted, never used; five in a
 //!   row, or commanded and measured apart by more than 2000 steps for 0.5 s, stop motion;
-//! - no valid status for 100 ms → link loss: motion is stopped (IDLE) and the port re-opened
+//! - no valid status for 80 ms (`SessionConfig::status_timeout`) → link loss: motion is stopped (IDLE) and the port re-opened
 //!   every 2 s; nothing answering within 3 s of opening → [`LinkState::NoAnswer`];
 //! - E-stop pressed → motion stopped, DISABLE sent every period; after release motion needs
 //!   an explicit [`Session::enable`];

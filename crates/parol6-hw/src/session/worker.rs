@@ -191,9 +191,11 @@ impl Worker {
             self.read_available();
             let now = Instant::now();
             self.record_tick(now);
-            if now.saturating_duration_since(next_tick) > period {
-                // This thread was stalled: the board has not had a fair chance to answer the
-                // frames written before the stall, so they do not count toward link loss.
+            if now.saturating_duration_since(next_tick) > self.cfg.status_timeout / 2 {
+                // This thread was stalled for half the timeout (a frozen host: the board, when
+                // emulated, was frozen too): the frames written before the stall do not count
+                // toward link loss. A shorter delay (a busy core) changes nothing: the board's
+                // answers wait in the port's buffer and were read just above.
                 if let Some(t) = self.first_unanswered_write.as_mut() {
                     *t = now;
                 }

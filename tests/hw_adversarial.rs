@@ -13,8 +13,8 @@
 //!   within 100 ms of the last valid status;
 //! - nothing panics (a panic hook counts panics in every thread; threads are joined).
 //!
-//! `adversarial_session_keeps_its_invariants` corrupts ≥ 20 000 status frames (about a
-//! minute); the ignored `..._long` version ≥ 100 000.
+//! `adversarial_session_keeps_its_invariants` corrupts ≥ 33 000 status frames and checks
+//! ≥ 100 000 command frames (about 50 s); the ignored `..._long` version corrupts ≥ 100 000.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 #![cfg(unix)]
@@ -48,6 +48,8 @@ const LAG_LOOKBACK: Duration = Duration::from_millis(600);
 const LINK_REPORT_MAX: Duration = Duration::from_millis(100);
 /// Stalls at least this much longer than the status timeout must be reported as link loss.
 const STALL_MARGIN: Duration = Duration::from_millis(20);
+/// Command frames whose invariants every run checks, at least (all lanes together).
+const MIN_CHECKED_FRAMES: u64 = 100_000;
 /// Examples kept per kind of violation.
 const EXAMPLES: usize = 5;
 /// A late or missing link-loss report is the host's when the hypervisor took this much of a
@@ -675,6 +677,7 @@ fn run_adversarial(min_corrupted: u64, time_cap: Duration, seed: u64) {
     );
     assert!(logs.iter().all(|l| l.jogs > 0 && l.moves > 0), "every lane jogged and moved");
     assert!(sum(&|r| r.move_frames) > 1000, "motion was streamed");
+    assert!(sum(&|r| r.frames) >= MIN_CHECKED_FRAMES, "only {} command frames checked", sum(&|r| r.frames));
     assert!(sum(&|r| r.stalls_checked) > 0, "some stalls were long enough to check link loss");
     assert_eq!(sum(&|r| r.limits.count), 0, "targets outside the step limits");
     assert_eq!(sum(&|r| r.codes.count), 0, "JOG / 69 / unknown codes or non-zero speed fields");
@@ -686,7 +689,7 @@ fn run_adversarial(min_corrupted: u64, time_cap: Duration, seed: u64) {
 
 #[test]
 fn adversarial_session_keeps_its_invariants() {
-    run_adversarial(20_000, Duration::from_secs(200), 2026);
+    run_adversarial(33_000, Duration::from_secs(200), 2026);
 }
 
 #[test]

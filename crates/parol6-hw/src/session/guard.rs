@@ -153,9 +153,17 @@ pub struct PlausibilityFilter {
     frames_since: u32,
     in_a_row: u32,
     accepted_in_a_row: u32,
-    /// Accepted measurements in a row equal to the one before (the arm at rest).
+    /// Accepted measurements in a row equal to the one before (the arm at rest), counted once
+    /// per [`STEADY_SPACING_S`].
     steady_in_a_row: u32,
+    /// When the last of those was counted.
+    steady_counted_at_s: f64,
 }
+
+/// Identical measurements count toward [`PlausibilityFilter::steady`] only this far apart: a
+/// burst of frames delivered late (held by a stalled link) arrives at once and shows where the
+/// arm *was*, so it must not pass for an arm at rest.
+pub const STEADY_SPACING_S: f64 = 0.001;
 
 /// Accepted measurements in a row needed before motion may start from a measured position.
 pub const CONFIRMING_FRAMES: u32 = 3;
@@ -192,7 +200,13 @@ impl PlausibilityFilter {
     /// Takes `measured` as the reference without checking it (homing rewrites the counters).
     pub fn accept(&mut self, measured: &[i32; JOINT_COUNT], at_s: f64) {
         let same = self.last.as_ref().is_some_and(|(m, _)| m == measured);
-        self.steady_in_a_row = if same { self.steady_in_a_row.saturating_add(1) } else { 0 };
+        if !same {
+            self.steady_in_a_row = 0;
+            self.steady_counted_at_s = at_s;
+        } else if at_s - self.steady_counted_at_s >= STEADY_SPACING_S {
+            self.steady_in_a_row = self.steady_in_a_row.saturating_add(1);
+            self.steady_counted_at_s = at_s;
+        }
         self.last = Some((*measured, at_s));
         self.frames_since = 0;
         self.in_a_row = 0;
@@ -205,9 +219,10 @@ impl PlausibilityFilter {
         self.accepted_in_a_row >= CONFIRMING_FRAMES
     }
 
-    /// True when the last [`CONFIRMING_FRAMES`] accepted measurements are identical: the arm is
-    /// at rest, so a motion may start from this position (a status frame can be one period
-    /// old while the arm still coasts after IDLE).
+    /// True when the last [`CONFIRMING_FRAMES`] accepted measurements are identical and arrived
+    /// at [`STEADY_SPACING_S`] or more from each other: the arm is at rest, so a motion may start
+    /// from this position (a status frame can be one period old while the arm still coasts
+    /// after IDLE, and a late burst of frames is older still).
     pub fn steady(&self) -> bool {
         self.steady_in_a_row + 1 >= CONFIRMING_FRAMES
     }

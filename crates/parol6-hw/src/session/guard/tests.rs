@@ -68,6 +68,28 @@ fn placeholder_positions_stay_in_limits() {
 
 /// Regression: "a single bit error in one status frame makes a joint that is not being moved
 /// twitch at 3× its speed limit" — the flipped measurement is rejected.
+/// Regression (long adversarial run): a burst of stale status frames, held by a stalled link
+/// and delivered at once, showed the arm at rest where it had been; motion started from there
+/// and commanded a joint nobody moved back by 3 steps.
+#[test]
+fn a_late_burst_of_identical_frames_is_not_an_arm_at_rest() {
+    let mut f = PlausibilityFilter::default();
+    let old = STANDBY_STEPS;
+    for _ in 0..4 {
+        assert_eq!(f.check(&old, 1.0, PERIOD_S), Plausibility::Accepted);
+    }
+    assert!(f.confirmed());
+    assert!(!f.steady(), "four frames read at the same instant are one observation");
+    assert_eq!(f.check(&old, 1.0 + PERIOD_S, PERIOD_S), Plausibility::Accepted);
+    assert!(!f.steady());
+    assert_eq!(f.check(&old, 1.0 + 2.0 * PERIOD_S, PERIOD_S), Plausibility::Accepted);
+    assert!(f.steady(), "three reads a period apart show the arm at rest");
+    let mut moved = old;
+    moved[0] += 3;
+    assert_eq!(f.check(&moved, 1.0 + 3.0 * PERIOD_S, PERIOD_S), Plausibility::Accepted);
+    assert!(!f.steady());
+}
+
 #[test]
 fn a_single_bit_error_in_one_status_frame_is_implausible() {
     let mut f = PlausibilityFilter::default();

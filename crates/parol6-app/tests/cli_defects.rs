@@ -21,14 +21,18 @@ fn broken_pipe_panicked_instead_of_ending_quietly() {
         vec!["hw", "status", "--fake-robot"],
         vec!["hw", "emulate"],
     ] {
-        let mut child = Command::new(cli_support::exe())
+        // The pipe's reader is closed before the child starts, so its first write fails
+        // whatever the scheduling (closing it after the spawn raced with a fast first write,
+        // and `hw emulate`, which then waits for `quit`, hung the test on a loaded machine).
+        let (reader, writer) = std::io::pipe().expect("pipe");
+        drop(reader);
+        let child = Command::new(cli_support::exe())
             .args(&args)
             .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
+            .stdout(writer)
             .stderr(Stdio::piped())
             .spawn()
             .expect("parol6 starts");
-        drop(child.stdout.take());
         // `hw emulate` reads stdin after its first line; closing stdin ends nothing there, the
         // failed first write does.
         let out = child.wait_with_output().expect("parol6 ends");

@@ -17,6 +17,12 @@ pub fn visuals() -> egui::Visuals {
     v
 }
 
+/// The colour under every panel ([`PANEL_BG_SRGB`]).
+pub fn panel_background() -> egui::Color32 {
+    let [r, g, b] = PANEL_BG_SRGB;
+    egui::Color32::from_rgb(r, g, b)
+}
+
 /// The clear colour matching [`PANEL_BG_SRGB`], as eframe wants it (normalised, gamma).
 pub fn clear_color() -> [f32; 4] {
     let [r, g, b] = PANEL_BG_SRGB;

@@ -17,6 +17,7 @@ use eframe::egui;
 use egui_plot::{Plot, VLine};
 use parol6_core::telemetry::{DriveKind, LiveView, Quantity, ReplayData, SeriesId, SeriesStore};
 
+use super::plot_cache::DecimationCache;
 use super::plot_export::{self, DrawnGroup, DrawnLine};
 use super::plot_line::ThinLine;
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
@@ -95,7 +96,8 @@ pub struct PlotsPanel {
     pub export_path: String,
     /// The visible time window of the last frame, s.
     visible_s: Option<(f64, f64)>,
-    points: Vec<[f64; 2]>,
+    /// Decimated lines kept while data and window stay the same.
+    lines: DecimationCache,
     svg_pending: Option<std::path::PathBuf>,
 }
 
@@ -113,7 +115,7 @@ impl PlotsPanel {
             follow: true,
             export_path: String::new(),
             visible_s: None,
-            points: Vec::new(),
+            lines: DecimationCache::default(),
             svg_pending: None,
         }
     }
@@ -241,6 +243,7 @@ impl Panel for PlotsPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        self.lines.begin_frame();
         self.toolbar(ui);
         let stats = if self.quantities[4] { self.tracking_stats(ctx.settings.unit) } else { Vec::new() };
         if !stats.is_empty() {
@@ -277,7 +280,7 @@ impl Panel for PlotsPanel {
             for (k, (q, ids)) in shown.iter().zip(&id_lists).enumerate() {
                 let store = self.replay.as_ref().map_or(&self.live, |(d, _)| &d.store);
                 let (scale, unit) = unit_of(*q, ctx.settings.unit, store.drive());
-                let points = &mut self.points;
+                let lines = &mut self.lines;
                 let mut plot = Plot::new(("plot", k))
                     .height(height)
                     .link_axis(link, [true, false])
@@ -308,7 +311,7 @@ impl Panel for PlotsPanel {
                     let mut group = DrawnGroup { title: format!("{} ({unit})", q.label()), lines: Vec::new() };
                     for id in ids {
                         let Some(col) = store.column(*id) else { continue };
-                        store.decimated(col, x0, x1, columns, points);
+                        let points = lines.line(store, col, x0, x1, columns);
                         let scaled: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1] * scale]).collect();
                         if collect_svg {
                             let color = series_color(id.index);

@@ -29,6 +29,7 @@ pub mod mesh;
 pub mod offscreen;
 pub mod path_overlay;
 pub mod renderer;
+pub mod retained;
 pub mod trail;
 pub mod trail_color;
 

@@ -1,0 +1,154 @@
+//! Retained painting for software rasterizers: the window keeps its last image and each frame
+//! redraws only the rectangles whose egui shapes changed.
+//!
+//! On llvmpipe / lavapipe most of a frame went into shading egui's text, although the panels'
+//! text hardly ever changes while the arm moves. [`install`] adds an egui plugin that, after
+//! every UI pass, takes the frame's shapes out of egui's output and replaces them with one
+//! paint callback. That callback compares the shapes with the last drawn frame
+//! ([`damage`]), redraws the changed rectangles (background, every mesh and paint callback
+//! reaching into them, in paint order) into a window-sized texture, and copies the texture
+//! into egui's render pass. The window and `bench render` / `screenshot --ui` take the same
+//! path. On GPUs it is off: there the whole frame costs well under a millisecond.
+
+mod damage;
+mod painter;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+use eframe::egui;
+use eframe::egui_wgpu;
+use eframe::wgpu;
+use egui::epaint::ClippedShape;
+
+use painter::{RetainedFrame, RetainedFrameCallback, RetainedPainter, Shared};
+
+/// Numbers of the last frame drawn through retained painting.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct RetainedStats {
+    /// Frames drawn so far.
+    pub frames: u64,
+    /// Rectangles redrawn in the last frame.
+    pub rects: usize,
+    /// Pixels inside them.
+    pub redrawn_px: f64,
+    /// Pixels of the window.
+    pub screen_px: f64,
+    /// Draw jobs (backgrounds, meshes, paint callbacks) of the last frame.
+    pub jobs: usize,
+    /// egui triangles submitted in the last frame.
+    pub triangles: usize,
+    /// Whether the last frame was redrawn in full.
+    pub full_redraw: bool,
+    /// CPU time of comparing, uploading and recording the last frame, ms.
+    pub prepare_ms: f64,
+}
+
+/// Switches retained painting on and off and reads its numbers.
+#[derive(Clone)]
+pub struct RetainedHandle {
+    enabled: Arc<AtomicBool>,
+    shared: Arc<Shared>,
+}
+
+impl RetainedHandle {
+    /// Whether frames go through retained painting.
+    pub fn enabled(&self) -> bool {
+        self.enabled.load(Ordering::Relaxed)
+    }
+
+    /// Turns retained painting on (the next frame is drawn in full) or off (egui draws the
+    /// whole frame itself, every frame).
+    pub fn set_enabled(&self, on: bool) {
+        self.enabled.store(on, Ordering::Relaxed);
+    }
+
+    /// Numbers of the last painted frame.
+    pub fn stats(&self) -> RetainedStats {
+        self.shared.stats.lock().map(|s| *s).unwrap_or_default()
+    }
+}
+
+/// Whether retained painting is used on an adapter of `device_type` drawing with `samples`:
+/// `PAROL6_RETAINED_UI=0|1` when set, else on software rasterizers without MSAA.
+pub fn retained_for(device_type: wgpu::DeviceType, samples: u32) -> bool {
+    if samples != 1 {
+        return false;
+    }
+    match std::env::var("PAROL6_RETAINED_UI").ok().as_deref().map(str::trim) {
+        Some("0") => false,
+        Some("1") => true,
+        _ => device_type == wgpu::DeviceType::Cpu,
+    }
+}
+
+/// Installs retained painting on `ctx` when [`retained_for`] says so (`samples` is the render
+/// pass's sample count; the window's depth buffer must be [`super::DEPTH_FORMAT`]).
+/// `background` is the colour egui's panels are drawn on (the window's clear colour).
+pub fn install(
+    ctx: &egui::Context,
+    render_state: &egui_wgpu::RenderState,
+    samples: u32,
+    background: egui::Color32,
+) -> Option<RetainedHandle> {
+    retained_for(render_state.adapter.get_info().device_type, samples)
+        .then(|| install_always(ctx, render_state, background))
+}
+
+/// Installs retained painting whatever the adapter; the render pass must have one sample.
+pub fn install_always(
+    ctx: &egui::Context,
+    render_state: &egui_wgpu::RenderState,
+    background: egui::Color32,
+) -> RetainedHandle {
+    let shared =
+        Arc::new(Shared { pending_textures: Mutex::new(Vec::new()), stats: Mutex::new(RetainedStats::default()) });
+    let painter = RetainedPainter::new(
+        &render_state.device,
+        render_state.target_format,
+        Some(super::DEPTH_FORMAT),
+        background,
+        Arc::clone(&shared),
+    );
+    render_state.renderer.write().callback_resources.insert(painter);
+    let handle = RetainedHandle { enabled: Arc::new(AtomicBool::new(true)), shared };
+    ctx.add_plugin(RetainedPaint { handle: handle.clone(), was_enabled: false });
+    handle
+}
+
+/// The egui plugin: swaps each root frame's shapes for one [`RetainedFrameCallback`].
+struct RetainedPaint {
+    handle: RetainedHandle,
+    /// Whether the previous frame went through retained painting.
+    was_enabled: bool,
+}
+
+impl egui::Plugin for RetainedPaint {
+    fn debug_name(&self) -> &'static str {
+        "parol6 retained painting"
+    }
+
+    fn output_hook(&mut self, ctx: &egui::Context, output: &mut egui::FullOutput) {
+        let on = self.handle.enabled() && ctx.viewport_id() == egui::ViewportId::ROOT;
+        let force_full = on && !self.was_enabled;
+        self.was_enabled = on;
+        if !on {
+            return;
+        }
+        let shapes = std::mem::take(&mut output.shapes);
+        let primitives = ctx.tessellate(shapes.clone(), output.pixels_per_point);
+        // egui's own renderer keeps getting the texture changes too, so that painting can be
+        // switched off at any frame
+        if let Ok(mut pending) = self.handle.shared.pending_textures.lock() {
+            pending.push(output.textures_delta.clone());
+        }
+        let screen = ctx.viewport_rect();
+        let callback =
+            RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { shapes, primitives, force_full })) };
+        output.shapes = vec![ClippedShape {
+            clip_rect: screen,
+            shape: egui::Shape::Callback(egui_wgpu::Callback::new_paint_callback(screen, callback)),
+            transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
+        }];
+    }
+}

@@ -1,0 +1,122 @@
+//! Retained painting (only changed rectangles redrawn) gives the same picture as drawing the
+//! whole frame, frame after frame, while labels change, a window opens and closes, a widget
+//! moves and the 3D view's arm turns. Needs a software or hardware adapter (lavapipe:
+//! `mesa-vulkan-drivers`); with none it fails when `CI` is set and prints SKIPPED otherwise.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+use eframe::egui;
+use parol6_app::viewport::retained::{self, RetainedHandle};
+use parol6_app::viewport::{
+    DEPTH_FORMAT, OffscreenRenderer, RgbaImage, SceneFrame, Viewport, ViewportError, write_png,
+};
+use parol6_core::{RobotModel, parol6};
+
+const W: u32 = 640;
+const H: u32 = 400;
+
+struct Painter {
+    renderer: OffscreenRenderer,
+    rs: eframe::egui_wgpu::RenderState,
+    ctx: egui::Context,
+    viewport: Viewport,
+    retained: Option<RetainedHandle>,
+}
+
+fn painter(model: &RobotModel, retained_on: bool) -> Option<Painter> {
+    let renderer = match OffscreenRenderer::with_sample_count(model, W, H, 1) {
+        Ok(r) => r,
+        Err(e @ (ViewportError::NoAdapter(_) | ViewportError::Device(_))) => {
+            if std::env::var_os("CI").is_some() {
+                panic!("no usable graphics adapter in CI: {e}");
+            }
+            parol6_tests::skip_notice(&format!("SKIPPED retained_paint: {e}"));
+            return None;
+        }
+        Err(e) => panic!("{e}"),
+    };
+    let rs = renderer.egui_render_state();
+    let viewport = Viewport::with_target(&rs, model, 1, Some(DEPTH_FORMAT)).expect("viewport");
+    let ctx = egui::Context::default();
+    // on whatever the adapter (the window turns it on for software rasterizers only)
+    let retained =
+        retained_on.then(|| retained::install_always(&ctx, &rs, egui::Color32::from_rgb(BG[0], BG[1], BG[2])));
+    Some(Painter { renderer, rs, ctx, viewport, retained })
+}
+
+const BG: [u8; 3] = [27, 27, 27];
+
+/// Frame `step` of a scripted UI: a side panel whose counter label changes, a button that moves
+/// down one row every 4 steps, a window open for steps 3–5, and the arm turning in the 3D view.
+fn frame(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let mut q = parol6::standby_rad().to_vec();
+    q[0] += 0.05 * step as f64;
+    let scene = SceneFrame::from_joints(model, &q, None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 * 0.1),
+        ..Default::default()
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        egui::Panel::left("side").exact_size(400.0).show(ui, |ui| {
+            ui.label("joints");
+            ui.label(format!("counter {step}"));
+            for _ in 0..(step / 4) {
+                ui.label("·");
+            }
+            let _ = ui.button("a button that moves");
+            ui.label("static text at the bottom of the list");
+        });
+        if (3..=5).contains(&step) {
+            egui::Window::new("popup").fixed_pos(egui::pos2(200.0, 100.0)).show(ui.ctx(), |ui| {
+                ui.label(format!("open for a while ({step})"));
+            });
+        }
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+#[test]
+fn retained_frames_match_full_frames_pixel_for_pixel() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    let mut partial_frames = 0;
+    for step in 0..10 {
+        let a = frame(&mut direct, &model, step);
+        let b = frame(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        if !stats.full_redraw && stats.redrawn_px < stats.screen_px {
+            partial_frames += 1;
+        }
+        let differing: Vec<usize> = a
+            .pixels
+            .chunks_exact(4)
+            .zip(b.pixels.chunks_exact(4))
+            .enumerate()
+            .filter(|(_, (x, y))| x != y)
+            .map(|(i, _)| i)
+            .collect();
+        if !differing.is_empty() {
+            let dir = std::env::temp_dir().join("parol6-render-tests");
+            let _ = std::fs::create_dir_all(&dir);
+            let _ = write_png(&dir.join(format!("retained_direct_{step}.png")), &a);
+            let _ = write_png(&dir.join(format!("retained_retained_{step}.png")), &b);
+            let first = differing[0];
+            panic!(
+                "step {step}: {} px differ, first at ({}, {}); stats {stats:?}; images in {}",
+                differing.len(),
+                first % W as usize,
+                first / W as usize,
+                dir.display()
+            );
+        }
+    }
+    assert!(partial_frames >= 5, "only {partial_frames} of 10 frames were partial redraws");
+}

@@ -224,9 +224,6 @@ fn bench_render_model(
         if let Some(r) = t.retained {
             redrawn_share.push(r.redrawn_px / r.screen_px.max(1.0));
             full_redraws += usize::from(r.full_redraw);
-            if std::env::var_os("PAROL6_BENCH_TRACE").is_some() {
-                eprintln!("{:.1} ms {:.2} {r:?}", t.frame_ms, r.redrawn_px / r.screen_px.max(1.0));
-            }
             retained = Some(r);
         }
         for (v, ms) in phases.iter_mut().zip([t.tessellate_ms, t.gpu.upload_ms, t.gpu.draw_ms, t.gpu.readback_ms]) {

@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 use eframe::egui;
 use eframe::egui_wgpu;
 use eframe::wgpu;
-use egui::epaint::{ClippedPrimitive, ClippedShape, Primitive};
+use egui::epaint::{ClippedPrimitive, ClippedShape, Mesh, Primitive};
 use egui::{Color32, Rect, TexturesDelta};
 
 use super::RetainedStats;
@@ -287,29 +287,35 @@ impl RetainedPainter {
         cmds
     }
 
-    /// The draw list: for each rectangle every primitive that reaches into it, clipped to it,
-    /// in paint order; and the rectangles whose background must be filled first (those not
-    /// wholly under an opaque paint callback, i.e. the 3D view, which paints its own).
+    /// The draw list: for each rectangle the part of every primitive that reaches into it
+    /// (meshes cut down to the triangles that touch it), clipped to it, in paint order; and the
+    /// rectangles whose background must be filled first (those not wholly under an opaque
+    /// paint callback, i.e. the 3D view, which paints its own).
     fn jobs(&self, primitives: &[ClippedPrimitive], rects: &[Rect]) -> (Vec<ClippedPrimitive>, Vec<Rect>) {
-        let bounds: Vec<Rect> = primitives
-            .iter()
-            .map(|p| match &p.primitive {
-                Primitive::Mesh(m) => m.calc_bounds().intersect(p.clip_rect),
-                Primitive::Callback(c) => c.rect.intersect(p.clip_rect),
-            })
-            .collect();
         let mut jobs = Vec::new();
         let mut fills = Vec::new();
         for &r in rects {
             let mut covered = false;
-            for (p, b) in primitives.iter().zip(&bounds) {
-                if b.intersects(r) {
-                    let clip = p.clip_rect.intersect(r);
-                    if clip.is_positive() {
-                        covered |= matches!(p.primitive, Primitive::Callback(_)) && b.contains_rect(r);
-                        jobs.push(ClippedPrimitive { clip_rect: clip, primitive: p.primitive.clone() });
-                    }
+            for p in primitives {
+                let clip = p.clip_rect.intersect(r);
+                if !clip.is_positive() {
+                    continue;
                 }
+                let primitive = match &p.primitive {
+                    Primitive::Mesh(m) => match triangles_within(m, clip) {
+                        Some(part) => Primitive::Mesh(part),
+                        None => continue,
+                    },
+                    Primitive::Callback(c) => {
+                        let shown = c.rect.intersect(p.clip_rect);
+                        if !shown.intersects(r) {
+                            continue;
+                        }
+                        covered |= shown.contains_rect(r);
+                        Primitive::Callback(c.clone())
+                    }
+                };
+                jobs.push(ClippedPrimitive { clip_rect: clip, primitive });
             }
             if !covered {
                 fills.push(r);
@@ -317,6 +323,35 @@ impl RetainedPainter {
         }
         (jobs, fills)
     }
+}
+
+/// The triangles of `mesh` whose bounding box meets `rect`, with only the vertices they use;
+/// `None` when there are none. The scissor would discard the others, but a software
+/// rasterizer still pays each triangle's set-up.
+fn triangles_within(mesh: &Mesh, rect: Rect) -> Option<Mesh> {
+    let mut part = Mesh::with_texture(mesh.texture_id);
+    let mut remap = vec![u32::MAX; mesh.vertices.len()];
+    for tri in mesh.indices.chunks_exact(3) {
+        let (Some(a), Some(b), Some(c)) = (
+            mesh.vertices.get(tri[0] as usize),
+            mesh.vertices.get(tri[1] as usize),
+            mesh.vertices.get(tri[2] as usize),
+        ) else {
+            continue;
+        };
+        if !Rect::from_points(&[a.pos, b.pos, c.pos]).intersects(rect) {
+            continue;
+        }
+        for (&i, vertex) in tri.iter().zip([a, b, c]) {
+            let slot = &mut remap[i as usize];
+            if *slot == u32::MAX {
+                *slot = part.vertices.len() as u32;
+                part.vertices.push(*vertex);
+            }
+            part.indices.push(*slot);
+        }
+    }
+    (!part.indices.is_empty()).then_some(part)
 }
 
 impl egui_wgpu::CallbackTrait for RetainedFrameCallback {

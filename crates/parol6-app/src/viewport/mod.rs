@@ -161,7 +161,7 @@ pub enum ViewportError {
 }
 
 /// What to draw this frame; built by the app from the simulation snapshot.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SceneFrame {
     /// World pose of every link, same order as [`RobotModel::links`].
     pub link_poses: Vec<Isometry3<f64>>,
@@ -269,6 +269,17 @@ pub struct Viewport {
     link_names: Vec<String>,
     warnings: Vec<String>,
     egui_renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    /// The last frame's inputs and its paint callback: an unchanged view hands egui the same
+    /// callback again, so retained painting sees nothing to redraw there.
+    last_drawn: Option<LastDrawn>,
+}
+
+struct LastDrawn {
+    scene: SceneFrame,
+    options: ViewportOptions,
+    camera: OrbitCamera,
+    rect: egui::Rect,
+    callback: egui::PaintCallback,
 }
 
 impl Viewport {
@@ -325,6 +336,7 @@ impl Viewport {
             link_names: model.links.iter().map(|l| l.name.clone()).collect(),
             warnings,
             egui_renderer: Arc::clone(&render_state.renderer),
+            last_drawn: None,
         })
     }
 
@@ -343,6 +355,7 @@ impl Viewport {
         if let Ok(mut f) = self.shared.lock() {
             f.trail.clear();
         }
+        self.last_drawn = None;
     }
 
     /// Puts the camera back to its default view.
@@ -389,15 +402,25 @@ impl Viewport {
 
         let aspect = (rect.width() / rect.height().max(1.0)).max(1e-3);
         let view_proj = self.camera.view_proj(aspect);
-        if let Ok(mut frame) = self.shared.lock() {
-            frame.update(scene, &self.options, &self.camera, aspect);
+        let unchanged = self.last_drawn.as_ref().is_some_and(|l| {
+            l.rect == rect && l.camera == self.camera && l.options == self.options && l.scene == *scene
+        });
+        if !unchanged {
+            if let Ok(mut frame) = self.shared.lock() {
+                frame.update(scene, &self.options, &self.camera, aspect);
+            }
+            let callback = egui_wgpu::Callback::new_paint_callback(
+                rect,
+                ViewportCallback { id: self.id, frame: Arc::clone(&self.shared) },
+            );
+            self.last_drawn =
+                Some(LastDrawn { scene: scene.clone(), options: self.options, camera: self.camera, rect, callback });
         }
 
         let painter = ui.painter_at(rect);
-        painter.add(egui_wgpu::Callback::new_paint_callback(
-            rect,
-            ViewportCallback { id: self.id, frame: Arc::clone(&self.shared) },
-        ));
+        if let Some(l) = &self.last_drawn {
+            painter.add(l.callback.clone());
+        }
         self.paint_overlays(&painter, rect, scene, &view_proj);
         response
     }

@@ -40,6 +40,11 @@ pub use types::{SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
 
 /// Time constant of the low-pass filter on the measured joint acceleration, s.
 const QDD_FILTER_S: f64 = 0.005;
+/// Measured joint speed below which a still setpoint counts toward rest, rad/s.
+const REST_QD_RAD_S: f64 = 1e-4;
+/// Steps of a still setpoint and a still arm after which the physics is no longer stepped
+/// (0.5 s at 1 kHz): the arm holds exactly where it settled until the next command.
+const REST_AFTER_STEPS: u32 = 500;
 
 /// The deterministic simulation core (no thread). See the module docs.
 pub struct Simulation {
@@ -71,6 +76,8 @@ pub struct Simulation {
     speed_cap: Vec<f64>,
     /// Measured joint acceleration, low-passed.
     qdd_filt: Vec<f64>,
+    /// Consecutive steps with a still setpoint and a still arm.
+    rest_steps: u32,
     steps: u64,
     collision: Option<CollisionReport>,
     last_step_ns: u64,
@@ -155,6 +162,7 @@ impl Simulation {
             qd_prev: vec![0.0; n],
             speed_cap: speed_caps(&model),
             qdd_filt: vec![0.0; n],
+            rest_steps: 0,
             steps: 0,
             collision: None,
             last_step_ns: 0,
@@ -309,6 +317,7 @@ impl Simulation {
 
     /// Applies a command. Refused commands leave the simulation unchanged.
     pub fn apply(&mut self, cmd: SimCommand) -> Result<(), SimError> {
+        self.rest_steps = 0;
         let now = self.sim_time_s();
         match cmd {
             SimCommand::Motion(m) => self.apply_motion(m, now, true)?,
@@ -422,29 +431,18 @@ impl Simulation {
                 self.qd.copy_from_slice(&self.sp.qd);
             }
             SimMode::Dynamic => {
-                if self.torque_control {
-                    self.physics.set_joint_torques(&self.user_torques);
-                } else {
-                    // computed-torque feedforward on the setpoint, motors correct the rest
-                    self.id.compute_into(&self.model, &self.sp.q, &self.sp.qd, &self.sp.qdd, &mut self.ff);
-                    self.physics.set_joint_torques(&self.ff);
-                    self.physics.set_motor_targets(&self.sp.q, &self.sp.qd);
-                }
-                self.physics.stop_at_limits(&self.speed_cap, self.dt_s);
-                self.physics.step();
-                self.physics.clamp_joint_velocities(&self.speed_cap);
-                self.qd_prev.copy_from_slice(&self.qd);
-                self.physics.read_state(&mut self.q, &mut self.qd);
-                // measured acceleration, low-passed (time constant QDD_FILTER_S)
-                let alpha = self.dt_s / (QDD_FILTER_S + self.dt_s);
-                for i in 0..self.qd.len() {
-                    let raw = (self.qd[i] - self.qd_prev[i]) / self.dt_s;
-                    self.qdd_filt[i] += alpha * (raw - self.qdd_filt[i]);
+                let still = !self.torque_control
+                    && self.torque_run.is_none()
+                    && self.sp.qd.iter().chain(&self.sp.qdd).all(|v| *v == 0.0)
+                    && self.qd.iter().all(|v| v.abs() < REST_QD_RAD_S);
+                self.rest_steps = if still { self.rest_steps.saturating_add(1) } else { 0 };
+                if !self.resting() {
+                    self.step_physics();
                 }
             }
         }
         self.steps += 1;
-        if self.tap.is_some() {
+        if self.tap.is_some() && !self.resting() {
             // the torques of this step (inverse dynamics of the measured motion), only when tapped
             self.update_torques();
         }
@@ -461,10 +459,38 @@ impl Simulation {
                 self.tap_dropped += 1;
             }
         }
-        if self.steps.is_multiple_of(self.collision_every) {
+        if self.steps.is_multiple_of(self.collision_every) && !self.resting() {
             self.collision = self.guard.check(&self.model, &self.q);
         }
         self.last_step_ns = u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX);
+    }
+
+    /// One rapier step of the dynamic arm: torques and motor targets in, measured state out.
+    fn step_physics(&mut self) {
+        if self.torque_control {
+            self.physics.set_joint_torques(&self.user_torques);
+        } else {
+            // computed-torque feedforward on the setpoint, motors correct the rest
+            self.id.compute_into(&self.model, &self.sp.q, &self.sp.qd, &self.sp.qdd, &mut self.ff);
+            self.physics.set_joint_torques(&self.ff);
+            self.physics.set_motor_targets(&self.sp.q, &self.sp.qd);
+        }
+        self.physics.stop_at_limits(&self.speed_cap, self.dt_s);
+        self.physics.step();
+        self.physics.clamp_joint_velocities(&self.speed_cap);
+        self.qd_prev.copy_from_slice(&self.qd);
+        self.physics.read_state(&mut self.q, &mut self.qd);
+        // measured acceleration, low-passed (time constant QDD_FILTER_S)
+        let alpha = self.dt_s / (QDD_FILTER_S + self.dt_s);
+        for i in 0..self.qd.len() {
+            let raw = (self.qd[i] - self.qd_prev[i]) / self.dt_s;
+            self.qdd_filt[i] += alpha * (raw - self.qdd_filt[i]);
+        }
+    }
+
+    /// Whether the arm has settled with nothing commanded, so that its physics is not stepped.
+    pub fn resting(&self) -> bool {
+        self.rest_steps > REST_AFTER_STEPS
     }
 
     /// A torque run: this step's profile torques (plus gravity when asked), or, once its time
@@ -530,5 +556,7 @@ impl Simulation {
     }
 }
 
+#[cfg(test)]
+mod rest_tests;
 #[cfg(test)]
 mod tests;

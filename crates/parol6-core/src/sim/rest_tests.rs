@@ -1,0 +1,60 @@
+//! The dynamic arm at rest: once settled with nothing commanded its physics is not stepped (the
+//! idle app costs next to nothing), and the next command moves it as before.
+
+use super::*;
+use crate::motion::MotionCommand;
+use crate::parol6::standby_rad;
+use crate::profile::ProfileKind;
+
+fn dynamic() -> Simulation {
+    let config = SimConfig { mode: SimMode::Dynamic, ..SimConfig::default() };
+    Simulation::new(RobotModel::parol6(), config).expect("embedded model builds")
+}
+
+fn run_steps(s: &mut Simulation, n: usize) {
+    for _ in 0..n {
+        s.step();
+    }
+}
+
+#[test]
+fn a_settled_arm_rests_exactly_and_a_command_wakes_it() {
+    let mut s = dynamic();
+    run_steps(&mut s, 2000);
+    assert!(s.resting(), "standby held for 2 s must count as rest");
+    let held = s.q().to_vec();
+    let standby = standby_rad();
+    assert!(held.iter().zip(standby).all(|(q, r)| (q - r).abs() < 1e-3), "rested away from standby: {held:?}");
+    run_steps(&mut s, 500);
+    assert_eq!(s.q(), held.as_slice(), "a resting arm must not drift");
+
+    let mut goal = held.clone();
+    goal[0] += 0.3;
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 0.8,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free move");
+    assert!(!s.resting(), "a command ends the rest");
+    run_steps(&mut s, 3000);
+    assert!((s.q()[0] - goal[0]).abs() < 2e-3, "J1 at {} after the move, goal {}", s.q()[0], goal[0]);
+    assert!(s.resting(), "settled again after the move");
+}
+
+#[test]
+fn a_moving_setpoint_never_rests() {
+    let mut s = dynamic();
+    let mut goal = standby_rad().to_vec();
+    goal[1] += 0.4;
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal,
+        speed_fraction: 0.05,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free move");
+    for _ in 0..1500 {
+        s.step();
+        assert!(!s.resting(), "rested while moving at t = {:.3} s", s.sim_time_s());
+    }
+}

@@ -6,7 +6,12 @@ use egui::epaint::{ClippedShape, Shape};
 use egui::{Pos2, Rect};
 
 /// At most this many rectangles are redrawn per frame; more are merged (smallest growth first).
-pub const MAX_DIRTY_RECTS: usize = 6;
+/// Few rectangles would merge far-apart changes (a plot's cursor and the 3D view) into one
+/// large area; each rectangle costs only the triangles that reach into it.
+pub const MAX_DIRTY_RECTS: usize = 24;
+
+/// More separate rectangles than this redraw the whole window (the merge is quadratic).
+const MAX_SEPARATE_RECTS: usize = 96;
 
 /// When the rectangles cover more than this share of the window, the whole window is redrawn
 /// as one rectangle (cheaper than drawing the meshes under several overlapping ones).
@@ -48,10 +53,15 @@ fn painted_rect(s: &ClippedShape) -> Rect {
     r.expand(MARGIN_PT).intersect(s.clip_rect)
 }
 
+/// How far ahead [`changed_rects`] looks for the next matching pair of shapes after a mismatch.
+const RESYNC_LOOKAHEAD: usize = 16;
+
 /// Rectangles (points) covering every pixel that differs between a frame of `old` shapes and
-/// one of `new` shapes. Shapes are compared in paint order: the common head and tail are
-/// skipped, and inside the rest equal positions are compared one by one when both frames have
-/// the same number of shapes there; anything else counts the whole differing middle.
+/// one of `new` shapes. Shapes are compared in paint order: after the common head and tail, the
+/// two lists are walked side by side, and after a mismatch the walk resynchronises on the
+/// nearest pair of equal shapes within [`RESYNC_LOOKAHEAD`] of both (shapes inserted, removed or
+/// replaced there count as changed). A label that appears in one panel therefore does not dirty
+/// everything painted after it.
 pub fn changed_rects(old: &[ClippedShape], new: &[ClippedShape]) -> Vec<Rect> {
     let head = old.iter().zip(new).take_while(|(a, b)| same_shape(a, b)).count();
     let (old_rest, new_rest) = (&old[head..], &new[head..]);
@@ -59,22 +69,42 @@ pub fn changed_rects(old: &[ClippedShape], new: &[ClippedShape]) -> Vec<Rect> {
     let old_mid = &old_rest[..old_rest.len() - tail];
     let new_mid = &new_rest[..new_rest.len() - tail];
     let mut rects = Vec::new();
-    let mut push = |r: Rect| {
+    let mut push = |s: &ClippedShape| {
+        let r = painted_rect(s);
         if r.is_positive() {
             rects.push(r);
         }
     };
-    if old_mid.len() == new_mid.len() {
-        for (a, b) in old_mid.iter().zip(new_mid) {
-            if !same_shape(a, b) {
-                push(painted_rect(a));
-                push(painted_rect(b));
+    let (mut i, mut j) = (0, 0);
+    while i < old_mid.len() && j < new_mid.len() {
+        if same_shape(&old_mid[i], &new_mid[j]) {
+            i += 1;
+            j += 1;
+            continue;
+        }
+        let (ni, nj) = resync(old_mid, new_mid, i, j).unwrap_or((i + 1, j + 1));
+        old_mid[i..ni].iter().chain(&new_mid[j..nj]).for_each(&mut push);
+        (i, j) = (ni, nj);
+    }
+    old_mid[i..].iter().chain(&new_mid[j..]).for_each(&mut push);
+    rects
+}
+
+/// The nearest `(i', j')` past a mismatch at `(i, j)`, by the larger skip first, where the
+/// shapes are equal again.
+fn resync(old: &[ClippedShape], new: &[ClippedShape], i: usize, j: usize) -> Option<(usize, usize)> {
+    for d in 1..=RESYNC_LOOKAHEAD {
+        for e in 0..=d {
+            for (oi, nj) in [(i + e, j + d), (i + d, j + e)] {
+                if let (Some(a), Some(b)) = (old.get(oi), new.get(nj))
+                    && same_shape(a, b)
+                {
+                    return Some((oi, nj));
+                }
             }
         }
-    } else {
-        old_mid.iter().chain(new_mid).for_each(|s| push(painted_rect(s)));
     }
-    rects
+    None
 }
 
 /// Snaps `r` (points) outward to whole pixels and inside `screen` (points).
@@ -87,7 +117,8 @@ fn snap(r: Rect, ppp: f32, screen: Rect) -> Rect {
     .intersect(screen)
 }
 
-/// Merges `rects` into at most [`MAX_DIRTY_RECTS`] pixel-aligned rectangles inside `screen`:
+/// Merges `rects` into at most [`MAX_DIRTY_RECTS`] pixel-aligned rectangles inside `screen`
+/// (the whole screen past [`MAX_SEPARATE_RECTS`]):
 /// overlapping ones first, then the pair whose union grows least. Covering more than
 /// [`FULL_REDRAW_SHARE`] of the screen gives the whole screen.
 pub fn merge(rects: Vec<Rect>, ppp: f32, screen: Rect) -> Vec<Rect> {
@@ -107,6 +138,9 @@ pub fn merge(rects: Vec<Rect>, ppp: f32, screen: Rect) -> Vec<Rect> {
                 }
             }
         }
+    }
+    if out.len() > MAX_SEPARATE_RECTS {
+        return vec![screen];
     }
     while out.len() > MAX_DIRTY_RECTS {
         let mut best = (0, 1, f32::INFINITY);
@@ -182,6 +216,23 @@ mod tests {
         let rects = merge(changed_rects(&a, &b), 1.0, screen());
         assert_eq!(rects.len(), 1);
         assert!(rects[0].contains(pos2(405.0, 405.0)) && !rects[0].contains(pos2(905.0, 905.0)));
+    }
+
+    #[test]
+    fn shapes_inserted_early_do_not_dirty_the_unchanged_shapes_after_them() {
+        let old: Vec<_> = (0..20).map(|i| rect_shape(i as f32 * 45.0, 0.0, Color32::RED)).collect();
+        let mut new = old.clone();
+        // two new shapes near the start, one shape recoloured near the end
+        new.insert(2, rect_shape(100.0, 500.0, Color32::GREEN));
+        new.insert(3, rect_shape(150.0, 500.0, Color32::GREEN));
+        new[19] = rect_shape(17.0 * 45.0, 0.0, Color32::BLUE);
+        let rects = merge(changed_rects(&old, &new), 1.0, screen());
+        assert!(rects.iter().any(|r| r.contains(pos2(105.0, 505.0))));
+        assert!(rects.iter().any(|r| r.contains(pos2(17.0 * 45.0 + 5.0, 5.0))));
+        for k in [5usize, 10, 15] {
+            let p = pos2(k as f32 * 45.0 + 5.0, 5.0);
+            assert!(!rects.iter().any(|r| r.contains(p)), "unchanged shape {k} dirtied: {rects:?}");
+        }
     }
 
     #[test]

@@ -16,6 +16,7 @@ use super::{CliError, CliResult, print_json};
 use crate::app::{ConnectTarget, LaunchOptions, Parol6App, TestScript, WINDOW_TITLE, settings_path, window_icon};
 use crate::ui_screenshot::{
     HeadlessApp, Layers, TARGET_FRAME_MS_P50, TARGET_FRAME_MS_P99, TARGET_RSS_MB, TARGET_UI_CPU_MS_P50, peak_rss_mb,
+    rss_mb,
 };
 
 /// Arguments of `parol6 replay`.
@@ -290,6 +291,7 @@ fn bench_render_model(
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
         "breakdown": breakdown,
         "rss_mb_peak": rss,
+        "rss_mb_end": rss_mb(),
         "load_average_1min": load_average_1min(),
         "compare_seed": seed_json,
         "adapter": headless.adapter_info(),

@@ -16,7 +16,9 @@ use parol6_core::model::PAROL6_URDF;
 use parol6_core::motion::RobotBackend;
 use parol6_core::sim::{SimConfig, SimHandle};
 use parol6_core::telemetry::schema::schema_text;
-use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo, read_recording};
+use parol6_core::telemetry::{
+    LinkHealth, Recorder, RecorderConfig, RecordingInfo, load_replay, load_whole_replay, read_recording,
+};
 use parol6_hw::session::{Session, SessionConfig};
 use parol6_hw::{EmulatorConfig, EmulatorHandle};
 
@@ -207,7 +209,8 @@ fn simulation_and_robot_record_every_sample_to_valid_mcap_files() {
 }
 
 /// The MCAP reader's fuzz seeds and every input that once failed (`fuzz/regressions/mcap_reader/`)
-/// give a recording or a named error, never a panic.
+/// give a recording or a named error, never a panic, from the linear reader and from the
+/// replay's parallel one (from memory and from a reader, which agree).
 #[test]
 fn fuzz_inputs_of_the_mcap_reader_read_without_panic() {
     let fuzz = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("fuzz");
@@ -218,6 +221,17 @@ fn fuzz_inputs_of_the_mcap_reader_read_without_panic() {
             let bytes = std::fs::read(e.path()).unwrap();
             let outcome = std::panic::catch_unwind(|| read_recording(&bytes).map(|r| r.measured.len()));
             assert!(outcome.is_ok(), "{} panics the reader", e.path().display());
+            let model = RobotModel::parol6();
+            let replay = std::panic::catch_unwind(|| {
+                let in_memory = load_replay(&bytes, &model).map(|r| r.store.len());
+                let from_reader = load_whole_replay(bytes.as_slice(), bytes.len() as u64, &model);
+                (in_memory, from_reader.map(|r| r.map(|r| r.store.len())))
+            });
+            match replay {
+                Ok((Ok(a), Some(Ok(b)))) => assert_eq!(a, b, "{}: memory and reader disagree", e.path().display()),
+                Ok(_) => {}
+                Err(_) => panic!("{} panics the replay", e.path().display()),
+            }
             n += 1;
         }
     }

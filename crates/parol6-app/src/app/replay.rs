@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crossbeam_channel::{Receiver, TryRecvError, bounded};
-use parol6_core::telemetry::{ReplayData, load_replay};
+use parol6_core::telemetry::{ReplayData, ReplayError, read_replay_file};
 
 use super::Parol6App;
 use crate::panels::timeline::Replay;
@@ -19,8 +19,10 @@ pub(super) type ReplayLoading = (PathBuf, Receiver<Result<ReplayData, String>>);
 /// Reads `path` and loads it for replay with `model`: a clear message for a file that cannot
 /// be read, is empty, is not a recording of ours or is of another robot.
 pub fn read_replay(path: &std::path::Path, model: &parol6_core::RobotModel) -> Result<ReplayData, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    load_replay(&bytes, model).map_err(|e| format!("cannot replay {}: {e}", path.display()))
+    read_replay_file(path, model).map_err(|e| match e {
+        ReplayError::Io { .. } => e.to_string(),
+        ReplayError::Recording(e) => format!("cannot replay {}: {e}", path.display()),
+    })
 }
 
 impl Parol6App {

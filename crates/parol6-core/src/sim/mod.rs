@@ -34,7 +34,7 @@ mod types;
 pub use collision::{CollisionGuard, CollisionReport};
 pub use dynamics::{InverseDynamics, JointTorques};
 pub use multibody::{MotorGains, Physics};
-pub use thread::{SimHandle, SimStats, thread_cpu_time_ns};
+pub use thread::{SimHandle, SimStats, process_cpu_time_ns, thread_cpu_time_ns};
 pub use torque_profile::{TorqueProfile, TorqueRun};
 pub use types::{SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
 

@@ -12,10 +12,13 @@
 //!   well-known schemas where one exists);
 //! - [`frames`]: the `/tf` transforms (one per URDF joint, parent link → child link);
 //! - [`writer`]: the MCAP writer (zstd chunks closed at least every second, summary + index);
-//! - [`reader`]: the reader of our own files, tolerant of truncation.
+//! - [`reader`]: the reader of our own files, tolerant of truncation;
+//! - [`chunked`]: the parallel decoder of whole files' chunks, the fast path of [`replay`];
+//! - [`replay`]: a recording loaded into the plots' series for the timeline.
 
 use crate::limits::LimitZone;
 
+pub mod chunked;
 pub mod event;
 pub mod frames;
 pub mod reader;
@@ -30,7 +33,7 @@ pub mod writer;
 pub use event::{EventDetector, EventKind, TelemetryEvent};
 pub use reader::{Recording, RecordingError, read_recording};
 pub use recorder::{Recorder, RecorderConfig, RecorderStats};
-pub use replay::{ReplayData, ReplayEvent, load_replay};
+pub use replay::{ReadPath, ReplayData, ReplayError, ReplayEvent, load_replay, load_whole_replay, read_replay_file};
 pub use ring::{LiveRing, LiveView};
 pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
 pub use series::{Quantity, SeriesId, SeriesStore, WindowStats};

@@ -126,8 +126,8 @@ struct Channels {
     channels: HashMap<u16, (String, u16)>,
     schemas: HashMap<u16, String>,
     filter: ScanFilter,
-    /// Log time of the last joint message kept, per channel.
-    last_kept_ns: HashMap<u16, u64>,
+    /// Log-time bucket of the last joint message kept, per channel.
+    last_bucket: HashMap<u16, u64>,
 }
 
 /// Reads a whole recording from `bytes`, keeping every joint state and command in
@@ -157,10 +157,11 @@ pub fn scan_recording(bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) 
 /// Which joint messages [`scan_recording_filtered`] parses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ScanFilter {
-    /// Per topic, a `/joint_states` or `/joint_commands` message logged less than this after
-    /// the last one kept is skipped unparsed (0: keep all). Measured and commanded messages of
-    /// a tick share their log time, so the same ticks are kept on both.
-    pub joint_min_interval_ns: u64,
+    /// Per topic, of the `/joint_states` or `/joint_commands` messages whose log times fall in
+    /// the same span of this many ns (counted from the Unix epoch), only the first is parsed;
+    /// the others are skipped unparsed (0: keep all). Measured and commanded messages of a
+    /// tick share their log time, so the same ticks are kept on both.
+    pub joint_bucket_ns: u64,
 }
 
 /// [`scan_recording`], skipping the joint messages `filter` thins out (they are still counted
@@ -334,12 +335,11 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
                     rec.warnings.push(format!("a {topic} message (sequence {}) is not valid: {e}", header.sequence));
                 }
             };
-            if ids.filter.joint_min_interval_ns > 0 && matches!(topic.as_str(), "/joint_states" | "/joint_commands") {
-                let last = ids.last_kept_ns.entry(header.channel_id).or_insert(0);
-                if *last != 0 && t >= *last && t - *last < ids.filter.joint_min_interval_ns {
+            if ids.filter.joint_bucket_ns > 0 && matches!(topic.as_str(), "/joint_states" | "/joint_commands") {
+                let bucket = t / ids.filter.joint_bucket_ns;
+                if ids.last_bucket.insert(header.channel_id, bucket) == Some(bucket) {
                     return;
                 }
-                *last = t;
             }
             match topic.as_str() {
                 "/joint_states" | "/joint_commands" => match serde_json::from_slice::<JointStateMsg>(&data) {

@@ -93,8 +93,9 @@ pub struct LaunchOptions {
     pub msaa_samples: u32,
     /// Record the backend the window opens on to this MCAP file (`--record`).
     pub record: Option<PathBuf>,
-    /// Open this recording for replay at start (`parol6 replay FILE`).
-    pub replay: Option<PathBuf>,
+    /// Open this recording, read already (path, data, seconds it took), for replay at start
+    /// (`parol6 replay FILE`).
+    pub replay: Option<(PathBuf, parol6_core::telemetry::ReplayData, f64)>,
     /// Tool and URDF text written into recordings.
     pub recording_info: parol6_core::telemetry::RecordingInfo,
 }
@@ -235,8 +236,8 @@ impl Parol6App {
                 anyhow::bail!("--record {}: the recording did not start (see the notice above)", path.display());
             }
         }
-        if let Some(path) = opts.replay {
-            app.open_recording(path);
+        if let Some((path, data, read_s)) = opts.replay {
+            app.open_loaded_recording(path, data, read_s);
         }
         Ok(app)
     }
@@ -254,13 +255,24 @@ impl Parol6App {
     /// Loads the built-in program called `name` and runs it on the active backend (the bench
     /// and the sweep script use it); false when there is no such program.
     pub fn start_program(&mut self, name: &str, looping: bool) -> bool {
-        if !self.panels.program.load_builtin(name) {
+        if !self.load_program(name) {
             return false;
         }
+        self.run_program(looping);
+        true
+    }
+
+    /// Loads the built-in program called `name` into the program panel (its pre-flight and
+    /// planned path follow on the next frame); false when there is no such program.
+    pub fn load_program(&mut self, name: &str) -> bool {
+        self.panels.program.load_builtin(name)
+    }
+
+    /// Runs the program loaded in the program panel on the active backend.
+    pub fn run_program(&mut self, looping: bool) {
         self.panels.program.looping = looping;
         let cmd = self.panels.program.run_command(false);
         self.execute(cmd);
-        true
     }
 
     /// The persistent settings (tests and scripts change them as the menus would).
@@ -505,6 +517,8 @@ impl Parol6App {
                 let differs = cmd.iter().zip(q).any(|(c, q)| (c - q).abs() > GHOST_MIN_DIFF_RAD);
                 let mut scene = SceneFrame::from_joints(&self.model, q, differs.then_some(cmd.as_slice()));
                 scene.trail_sample.tracking_error_rad = max_abs_diff(cmd, q);
+                // the loaded program's planned path stays, to compare with the recorded motion
+                scene.planned_path = self.panels.program.overlay();
                 scene
             }
             None => {

@@ -13,8 +13,8 @@ use parol6_core::telemetry::{ReplayData, ReplayError, read_replay_file};
 use super::Parol6App;
 use crate::panels::timeline::Replay;
 
-/// A recording being read: its path and where the result arrives.
-pub(super) type ReplayLoading = (PathBuf, Receiver<Result<ReplayData, String>>);
+/// A recording being read: its path and where the result (and the seconds it took) arrives.
+pub(super) type ReplayLoading = (PathBuf, Receiver<Result<(ReplayData, f64), String>>);
 
 /// Reads `path` and loads it for replay with `model`: a clear message for a file that cannot
 /// be read, is empty, is not a recording of ours or is of another robot.
@@ -32,7 +32,8 @@ impl Parol6App {
         let model = self.model.clone();
         let p = path.clone();
         let spawned = std::thread::Builder::new().name("parol6-replay-load".into()).spawn(move || {
-            let _ = tx.send(read_replay(&p, &model));
+            let t0 = Instant::now();
+            let _ = tx.send(read_replay(&p, &model).map(|d| (d, t0.elapsed().as_secs_f64())));
         });
         match spawned {
             Ok(_) => {
@@ -41,6 +42,14 @@ impl Parol6App {
             }
             Err(e) => self.notice(format!("cannot start reading {}: {e}", path.display()), true),
         }
+    }
+
+    /// Opens `data`, already read from `path` in `read_s` seconds (`parol6 replay FILE` reads it
+    /// before the window opens).
+    pub(super) fn open_loaded_recording(&mut self, path: PathBuf, data: ReplayData, read_s: f64) {
+        let (tx, rx) = bounded(1);
+        let _ = tx.send(Ok((data, read_s)));
+        self.replay_loading = Some((path, rx));
     }
 
     /// Takes the loaded recording (or its error) when it has arrived.
@@ -54,7 +63,7 @@ impl Parol6App {
         let path = path.clone();
         self.replay_loading = None;
         match result {
-            Ok(data) => {
+            Ok((data, read_s)) => {
                 for w in &data.warnings {
                     self.notice(format!("{}: {w}", path.display()), true);
                 }
@@ -63,7 +72,7 @@ impl Parol6App {
                 let (t0, t1) = replay.span_s();
                 self.notice(
                     format!(
-                        "replaying {} ({:.1} s, {samples} samples): the 3D view shows the recording",
+                        "replaying {} ({:.1} s, {samples} samples, read in {read_s:.2} s): the 3D view shows the recording",
                         path.display(),
                         t1 - t0
                     ),

@@ -76,6 +76,9 @@ pub enum BenchTarget {
         /// Timed opens, 1–100.
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
         repeats: u64,
+        /// Keep the synthetic recording at this path (to open it in the window, `parol6 replay`).
+        #[arg(long, value_name = "OUT.mcap")]
+        keep: Option<std::path::PathBuf>,
     },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
@@ -121,8 +124,8 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         }
         BenchTarget::Physics { n, cpu_seconds } => super::sim::bench_physics(count(*n)?, *cpu_seconds),
         BenchTarget::Latency { n, interval_us } => super::sim::bench_latency(count(*n)?, *interval_us),
-        BenchTarget::Replay { minutes, rate, repeats } => {
-            super::bench_replay::bench_replay(*minutes, *rate, count(*repeats)?)
+        BenchTarget::Replay { minutes, rate, repeats, keep } => {
+            super::bench_replay::bench_replay(*minutes, *rate, count(*repeats)?, keep.as_deref())
         }
         BenchTarget::Motion { repeats, runner_seconds } => {
             super::bench_motion::bench_motion(count(*repeats)?, *runner_seconds)

@@ -70,12 +70,15 @@ pub fn synthetic_recording(model: &RobotModel, minutes: f64, rate_hz: f64) -> Re
 }
 
 /// Runs `parol6 bench replay`.
-pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize) -> CliResult {
+pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize, keep: Option<&std::path::Path>) -> CliResult {
     let model = RobotModel::parol6();
     let t0 = Instant::now();
     let bytes = synthetic_recording(&model, minutes, rate_hz)?;
     let write_s = t0.elapsed().as_secs_f64();
-    let path = std::env::temp_dir().join(format!("parol6-bench-replay-{}.mcap", std::process::id()));
+    let path = match keep {
+        Some(p) => p.to_path_buf(),
+        None => std::env::temp_dir().join(format!("parol6-bench-replay-{}.mcap", std::process::id())),
+    };
     std::fs::write(&path, &bytes).map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))?;
     drop(bytes);
     let mut open_ms = Vec::new();
@@ -92,7 +95,9 @@ pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize) -> CliResult {
         last = Some(replay?);
     }
     let bytes_on_disk = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    let _ = std::fs::remove_file(&path);
+    if keep.is_none() {
+        let _ = std::fs::remove_file(&path);
+    }
     let replay = last.ok_or_else(|| CliError::runtime("nothing was opened"))?;
     open_ms.sort_by(f64::total_cmp);
     open_cpu_ms.sort_by(f64::total_cmp);
@@ -104,6 +109,7 @@ pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize) -> CliResult {
         "minutes": minutes,
         "rate_hz": rate_hz,
         "file_bytes": bytes_on_disk,
+        "kept_at": keep.map(|p| p.display().to_string()),
         "samples_in_file": replay.samples_in_file,
         "samples_kept": replay.store.len(),
         "kept_rate_hz": REPLAY_RATE_HZ,

@@ -32,13 +32,18 @@ pub struct ReplayArgs {
 pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, replay: Option<&Path>) -> CliResult {
     let started = Instant::now();
     let model = robot.load()?;
-    if let Some(file) = replay {
-        // refuse a bad file before any window opens; the window reads it again (off its UI thread)
-        let data = crate::app::read_replay(file, &model).map_err(CliError::usage)?;
-        for w in &data.warnings {
-            super::warn(format!("{}: {w}", file.display()));
+    // a bad file is refused before any window opens; a good one is handed to the window
+    let replay = match replay {
+        Some(file) => {
+            let t0 = Instant::now();
+            let data = crate::app::read_replay(file, &model).map_err(CliError::usage)?;
+            for w in &data.warnings {
+                super::warn(format!("{}: {w}", file.display()));
+            }
+            Some((file.to_path_buf(), data, t0.elapsed().as_secs_f64()))
         }
-    }
+        None => None,
+    };
     let recording_info = parol6_core::telemetry::RecordingInfo {
         app_version: env!("CARGO_PKG_VERSION").to_string(),
         tool: super::record::tool_of(robot).name().to_string(),
@@ -72,7 +77,7 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         started,
         msaa_samples,
         record: record.map(Path::to_path_buf),
-        replay: replay.map(Path::to_path_buf),
+        replay,
         recording_info,
     };
 
@@ -155,6 +160,9 @@ impl LayerChoice {
     }
 }
 
+/// The program `bench render` runs, with its planned path shown.
+const BENCH_PROGRAM: &str = "Joint sweep";
+
 /// Frames drawn before `bench render` measures, s.
 const WARM_UP_S: f64 = 1.0;
 
@@ -187,13 +195,24 @@ fn bench_render_model(
     }
     let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
     headless.layers = layers;
-    if !headless.app.start_program("Joint sweep", true) {
-        return Err(CliError::runtime("no joint sweep demo"));
+    // the program is planned at standstill (its path drawn over the 3D view), then run
+    if !headless.app.load_program(BENCH_PROGRAM) {
+        return Err(CliError::runtime(format!("no built-in program \"{BENCH_PROGRAM}\"")));
     }
+    headless.frame().map_err(CliError::from)?;
+    let program_path_points = headless.app.program_panel().overlay().map_or(0, |o| o.len());
+    headless.app.run_program(true);
     let mut plotted_samples = 0;
     if plots {
+        // opened from a file, as File → Open recording does
         let bytes = super::bench_replay::synthetic_recording(&model, 10.0, 250.0)?;
-        let data = parol6_core::telemetry::load_replay(&bytes, &model).map_err(CliError::runtime)?;
+        let path = std::env::temp_dir().join(format!("parol6-bench-render-{}.mcap", std::process::id()));
+        std::fs::write(&path, &bytes)
+            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))?;
+        drop(bytes);
+        let data = parol6_core::telemetry::read_replay_file(&path, &model).map_err(CliError::runtime);
+        let _ = std::fs::remove_file(&path);
+        let data = data?;
         plotted_samples = data.store.len();
         headless.app.show_replay("synthetic.mcap".into(), data, true, 600.0);
     }
@@ -297,6 +316,8 @@ fn bench_render_model(
         "adapter": headless.adapter_info(),
         "plots": plots,
         "plotted_samples": plotted_samples,
+        "program": BENCH_PROGRAM,
+        "program_path_points": program_path_points,
         "targets": {
             "frame_ms_p50_max": TARGET_FRAME_MS_P50,
             "frame_ms_p99_max": TARGET_FRAME_MS_P99,

@@ -1,7 +1,8 @@
 //! The planned TCP path of a program, drawn over the 3D view as line strips coloured by the
 //! pre-flight result (green ok, amber warning, red error). Drawn with the egui painter after
 //! the 3D pass, projected with the view's camera; points closer than a pixel to the previous
-//! drawn point are skipped, so a long program costs a few hundred segments.
+//! drawn point are skipped, and the segments of one colour are one line shape, so a long
+//! program costs a few shapes.
 
 use eframe::egui;
 use parol6_core::na::{Matrix4, Point3};
@@ -75,30 +76,48 @@ impl PathOverlay {
         self.status.iter().copied().max_by_key(|s| *s as u8)
     }
 
-    /// Paints the path into `rect`; returns the number of segments drawn.
+    /// Paints the path into `rect`; returns the number of segments drawn. Consecutive
+    /// segments of one status are one line shape, so a long path is a handful of shapes.
     pub fn paint(&self, painter: &egui::Painter, rect: egui::Rect, view_proj: &Matrix4<f32>) -> usize {
         let mut drawn = 0;
         let mut last: Option<egui::Pos2> = None;
+        let mut run: Vec<egui::Pos2> = Vec::new();
+        let mut run_status = PathPointStatus::Ok;
+        let flush = |run: &mut Vec<egui::Pos2>, status: PathPointStatus| {
+            if run.len() >= 2 {
+                painter.add(egui::Shape::line(std::mem::take(run), egui::Stroke::new(PATH_WIDTH_PX, status.color())));
+            }
+            run.clear();
+        };
         let mut next_break = self.breaks.iter().peekable();
-        for (i, (p, s)) in self.points_m.iter().zip(&self.status).enumerate() {
+        for (i, (p, &s)) in self.points_m.iter().zip(&self.status).enumerate() {
             if next_break.peek().is_some_and(|b| **b == i) {
                 next_break.next();
+                flush(&mut run, run_status);
                 last = None;
             }
             let Some(here) = camera::project_to_rect(view_proj, &Point3::new(p[0], p[1], p[2]), rect) else {
+                flush(&mut run, run_status);
                 last = None;
                 continue;
             };
             match last {
                 Some(prev) if prev.distance(here) < MIN_SEGMENT_PX => continue,
                 Some(prev) => {
-                    painter.line_segment([prev, here], egui::Stroke::new(PATH_WIDTH_PX, s.color()));
+                    // a segment takes the status of the point it ends at
+                    if run.is_empty() || s != run_status {
+                        flush(&mut run, run_status);
+                        run.push(prev);
+                        run_status = s;
+                    }
+                    run.push(here);
                     drawn += 1;
                 }
                 None => {}
             }
             last = Some(here);
         }
+        flush(&mut run, run_status);
         drawn
     }
 }
@@ -118,5 +137,38 @@ mod tests {
         assert_eq!(o.len(), 3);
         assert_eq!(o.breaks, vec![2]);
         assert_eq!(o.worst(), Some(PathPointStatus::Error));
+    }
+
+    /// A 1 000-point path of two statuses in two strips is four line shapes, every segment drawn.
+    #[test]
+    fn a_long_path_is_a_few_line_shapes() {
+        let mut o = PathOverlay::default();
+        for k in 0..1000 {
+            if k == 500 {
+                o.break_strip();
+            }
+            let a = k as f32 * 0.006;
+            let status = if k % 500 < 250 { PathPointStatus::Ok } else { PathPointStatus::Warning };
+            o.push([0.4 * a.cos(), 0.4 * a.sin(), -0.5], status);
+        }
+        let view_proj = Matrix4::new_orthographic(-0.5, 0.5, -0.5, 0.5, -1.0, 1.0);
+        let ctx = egui::Context::default();
+        let mut drawn = 0;
+        let out = ctx.run_pass(egui::RawInput::default(), |ctx| {
+            let painter = ctx.layer_painter(egui::LayerId::background());
+            drawn =
+                o.paint(&painter, egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(800.0, 800.0)), &view_proj);
+        });
+        let lines: Vec<usize> = out
+            .shapes
+            .iter()
+            .filter_map(|c| match &c.shape {
+                egui::Shape::Path(p) => Some(p.points.len()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(lines.len(), 4, "{lines:?}");
+        // 998 segments (one lost at the strip break), one point more per line shape
+        assert_eq!((drawn, lines.iter().sum::<usize>()), (998, 998 + 4));
     }
 }

@@ -220,11 +220,21 @@ pub struct MessageRef<'a> {
     pub data: &'a [u8],
 }
 
+/// Decodes the messages of one chunk, in order, into one output.
+pub trait ChunkDecoder {
+    /// What a chunk gives.
+    type Out: Send;
+    /// The chunk's next message; an `Err` is a warning (the message is skipped).
+    fn message(&mut self, m: MessageRef<'_>) -> Result<(), String>;
+    /// After the chunk's last message.
+    fn finish(self) -> Self::Out;
+}
+
 /// What [`decode_chunks`] read.
 #[derive(Debug, Clone)]
 pub struct Chunked<T> {
-    /// What the decoders kept, in file order.
-    pub items: Vec<T>,
+    /// The decoders' outputs, one per chunk, in file order.
+    pub outputs: Vec<T>,
     /// The metadata record of ours (app version, robot, tool, program, joints).
     pub metadata: BTreeMap<String, String>,
     /// Per topic, every message counted.
@@ -291,18 +301,16 @@ fn walk<'a>(records: &'a [u8], mut f: impl FnMut(u8, &'a [u8]) -> bool) -> Optio
 
 /// What one chunk gave.
 struct ChunkOut<T> {
-    items: Vec<T>,
+    out: T,
     counts: HashMap<u16, u64>,
     span_ns: Option<(u64, u64)>,
     warnings: Vec<String>,
 }
 
-fn decode_one<T>(
-    records: &[u8],
-    topics: &Topics,
-    mut decode: impl FnMut(MessageRef<'_>) -> Result<Option<T>, String>,
-) -> Result<ChunkOut<T>, String> {
-    let mut out = ChunkOut { items: Vec::new(), counts: HashMap::new(), span_ns: None, warnings: Vec::new() };
+fn decode_one<D: ChunkDecoder>(records: &[u8], topics: &Topics, mut decoder: D) -> Result<ChunkOut<D::Out>, String> {
+    let mut counts = HashMap::new();
+    let mut span_ns: Option<(u64, u64)> = None;
+    let mut warnings = Vec::new();
     let mut problem = None;
     walk(records, |opcode, body| {
         if opcode == op::CHANNEL {
@@ -326,23 +334,23 @@ fn decode_one<T>(
             problem = Some(format!("a message on unknown channel {channel}"));
             return false;
         };
-        *out.counts.entry(channel).or_insert(0) += 1;
-        out.span_ns = Some(match out.span_ns {
+        *counts.entry(channel).or_insert(0) += 1;
+        span_ns = Some(match span_ns {
             None => (log_time_ns, log_time_ns),
             Some((a, b)) => (a.min(log_time_ns), b.max(log_time_ns)),
         });
-        match decode(MessageRef { topic, log_time_ns, data }) {
-            Ok(Some(item)) => out.items.push(item),
-            Ok(None) => {}
-            Err(why) if out.warnings.len() < MAX_WARNINGS => {
-                out.warnings.push(format!("a {topic} message is not valid: {why}"))
-            }
-            Err(_) => {}
+        if let Err(why) = decoder.message(MessageRef { topic, log_time_ns, data })
+            && warnings.len() < MAX_WARNINGS
+        {
+            warnings.push(format!("a {topic} message is not valid: {why}"));
         }
         true
     })
     .ok_or_else(|| "a record runs past the end of its chunk".to_string())?;
-    problem.map_or(Ok(out), Err)
+    match problem {
+        Some(why) => Err(why),
+        None => Ok(ChunkOut { out: decoder.finish(), counts, span_ns, warnings }),
+    }
 }
 
 /// Channel id → topic (our channel ids are small: a table, not a hash map).
@@ -384,13 +392,12 @@ fn channels(first_chunk: &[u8]) -> Result<Topics, NotFast> {
 
 /// Decodes every message of the whole recording that `source` reads, on up to `threads`
 /// threads (at most [`MAX_THREADS`]) besides the one reading: each chunk gets a decoder from
-/// `decoder()`, which sees the chunk's messages in order and answers what to keep. See the
-/// module docs.
-pub fn decode_chunks<'a, T: Send, D: FnMut(MessageRef<'_>) -> Result<Option<T>, String>>(
+/// `decoder()`, which sees the chunk's messages in order. See the module docs.
+pub fn decode_chunks<'a, D: ChunkDecoder>(
     mut source: impl RecordSource<'a>,
     threads: usize,
     decoder: impl Fn() -> D + Sync,
-) -> Result<Chunked<T>, NotFast> {
+) -> Result<Chunked<D::Out>, NotFast> {
     let mut metadata: Vec<Cow<'a, [u8]>> = Vec::new();
     let first = loop {
         match source.next_record()? {
@@ -407,7 +414,7 @@ pub fn decode_chunks<'a, T: Send, D: FnMut(MessageRef<'_>) -> Result<Option<T>, 
             .map(|_| {
                 let work = work.clone();
                 let (topics, decoder) = (&topics, &decoder);
-                s.spawn(move || -> Result<Vec<(usize, ChunkOut<T>)>, String> {
+                s.spawn(move || -> Result<Vec<(usize, ChunkOut<D::Out>)>, String> {
                     let mut zstd = zstd::bulk::Decompressor::new().map_err(|e| format!("zstd: {e}"))?;
                     let mut records = Vec::new();
                     let mut done = Vec::new();
@@ -446,7 +453,7 @@ pub fn decode_chunks<'a, T: Send, D: FnMut(MessageRef<'_>) -> Result<Option<T>, 
         (read.map(|()| chunks), results)
     });
     let chunks = read?;
-    let mut per_chunk: Vec<Option<ChunkOut<T>>> = (0..chunks).map(|_| None).collect();
+    let mut per_chunk: Vec<Option<ChunkOut<D::Out>>> = (0..chunks).map(|_| None).collect();
     for result in results {
         for (i, out) in result.map_err(NotFast)? {
             if let Some(slot) = per_chunk.get_mut(i) {
@@ -455,7 +462,7 @@ pub fn decode_chunks<'a, T: Send, D: FnMut(MessageRef<'_>) -> Result<Option<T>, 
         }
     }
     let mut read = Chunked {
-        items: Vec::new(),
+        outputs: Vec::with_capacity(chunks),
         metadata: BTreeMap::new(),
         topics: BTreeMap::new(),
         span_ns: None,
@@ -465,7 +472,7 @@ pub fn decode_chunks<'a, T: Send, D: FnMut(MessageRef<'_>) -> Result<Option<T>, 
     };
     let mut counts: HashMap<u16, u64> = HashMap::new();
     for out in per_chunk.into_iter().flatten() {
-        read.items.extend(out.items);
+        read.outputs.push(out.out);
         for (channel, n) in out.counts {
             *counts.entry(channel).or_insert(0) += n;
         }

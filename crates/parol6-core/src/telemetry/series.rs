@@ -133,6 +133,10 @@ impl Pyramid {
         self.levels.clear();
         self.first_block.clear();
     }
+
+    fn shrink_to_fit(&mut self) {
+        self.levels.iter_mut().for_each(VecDeque::shrink_to_fit);
+    }
 }
 
 fn merge(a: (f32, f32), b: (f32, f32)) -> (f32, f32) {
@@ -238,6 +242,18 @@ impl SeriesStore {
                 s.clear();
             }
             c.squares_before = 0.0;
+        }
+    }
+
+    /// Gives back the room kept for more samples (a replay's store, filled once, grows no more).
+    pub fn shrink_to_fit(&mut self) {
+        self.times_s.shrink_to_fit();
+        for col in &mut self.columns {
+            col.values.shrink_to_fit();
+            col.pyramid.shrink_to_fit();
+            if let Some(sq) = col.squares.as_mut() {
+                sq.shrink_to_fit();
+            }
         }
     }
 

@@ -299,6 +299,9 @@ fn walk<'a>(records: &'a [u8], mut f: impl FnMut(u8, &'a [u8]) -> bool) -> Optio
     Some(())
 }
 
+/// A decoding thread's chunks: (index in the file, what it gave).
+type Decoded<T> = Vec<(usize, ChunkOut<T>)>;
+
 /// What one chunk gave.
 struct ChunkOut<T> {
     out: T,
@@ -414,7 +417,7 @@ pub fn decode_chunks<'a, D: ChunkDecoder>(
             .map(|_| {
                 let work = work.clone();
                 let (topics, decoder) = (&topics, &decoder);
-                s.spawn(move || -> Result<Vec<(usize, ChunkOut<D::Out>)>, String> {
+                s.spawn(move || -> Result<Decoded<D::Out>, String> {
                     let mut zstd = zstd::bulk::Decompressor::new().map_err(|e| format!("zstd: {e}"))?;
                     let mut records = Vec::new();
                     let mut done = Vec::new();

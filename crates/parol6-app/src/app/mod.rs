@@ -26,6 +26,7 @@ use crate::panels::registry::Panels;
 use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource};
 use crate::viewport::{SceneFrame, Viewport};
 
+mod access;
 mod execute;
 mod icon;
 mod layout;
@@ -240,88 +241,6 @@ impl Parol6App {
             app.open_loaded_recording(path, data, read_s);
         }
         Ok(app)
-    }
-
-    /// Shares the slot where the test hook stores the process exit status (0 = success).
-    pub fn set_exit_code(&mut self, slot: Arc<AtomicI32>) {
-        self.exit_code = slot;
-    }
-
-    /// The simulation (the bench drives it).
-    pub fn sim(&self) -> &SimHandle {
-        &self.sim
-    }
-
-    /// Loads the built-in program called `name` and runs it on the active backend (the bench
-    /// and the sweep script use it); false when there is no such program.
-    pub fn start_program(&mut self, name: &str, looping: bool) -> bool {
-        if !self.load_program(name) {
-            return false;
-        }
-        self.run_program(looping);
-        true
-    }
-
-    /// Loads the built-in program called `name` into the program panel (its pre-flight and
-    /// planned path follow on the next frame); false when there is no such program.
-    pub fn load_program(&mut self, name: &str) -> bool {
-        self.panels.program.load_builtin(name)
-    }
-
-    /// Runs the program loaded in the program panel on the active backend.
-    pub fn run_program(&mut self, looping: bool) {
-        self.panels.program.looping = looping;
-        let cmd = self.panels.program.run_command(false);
-        self.execute(cmd);
-    }
-
-    /// The persistent settings (tests and scripts change them as the menus would).
-    pub fn settings_mut(&mut self) -> &mut Settings {
-        &mut self.settings
-    }
-
-    /// The program panel (its program, dirty state).
-    pub fn program_panel(&self) -> &crate::panels::program::ProgramPanel {
-        &self.panels.program
-    }
-
-    /// The dynamics panel (tests read its analysis).
-    pub fn dynamics_panel(&self) -> &crate::panels::dynamics::DynamicsPanel {
-        &self.panels.dynamics
-    }
-
-    /// The notices shown over the 3D view now, oldest first.
-    pub fn notices(&self) -> &[Notice] {
-        &self.notices
-    }
-
-    /// True while a program runs (paused included).
-    pub fn program_running(&self) -> bool {
-        self.program.as_ref().is_some_and(|r| !r.is_finished())
-    }
-
-    /// The backend that motion commands go to: the robot when connected, else the simulation.
-    pub fn backend(&self) -> Arc<dyn RobotBackend> {
-        match &self.hw {
-            Some(link) => Arc::clone(&link.session) as Arc<dyn RobotBackend>,
-            None => Arc::clone(&self.sim) as Arc<dyn RobotBackend>,
-        }
-    }
-
-    /// The measurement panel (its test set-up), for scripted use and tests.
-    pub fn measure_panel(&mut self) -> &mut crate::panels::measure::MeasurePanel {
-        &mut self.panels.measure
-    }
-
-    /// The figures of the last frame.
-    pub fn perf(&self) -> &PerfStats {
-        &self.perf
-    }
-
-    /// Teleports the simulated arm (screenshots at given joints).
-    pub fn teleport(&mut self, q: Vec<f64>) -> anyhow::Result<()> {
-        self.sim.send(SimCommand::Teleport(q))?;
-        Ok(())
     }
 
     fn notice(&mut self, text: impl Into<String>, error: bool) {

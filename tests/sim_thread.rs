@@ -105,3 +105,40 @@ fn every_accepted_command_is_applied_and_a_full_queue_is_reported() {
     assert_eq!(h.drain_latencies_ns().len() as u64, ok);
     h.shutdown();
 }
+
+/// Steps per wake-up over `window` (the thread's own counters, no timing threshold).
+fn steps_per_wake(h: &SimHandle, window: Duration) -> f64 {
+    let a = h.stats();
+    std::thread::sleep(window);
+    let b = h.stats();
+    (b.steps - a.steps) as f64 / (b.wakes - a.wakes).max(1) as f64
+}
+
+#[test]
+fn a_resting_arm_wakes_the_thread_seldom_and_a_command_still_moves_it() {
+    let h = SimHandle::spawn(RobotModel::parol6(), SimConfig::default()).expect("spawns");
+    // the arm settles under gravity, rests after 0.5 s still, then the thread wakes every 50 steps
+    let end = Instant::now() + Duration::from_secs(20);
+    let mut ratio = steps_per_wake(&h, Duration::from_millis(300));
+    while ratio < 25.0 {
+        assert!(Instant::now() < end, "still waking every {ratio:.1} steps after 20 s at rest");
+        ratio = steps_per_wake(&h, Duration::from_millis(300));
+    }
+    let rest = h.snapshot();
+    assert!(!rest.moving);
+    // every step is still taken: simulated time keeps up with the wall clock
+    let goal = vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0];
+    h.send(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction: 1.0,
+        profile: ProfileKind::JerkLimited,
+    }))
+    .unwrap();
+    let moving = wait_for(&h, "the move to start", |s| s.moving || max_abs_diff(&s.q, &goal) < 1e-3);
+    assert!(moving.commands_applied > rest.commands_applied);
+    // while moving the thread wakes every few steps again
+    assert!(steps_per_wake(&h, Duration::from_millis(200)) < 25.0 || !h.snapshot().moving);
+    let done = wait_for(&h, "the goal", |s| !s.moving && max_abs_diff(&s.q, &goal) < 2e-3);
+    assert!(max_abs_diff(&done.target_q, &goal) < 1e-9);
+    h.shutdown();
+}

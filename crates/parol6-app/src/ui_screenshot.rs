@@ -60,8 +60,8 @@ pub struct HeadlessApp {
     size: (u32, u32),
     t0: Instant,
     /// What is drawn (for the per-layer breakdown of `parol6 bench render --layers`; anything
-    /// but all layers switches retained painting off).
-    pub layers: Layers,
+    /// but all layers draws without retained painting).
+    layers: Layers,
     retained: Option<RetainedHandle>,
 }
 
@@ -83,9 +83,18 @@ impl Default for Layers {
 impl HeadlessApp {
     /// Opens a headless device and builds the app on it.
     pub fn new(model: RobotModel, width: u32, height: u32) -> anyhow::Result<Self> {
+        Self::with_layers(model, width, height, Layers::default())
+    }
+
+    /// Like [`Self::new`], drawing only `layers`. With all of them, frames are painted as the
+    /// window paints them (retained painting on software rasterizers, whose egui pass then has
+    /// no depth buffer); otherwise egui draws every frame in full.
+    pub fn with_layers(model: RobotModel, width: u32, height: u32, layers: Layers) -> anyhow::Result<Self> {
         let started = Instant::now();
-        let renderer = OffscreenRenderer::new(&model, width, height).map_err(|e| anyhow::anyhow!("{e}"))?;
-        let render_state = renderer.egui_render_state();
+        let mut renderer = OffscreenRenderer::new(&model, width, height).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let retained = layers == Layers::default()
+            && crate::viewport::retained::retained_for(renderer.device_type(), renderer.sample_count());
+        let render_state = renderer.egui_render_state_with_depth(!retained);
         let opts = LaunchOptions {
             model,
             connect: None,
@@ -101,22 +110,9 @@ impl HeadlessApp {
         let ctx = egui::Context::default();
         ctx.set_visuals(crate::theme::visuals());
         crate::viewport::configure_tessellation(&ctx, &render_state);
-        let retained = crate::viewport::retained::install(
-            &ctx,
-            &render_state,
-            renderer.sample_count(),
-            crate::theme::panel_background(),
-        );
-        Ok(Self {
-            renderer,
-            render_state,
-            ctx,
-            app,
-            size: (width, height),
-            t0: started,
-            layers: Layers::default(),
-            retained,
-        })
+        let retained = retained
+            .then(|| crate::viewport::retained::install(&ctx, &render_state, crate::theme::panel_background(), None));
+        Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started, layers, retained })
     }
 
     /// Adapter description.
@@ -134,9 +130,6 @@ impl HeadlessApp {
             focused: true,
             ..Default::default()
         };
-        if let Some(r) = &self.retained {
-            r.set_enabled(self.layers == Layers::default());
-        }
         let mut app_ms = 0.0;
         let app = &mut self.app;
         let out = self.ctx.run_ui(input, |ui| {
@@ -184,7 +177,7 @@ impl HeadlessApp {
             vertices,
             triangles: indices / 3,
             egui_area_px: area_px,
-            retained: self.retained.as_ref().filter(|r| r.enabled()).map(RetainedHandle::stats),
+            retained: self.retained.as_ref().map(RetainedHandle::stats),
         };
         Ok((img, timing))
     }
@@ -214,5 +207,5 @@ pub const TARGET_FRAME_MS_P50: f64 = 10.0;
 pub const TARGET_FRAME_MS_P99: f64 = 16.0;
 /// UI CPU time per frame, p50, ms.
 pub const TARGET_UI_CPU_MS_P50: f64 = 1.0;
-/// Peak resident memory, MB.
+/// Resident memory of the running app (`bench render`: at the end of the run), MB.
 pub const TARGET_RSS_MB: f64 = 200.0;

@@ -393,7 +393,7 @@ fn viewport_paint_callback_draws_the_robot_inside_egui() {
 fn viewport_input_orbits_pans_zooms_and_resets() {
     use eframe::egui;
     let model = RobotModel::parol6();
-    let Some(r) = renderer(&model, "viewport_input") else { return };
+    let Some(mut r) = renderer(&model, "viewport_input") else { return };
     let rs = r.egui_render_state();
     let mut vp = match Viewport::with_target(&rs, &model, r.sample_count(), Some(DEPTH_FORMAT)) {
         Ok(v) => v,

@@ -35,12 +35,15 @@ fn painter(model: &RobotModel, retained_on: bool) -> Option<Painter> {
         }
         Err(e) => panic!("{e}"),
     };
-    let rs = renderer.egui_render_state();
+    let mut renderer = renderer;
+    // as the window: with retained painting egui's own pass has no depth buffer (the 3D view
+    // draws into the kept image, which has one)
+    let rs = renderer.egui_render_state_with_depth(!retained_on);
     let viewport = Viewport::with_target(&rs, model, 1, Some(DEPTH_FORMAT)).expect("viewport");
     let ctx = egui::Context::default();
     // on whatever the adapter (the window turns it on for software rasterizers only)
     let retained =
-        retained_on.then(|| retained::install_always(&ctx, &rs, egui::Color32::from_rgb(BG[0], BG[1], BG[2])));
+        retained_on.then(|| retained::install(&ctx, &rs, egui::Color32::from_rgb(BG[0], BG[1], BG[2]), None));
     Some(Painter { renderer, rs, ctx, viewport, retained })
 }
 

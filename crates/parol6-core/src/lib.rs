@@ -12,7 +12,7 @@
 //! cube, pose and path figures, the measurement CSV, the test driver on any backend), the keep-out shapes of the robot's
 //! surroundings ([`scene`]), the PAROL6 facts of the reference pack ([`parol6`]), the size /
 //! nesting bounds every URDF text passes before parsing ([`urdf_input`]), sample statistics
-//! with one percentile rule ([`stats`]), and telemetry ([`telemetry`]: the recorder thread with
+//! with one percentile rule ([`stats`]), handing freed memory back ([`process`]), and telemetry ([`telemetry`]: the recorder thread with
 //! its live ring buffer, MCAP files for Foxglove / Lichtblick, and the reader of our own
 //! recordings).
 //!
@@ -29,6 +29,7 @@ pub mod measure;
 pub mod model;
 pub mod motion;
 pub mod parol6;
+pub mod process;
 pub mod profile;
 pub mod program;
 pub mod scene;

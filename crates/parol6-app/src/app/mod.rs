@@ -55,9 +55,14 @@ pub const WINDOW_TITLE: &str = "PAROL6 Studio";
 const NOTICE_TTL: Duration = Duration::from_secs(8);
 /// After any command, keep repainting this long so its effect (or refusal) shows up.
 const COMMAND_REPAINT_WINDOW: Duration = Duration::from_millis(600);
-/// While idle, repaint this seldom, so the status figures stay true. Each frame costs tens of
-/// milliseconds of CPU on a software rasterizer, so idle means one frame a second.
-const IDLE_REPAINT: Duration = Duration::from_secs(1);
+/// Freed memory is handed back to the system this long after start-up and after a replay is
+/// opened or closed, once the frames that follow have left their garbage (on a software
+/// rasterizer, shader compilation alone leaves ~10 MB freed but resident).
+const RELEASE_MEMORY_AFTER: Duration = Duration::from_secs(2);
+/// While idle, repaint this seldom, so the status figures stay true. A frame costs ~15 ms of
+/// CPU on a software rasterizer even when only the status bar changed (the UI pass, and
+/// handing the whole window to the display), so idle means one frame every two seconds.
+const IDLE_REPAINT: Duration = Duration::from_secs(2);
 /// While the serial link is open and the arm is still, repaint this often: enough for the
 /// link, E-stop and homing LEDs and the link health figures (the session itself reacts to the
 /// E-stop within one period, whatever the UI does). Faster idle repaints would compete with
@@ -146,6 +151,9 @@ pub struct Parol6App {
     replay_loading: Option<replay::ReplayLoading>,
     /// The File menu.
     files: FileMenu,
+    /// When to hand freed memory back to the system (after the first frames, a replay opened
+    /// or closed).
+    release_memory_at: Option<Instant>,
 }
 
 impl Parol6App {
@@ -218,6 +226,7 @@ impl Parol6App {
             recording_info: opts.recording_info,
             replay_loading: None,
             files: FileMenu::default(),
+            release_memory_at: Some(Instant::now() + RELEASE_MEMORY_AFTER),
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -307,7 +316,11 @@ impl Parol6App {
 
     fn update_perf(&mut self, now: Instant, snap: &SimSnapshot) {
         self.frame_starts.push_back(now);
-        while self.frame_starts.front().is_some_and(|t| now.duration_since(*t) > Duration::from_secs(1)) {
+        // the last second's frames, and at least the one before this (an idle window draws one
+        // frame every IDLE_REPAINT)
+        while self.frame_starts.len() > 2
+            && self.frame_starts.front().is_some_and(|t| now.duration_since(*t) > Duration::from_secs(1))
+        {
             self.frame_starts.pop_front();
         }
         let n = self.frame_starts.len();
@@ -374,6 +387,10 @@ impl Parol6App {
         }
         self.sweep_step(&ctx, t0, robot.moving);
         self.soak_step(&ctx, t0);
+        if self.release_memory_at.is_some_and(|at| t0 >= at) {
+            self.release_memory_at = None;
+            parol6_core::process::release_freed_memory();
+        }
 
         self.keyboard(&ctx);
         self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);

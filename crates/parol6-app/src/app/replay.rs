@@ -79,6 +79,7 @@ impl Parol6App {
                     false,
                 );
                 self.panels.timeline.replay = Some(replay);
+                self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
                 self.panels.plots.follow = true;
                 self.settings.show_plots = true;
                 if let Some(v) = &mut self.viewport {
@@ -93,6 +94,7 @@ impl Parol6App {
     pub(super) fn close_recording(&mut self) {
         if self.panels.timeline.replay.take().is_some() {
             self.panels.plots.set_replay(None);
+            self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
             if let Some(v) = &mut self.viewport {
                 v.clear_trail();
             }
@@ -120,6 +122,7 @@ impl Parol6App {
         let mut replay = Replay::new(path, Arc::new(data));
         replay.playing = playing;
         self.panels.timeline.replay = Some(replay);
+        self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
         self.settings.show_plots = true;
         self.panels.plots.follow = true;
         self.panels.plots.window_s = window_s;

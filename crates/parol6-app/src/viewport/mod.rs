@@ -8,6 +8,8 @@
 //! * [`camera`]: the Z-up orbit camera.
 //! * [`trail`]: the TCP trail ring buffer.
 //! * [`offscreen`]: the headless renderer.
+//! * [`setup`]: which adapter, sample count, depth buffer and painting the window and the
+//!   offscreen renderer use.
 //!
 //! The egui path draws into egui's own render pass, so the app must create its window with
 //! [`MSAA_SAMPLES`] and [`DEPTH_BUFFER_BITS`] (see [`configure_native_options`]).
@@ -30,103 +32,20 @@ pub mod offscreen;
 pub mod path_overlay;
 pub mod renderer;
 pub mod retained;
+pub mod setup;
 pub mod trail;
 pub mod trail_color;
 
 pub use camera::OrbitCamera;
 pub use offscreen::{OffscreenRenderer, RgbaImage, write_png};
 pub use path_overlay::{PathOverlay, PathPointStatus};
+pub use setup::{
+    DEPTH_BUFFER_BITS, DEPTH_FORMAT, MSAA_SAMPLES, MSAA_SAMPLES_CPU_ADAPTER, WindowSetup, configure_native_options,
+    configure_tessellation, feathering_for, headless_adapter, msaa_for, msaa_from_env, probe_window,
+};
 pub use trail::DEFAULT_TRAIL_CAPACITY;
 
 use renderer::{FrameData, SceneGpu, SharedFrame, ViewportCallback, ViewportGpuResources};
-
-/// MSAA sample count of the 3D view on a GPU. The egui window must use the same
-/// (`NativeOptions::multisampling`), because the view draws into egui's render pass.
-pub const MSAA_SAMPLES: u32 = 4;
-
-/// MSAA sample count on a software rasterizer (lavapipe, llvmpipe). There 4× MSAA costs about
-/// 14 ms per 1280×800 frame for the clear and resolve alone, more than a third of the frame
-/// budget, so CPU adapters render without it unless `PAROL6_MSAA` asks for it.
-pub const MSAA_SAMPLES_CPU_ADAPTER: u32 = 1;
-
-/// The sample count for an adapter of `device_type`: `PAROL6_MSAA` when set, else
-/// [`MSAA_SAMPLES`] on GPUs and [`MSAA_SAMPLES_CPU_ADAPTER`] on software rasterizers.
-pub fn msaa_for(device_type: eframe::wgpu::DeviceType) -> u32 {
-    msaa_from_env().unwrap_or(if device_type == eframe::wgpu::DeviceType::Cpu {
-        MSAA_SAMPLES_CPU_ADAPTER
-    } else {
-        MSAA_SAMPLES
-    })
-}
-
-/// A wgpu instance and adapter without a window (any backend wgpu finds; `WGPU_BACKEND`,
-/// `WGPU_ADAPTER_NAME` and `WGPU_POWER_PREF` narrow it).
-pub fn headless_adapter() -> (eframe::wgpu::Instance, Result<eframe::wgpu::Adapter, eframe::wgpu::RequestAdapterError>)
-{
-    use eframe::wgpu;
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
-        force_fallback_adapter: false,
-        compatible_surface: None,
-        apply_limit_buckets: false,
-    }));
-    (instance, adapter)
-}
-
-/// Asks wgpu which adapter a window would get (same environment rules) and returns its sample
-/// count per [`msaa_for`]. Used before the window exists, when the sample count must be fixed.
-pub fn probe_window_msaa() -> u32 {
-    match headless_adapter().1 {
-        Ok(a) => msaa_for(a.get_info().device_type),
-        Err(_) => msaa_from_env().unwrap_or(MSAA_SAMPLES),
-    }
-}
-
-/// Depth buffer bits the egui window must request (`NativeOptions::depth_buffer`); egui-wgpu
-/// turns 32 into [`DEPTH_FORMAT`].
-pub const DEPTH_BUFFER_BITS: u8 = 32;
-
-/// Depth format of the 3D pass (egui-wgpu's format for `depth_buffer: 32`).
-pub const DEPTH_FORMAT: eframe::wgpu::TextureFormat = eframe::wgpu::TextureFormat::Depth32Float;
-
-/// Whether egui feathers (anti-aliases) its shapes on an adapter of `device_type`:
-/// `PAROL6_FEATHERING=0|1` when set, else on GPUs only. Feathering gives every filled shape a
-/// blended rim and every line three vertices per point: on a software rasterizer the UI's
-/// triangles roughly double and its render pass costs several milliseconds more at
-/// 1280×800, for edges that are one pixel softer.
-pub fn feathering_for(device_type: eframe::wgpu::DeviceType) -> bool {
-    match std::env::var("PAROL6_FEATHERING").ok().as_deref().map(str::trim) {
-        Some("0") => false,
-        Some("1") => true,
-        _ => device_type != eframe::wgpu::DeviceType::Cpu,
-    }
-}
-
-/// Sets egui's feathering on `ctx` for the adapter of `render_state` ([`feathering_for`]).
-pub fn configure_tessellation(ctx: &egui::Context, render_state: &egui_wgpu::RenderState) {
-    let on = feathering_for(render_state.adapter.get_info().device_type);
-    ctx.tessellation_options_mut(|o| o.feathering = on);
-}
-
-/// `PAROL6_MSAA=1|2|4` overrides [`MSAA_SAMPLES`] (1 is much cheaper on software
-/// rasterizers). [`OffscreenRenderer::new`] honours it; a window must use the same value.
-pub fn msaa_from_env() -> Option<u32> {
-    std::env::var("PAROL6_MSAA").ok().and_then(|v| v.trim().parse::<u32>().ok()).filter(|m| matches!(m, 1 | 2 | 4))
-}
-
-/// Sets the window options the viewport needs: the sample count of [`probe_window_msaa`] and a
-/// [`DEPTH_BUFFER_BITS`] depth buffer. Call it on the `NativeOptions` before
-/// `eframe::run_native`; returns the sample count, which the [`Viewport`] must be built with.
-pub fn configure_native_options(options: &mut eframe::NativeOptions) -> u32 {
-    let samples = probe_window_msaa();
-    options.multisampling = samples as u16;
-    options.depth_buffer = DEPTH_BUFFER_BITS;
-    // Dithering costs per-pixel noise math in egui's shader for a barely visible gain; on
-    // software rasterizers it is a measurable part of the frame.
-    options.dithering = false;
-    samples
-}
 
 /// Errors of the viewport and the offscreen renderer.
 #[derive(Debug, thiserror::Error)]

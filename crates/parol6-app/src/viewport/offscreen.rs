@@ -118,6 +118,9 @@ pub struct OffscreenRenderer {
     pub camera: OrbitCamera,
     warnings: Vec<String>,
     last_egui_timing: EguiPassTiming,
+    /// Whether [`Self::render_egui`]'s pass has a depth attachment (see
+    /// [`Self::egui_render_state_with_depth`]).
+    egui_pass_depth: bool,
 }
 
 impl OffscreenRenderer {
@@ -165,6 +168,7 @@ impl OffscreenRenderer {
             camera: OrbitCamera::default(),
             warnings: meshes.warnings,
             last_egui_timing: EguiPassTiming::default(),
+            egui_pass_depth: true,
         })
     }
 
@@ -192,6 +196,11 @@ impl OffscreenRenderer {
     /// MSAA samples of the targets ([`super::MSAA_SAMPLES`], or 1 where the adapter cannot).
     pub fn sample_count(&self) -> u32 {
         self.samples
+    }
+
+    /// The kind of adapter (GPU or software rasterizer).
+    pub fn device_type(&self) -> wgpu::DeviceType {
+        self.adapter.get_info().device_type
     }
 
     /// Current image size, px.
@@ -232,13 +241,18 @@ impl OffscreenRenderer {
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("parol6 offscreen") });
         {
-            let mut pass = self.begin_pass(&mut encoder, wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: 1.0 });
+            let mut pass = self.begin_pass(&mut encoder, wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: 1.0 }, true);
             self.scene.paint(&mut pass);
         }
         self.finish_and_read(encoder)
     }
 
-    fn begin_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, clear: wgpu::Color) -> wgpu::RenderPass<'e> {
+    fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        clear: wgpu::Color,
+        depth: bool,
+    ) -> wgpu::RenderPass<'e> {
         let t = &self.targets;
         // With MSAA only the resolved image is needed: the samples are discarded.
         let (view, resolve_target, store) = match &t.msaa_view {
@@ -253,7 +267,7 @@ impl OffscreenRenderer {
                 resolve_target,
                 ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store },
             })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            depth_stencil_attachment: depth.then_some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_view,
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                 stencil_ops: None,
@@ -309,13 +323,22 @@ impl OffscreenRenderer {
     /// An egui-wgpu render state on this device whose egui renderer matches the targets
     /// (format, samples, depth), for building a [`super::Viewport`] and drawing a whole egui
     /// frame with [`Self::render_egui`].
-    pub fn egui_render_state(&self) -> egui_wgpu::RenderState {
+    pub fn egui_render_state(&mut self) -> egui_wgpu::RenderState {
+        self.egui_render_state_with_depth(true)
+    }
+
+    /// Like [`Self::egui_render_state`]; without `depth` egui's pass in [`Self::render_egui`]
+    /// has no depth attachment, as the window's has with retained painting (which draws the 3D
+    /// view into its own target): a paint callback drawn straight into that pass must not use
+    /// depth.
+    pub fn egui_render_state_with_depth(&mut self, depth: bool) -> egui_wgpu::RenderState {
+        self.egui_pass_depth = depth;
         let renderer = egui_wgpu::Renderer::new(
             &self.device,
             OFFSCREEN_FORMAT,
             egui_wgpu::RendererOptions {
                 msaa_samples: self.samples,
-                depth_stencil_format: Some(DEPTH_FORMAT),
+                depth_stencil_format: depth.then_some(DEPTH_FORMAT),
                 dithering: false,
                 // Filtering in egui's shader: reproducible images, and on llvmpipe about half
                 // the cost of its sRGB hardware sampling (measured on a full-window panel).
@@ -361,7 +384,8 @@ impl OffscreenRenderer {
         let t1 = std::time::Instant::now();
         let bg = clear_srgb.map(|c| c as f64 / 255.0);
         {
-            let pass = self.begin_pass(&mut encoder, wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: 1.0 });
+            let clear = wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: 1.0 };
+            let pass = self.begin_pass(&mut encoder, clear, self.egui_pass_depth);
             let mut pass = pass.forget_lifetime();
             renderer.render(&mut pass, primitives, &screen);
         }

@@ -493,6 +493,12 @@ impl Simulation {
         self.rest_steps > REST_AFTER_STEPS
     }
 
+    /// Resting with nothing scheduled: until the next command nothing will change, so the
+    /// real-time thread may wake seldom (see [`SimHandle`]).
+    pub fn dormant(&self) -> bool {
+        self.resting() && self.planner.pending() == 0
+    }
+
     /// A torque run: this step's profile torques (plus gravity when asked), or, once its time
     /// is up, back to the motors holding where the arm is.
     fn update_run_torques(&mut self) {

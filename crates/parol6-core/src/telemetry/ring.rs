@@ -71,10 +71,7 @@ impl LiveRing {
 
     /// Keeps `s` unless it comes too soon after the last kept one; drops what is too old.
     pub fn push(&mut self, s: &TelemetrySample) {
-        if let Some(last) = self.last_kept_s
-            && s.time_s >= last
-            && s.time_s - last < self.min_dt_s
-        {
+        if !self.keeps(s.time_s) {
             return;
         }
         self.last_kept_s = Some(s.time_s);
@@ -85,6 +82,12 @@ impl LiveRing {
             self.open.reserve(BLOCK_LEN);
         }
         self.expire(s.time_s);
+    }
+
+    /// Whether [`LiveRing::push`] would keep a sample taken at `time_s` (one per
+    /// `1 / rate` seconds is kept).
+    pub fn keeps(&self, time_s: f64) -> bool {
+        !self.last_kept_s.is_some_and(|last| time_s >= last && time_s - last < self.min_dt_s)
     }
 
     /// Keeps an event.

@@ -5,8 +5,8 @@
 //! Every column keeps a min/max pyramid (level `k` holds the minimum and maximum of aligned
 //! blocks of `2^k` samples), so [`SeriesStore::decimated`] returns about two points per pixel
 //! column of any time window in `O(columns · log n)`, never walking the raw samples; the
-//! tracking-error columns also keep running sums of squares for the RMS over a window
-//! ([`SeriesStore::window_stats`]). Samples older than the store's span are dropped
+//! tracking-error columns also keep running sums of squares (one every [`SQUARES_BLOCK`]
+//! samples) for the RMS over a window ([`SeriesStore::window_stats`]). Samples older than the store's span are dropped
 //! ([`SeriesStore::new`]), so the same store serves the live view (10 minutes, appended to)
 //! and a replay (everything, built once).
 
@@ -15,8 +15,13 @@ use std::collections::VecDeque;
 use super::ring::LiveView;
 use super::sample::{DriveKind, TelemetrySample};
 
-/// Level of the first pyramid level kept: blocks of 8 samples (the raw values serve below).
-const FIRST_LEVEL: u32 = 3;
+/// Level of the first pyramid level kept: blocks of 16 samples (the raw values serve below).
+/// The pyramid then takes 1 byte per sample and column (2 with blocks of 8: 5 MB more for a
+/// ten-minute replay), and a window's edges read at most 15 raw values each.
+const FIRST_LEVEL: u32 = 4;
+/// The running sum of squares is kept at every this many samples; a window's sum adds at most
+/// this many raw values to it (8 bytes per sample and tracking-error column before).
+const SQUARES_BLOCK: u64 = 64;
 
 /// What a series measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -149,10 +154,21 @@ const EMPTY: (f32, f32) = (f32::INFINITY, f32::NEG_INFINITY);
 struct Column {
     values: VecDeque<f32>,
     pyramid: Pyramid,
-    /// Running sum of squares up to and including each kept sample (tracking error only).
-    squares: Option<VecDeque<f64>>,
-    /// The running sum before the first kept sample.
-    squares_before: f64,
+    /// Sums of squares (tracking error only).
+    squares: Option<SquareSums>,
+}
+
+/// Running sums of squares of one column: `marks[j]` is the sum over every sample before
+/// absolute index `(first_mark + j) · SQUARES_BLOCK`, `total` over every sample pushed.
+#[derive(Debug, Clone, Default)]
+struct SquareSums {
+    marks: VecDeque<f64>,
+    first_mark: u64,
+    total: f64,
+}
+
+fn square(v: f32) -> f64 {
+    if v.is_finite() { f64::from(v) * f64::from(v) } else { 0.0 }
 }
 
 /// Telemetry as plot series. See the module docs.
@@ -180,7 +196,7 @@ impl SeriesStore {
         let columns = ids
             .iter()
             .map(|id| Column {
-                squares: (id.quantity == Quantity::TrackingError).then(VecDeque::new),
+                squares: (id.quantity == Quantity::TrackingError).then(SquareSums::default),
                 ..Column::default()
             })
             .collect();
@@ -239,9 +255,8 @@ impl SeriesStore {
             c.values.clear();
             c.pyramid.clear();
             if let Some(s) = c.squares.as_mut() {
-                s.clear();
+                *s = SquareSums::default();
             }
-            c.squares_before = 0.0;
         }
     }
 
@@ -252,7 +267,7 @@ impl SeriesStore {
             col.values.shrink_to_fit();
             col.pyramid.shrink_to_fit();
             if let Some(sq) = col.squares.as_mut() {
-                sq.shrink_to_fit();
+                sq.marks.shrink_to_fit();
             }
         }
     }
@@ -272,9 +287,13 @@ impl SeriesStore {
             let v = row.get(c).copied().unwrap_or(f32::NAN);
             col.values.push_back(v);
             if let Some(sq) = col.squares.as_mut() {
-                let prev = sq.back().copied().unwrap_or(col.squares_before);
-                let add = if v.is_finite() { f64::from(v) * f64::from(v) } else { 0.0 };
-                sq.push_back(prev + add);
+                sq.total += square(v);
+                if (i + 1).is_multiple_of(SQUARES_BLOCK) {
+                    if sq.marks.is_empty() {
+                        sq.first_mark = (i + 1) / SQUARES_BLOCK;
+                    }
+                    sq.marks.push_back(sq.total);
+                }
             }
             let mut k = FIRST_LEVEL;
             while (i + 1).is_multiple_of(1u64 << k) {
@@ -310,10 +329,12 @@ impl SeriesStore {
         for col in &mut self.columns {
             for _ in 0..dropped {
                 col.values.pop_front();
-                if let Some(sq) = col.squares.as_mut()
-                    && let Some(s) = sq.pop_front()
-                {
-                    col.squares_before = s;
+            }
+            if let Some(sq) = col.squares.as_mut() {
+                // a mark is needed while a kept sample lies before it
+                let needed = self.base.div_ceil(SQUARES_BLOCK);
+                while sq.first_mark < needed && sq.marks.pop_front().is_some() {
+                    sq.first_mark += 1;
                 }
             }
             col.pyramid.expire(self.base);
@@ -379,6 +400,22 @@ impl SeriesStore {
 
     fn end(&self) -> u64 {
         self.base + self.times_s.len() as u64
+    }
+
+    /// The sum of squares of every sample before absolute index `x` (`base ≤ x ≤ end`): the
+    /// next mark (or the total) less the kept samples between `x` and it.
+    fn sum_of_squares_before(&self, col: &Column, sq: &SquareSums, x: u64) -> Option<f64> {
+        let end = self.end();
+        if x < self.base || x > end {
+            return None;
+        }
+        let m = x.div_ceil(SQUARES_BLOCK);
+        let (upto, sum) = match m.checked_sub(sq.first_mark).and_then(|j| sq.marks.get(usize::try_from(j).ok()?)) {
+            Some(&mark) if m * SQUARES_BLOCK <= end => (m * SQUARES_BLOCK, mark),
+            _ => (end, sq.total),
+        };
+        let raw = (x..upto).map(|k| col.values.get((k - self.base) as usize).copied().map_or(0.0, square));
+        Some(sum - raw.sum::<f64>())
     }
 
     /// Min and max of column `col` over absolute samples `[a, b)`, from the pyramid.
@@ -469,9 +506,7 @@ impl SeriesStore {
             return None;
         }
         let rms = column.squares.as_ref().and_then(|sq| {
-            let at = |i: u64| sq.get((i - self.base) as usize).copied();
-            let before = if a == self.base { column.squares_before } else { at(a - 1)? };
-            let sum = at(b - 1)? - before;
+            let sum = self.sum_of_squares_before(column, sq, b)? - self.sum_of_squares_before(column, sq, a)?;
             Some((sum.max(0.0) / (b - a) as f64).sqrt())
         });
         let (min, max) = (f64::from(lo), f64::from(hi));

@@ -154,3 +154,39 @@ fn rows_at_a_time_and_raw_windows() {
     assert_eq!(st.raw_window(1.0, 2.0).count(), 251);
     assert!(SeriesStore::new(2, 1.0).row_at(0.0).is_none());
 }
+
+proptest::proptest! {
+    /// The RMS of any window, after any expiry and with NaNs among the values, equals a direct
+    /// computation over the kept raw values (sums of squares are kept only every 64 samples).
+    #[test]
+    fn window_rms_matches_the_raw_values(
+        values in proptest::collection::vec(proptest::option::weighted(0.95, -1.0f32..1.0), 1..700),
+        span_s in 0.2f64..4.0,
+        a_frac in 0.0f64..1.0,
+        len_frac in 0.0f64..1.0,
+    ) {
+        let mut st = SeriesStore::new(1, span_s);
+        let col = st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }).unwrap_or(0);
+        let mut row = vec![f32::NAN; st.ids().len()];
+        for (k, v) in values.iter().enumerate() {
+            row[col] = v.unwrap_or(f32::NAN);
+            st.push_row(k as f64 * 0.004, &row);
+        }
+        let kept: Vec<(f64, f32)> =
+            st.times_s.iter().copied().zip(st.columns[col].values.iter().copied()).collect();
+        let a = ((kept.len() - 1) as f64 * a_frac) as usize;
+        let b = (a + ((kept.len() - a) as f64 * len_frac) as usize).clamp(a + 1, kept.len());
+        let (t0, t1) = (kept[a].0, kept[b - 1].0);
+        let direct = kept[a..b].iter().map(|&(_, v)| if v.is_finite() { f64::from(v).powi(2) } else { 0.0 }).sum::<f64>();
+        let direct = (direct / (b - a) as f64).sqrt();
+        let finite = kept[a..b].iter().any(|(_, v)| v.is_finite());
+        match st.window_stats(col, t0, t1) {
+            Some(s) => {
+                let rms = s.rms.unwrap_or(f64::NAN);
+                proptest::prop_assert!((rms - direct).abs() < 1e-9, "{} vs {}", rms, direct);
+                proptest::prop_assert_eq!(s.samples, b - a);
+            }
+            None => proptest::prop_assert!(!finite),
+        }
+    }
+}

@@ -141,6 +141,9 @@ impl<W: Write + Seek> McapSink<W> {
         let options = WriteOptions::new()
             .compression(Some(Compression::Zstd))
             .chunk_size(Some(CHUNK_BYTES))
+            // compressed on the recorder's own thread: zstd's worker threads (one per core by
+            // default) took ~20 MB of buffers each, for a stream of a few hundred kB/s
+            .compression_threads(0)
             .profile("")
             .library(format!("parol6-studio {}", info.app_version));
         let mut writer = options.create(w)?;

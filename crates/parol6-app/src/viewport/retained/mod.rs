@@ -13,7 +13,6 @@
 mod damage;
 mod painter;
 
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use eframe::egui;
@@ -44,25 +43,13 @@ pub struct RetainedStats {
     pub prepare_ms: f64,
 }
 
-/// Switches retained painting on and off and reads its numbers.
+/// Reads the numbers of retained painting.
 #[derive(Clone)]
 pub struct RetainedHandle {
-    enabled: Arc<AtomicBool>,
     shared: Arc<Shared>,
 }
 
 impl RetainedHandle {
-    /// Whether frames go through retained painting.
-    pub fn enabled(&self) -> bool {
-        self.enabled.load(Ordering::Relaxed)
-    }
-
-    /// Turns retained painting on (the next frame is drawn in full) or off (egui draws the
-    /// whole frame itself, every frame).
-    pub fn set_enabled(&self, on: bool) {
-        self.enabled.store(on, Ordering::Relaxed);
-    }
-
     /// Numbers of the last painted frame.
     pub fn stats(&self) -> RetainedStats {
         self.shared.stats.lock().map(|s| *s).unwrap_or_default()
@@ -82,45 +69,38 @@ pub fn retained_for(device_type: wgpu::DeviceType, samples: u32) -> bool {
     }
 }
 
-/// Installs retained painting on `ctx` when [`retained_for`] says so (`samples` is the render
-/// pass's sample count; the window's depth buffer must be [`super::DEPTH_FORMAT`]).
-/// `background` is the colour egui's panels are drawn on (the window's clear colour).
+/// Installs retained painting on `ctx` (for good: every root frame goes through it). egui's
+/// own pass, into which the kept image is copied, must have one sample and `pass_depth` as its
+/// depth attachment. Without one (the window's choice, see [`super::WindowSetup`]) Mesa's
+/// llvmpipe copies the image as a plain rectangle copy instead of shading every pixel (about
+/// 3 ms less per frame at 1280×800); the 3D view, drawn into the kept image, has its own depth
+/// buffer there. `background` is the colour egui's panels are drawn on (the clear colour).
 pub fn install(
     ctx: &egui::Context,
     render_state: &egui_wgpu::RenderState,
-    samples: u32,
     background: egui::Color32,
-) -> Option<RetainedHandle> {
-    retained_for(render_state.adapter.get_info().device_type, samples)
-        .then(|| install_always(ctx, render_state, background))
-}
-
-/// Installs retained painting whatever the adapter; the render pass must have one sample.
-pub fn install_always(
-    ctx: &egui::Context,
-    render_state: &egui_wgpu::RenderState,
-    background: egui::Color32,
+    pass_depth: Option<wgpu::TextureFormat>,
 ) -> RetainedHandle {
     let shared =
         Arc::new(Shared { pending_textures: Mutex::new(Vec::new()), stats: Mutex::new(RetainedStats::default()) });
     let painter = RetainedPainter::new(
         &render_state.device,
         render_state.target_format,
-        Some(super::DEPTH_FORMAT),
+        pass_depth,
         background,
         Arc::clone(&shared),
     );
     render_state.renderer.write().callback_resources.insert(painter);
-    let handle = RetainedHandle { enabled: Arc::new(AtomicBool::new(true)), shared };
-    ctx.add_plugin(RetainedPaint { handle: handle.clone(), was_enabled: false });
+    let handle = RetainedHandle { shared };
+    ctx.add_plugin(RetainedPaint { handle: handle.clone(), drawn_before: false });
     handle
 }
 
 /// The egui plugin: swaps each root frame's shapes for one [`RetainedFrameCallback`].
 struct RetainedPaint {
     handle: RetainedHandle,
-    /// Whether the previous frame went through retained painting.
-    was_enabled: bool,
+    /// Whether a frame went through retained painting already (the first is drawn in full).
+    drawn_before: bool,
 }
 
 impl egui::Plugin for RetainedPaint {
@@ -129,16 +109,15 @@ impl egui::Plugin for RetainedPaint {
     }
 
     fn output_hook(&mut self, ctx: &egui::Context, output: &mut egui::FullOutput) {
-        let on = self.handle.enabled() && ctx.viewport_id() == egui::ViewportId::ROOT;
-        let force_full = on && !self.was_enabled;
-        self.was_enabled = on;
-        if !on {
+        if ctx.viewport_id() != egui::ViewportId::ROOT {
             return;
         }
+        let force_full = !self.drawn_before;
+        self.drawn_before = true;
         let shapes = std::mem::take(&mut output.shapes);
         let primitives = ctx.tessellate(shapes.clone(), output.pixels_per_point);
-        // egui's own renderer keeps getting the texture changes too, so that painting can be
-        // switched off at any frame
+        // egui's own renderer keeps getting the texture changes too (it owns the textures of
+        // other viewports)
         if let Ok(mut pending) = self.handle.shared.pending_textures.lock() {
             pending.push(output.textures_delta.clone());
         }

@@ -50,6 +50,8 @@ pub(super) struct RetainedPainter {
     format: wgpu::TextureFormat,
     blit_layout: wgpu::BindGroupLayout,
     blit_pipeline: wgpu::RenderPipeline,
+    /// Nearest-texel sampler of the copy.
+    nearest: wgpu::Sampler,
     /// Fills a scissor rectangle with the background (cheaper than an egui mesh on a CPU).
     fill_pipeline: wgpu::RenderPipeline,
     target: Option<Target>,
@@ -62,7 +64,7 @@ impl RetainedPainter {
     pub fn new(
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
-        depth_format: Option<wgpu::TextureFormat>,
+        pass_depth: Option<wgpu::TextureFormat>,
         background: Color32,
         shared: Arc<Shared>,
     ) -> Self {
@@ -83,16 +85,24 @@ impl RetainedPainter {
         });
         let blit_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("parol6 retained blit"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
+                    count: None,
+                },
+            ],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained blit"),
@@ -102,18 +112,22 @@ impl RetainedPainter {
         let [r, g, b, _] = background.to_normalized_gamma_f32();
         let fill_constants =
             [("background_r", f64::from(r)), ("background_g", f64::from(g)), ("background_b", f64::from(b))];
-        let pipeline = |label, layout: Option<&wgpu::PipelineLayout>, fs, constants: &[(&str, f64)]| {
+        let pipeline = |label,
+                        layout: Option<&wgpu::PipelineLayout>,
+                        (vs, fs),
+                        depth: Option<wgpu::TextureFormat>,
+                        constants: &[(&str, f64)]| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout,
                 vertex: wgpu::VertexState {
                     module: &shader,
-                    entry_point: Some("vs_full_screen"),
+                    entry_point: Some(vs),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: depth_format.map(|format| wgpu::DepthStencilState {
+                depth_stencil: depth.map(|format| wgpu::DepthStencilState {
                     format,
                     depth_write_enabled: Some(false),
                     depth_compare: Some(wgpu::CompareFunction::Always),
@@ -135,18 +149,27 @@ impl RetainedPainter {
                 cache: None,
             })
         };
-        let blit_pipeline = pipeline("parol6 retained blit", Some(&layout), "fs_copy", &[]);
+        let blit_pipeline =
+            pipeline("parol6 retained blit", Some(&layout), ("vs_rectangle", "fs_copy"), pass_depth, &[]);
         let empty_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained fill"),
             bind_group_layouts: &[],
             immediate_size: 0,
         });
-        let fill_pipeline = pipeline("parol6 retained fill", Some(&empty_layout), "fs_fill", &fill_constants);
+        let fill_pipeline = pipeline(
+            "parol6 retained fill",
+            Some(&empty_layout),
+            ("vs_full_screen", "fs_fill"),
+            Some(DEPTH_FORMAT),
+            &fill_constants,
+        );
         Self {
             renderer,
             format,
             blit_layout,
             blit_pipeline,
+            nearest: device
+                .create_sampler(&wgpu::SamplerDescriptor { label: Some("parol6 retained copy"), ..Default::default() }),
             fill_pipeline,
             target: None,
             last_shapes: Vec::new(),
@@ -179,7 +202,10 @@ impl RetainedPainter {
         let blit_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("parol6 retained blit"),
             layout: &self.blit_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) }],
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.nearest) },
+            ],
         });
         Target {
             size_px,
@@ -385,7 +411,7 @@ impl egui_wgpu::CallbackTrait for RetainedFrameCallback {
         {
             render_pass.set_pipeline(&p.blit_pipeline);
             render_pass.set_bind_group(0, &t.blit_bind_group, &[]);
-            render_pass.draw(0..3, 0..1);
+            render_pass.draw(0..6, 0..1);
         }
     }
 }

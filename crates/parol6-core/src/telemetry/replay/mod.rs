@@ -168,16 +168,6 @@ fn finish(rows: RowJoiner, rec: &Recording, read_path: ReadPath) -> ReplayData {
     }
 }
 
-/// Hands the memory freed after a load back to the system: decoding allocates and frees
-/// hundreds of MB on several threads, which the allocator would otherwise keep resident.
-fn release_freed_memory() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: malloc_trim only returns free pages of the allocator's heaps to the system.
-    unsafe {
-        libc::malloc_trim(0);
-    }
-}
-
 fn decoding_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
@@ -193,7 +183,7 @@ pub fn read_replay_file(path: &Path, model: &RobotModel) -> Result<ReplayData, R
         Some(data) => data,
         None => load_linear(&std::fs::read(path).map_err(io)?, model),
     };
-    release_freed_memory();
+    crate::process::release_freed_memory();
     Ok(data?)
 }
 
@@ -213,7 +203,7 @@ pub fn load_replay(bytes: &[u8], model: &RobotModel) -> Result<ReplayData, Recor
         Ok(data) => data,
         Err(NotFast(_)) => load_linear(bytes, model),
     };
-    release_freed_memory();
+    crate::process::release_freed_memory();
     data
 }
 

@@ -180,7 +180,8 @@ fn simulation_and_robot_record_every_sample_to_valid_mcap_files() {
     assert_eq!(sim_stats.missing_samples, 0, "simulation samples dropped");
     assert_eq!(hw_stats.missing_samples, 0, "robot samples dropped");
     assert_eq!(sim_stats.control_dropped + hw_stats.control_dropped, 0);
-    assert!(sim_summary.samples as f64 >= 0.8 * RECORD_S * 1000.0, "{sim_summary:?}");
+    // the simulation holds still here: every step while it settles, then every tenth (100 Hz)
+    assert!(sim_summary.samples as f64 >= 0.8 * RECORD_S * 100.0, "{sim_summary:?}");
     assert!(hw_summary.samples as f64 >= 0.8 * RECORD_S * 100.0, "{hw_summary:?}");
 
     let sim_seqs = check_file(&sim_path, false);

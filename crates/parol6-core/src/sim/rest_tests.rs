@@ -58,3 +58,40 @@ fn a_moving_setpoint_never_rests() {
         assert!(!s.resting(), "rested while moving at t = {:.3} s", s.sim_time_s());
     }
 }
+
+#[test]
+fn the_tap_gets_every_step_while_moving_and_every_tenth_at_rest() {
+    let mut s = dynamic();
+    let (tx, rx) = crossbeam_channel::bounded(100_000);
+    s.set_tap(Some(tx));
+    run_steps(&mut s, 2000);
+    assert!(s.resting());
+    let mut goal = standby_rad().to_vec();
+    goal[0] += 0.2;
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal,
+        speed_fraction: 0.8,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free move");
+    run_steps(&mut s, 3000);
+    let samples: Vec<MotionSample> = rx.try_iter().collect();
+    // numbered without gaps (the recorder counts gaps as lost samples)
+    assert!(samples.windows(2).all(|w| w[1].seq == w[0].seq + 1));
+    let gaps_ms: Vec<i64> = samples.windows(2).map(|w| ((w[1].time_s - w[0].time_s) * 1e3).round() as i64).collect();
+    assert!(gaps_ms.iter().all(|g| *g == 1 || *g == 10), "{gaps_ms:?}");
+    // settling (0.5 s still) at 1 kHz, rest at 100 Hz, the move at 1 kHz, rest again
+    let at_rest = gaps_ms.iter().filter(|g| **g == 10).count();
+    assert!(at_rest > 100, "{at_rest} samples 10 ms apart");
+    let first_rest = gaps_ms.iter().position(|g| *g == 10).unwrap_or(0);
+    assert!(first_rest >= 450, "rest reported after {first_rest} steps");
+    let moving = samples.iter().filter(|m| m.commanded.qd.iter().any(|v| *v != 0.0)).count();
+    assert!(moving > 300, "{moving} samples of the move");
+    assert!(
+        samples
+            .windows(2)
+            .filter(|w| w[1].commanded.qd.iter().any(|v| *v != 0.0))
+            .all(|w| { ((w[1].time_s - w[0].time_s) * 1e3).round() as i64 == 1 }),
+        "every step of the move is sampled"
+    );
+}

@@ -27,11 +27,11 @@ const STEPS_PER_WAKE: u32 = 4;
 /// When the thread falls this many steps behind wall-clock time it gives up catching up.
 const MAX_CATCH_UP_STEPS: u32 = 20;
 /// Steps per wake-up while the arm rests with nothing commanded or scheduled
-/// ([`Simulation::dormant`]; 50 ms at 1 kHz). Nothing moves, so the published state stays
-/// true; every step is still taken (the tap gets every sample); a command still wakes the
+/// ([`Simulation::dormant`]; 100 ms at 1 kHz). Nothing moves, so the published state stays
+/// true; every step is still taken (the tap gets a sample every 10 ms); a command still wakes the
 /// thread at once, and the thread first brings the simulated clock up to wall-clock time so
 /// that the command starts now. Waking every 4 ms cost ~1 % of a core in an idle window.
-const DORMANT_STEPS_PER_WAKE: u32 = 50;
+const DORMANT_STEPS_PER_WAKE: u32 = 100;
 
 struct Envelope {
     cmd: SimCommand,
@@ -47,7 +47,7 @@ pub struct SimStats {
     pub overruns: u64,
     /// Commands applied (accepted or refused).
     pub commands: u64,
-    /// Times the thread woke and stepped (every 4 steps while anything moves, every 50 at rest).
+    /// Times the thread woke and stepped (every 4 steps while anything moves, every 100 at rest).
     pub wakes: u64,
     /// CPU time the simulation thread has used, ns (`None` where the OS gives no per-thread
     /// CPU clock).
@@ -136,8 +136,8 @@ impl SimHandle {
         Self::spawn_with_tap(model, config, None)
     }
 
-    /// [`SimHandle::spawn`] with a tap that receives a [`MotionSample`] of every step
-    /// (dropped, never waited for, when full).
+    /// [`SimHandle::spawn`] with a tap that receives a [`MotionSample`] of every step, of every
+    /// tenth while the arm rests (dropped, never waited for, when full).
     pub fn spawn_with_tap(
         model: RobotModel,
         config: SimConfig,

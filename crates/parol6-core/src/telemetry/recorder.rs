@@ -124,6 +124,8 @@ const TICK: Duration = Duration::from_millis(20);
 /// While the last sample shows the arm still, it wakes this seldom instead (about 0.3 % of a
 /// core saved in an idle window); a control message (start, stop …) still wakes it at once.
 const STILL_TICK: Duration = Duration::from_millis(100);
+/// While the arm is still, the live view is published at most this often.
+const STILL_PUBLISH: Duration = Duration::from_millis(500);
 /// Joint speeds below this count as still, rad/s (the simulation rests below it).
 const STILL_QD_RAD_S: f64 = 1e-4;
 
@@ -311,7 +313,9 @@ impl Worker {
             }
             let now = Instant::now();
             if now >= next_publish {
-                next_publish = now + self.publish_every;
+                // a view copies the newest (unsealed) block: while still, seldom
+                next_publish =
+                    now + if self.still { self.publish_every.max(STILL_PUBLISH) } else { self.publish_every };
                 self.publish();
                 if let (Some(a), Some(b)) = (cpu_start, crate::sim::thread_cpu_time_ns()) {
                     self.shared.counters.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);

@@ -71,10 +71,11 @@ pub fn retained_for(device_type: wgpu::DeviceType, samples: u32) -> bool {
 
 /// Installs retained painting on `ctx` (for good: every root frame goes through it). egui's
 /// own pass, into which the kept image is copied, must have one sample and `pass_depth` as its
-/// depth attachment. Without one (the window's choice, see [`super::WindowSetup`]) Mesa's
-/// llvmpipe copies the image as a plain rectangle copy instead of shading every pixel (about
-/// 3 ms less per frame at 1280×800); the 3D view, drawn into the kept image, has its own depth
-/// buffer there. `background` is the colour egui's panels are drawn on (the clear colour).
+/// depth attachment. Without one (the window's choice, see [`super::WindowSetup`]) a software
+/// rasterizer does not clear, load and store a window-sized depth buffer every frame that
+/// nothing uses (1–3 ms less per frame at 1280×800 on llvmpipe); the 3D view, drawn into the
+/// kept image, has its own depth buffer there. `background` is the colour egui's panels are
+/// drawn on (the clear colour).
 pub fn install(
     ctx: &egui::Context,
     render_state: &egui_wgpu::RenderState,

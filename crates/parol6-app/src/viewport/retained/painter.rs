@@ -50,8 +50,6 @@ pub(super) struct RetainedPainter {
     format: wgpu::TextureFormat,
     blit_layout: wgpu::BindGroupLayout,
     blit_pipeline: wgpu::RenderPipeline,
-    /// Nearest-texel sampler of the copy.
-    nearest: wgpu::Sampler,
     /// Fills a scissor rectangle with the background (cheaper than an egui mesh on a CPU).
     fill_pipeline: wgpu::RenderPipeline,
     target: Option<Target>,
@@ -85,24 +83,16 @@ impl RetainedPainter {
         });
         let blit_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("parol6 retained blit"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
                 },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
-                    count: None,
-                },
-            ],
+                count: None,
+            }],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained blit"),
@@ -150,7 +140,7 @@ impl RetainedPainter {
             })
         };
         let blit_pipeline =
-            pipeline("parol6 retained blit", Some(&layout), ("vs_rectangle", "fs_copy"), pass_depth, &[]);
+            pipeline("parol6 retained blit", Some(&layout), ("vs_full_screen", "fs_copy"), pass_depth, &[]);
         let empty_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained fill"),
             bind_group_layouts: &[],
@@ -168,8 +158,6 @@ impl RetainedPainter {
             format,
             blit_layout,
             blit_pipeline,
-            nearest: device
-                .create_sampler(&wgpu::SamplerDescriptor { label: Some("parol6 retained copy"), ..Default::default() }),
             fill_pipeline,
             target: None,
             last_shapes: Vec::new(),
@@ -202,10 +190,7 @@ impl RetainedPainter {
         let blit_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("parol6 retained blit"),
             layout: &self.blit_layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.nearest) },
-            ],
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) }],
         });
         Target {
             size_px,
@@ -411,7 +396,7 @@ impl egui_wgpu::CallbackTrait for RetainedFrameCallback {
         {
             render_pass.set_pipeline(&p.blit_pipeline);
             render_pass.set_bind_group(0, &t.blit_bind_group, &[]);
-            render_pass.draw(0..6, 0..1);
+            render_pass.draw(0..3, 0..1);
         }
     }
 }

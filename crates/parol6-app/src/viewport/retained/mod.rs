@@ -13,6 +13,7 @@
 mod damage;
 mod painter;
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use eframe::egui;
@@ -21,6 +22,10 @@ use eframe::wgpu;
 use egui::epaint::ClippedShape;
 
 use painter::{RetainedFrame, RetainedFrameCallback, RetainedPainter, Shared};
+
+/// Margin around a shape's painted area when deciding whether it reaches into a changed
+/// rectangle, points (rounding of the tessellator).
+const REACH_MARGIN_PT: f32 = 2.0;
 
 /// Numbers of the last frame drawn through retained painting.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
@@ -82,8 +87,12 @@ pub fn install(
     background: egui::Color32,
     pass_depth: Option<wgpu::TextureFormat>,
 ) -> RetainedHandle {
-    let shared =
-        Arc::new(Shared { pending_textures: Mutex::new(Vec::new()), stats: Mutex::new(RetainedStats::default()) });
+    let shared = Arc::new(Shared {
+        pending_textures: Mutex::new(Vec::new()),
+        stats: Mutex::new(RetainedStats::default()),
+        need_full: AtomicBool::new(false),
+        ctx: ctx.clone(),
+    });
     let painter = RetainedPainter::new(
         &render_state.device,
         render_state.target_format,
@@ -93,15 +102,27 @@ pub fn install(
     );
     render_state.renderer.write().callback_resources.insert(painter);
     let handle = RetainedHandle { shared };
-    ctx.add_plugin(RetainedPaint { handle: handle.clone(), drawn_before: false });
+    ctx.add_plugin(RetainedPaint { handle: handle.clone(), last_shapes: Vec::new(), last_screen: None });
     handle
 }
 
-/// The egui plugin: swaps each root frame's shapes for one [`RetainedFrameCallback`].
+/// The egui plugin: finds what changed since the last frame, tessellates only the shapes that
+/// reach into it, and swaps each root frame's shapes for one [`RetainedFrameCallback`].
 struct RetainedPaint {
     handle: RetainedHandle,
-    /// Whether a frame went through retained painting already (the first is drawn in full).
-    drawn_before: bool,
+    /// The last frame's shapes, for the comparison.
+    last_shapes: Vec<ClippedShape>,
+    /// The last frame's size in pixels and pixels per point (none before the first frame).
+    last_screen: Option<([u32; 2], f32)>,
+}
+
+/// Whether `shape` paints anything inside one of `rects`.
+fn reaches(shape: &ClippedShape, rects: &[egui::Rect]) -> bool {
+    if shape.transform_after_tessellation != egui::emath::TSTransform::IDENTITY {
+        return true;
+    }
+    let painted = shape.shape.visual_bounding_rect().expand(REACH_MARGIN_PT).intersect(shape.clip_rect);
+    painted.is_positive() && rects.iter().any(|r| painted.intersects(*r))
 }
 
 impl egui::Plugin for RetainedPaint {
@@ -113,22 +134,86 @@ impl egui::Plugin for RetainedPaint {
         if ctx.viewport_id() != egui::ViewportId::ROOT {
             return;
         }
-        let force_full = !self.drawn_before;
-        self.drawn_before = true;
+        let ppp = output.pixels_per_point;
+        let screen = ctx.viewport_rect();
+        let size_px = [(screen.width() * ppp).round() as u32, (screen.height() * ppp).round() as u32];
+        let screen_pt =
+            egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
         let shapes = std::mem::take(&mut output.shapes);
-        let primitives = ctx.tessellate(shapes.clone(), output.pixels_per_point);
+        // the first frame, a new size or scale, the painter asking; and any texture change but
+        // new glyphs in the font atlas (drawn text stays valid) may change any pixel
+        let full = self.last_screen != Some((size_px, ppp))
+            || self.handle.shared.need_full.swap(false, Ordering::Relaxed)
+            || output
+                .textures_delta
+                .set
+                .iter()
+                .any(|(id, deltas)| *id != egui::TextureId::default() || deltas.iter().any(|d| d.pos.is_none()));
+        let rects = if full {
+            vec![screen_pt]
+        } else {
+            damage::merge(damage::changed_rects(&self.last_shapes, &shapes), ppp, screen_pt)
+        };
+        // only what reaches into the rectangles is tessellated (the painter draws nothing else)
+        let reaching: Vec<ClippedShape> = shapes.iter().filter(|s| reaches(s, &rects)).cloned().collect();
+        let primitives = if reaching.is_empty() { Vec::new() } else { ctx.tessellate(reaching, ppp) };
+        self.last_shapes = shapes;
+        self.last_screen = Some((size_px, ppp));
         // egui's own renderer keeps getting the texture changes too (it owns the textures of
         // other viewports)
         if let Ok(mut pending) = self.handle.shared.pending_textures.lock() {
             pending.push(output.textures_delta.clone());
         }
-        let screen = ctx.viewport_rect();
-        let callback =
-            RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { shapes, primitives, force_full })) };
+        let callback = RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { rects, primitives, full })) };
         output.shapes = vec![ClippedShape {
             clip_rect: screen,
             shape: egui::Shape::Callback(egui_wgpu::Callback::new_paint_callback(screen, callback)),
             transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
         }];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::{Color32, Pos2, Rect, Shape, Stroke};
+
+    fn clipped(shape: Shape) -> ClippedShape {
+        ClippedShape {
+            clip_rect: Rect::EVERYTHING,
+            shape,
+            transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
+        }
+    }
+
+    #[test]
+    fn only_shapes_painting_into_a_changed_rectangle_are_tessellated() {
+        let changed = [Rect::from_min_max(Pos2::new(100.0, 100.0), Pos2::new(200.0, 120.0))];
+        let inside = clipped(Shape::rect_filled(
+            Rect::from_min_size(Pos2::new(150.0, 105.0), egui::vec2(5.0, 5.0)),
+            0.0,
+            Color32::RED,
+        ));
+        let far = clipped(Shape::rect_filled(
+            Rect::from_min_size(Pos2::new(400.0, 400.0), egui::vec2(5.0, 5.0)),
+            0.0,
+            Color32::RED,
+        ));
+        // a line ending just outside still paints into it (its stroke and the margin)
+        let edge = clipped(Shape::line_segment(
+            [Pos2::new(50.0, 99.0), Pos2::new(99.0, 99.0)],
+            Stroke::new(2.0, Color32::RED),
+        ));
+        assert!(reaches(&inside, &changed));
+        assert!(!reaches(&far, &changed));
+        assert!(reaches(&edge, &changed));
+        // clipped away: paints nothing there
+        let mut hidden = inside.clone();
+        hidden.clip_rect = Rect::from_min_size(Pos2::new(300.0, 300.0), egui::vec2(10.0, 10.0));
+        assert!(!reaches(&hidden, &changed));
+        // moved after tessellation: kept, whatever its rectangle
+        let mut moved = far.clone();
+        moved.transform_after_tessellation = egui::emath::TSTransform::from_translation(egui::vec2(-300.0, -300.0));
+        assert!(reaches(&moved, &changed));
     }
 }

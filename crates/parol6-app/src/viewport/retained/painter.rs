@@ -2,26 +2,26 @@
 //! an egui renderer of our own that redraws only the changed rectangles into it (paint
 //! callbacks such as the 3D view included), and a copy of the target into egui's render pass.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use eframe::egui;
 use eframe::egui_wgpu;
 use eframe::wgpu;
-use egui::epaint::{ClippedPrimitive, ClippedShape, Mesh, Primitive};
+use egui::epaint::{ClippedPrimitive, Mesh, Primitive};
 use egui::{Color32, Rect, TexturesDelta};
 
 use super::RetainedStats;
-use super::damage;
 use crate::viewport::DEPTH_FORMAT;
 
 /// One frame handed from the UI pass to the painter.
 pub(super) struct RetainedFrame {
-    /// The frame's shapes, for comparison with the next frame.
-    pub shapes: Vec<ClippedShape>,
-    /// The same shapes tessellated.
+    /// The rectangles to redraw, points.
+    pub rects: Vec<Rect>,
+    /// The frame's shapes that reach into them, tessellated.
     pub primitives: Vec<ClippedPrimitive>,
-    /// Redraw everything (first frame, painting switched back on).
-    pub force_full: bool,
+    /// The rectangles are the whole window.
+    pub full: bool,
 }
 
 /// The paint callback that stands for the whole UI in egui's output.
@@ -35,6 +35,10 @@ pub(super) struct Shared {
     pub pending_textures: Mutex<Vec<TexturesDelta>>,
     /// Numbers of the last painted frame.
     pub stats: Mutex<RetainedStats>,
+    /// The painter could not keep the last image (a new target): the next frame must be whole.
+    pub need_full: AtomicBool,
+    /// To ask for that frame.
+    pub ctx: egui::Context,
 }
 
 struct Target {
@@ -53,8 +57,6 @@ pub(super) struct RetainedPainter {
     /// Fills a scissor rectangle with the background (cheaper than an egui mesh on a CPU).
     fill_pipeline: wgpu::RenderPipeline,
     target: Option<Target>,
-    last_shapes: Vec<ClippedShape>,
-    last_pixels_per_point: f32,
     shared: Arc<Shared>,
 }
 
@@ -153,17 +155,7 @@ impl RetainedPainter {
             Some(DEPTH_FORMAT),
             &fill_constants,
         );
-        Self {
-            renderer,
-            format,
-            blit_layout,
-            blit_pipeline,
-            fill_pipeline,
-            target: None,
-            last_shapes: Vec::new(),
-            last_pixels_per_point: 0.0,
-            shared,
-        }
+        Self { renderer, format, blit_layout, blit_pipeline, fill_pipeline, target: None, shared }
     }
 
     fn make_target(&self, device: &wgpu::Device, size_px: [u32; 2]) -> Target {
@@ -200,8 +192,7 @@ impl RetainedPainter {
         }
     }
 
-    /// Applies pending texture changes, finds what changed since the last drawn frame and
-    /// redraws those rectangles into the target.
+    /// Applies pending texture changes and redraws the frame's rectangles into the target.
     fn draw(
         &mut self,
         device: &wgpu::Device,
@@ -212,29 +203,24 @@ impl RetainedPainter {
     ) -> Vec<wgpu::CommandBuffer> {
         let started = std::time::Instant::now();
         let deltas = self.shared.pending_textures.lock().map(|mut p| std::mem::take(&mut *p)).unwrap_or_default();
-        let mut full = frame.force_full;
         for d in &deltas {
             for (id, deltas) in &d.set {
                 for delta in deltas {
                     self.renderer.update_texture(device, queue, *id, delta);
-                    // new glyphs in the font atlas leave drawn text valid; any other change may not
-                    full |= *id != egui::TextureId::default() || delta.pos.is_none();
                 }
             }
         }
         let ppp = screen.pixels_per_point;
         if self.target.as_ref().map(|t| t.size_px) != Some(screen.size_in_pixels) {
             self.target = Some(self.make_target(device, screen.size_in_pixels));
-            full = true;
+            if !frame.full {
+                // a new, empty image and only part of the frame to draw into it
+                self.shared.need_full.store(true, Ordering::Relaxed);
+                self.shared.ctx.request_repaint();
+            }
         }
-        full |= ppp != self.last_pixels_per_point;
         let [w, h] = screen.size_in_pixels;
-        let screen_pt = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(w as f32 / ppp, h as f32 / ppp));
-        let rects = if full {
-            vec![screen_pt]
-        } else {
-            damage::merge(damage::changed_rects(&self.last_shapes, &frame.shapes), ppp, screen_pt)
-        };
+        let (full, rects) = (frame.full, frame.rects);
         let (jobs, fills) = self.jobs(&frame.primitives, &rects);
         let mut cmds = Vec::new();
         if let Some(target) = &self.target
@@ -293,8 +279,6 @@ impl RetainedPainter {
                 prepare_ms: started.elapsed().as_secs_f64() * 1e3,
             };
         }
-        self.last_shapes = frame.shapes;
-        self.last_pixels_per_point = ppp;
         cmds
     }
 

@@ -4,8 +4,8 @@
 //! Rules: a trailing `# comment` is not part of the command; lines with no subcommand start
 //! the GUI, which cannot open a window here, so they are checked with `--help` appended (their
 //! options must parse); `screenshot` writes its picture into a temporary folder instead of the
-//! file name printed, and `record`, `mcap`, `--record`, `iso9283` and `path-test` their `.mcap` / `.csv` / `.html` files
-//! there too;
+//! file name printed, and `record`, `mcap`, `--record`, `iso9283`, `path-test` and `bench render
+//! --last-frame` their `.mcap` / `.csv` / `.html` / `.png` files there too;
 //! `hw emulate` gets `quit` on stdin. The README's hardware examples use
 //! `--fake-robot` (the built-in emulator), so they run without a PAROL6.
 
@@ -58,7 +58,10 @@ fn readme_commands_run_as_printed() {
         {
             *out = tmp.join(out.as_str()).display().to_string();
         }
-        for arg in args.iter_mut().filter(|a| a.ends_with(".mcap") || a.ends_with(".csv") || a.ends_with(".html")) {
+        for arg in args
+            .iter_mut()
+            .filter(|a| a.ends_with(".mcap") || a.ends_with(".csv") || a.ends_with(".html") || a.ends_with(".png"))
+        {
             *arg = tmp.join(arg.as_str()).display().to_string();
         }
         let run = cli_support::run_in(cli_support::workspace_root(), &args, Duration::from_secs(180));

@@ -11,6 +11,20 @@ fn dynamic() -> Simulation {
     Simulation::new(RobotModel::parol6(), config).expect("embedded model builds")
 }
 
+/// Starts a trapezoidal move of joint `joint` by `by_rad` from `from` at `speed_fraction`;
+/// returns the goal.
+fn start_move(s: &mut Simulation, from: &[f64], joint: usize, by_rad: f64, speed_fraction: f64) -> Vec<f64> {
+    let mut goal = from.to_vec();
+    goal[joint] += by_rad;
+    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal.clone(),
+        speed_fraction,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("free move");
+    goal
+}
+
 fn run_steps(s: &mut Simulation, n: usize) {
     for _ in 0..n {
         s.step();
@@ -28,14 +42,7 @@ fn a_settled_arm_rests_exactly_and_a_command_wakes_it() {
     run_steps(&mut s, 500);
     assert_eq!(s.q(), held.as_slice(), "a resting arm must not drift");
 
-    let mut goal = held.clone();
-    goal[0] += 0.3;
-    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
-        goal_rad: goal.clone(),
-        speed_fraction: 0.8,
-        profile: ProfileKind::Trapezoidal,
-    }))
-    .expect("free move");
+    let goal = start_move(&mut s, &held, 0, 0.3, 0.8);
     assert!(!s.resting(), "a command ends the rest");
     run_steps(&mut s, 3000);
     assert!((s.q()[0] - goal[0]).abs() < 2e-3, "J1 at {} after the move, goal {}", s.q()[0], goal[0]);
@@ -45,14 +52,7 @@ fn a_settled_arm_rests_exactly_and_a_command_wakes_it() {
 #[test]
 fn a_moving_setpoint_never_rests() {
     let mut s = dynamic();
-    let mut goal = standby_rad().to_vec();
-    goal[1] += 0.4;
-    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
-        goal_rad: goal,
-        speed_fraction: 0.05,
-        profile: ProfileKind::Trapezoidal,
-    }))
-    .expect("free move");
+    start_move(&mut s, &standby_rad(), 1, 0.4, 0.05);
     for _ in 0..1500 {
         s.step();
         assert!(!s.resting(), "rested while moving at t = {:.3} s", s.sim_time_s());
@@ -66,14 +66,7 @@ fn the_tap_gets_every_step_while_moving_and_every_tenth_at_rest() {
     s.set_tap(Some(tx));
     run_steps(&mut s, 2000);
     assert!(s.resting());
-    let mut goal = standby_rad().to_vec();
-    goal[0] += 0.2;
-    s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
-        goal_rad: goal,
-        speed_fraction: 0.8,
-        profile: ProfileKind::Trapezoidal,
-    }))
-    .expect("free move");
+    start_move(&mut s, &standby_rad(), 0, 0.2, 0.8);
     run_steps(&mut s, 3000);
     let samples: Vec<MotionSample> = rx.try_iter().collect();
     // numbered without gaps (the recorder counts gaps as lost samples)

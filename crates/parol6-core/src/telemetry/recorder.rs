@@ -82,7 +82,8 @@ enum Control {
     Link(LinkHealth),
     ProgramStep(Option<usize>),
     Event(TelemetryEvent),
-    Start(Box<McapSink<SyncedFile>>),
+    /// A file to write from now on; the reply says the thread took it.
+    Start(Box<McapSink<SyncedFile>>, Sender<()>),
     Stop(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
     Finish(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
 }
@@ -195,9 +196,15 @@ impl Recorder {
     }
 
     /// Starts writing an MCAP file at `path` (created here: errors are returned at once).
+    /// Returns once the thread writes it: every sample delivered after this call is in the file
+    /// (samples already waiting in the tap may be too).
     pub fn start_recording(&self, path: &Path, info: &RecordingInfo) -> Result<(), TelemetryError> {
         let sink = McapSink::create_file(path, &self.model, info)?;
-        self.control.send_timeout(Control::Start(Box::new(sink)), REPLY_TIMEOUT).map_err(|_| TelemetryError::Stopped)
+        let (tx, rx) = bounded(1);
+        self.control
+            .send_timeout(Control::Start(Box::new(sink), tx), REPLY_TIMEOUT)
+            .map_err(|_| TelemetryError::Stopped)?;
+        rx.recv_timeout(REPLY_TIMEOUT).map_err(|_| TelemetryError::Stopped)
     }
 
     /// Stops writing: closes the file with its summary and index.
@@ -285,27 +292,31 @@ impl Worker {
             } else {
                 std::thread::sleep(TICK);
             }
-            while let Ok(m) = tap.try_recv() {
-                self.sample(&m);
-            }
+            // control messages first, so that what was sent before a sample applies to it (a
+            // program step, a file to write); stopping takes every sample delivered before it
             loop {
                 match woken_by.take().map_or_else(|| control.try_recv(), Ok) {
                     Ok(Control::Finish(reply)) => {
-                        while let Ok(m) = tap.try_recv() {
-                            self.sample(&m);
-                        }
+                        self.drain(tap);
                         let _ = reply.send(self.stop());
                         break 'run;
                     }
-                    Ok(c) => self.control(c),
+                    Ok(c) => {
+                        if matches!(c, Control::Stop(_)) {
+                            self.drain(tap);
+                        }
+                        self.control(c);
+                    }
                     Err(TryRecvError::Empty) => break,
                     // the Recorder is gone
                     Err(TryRecvError::Disconnected) => {
+                        self.drain(tap);
                         let _ = self.stop();
                         break 'run;
                     }
                 }
             }
+            self.drain(tap);
             if let Some(sink) = self.sink.as_mut()
                 && let Err(e) = sink.flush_if_due(self.last_time_s)
             {
@@ -325,6 +336,13 @@ impl Worker {
         self.publish();
         if let (Some(a), Some(b)) = (cpu_start, crate::sim::thread_cpu_time_ns()) {
             self.shared.counters.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);
+        }
+    }
+
+    /// Takes every sample waiting in the tap.
+    fn drain(&mut self, tap: &Receiver<MotionSample>) {
+        while let Ok(m) = tap.try_recv() {
+            self.sample(&m);
         }
     }
 
@@ -394,12 +412,13 @@ impl Worker {
                 }
                 self.events.push(e);
             }
-            Control::Start(sink) => {
+            Control::Start(sink, reply) => {
                 if let Err(e) = self.stop() {
                     self.fail(e);
                 }
                 self.shared.counters.recorded.store(0, Ordering::Relaxed);
                 self.sink = Some(*sink);
+                let _ = reply.send(());
             }
             Control::Stop(reply) => {
                 let _ = reply.send(self.stop());

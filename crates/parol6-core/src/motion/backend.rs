@@ -111,7 +111,9 @@ impl RobotState {
 /// is attached (the simulation: every step; the serial session: every frame).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MotionSample {
-    /// Tick counter of the backend.
+    /// Sample counter of the backend, without gaps unless a sample was dropped (the serial
+    /// session: its frame ticks; the simulation: the samples it sent, one per step, one per ten
+    /// steps while the arm rests).
     pub seq: u64,
     /// Motion clock, s.
     pub time_s: f64,

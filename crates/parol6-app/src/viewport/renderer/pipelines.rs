@@ -218,7 +218,7 @@ impl Pipelines {
             make(
                 PipelineKind {
                     label: "parol6 background",
-                    depth_write: false,
+                    depth_write: true,
                     depth_compare: Cmp::Always,
                     blend: None,
                     cull: None,

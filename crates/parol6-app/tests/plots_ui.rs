@@ -2,7 +2,7 @@
 //! panel opens from the View menu, shows the tracking error's RMS and maximum with units while
 //! a program runs, and its joint toggles take series off; a recording opens from the File
 //! menu into the replay timeline, plays, and jumps to an event; an empty file is refused with
-//! a message that says so.
+//! a message that says so; the lower panel keeps its height once the plots are shown.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -128,4 +128,29 @@ fn an_empty_file_is_refused_with_a_clear_message() {
     });
     assert!(h.state().replay().is_none());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Regression: the panels under the 3D view ended with a separator below the plots, which
+/// fill the height left; the panel took the overflow as content and grew a few points every
+/// other frame until it reached its largest height (the 3D view squeezed to ~130 px, the
+/// resize handle undone, and every frame of the growth redrawn whole).
+#[test]
+fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label("Plots").click();
+    h.run_steps(2);
+    h.key_press(egui::Key::Escape);
+    // the live store fills from the simulation's tap: the plots appear
+    until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));
+    // a few frames to settle (the first samples, rows appearing); the growth took ~50 frames
+    h.run_steps(15);
+    let top = |h: &Harness<'_, Parol6App>| h.get_by_label("Export to").rect().top();
+    let first = top(&h);
+    for frame in 0..45 {
+        h.run_steps(1);
+        let now = top(&h);
+        assert!((now - first).abs() < 0.5, "frame {frame}: the lower panel moved from y {first} to {now}");
+    }
 }

@@ -158,10 +158,16 @@ impl Parol6App {
                 .default_size(LOWER_DEFAULT_HEIGHT.min(max_h))
                 .size_range(LOWER_MIN_HEIGHT..=max_h)
                 .show(ui, |ui| {
+                    // separators between the panels only: the last (the plots) fills the
+                    // height left, and anything below it would make the panel grow each frame
+                    let mut first = true;
                     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
                         if p.shown(pctx.settings) {
+                            if !first {
+                                ui.separator();
+                            }
+                            first = false;
                             p.ui(ui, pctx);
-                            ui.separator();
                         }
                     }
                 });

@@ -130,10 +130,18 @@ fn an_empty_file_is_refused_with_a_clear_message() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Height of the panel under the 3D view (replay timeline, plots), points: from its first
+/// row (the plots' quantity toggles, just below its top edge) to the status bar.
+fn lower_panel_height(h: &Harness<'_, Parol6App>) -> f32 {
+    let status_top = h.get_by_label("SIM").rect().top();
+    status_top - h.get_by_label("position").rect().top()
+}
+
 /// Regression: the panels under the 3D view ended with a separator below the plots, which
 /// fill the height left; the panel took the overflow as content and grew a few points every
 /// other frame until it reached its largest height (the 3D view squeezed to ~130 px, the
-/// resize handle undone, and every frame of the growth redrawn whole).
+/// resize handle undone, every frame of the growth redrawn whole). And a resizable panel
+/// takes its content's height: with no telemetry yet it shrank to its smallest and stayed.
 #[test]
 fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     let mut h = app_harness(egui::vec2(1280.0, 800.0));
@@ -144,13 +152,28 @@ fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     h.key_press(egui::Key::Escape);
     // the live store fills from the simulation's tap: the plots appear
     until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));
-    // a few frames to settle (the first samples, rows appearing); the growth took ~50 frames
     h.run_steps(15);
-    let top = |h: &Harness<'_, Parol6App>| h.get_by_label("Export to").rect().top();
-    let first = top(&h);
+    let first = lower_panel_height(&h);
+    // the default height (LOWER_DEFAULT_HEIGHT, 360 points), not the smallest (120)
+    assert!((first - 360.0).abs() < 5.0, "the default height: {first} points");
     for frame in 0..45 {
         h.run_steps(1);
-        let now = top(&h);
-        assert!((now - first).abs() < 0.5, "frame {frame}: the lower panel moved from y {first} to {now}");
+        let now = lower_panel_height(&h);
+        assert!((now - first).abs() < 0.5, "frame {frame}: the lower panel went from {first} to {now} points");
     }
+    // dragged 100 points higher by its top edge, it stays there
+    // the resize handle: the panel's top edge, just above that first row
+    let edge = egui::pos2(600.0, h.get_by_label("position").rect().top() - 2.0);
+    h.hover_at(edge);
+    h.run_steps(1);
+    h.drag_at(edge);
+    h.run_steps(1);
+    h.hover_at(edge - egui::vec2(0.0, 50.0));
+    h.run_steps(1);
+    h.hover_at(edge - egui::vec2(0.0, 100.0));
+    h.run_steps(1);
+    h.drop_at(edge - egui::vec2(0.0, 100.0));
+    h.run_steps(30);
+    let dragged = lower_panel_height(&h);
+    assert!((dragged - first - 100.0).abs() < 3.0, "dragged 100 points higher: {first} → {dragged} points");
 }

@@ -158,8 +158,12 @@ impl Parol6App {
                 .default_size(LOWER_DEFAULT_HEIGHT.min(max_h))
                 .size_range(LOWER_MIN_HEIGHT..=max_h)
                 .show(ui, |ui| {
-                    // separators between the panels only: the last (the plots) fills the
-                    // height left, and anything below it would make the panel grow each frame
+                    // The panel keeps the height it was given (default or dragged): a resizable
+                    // panel takes its content's height, so the content fills it, and short
+                    // content (no telemetry yet) does not shrink it. Separators go between the
+                    // panels only: the last (the plots) fills the height left, and anything
+                    // below it would make the panel grow each frame.
+                    ui.set_min_height(ui.available_height());
                     let mut first = true;
                     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
                         if p.shown(pctx.settings) {

@@ -142,6 +142,7 @@ fn lower_panel_height(h: &Harness<'_, Parol6App>) -> f32 {
 /// other frame until it reached its largest height (the 3D view squeezed to ~130 px, the
 /// resize handle undone, every frame of the growth redrawn whole). And a resizable panel
 /// takes its content's height: with no telemetry yet it shrank to its smallest and stayed.
+/// The height dragged to is kept in the settings for the next start.
 #[test]
 fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     let mut h = app_harness(egui::vec2(1280.0, 800.0));
@@ -176,4 +177,13 @@ fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     h.run_steps(30);
     let dragged = lower_panel_height(&h);
     assert!((dragged - first - 100.0).abs() < 3.0, "dragged 100 points higher: {first} → {dragged} points");
+    // remembered in the settings, and the next start opens it at that height
+    let saved = h.state_mut().settings_mut().clone();
+    assert!((saved.lower_panel_height_pt - 460.0).abs() < 3.0, "saved {}", saved.lower_panel_height_pt);
+    let mut next = app_harness(egui::vec2(1280.0, 800.0));
+    *next.state_mut().settings_mut() = saved;
+    until(&mut next, "the plots", 10.0, |h| has_label(h, "Export to"));
+    next.run_steps(5);
+    let reopened = lower_panel_height(&next);
+    assert!((reopened - dragged).abs() < 1.0, "reopened at {reopened} points, dragged to {dragged}");
 }

@@ -20,8 +20,7 @@ use crate::viewport::{SceneFrame, Viewport};
 pub const LEFT_PANEL_WIDTH: f32 = 350.0;
 /// Width of the right (TCP / Cartesian jog / target) column, points.
 pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
-/// Height of the area under the 3D view (replay timeline, plots) when it opens, points.
-pub const LOWER_DEFAULT_HEIGHT: f32 = 360.0;
+pub use crate::panels::LOWER_DEFAULT_HEIGHT;
 /// Smallest height of that area, points.
 pub const LOWER_MIN_HEIGHT: f32 = 120.0;
 
@@ -153,9 +152,11 @@ impl Parol6App {
         let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx.settings));
         if lower_shown {
             let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
-            egui::Panel::bottom("lower")
+            let wanted_h = pctx.settings.lower_panel_height_pt;
+            let wanted_h = if wanted_h.is_finite() { wanted_h } else { LOWER_DEFAULT_HEIGHT };
+            let shown = egui::Panel::bottom("lower")
                 .resizable(true)
-                .default_size(LOWER_DEFAULT_HEIGHT.min(max_h))
+                .default_size(wanted_h.clamp(LOWER_MIN_HEIGHT, max_h))
                 .size_range(LOWER_MIN_HEIGHT..=max_h)
                 .show(ui, |ui| {
                     // The panel keeps the height it was given (default or dragged): a resizable
@@ -175,6 +176,11 @@ impl Parol6App {
                         }
                     }
                 });
+            // remembered for the next start; a height the window's size forced is not
+            let h = shown.response.rect.height();
+            if (h - wanted_h).abs() > 0.5 && h < max_h - 0.5 {
+                pctx.settings.lower_panel_height_pt = h;
+            }
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);

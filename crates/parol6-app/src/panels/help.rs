@@ -121,7 +121,8 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     match settings_path {
         Some(p) => {
             ui.label(format!(
-                "Units, panel and 3D view toggles, speed, profile and the last port are saved on exit to {} \
+                "Units, panel and 3D view toggles, the height of the panel under the 3D view, speed, profile \
+                 and the last port are saved on exit to {} \
                  (set PAROL6_SETTINGS to use another file).",
                 p.display()
             ));

@@ -129,7 +129,13 @@ pub struct Settings {
     pub show_plots: bool,
     /// Dynamics panel shown (under the 3D view).
     pub show_dynamics: bool,
+    /// Height of the panel under the 3D view (plots, dynamics, replay timeline) as last
+    /// dragged, points.
+    pub lower_panel_height_pt: f32,
 }
+
+/// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
+pub const LOWER_DEFAULT_HEIGHT: f32 = 360.0;
 
 /// Recent program files remembered.
 pub const RECENT_PROGRAMS: usize = 8;
@@ -174,6 +180,7 @@ impl Default for Settings {
             recent_programs: Vec::new(),
             show_plots: false,
             show_dynamics: false,
+            lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
         }
     }
 }

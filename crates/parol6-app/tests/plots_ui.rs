@@ -11,7 +11,7 @@ mod ui_support;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::{app_harness, has_label, until};
+use ui_support::{app_harness, click_in_view_menu, has_label, until};
 
 use parol6_app::app::Parol6App;
 use parol6_core::RobotModel;
@@ -40,10 +40,7 @@ fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
 fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
     let mut h = app_harness(egui::vec2(1280.0, 1400.0));
     assert!(!has_label(&h, "cmd - meas"), "the plots start hidden");
-    h.get_by_label("View").click();
-    h.run_steps(2);
-    h.get_by_label("Plots").click();
-    h.run_steps(2);
+    click_in_view_menu(&mut h, "Plots");
     // close the menu, then move the arm: a program makes the commanded and measured differ
     h.key_press(egui::Key::Escape);
     h.run_steps(2);
@@ -146,10 +143,7 @@ fn lower_panel_height(h: &Harness<'_, Parol6App>) -> f32 {
 #[test]
 fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     let mut h = app_harness(egui::vec2(1280.0, 800.0));
-    h.get_by_label("View").click();
-    h.run_steps(2);
-    h.get_by_label("Plots").click();
-    h.run_steps(2);
+    click_in_view_menu(&mut h, "Plots");
     h.key_press(egui::Key::Escape);
     // the live store fills from the simulation's tap: the plots appear
     until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));

@@ -61,3 +61,11 @@ pub fn type_into(h: &mut Harness<'_, Parol6App>, name: &str, text: &str) {
     h.key_press(egui::Key::Enter);
     h.run_steps(2);
 }
+
+/// Opens the View menu and clicks its item `label` (the menu stays open).
+pub fn click_in_view_menu(h: &mut Harness<'_, Parol6App>, label: &str) {
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label(label).click();
+    h.run_steps(2);
+}

@@ -139,7 +139,8 @@ fn lower_panel_height(h: &Harness<'_, Parol6App>) -> f32 {
 /// other frame until it reached its largest height (the 3D view squeezed to ~130 px, the
 /// resize handle undone, every frame of the growth redrawn whole). And a resizable panel
 /// takes its content's height: with no telemetry yet it shrank to its smallest and stayed.
-/// The height dragged to is kept in the settings for the next start.
+/// The height dragged to is kept in the settings for the next start, and comes back when a
+/// window made smaller grows again.
 #[test]
 fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     let mut h = app_harness(egui::vec2(1280.0, 800.0));
@@ -171,6 +172,14 @@ fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     h.run_steps(30);
     let dragged = lower_panel_height(&h);
     assert!((dragged - first - 100.0).abs() < 3.0, "dragged 100 points higher: {first} → {dragged} points");
+    // a window made smaller clamps it; made larger again, the panel goes back to that height
+    h.set_size(egui::vec2(1280.0, 480.0));
+    h.run_steps(5);
+    assert!(lower_panel_height(&h) < dragged - 100.0, "clamped: {} points", lower_panel_height(&h));
+    h.set_size(egui::vec2(1280.0, 800.0));
+    h.run_steps(5);
+    let regrown = lower_panel_height(&h);
+    assert!((regrown - dragged).abs() < 1.0, "back to {dragged} points: {regrown}");
     // remembered in the settings, and the next start opens it at that height
     let saved = h.state_mut().settings_mut().clone();
     assert!((saved.lower_panel_height_pt - 460.0).abs() < 3.0, "saved {}", saved.lower_panel_height_pt);

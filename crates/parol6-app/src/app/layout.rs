@@ -13,7 +13,7 @@ use std::path::Path;
 use super::{Parol6App, WINDOW_TITLE};
 use crate::palette;
 use crate::panels::registry::{Dock, Panels};
-use crate::panels::{AngleUnit, AppCommand, PanelContext, help};
+use crate::panels::{AngleUnit, AppCommand, Panel, PanelContext, help};
 use crate::viewport::{SceneFrame, Viewport};
 
 /// Width of the left (joints) column, points. Fixed: it never follows its contents.
@@ -23,6 +23,8 @@ pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
 pub use crate::panels::LOWER_DEFAULT_HEIGHT;
 /// Smallest height of that area, points.
 pub const LOWER_MIN_HEIGHT: f32 = 120.0;
+/// egui id salt of that area.
+const LOWER_PANEL_ID: &str = "lower";
 
 /// The File menu: open a recording for replay, record to a file (typed paths: there is no
 /// file dialog).
@@ -151,36 +153,7 @@ impl Parol6App {
         }
         let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx.settings));
         if lower_shown {
-            let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
-            let wanted_h = pctx.settings.lower_panel_height_pt;
-            let wanted_h = if wanted_h.is_finite() { wanted_h } else { LOWER_DEFAULT_HEIGHT };
-            let shown = egui::Panel::bottom("lower")
-                .resizable(true)
-                .default_size(wanted_h.clamp(LOWER_MIN_HEIGHT, max_h))
-                .size_range(LOWER_MIN_HEIGHT..=max_h)
-                .show(ui, |ui| {
-                    // The panel keeps the height it was given (default or dragged): a resizable
-                    // panel takes its content's height, so the content fills it, and short
-                    // content (no telemetry yet) does not shrink it. Separators go between the
-                    // panels only: the last (the plots) fills the height left, and anything
-                    // below it would make the panel grow each frame.
-                    ui.set_min_height(ui.available_height());
-                    let mut first = true;
-                    for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
-                        if p.shown(pctx.settings) {
-                            if !first {
-                                ui.separator();
-                            }
-                            first = false;
-                            p.ui(ui, pctx);
-                        }
-                    }
-                });
-            // remembered for the next start; a height the window's size forced is not
-            let h = shown.response.rect.height();
-            if (h - wanted_h).abs() > 0.5 && h < max_h - 0.5 {
-                pctx.settings.lower_panel_height_pt = h;
-            }
+            lower_dock(ui, pctx, &mut docked);
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
@@ -226,5 +199,46 @@ impl Parol6App {
                 y = r.bottom() + 4.0;
             }
         });
+    }
+}
+
+/// The panel under the 3D view (replay timeline, plots, dynamics), resizable by its top edge.
+///
+/// It keeps the height it was given (default or dragged, saved in the settings): a resizable
+/// panel takes its content's height, so the content fills it, and short content (no telemetry
+/// yet) does not shrink it. Separators go between the panels only: the last (the plots) fills
+/// the height left, and anything below it would make the panel grow each frame. A window made
+/// smaller clamps it, and egui keeps that height: once the wanted height fits again (and no
+/// button is held, so a drag is not fought) it goes back to it.
+fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Dock, &mut dyn Panel)]) {
+    let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
+    let wanted_h = pctx.settings.lower_panel_height_pt;
+    let wanted_h = if wanted_h.is_finite() { wanted_h } else { LOWER_DEFAULT_HEIGHT };
+    let id = ui.scope_id().with_salt(egui::IdSalt::new(LOWER_PANEL_ID));
+    let kept_h = egui::containers::panel::PanelState::load(ui.ctx(), id).map(|s| s.outer_rect.height());
+    if kept_h.is_some_and(|h| h < wanted_h.min(max_h) - 0.5) && !ui.input(|i| i.pointer.any_down()) {
+        ui.ctx().data_mut(|d| d.remove::<egui::containers::panel::PanelState>(id));
+    }
+    let shown = egui::Panel::bottom(LOWER_PANEL_ID)
+        .resizable(true)
+        .default_size(wanted_h.clamp(LOWER_MIN_HEIGHT, max_h))
+        .size_range(LOWER_MIN_HEIGHT..=max_h)
+        .show(ui, |ui| {
+            ui.set_min_height(ui.available_height());
+            let mut first = true;
+            for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
+                if p.shown(pctx.settings) {
+                    if !first {
+                        ui.separator();
+                    }
+                    first = false;
+                    p.ui(ui, pctx);
+                }
+            }
+        });
+    // remembered for the next start; a height the window's size forced is not
+    let h = shown.response.rect.height();
+    if (h - wanted_h).abs() > 0.5 && (h < max_h - 0.5 || h > wanted_h) {
+        pctx.settings.lower_panel_height_pt = h;
     }
 }

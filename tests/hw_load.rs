@@ -1,7 +1,8 @@
 //! The session against the firmware emulator at 100 Hz for about 10 s while two busy threads
 //! keep both cores of a CI machine saturated: the link must never be reported lost, and the
 //! command period must keep its p99 jitter within 2 ms (measured from the recorded frame write
-//! times, and cross-checked with the snapshot's own statistic). On a virtual machine a loss
+//! times, and cross-checked with the snapshot's own statistic unless steal time stretched one of
+//! the periods that statistic covers). On a virtual machine a loss
 //! during which the hypervisor took a vCPU away (steal time, `tests/support/steal_watch.rs`)
 //! is printed and not counted: the emulated board on that vCPU was frozen.
 
@@ -13,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use parol6_core::motion::{MotionCommand, RobotBackend};
 use parol6_hw::emulator::{EmulatorConfig, EmulatorHandle};
-use parol6_hw::session::{LinkState, Session, SessionConfig};
+use parol6_hw::session::{LinkState, Session, SessionConfig, TIMING_WINDOW};
 use parol6_tests::steal_watch::StealWatch;
 
 /// How long the session runs under load.
@@ -146,7 +147,7 @@ fn session_keeps_its_period_and_link_with_both_cores_busy() {
     let mean_ms = intervals_ms.iter().sum::<f64>() / intervals_ms.len().max(1) as f64;
     println!(
         "load: {} frames in {:.1} s (mean period {mean_ms:.3} ms), jitter |period − 10 ms| p50 {p50:.3} ms, \
-         p99 {p99:.3} ms, max {max:.3} ms; snapshot p99 {:.3} ms max {:.3} ms (last 256 periods), loop {:.1} Hz; \
+         p99 {p99:.3} ms, max {max:.3} ms; snapshot p99 {:.3} ms max {:.3} ms (last {TIMING_WINDOW} periods), loop {:.1} Hz; \
          status {} missing replies {} invalid {}; link not connected in {lost_seen} polls {link_states:?}; \
          fault {:?}; burner rounds {burner_rounds}; steal {:?} in {} growths, {stolen_periods} periods \
          stretched by it left out of the jitter",
@@ -178,9 +179,19 @@ fn session_keeps_its_period_and_link_with_both_cores_busy() {
         snap.fault
     );
     assert!(p99 <= JITTER_P99_MAX_MS, "period jitter p99 {p99:.3} ms > {JITTER_P99_MAX_MS} ms (max {max:.3} ms)");
-    assert!(
-        snap.period_jitter_p99_ms <= JITTER_P99_MAX_MS,
-        "snapshot period jitter p99 {:.3} ms > {JITTER_P99_MAX_MS} ms",
-        snap.period_jitter_p99_ms
-    );
+    // The snapshot's statistic covers the last TIMING_WINDOW periods and cannot tell steal time
+    // apart: a stretched period there (and the short one that catches up after it) is the host's.
+    let window_start = write_times.len().saturating_sub(TIMING_WINDOW + 1);
+    let stolen_in_window = write_times[window_start..].windows(2).filter(|w| stolen_period(w)).count();
+    if stolen_in_window > 0 {
+        println!(
+            "snapshot jitter not checked: {stolen_in_window} of its last {TIMING_WINDOW} periods were stretched by steal time"
+        );
+    } else {
+        assert!(
+            snap.period_jitter_p99_ms <= JITTER_P99_MAX_MS,
+            "snapshot period jitter p99 {:.3} ms > {JITTER_P99_MAX_MS} ms",
+            snap.period_jitter_p99_ms
+        );
+    }
 }

@@ -44,7 +44,7 @@ mod worker;
 
 pub use config::SessionConfig;
 pub use snapshot::{HomingState, LinkState, MotionState, Snapshot};
-pub use worker::{GRIPPER_ACTIVATE, GRIPPER_ENABLE, GRIPPER_ESTOP, GRIPPER_MOVE};
+pub use worker::{GRIPPER_ACTIVATE, GRIPPER_ENABLE, GRIPPER_ESTOP, GRIPPER_MOVE, TIMING_WINDOW};
 
 use worker::{Request, Shared, Worker};
 

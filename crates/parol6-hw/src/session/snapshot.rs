@@ -108,11 +108,11 @@ pub struct Snapshot {
     pub last_command: Option<CommandCode>,
     /// Configured rate, Hz.
     pub rate_hz: f64,
-    /// Achieved loop rate over the last ~256 periods, Hz.
+    /// Achieved loop rate over the last [`super::TIMING_WINDOW`] periods, Hz.
     pub loop_rate_hz: f64,
-    /// 99th percentile of |period − nominal| over the last ~256 periods, ms.
+    /// 99th percentile of |period − nominal| over the last [`super::TIMING_WINDOW`] periods, ms.
     pub period_jitter_p99_ms: f64,
-    /// Largest |period − nominal| over the last ~256 periods, ms.
+    /// Largest |period − nominal| over the last [`super::TIMING_WINDOW`] periods, ms.
     pub period_jitter_max_ms: f64,
     /// Command frames written.
     pub frames_sent: u64,

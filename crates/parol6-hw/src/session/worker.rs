@@ -29,8 +29,8 @@ pub const GRIPPER_ESTOP: u8 = 0x20;
 /// Gripper command bits: forwarded bit the API always sets ("grip enable").
 pub const GRIPPER_ENABLE: u8 = 0x10;
 
-/// Tick intervals kept for the rate / jitter statistics.
-const TIMING_WINDOW: usize = 256;
+/// Tick intervals kept for the snapshot's rate / jitter statistics (the last this many periods).
+pub const TIMING_WINDOW: usize = 256;
 /// While nothing answers, one frame in this many is written.
 const NO_ANSWER_PROBE_EVERY: u64 = 10;
 /// Final IDLE frames sent when the session closes.

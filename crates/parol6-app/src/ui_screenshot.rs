@@ -110,9 +110,17 @@ impl HeadlessApp {
         let ctx = egui::Context::default();
         ctx.set_visuals(crate::theme::visuals());
         crate::viewport::configure_tessellation(&ctx, &render_state);
+        // before retained painting, which must see the whole frame
+        crate::app::frame_reuse::install(&ctx);
         let retained = retained
             .then(|| crate::viewport::retained::install(&ctx, &render_state, crate::theme::panel_background(), None));
         Ok(Self { renderer, render_state, ctx, app, size: (width, height), t0: started, layers, retained })
+    }
+
+    /// Frames drawn in full and reused so far (none without frame reuse, see
+    /// [`crate::app::frame_reuse`]).
+    pub fn reuse_stats(&self) -> Option<crate::app::frame_reuse::ReuseStats> {
+        crate::app::frame_reuse::FrameReuse::find(&self.ctx).map(|r| r.stats())
     }
 
     /// Adapter description.

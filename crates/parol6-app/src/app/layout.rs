@@ -166,7 +166,27 @@ impl Parol6App {
         }
     }
 
-    pub(super) fn central(&mut self, ui: &mut egui::Ui, scene: &SceneFrame) {
+    /// Lays out the 3D view in the space the panels left (`reused`: the last full frame's, when
+    /// this frame reuses its panels; see [`super::frame_reuse`]), in a `Ui` whose id is the
+    /// same either way, and tells frame reuse what this frame was.
+    pub(super) fn central_and_reuse(&mut self, ui: &mut egui::Ui, reused: Option<egui::Rect>, scene: &SceneFrame) {
+        let rect = reused.unwrap_or_else(|| ui.available_rect_before_wrap());
+        let builder =
+            egui::UiBuilder::new().scope_id(egui::Id::unique(super::frame_reuse::CENTRAL_SCOPE)).max_rect(rect);
+        ui.scope_builder(builder, |ui| self.central(ui, scene));
+        if let Some(reuse) = &self.frame_reuse {
+            match reused {
+                Some(_) => {
+                    // the panels' space is still the root's, as in the full frame
+                    ui.expand_to_include_rect(ui.max_rect());
+                    reuse.register_kept_widgets(ui.ctx());
+                }
+                None => reuse.full_frame(rect),
+            }
+        }
+    }
+
+    fn central(&mut self, ui: &mut egui::Ui, scene: &SceneFrame) {
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.max_rect();
             match &mut self.viewport {

@@ -1,5 +1,6 @@
 //! The eframe application (`layout`: menu, panels and the 3D view; `link`: the serial link;
-//! `settings_store`: settings on disk; `test_hooks`: the GUI smoke and sweep scripts): owns the simulation, the optional serial session, the 3D viewport
+//! `settings_store`: settings on disk; `test_hooks`: the GUI smoke and sweep scripts;
+//! `frame_reuse`: the panels' last frame shown again while only the 3D view changes): owns the simulation, the optional serial session, the 3D viewport
 //! and the panels. Reads one snapshot per frame, lets the panels queue [`AppCommand`]s and
 //! executes them after the UI pass. Rendering never waits on physics (the snapshot is a
 //! lock-free `Arc`) and repaints are requested only while something moves or the link is live.
@@ -28,6 +29,7 @@ use crate::viewport::{SceneFrame, Viewport};
 
 mod access;
 mod execute;
+pub(crate) mod frame_reuse;
 mod icon;
 mod layout;
 mod link;
@@ -154,6 +156,12 @@ pub struct Parol6App {
     /// When to hand freed memory back to the system (after the first frames, a replay opened
     /// or closed).
     release_memory_at: Option<Instant>,
+    /// Frame reuse, when installed in the egui context (see [`frame_reuse`]).
+    frame_reuse: Option<frame_reuse::FrameReuse>,
+    /// Last input seen (frames are reused only after a quiet spell).
+    input_at: Instant,
+    /// The ghost the panels asked for in the last full frame (kept while frames are reused).
+    kept_preview: Option<Vec<f64>>,
 }
 
 impl Parol6App {
@@ -227,6 +235,9 @@ impl Parol6App {
             replay_loading: None,
             files: FileMenu::default(),
             release_memory_at: Some(Instant::now() + RELEASE_MEMORY_AFTER),
+            frame_reuse: None,
+            input_at: Instant::now(),
+            kept_preview: None,
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -404,6 +415,10 @@ impl Parol6App {
         if refresh {
             self.readout = Some((t0, robot.clone(), self.perf.clone()));
         }
+        if self.frame_reuse.is_none() {
+            self.frame_reuse = frame_reuse::FrameReuse::find(&ctx);
+        }
+        let reused_central = self.reusable_central(&ctx, t0, refresh);
         let (readout, readout_perf) = match &self.readout {
             Some((_, r, p)) => (r, p),
             None => (robot, &self.perf),
@@ -428,17 +443,24 @@ impl Parol6App {
                 t.frames += 1;
                 Self::test_step(t, &ctx, &mut self.panels.joints, &mut pctx, &self.exit_code, self.started);
             }
-            Self::layout(
-                ui,
-                &mut pctx,
-                &mut self.panels,
-                self.viewport.as_mut(),
-                self.settings_path.as_deref(),
-                &mut self.show_help,
-                &mut self.files,
-            );
+            if reused_central.is_none() {
+                Self::layout(
+                    ui,
+                    &mut pctx,
+                    &mut self.panels,
+                    self.viewport.as_mut(),
+                    self.settings_path.as_deref(),
+                    &mut self.show_help,
+                    &mut self.files,
+                );
+            }
         }
         self.notices = notices;
+        if reused_central.is_none() {
+            self.kept_preview = preview.clone();
+        } else {
+            preview = self.kept_preview.clone();
+        }
 
         // 3D view in the remaining space.
         let ghost: Option<Vec<f64>> = preview.or_else(|| {
@@ -471,7 +493,7 @@ impl Parol6App {
                 scene
             }
         };
-        self.central(ui, &scene);
+        self.central_and_reuse(ui, reused_central, &scene);
 
         for c in &commands {
             self.execute(c.clone());

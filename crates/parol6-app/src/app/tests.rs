@@ -7,7 +7,7 @@ fn run_frame(app: &mut Parol6App, ctx: &egui::Context) {
         screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1280.0, 800.0))),
         ..Default::default()
     };
-    let _ = ctx.run_ui(input, |ui| app.frame(ui));
+    ctx.run_ui(input, |ui| app.frame(ui)).textures_delta.clear();
 }
 
 fn wait_for(app: &mut Parol6App, ctx: &egui::Context, what: &str, mut done: impl FnMut(&RobotState) -> bool) {
@@ -23,7 +23,7 @@ fn wait_for(app: &mut Parol6App, ctx: &egui::Context, what: &str, mut done: impl
     }
 }
 
-fn launch(connect: Option<ConnectTarget>) -> Parol6App {
+pub(super) fn launch(connect: Option<ConnectTarget>) -> Parol6App {
     let opts = LaunchOptions {
         model: RobotModel::parol6(),
         connect,
@@ -175,11 +175,12 @@ fn an_idle_window_still_repaints_every_two_seconds() {
     };
     // first frames (egui lays out twice at start), then let the start-up repaint window pass
     for _ in 0..3 {
-        let _ = ctx.run_ui(input(), |ui| app.frame(ui));
+        ctx.run_ui(input(), |ui| app.frame(ui)).textures_delta.clear();
     }
     std::thread::sleep(COMMAND_REPAINT_WINDOW + Duration::from_millis(50));
-    let _ = ctx.run_ui(input(), |ui| app.frame(ui));
-    let out = ctx.run_ui(input(), |ui| app.frame(ui));
+    ctx.run_ui(input(), |ui| app.frame(ui)).textures_delta.clear();
+    let mut out = ctx.run_ui(input(), |ui| app.frame(ui));
+    out.textures_delta.clear();
     let delay = out.viewport_output.values().map(|v| v.repaint_delay).min().expect("a viewport");
     assert!(
         delay > Duration::from_millis(500) && delay <= Duration::from_secs(2),

@@ -88,6 +88,8 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         native,
         Box::new(move |cc| {
             cc.egui_ctx.set_visuals(crate::theme::visuals());
+            // before retained painting, which must see the whole frame
+            crate::app::frame_reuse::install(&cc.egui_ctx);
             if let Some(rs) = cc.wgpu_render_state.as_ref() {
                 crate::viewport::configure_tessellation(&cc.egui_ctx, rs);
                 if window.retained {
@@ -236,6 +238,10 @@ fn bench_render_model(
     let mut redrawn_share = Vec::new();
     let mut full_redraws = 0usize;
     let mut moving_frames = 0usize;
+    let reuse_at_start = headless.reuse_stats();
+    // UI time of the frames that laid out the panels and of those that reused them
+    let (mut ui_ms_full, mut ui_ms_reused, mut app_ms_full) = (Vec::new(), Vec::new(), Vec::new());
+    let mut reused_before = reuse_at_start.map(|r| r.reused_frames);
     let t0 = Instant::now();
     let mut last_image = None;
     while t0.elapsed().as_secs_f64() < seconds {
@@ -245,6 +251,14 @@ fn bench_render_model(
         }
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
+        let reused_now = headless.reuse_stats().map(|r| r.reused_frames);
+        if reused_now.is_some() && reused_now != reused_before {
+            ui_ms_reused.push(t.ui_cpu_ms);
+        } else {
+            ui_ms_full.push(t.ui_cpu_ms);
+            app_ms_full.push(t.app_ms);
+        }
+        reused_before = reused_now;
         app_ms.push(t.app_ms);
         drawn = (t.primitives, t.vertices, t.triangles, t.egui_area_px.round());
         if let Some(r) = t.retained {
@@ -265,13 +279,17 @@ fn bench_render_model(
     }
     let n = frame_ms.len();
     let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
-    for v in [&mut frame_ms, &mut ui_ms, &mut app_ms, &mut fps].into_iter().chain(phases.iter_mut()) {
+    for v in [&mut frame_ms, &mut ui_ms, &mut ui_ms_full, &mut ui_ms_reused, &mut app_ms, &mut app_ms_full, &mut fps]
+        .into_iter()
+        .chain(phases.iter_mut())
+    {
         v.sort_by(f64::total_cmp);
     }
     redrawn_share.sort_by(f64::total_cmp);
     let [tess, upload, draw, readback] = &phases;
     let breakdown = json!({
         "app_ui_ms_p50": percentile(&app_ms, 0.5),
+        "app_ui_ms_p50_full_frames": percentile(&app_ms_full, 0.5),
         "tessellate_ms_p50": percentile(tess, 0.5),
         "upload_ms_p50": percentile(upload, 0.5),
         "render_pass_ms_p50": percentile(draw, 0.5),
@@ -314,12 +332,19 @@ fn bench_render_model(
         "frames": n,
         "warm_up_frames": warm_up_frames,
         "moving_frames": moving_frames,
+        // frames whose panels were laid out, and frames that reused them (the 3D view alone)
+        "frame_reuse": reuse_at_start.zip(headless.reuse_stats()).map(|(a, b)| json!({
+            "full_frames": b.full_frames - a.full_frames,
+            "reused_frames": b.reused_frames - a.reused_frames,
+        })),
         "fps_median": fps_median,
         "fps_mean": n as f64 / wall_s,
         "frame_ms_p50": frame_p50,
         "frame_ms_p99": frame_p99,
         "ui_cpu_ms_p50": ui_p50,
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
+        "ui_cpu_ms_p50_full_frames": percentile(&ui_ms_full, 0.5),
+        "ui_cpu_ms_p50_reused_frames": (!ui_ms_reused.is_empty()).then(|| percentile(&ui_ms_reused, 0.5)),
         "breakdown": breakdown,
         "rss_mb_peak": peak_rss_mb(),
         "rss_mb_end": rss_end,

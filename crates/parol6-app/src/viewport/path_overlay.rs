@@ -154,11 +154,12 @@ mod tests {
         let view_proj = Matrix4::new_orthographic(-0.5, 0.5, -0.5, 0.5, -1.0, 1.0);
         let ctx = egui::Context::default();
         let mut drawn = 0;
-        let out = ctx.run_pass(egui::RawInput::default(), |ctx| {
+        let mut out = ctx.run_pass(egui::RawInput::default(), |ctx| {
             let painter = ctx.layer_painter(egui::LayerId::background());
             drawn =
                 o.paint(&painter, egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(800.0, 800.0)), &view_proj);
         });
+        out.textures_delta.clear();
         let lines: Vec<usize> = out
             .shapes
             .iter()

@@ -110,6 +110,53 @@ fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The events row lays out only the buttons it shows: one far off to the right is not laid
+/// out (so not in the accessibility tree) until the row is scrolled to it, and then it jumps.
+/// Laying out every button on each frame that draws the panels cost ~0.8 ms of those frames.
+/// Regression: the row's floating scroll bar lay over the lower half of the buttons while the
+/// pointer was on them, and a click there went to the bar.
+#[test]
+fn the_events_row_lays_out_only_the_buttons_it_shows() {
+    let dir = temp_dir("events");
+    let path = dir.join("long.mcap");
+    // ten minutes at 10 Hz: an event every 10 s, 40 of them listed
+    let bytes =
+        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), 10.0, 10.0).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: long.mcap"));
+    h.run_steps(3);
+    let first = h.get_by_label("0.0 s program step 1").rect();
+    assert!(first.is_positive(), "the first event shows: {first:?}");
+    assert!(
+        h.query_by_label_contains("program step 40").is_none(),
+        "the 40th event, far to the right, is not laid out"
+    );
+    assert!(has_label(&h, "… 20 more"), "the rest are counted");
+    // scroll the row to its end with the wheel (sideways), over the first event
+    for _ in 0..20 {
+        h.event(egui::Event::PointerMoved(first.center()));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(-2000.0, 0.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    until(&mut h, "the 40th event scrolled into view", 5.0, |h| h.query_by_label_contains("program step 40").is_some());
+    h.run_steps(30); // egui's smooth scrolling runs out
+    assert!(h.query_by_label("0.0 s program step 1").is_none(), "the first one scrolled out");
+    // in the middle of the button: the row's scroll bar does not lie over the buttons
+    h.get_by_label_contains("program step 40").click();
+    h.run_steps(2);
+    let cursor = h.state().replay().map(|r| r.cursor_s).expect("open");
+    assert!((cursor - 390.0).abs() < 0.01, "the cursor jumped to the 40th event: {cursor}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn an_empty_file_is_refused_with_a_clear_message() {
     let dir = temp_dir("empty");

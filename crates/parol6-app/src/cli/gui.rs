@@ -239,8 +239,9 @@ fn bench_render_model(
     let mut full_redraws = 0usize;
     let mut moving_frames = 0usize;
     let reuse_at_start = headless.reuse_stats();
-    // UI time of the frames that laid out the panels and of those that reused them
+    // UI and frame time of the frames that laid out the panels and of those that reused them
     let (mut ui_ms_full, mut ui_ms_reused, mut app_ms_full) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut frame_ms_full, mut frame_ms_reused) = (Vec::new(), Vec::new());
     let mut reused_before = reuse_at_start.map(|r| r.reused_frames);
     let t0 = Instant::now();
     let mut last_image = None;
@@ -254,9 +255,11 @@ fn bench_render_model(
         let reused_now = headless.reuse_stats().map(|r| r.reused_frames);
         if reused_now.is_some() && reused_now != reused_before {
             ui_ms_reused.push(t.ui_cpu_ms);
+            frame_ms_reused.push(t.frame_ms);
         } else {
             ui_ms_full.push(t.ui_cpu_ms);
             app_ms_full.push(t.app_ms);
+            frame_ms_full.push(t.frame_ms);
         }
         reused_before = reused_now;
         app_ms.push(t.app_ms);
@@ -281,6 +284,7 @@ fn bench_render_model(
     let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
     for v in [&mut frame_ms, &mut ui_ms, &mut ui_ms_full, &mut ui_ms_reused, &mut app_ms, &mut app_ms_full, &mut fps]
         .into_iter()
+        .chain([&mut frame_ms_full, &mut frame_ms_reused])
         .chain(phases.iter_mut())
     {
         v.sort_by(f64::total_cmp);
@@ -345,6 +349,12 @@ fn bench_render_model(
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
         "ui_cpu_ms_p50_full_frames": percentile(&ui_ms_full, 0.5),
         "ui_cpu_ms_p50_reused_frames": (!ui_ms_reused.is_empty()).then(|| percentile(&ui_ms_reused, 0.5)),
+        // the frame time of each kind: which of them makes the p99
+        "frame_ms_full_frames": {"p50": percentile(&frame_ms_full, 0.5), "p99": percentile(&frame_ms_full, 0.99)},
+        "frame_ms_reused_frames": (!frame_ms_reused.is_empty()).then(|| json!({
+            "p50": percentile(&frame_ms_reused, 0.5),
+            "p99": percentile(&frame_ms_reused, 0.99),
+        })),
         "breakdown": breakdown,
         "rss_mb_peak": peak_rss_mb(),
         "rss_mb_end": rss_end,

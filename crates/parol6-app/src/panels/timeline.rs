@@ -33,13 +33,16 @@ pub struct Replay {
     /// Playback speed (1 = real time).
     pub speed: f64,
     last_tick: Option<Instant>,
+    /// Sizes of the event buttons, points, as last laid out, and the scale they were laid out
+    /// at: the events row lays out only the buttons it shows (see [`events_row`]).
+    event_sizes_pt: (Vec<egui::Vec2>, f32),
 }
 
 impl Replay {
     /// A replay of `data` with the cursor at its start, paused.
     pub fn new(path: PathBuf, data: Arc<ReplayData>) -> Self {
         let cursor_s = data.store.time_range_s().map_or(0.0, |(t0, _)| t0);
-        Self { path, data, cursor_s, playing: false, speed: 1.0, last_tick: None }
+        Self { path, data, cursor_s, playing: false, speed: 1.0, last_tick: None, event_sizes_pt: (Vec::new(), 0.0) }
     }
 
     /// First and last sample time, s (0, 0 when empty).
@@ -149,33 +152,66 @@ impl Panel for TimelinePanel {
                 r.seek(at);
             }
         });
-        let events = &r.data.events;
-        if events.is_empty() {
-            return;
+        if let Some(t) = events_row(ui, r, t0) {
+            r.seek(t);
+            r.playing = false;
         }
-        let mut jump = None;
+    }
+}
+
+/// The events as buttons that jump to their time, in a row that scrolls sideways; the time
+/// clicked, if any. Only the buttons that show are laid out: the others take the size they
+/// had when last laid out (all of them the first time, and again at a new scale). Laying out
+/// the hidden ones cost a text layout each on every frame that draws the panels, and with
+/// frame reuse (`app/frame_reuse`) each of those frames laid them out anew.
+fn events_row(ui: &mut egui::Ui, r: &mut Replay, t0: f64) -> Option<f64> {
+    let events = &r.data.events;
+    if events.is_empty() {
+        return None;
+    }
+    let shown = events.len().min(EVENTS_SHOWN);
+    let ppp = ui.ctx().pixels_per_point();
+    let (sizes, sizes_ppp) = &mut r.event_sizes_pt;
+    if *sizes_ppp != ppp || sizes.len() != shown {
+        sizes.clear();
+        *sizes_ppp = ppp;
+    }
+    let mut jump = None;
+    ui.scope(|ui| {
+        // a solid scroll bar, under the buttons: a floating one lies over their lower half while
+        // the pointer is on them and takes the clicks there
+        ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
         egui::ScrollArea::horizontal().id_salt("replay_events").show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label("Events:");
-                for e in events.iter().take(EVENTS_SHOWN) {
+                let known = sizes.len() == shown;
+                for (i, e) in events.iter().take(shown).enumerate() {
+                    if known {
+                        let size = sizes[i];
+                        if !ui.is_rect_visible(egui::Rect::from_min_size(ui.cursor().min, size)) {
+                            ui.allocate_space(size);
+                            continue;
+                        }
+                    }
                     let color = palette::rgb(match e.level {
                         0..=2 => palette::PLOT_EVENT_INFO,
                         3 => palette::WARN_TEXT,
                         _ => palette::ERROR_TEXT,
                     });
                     let text = egui::RichText::new(format!("{:.1} s {}", e.time_s - t0, e.message)).color(color);
-                    if ui.small_button(text).on_hover_text("jump here").clicked() {
+                    let button = ui.small_button(text).on_hover_text("jump here");
+                    if button.clicked() {
                         jump = Some(e.time_s);
                     }
+                    if !known {
+                        sizes.push(button.rect.size());
+                    }
                 }
-                if events.len() > EVENTS_SHOWN {
-                    ui.weak(format!("… {} more", events.len() - EVENTS_SHOWN));
+                if events.len() > shown {
+                    ui.weak(format!("… {} more", events.len() - shown));
                 }
             });
         });
-        if let Some(t) = jump {
-            r.seek(t);
-            r.playing = false;
-        }
-    }
+    });
+    jump
 }

@@ -36,6 +36,26 @@ fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
     h.run_steps(1);
 }
 
+/// The app at `size`, replaying a synthetic recording (`minutes` at `rate_hz`, an event every
+/// 10 s) written as `file` into a temporary folder named after `name`; that folder.
+fn replaying(
+    name: &str,
+    file: &str,
+    minutes: f64,
+    rate_hz: f64,
+    size: egui::Vec2,
+) -> (std::path::PathBuf, Harness<'static, Parol6App>) {
+    let dir = temp_dir(name);
+    let path = dir.join(file);
+    let bytes =
+        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), minutes, rate_hz).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+    let mut h = app_harness(size);
+    open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, &format!("Replay: {file}")));
+    (dir, h)
+}
+
 #[test]
 fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
     let mut h = app_harness(egui::vec2(1280.0, 1400.0));
@@ -70,14 +90,7 @@ fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
 
 #[test]
 fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
-    let dir = temp_dir("replay");
-    let path = dir.join("short.mcap");
-    let bytes =
-        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), 0.5, 250.0).expect("recording");
-    std::fs::write(&path, bytes).expect("write");
-    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
-    open_recording(&mut h, &path);
-    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: short.mcap"));
+    let (dir, mut h) = replaying("replay", "short.mcap", 0.5, 250.0, egui::vec2(1280.0, 1400.0));
     let start = h.state().replay().map(|r| r.cursor_s).expect("open");
     h.get_by_label("Play").click();
     until(&mut h, "the cursor to move", 5.0, |h| h.state().replay().is_some_and(|r| r.cursor_s > start + 0.05));
@@ -117,15 +130,8 @@ fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
 /// pointer was on them, and a click there went to the bar.
 #[test]
 fn the_events_row_lays_out_only_the_buttons_it_shows() {
-    let dir = temp_dir("events");
-    let path = dir.join("long.mcap");
     // ten minutes at 10 Hz: an event every 10 s, 40 of them listed
-    let bytes =
-        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), 10.0, 10.0).expect("recording");
-    std::fs::write(&path, bytes).expect("write");
-    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    open_recording(&mut h, &path);
-    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: long.mcap"));
+    let (dir, mut h) = replaying("events", "long.mcap", 10.0, 10.0, egui::vec2(1280.0, 1000.0));
     h.run_steps(3);
     let first = h.get_by_label("0.0 s program step 1").rect();
     assert!(first.is_positive(), "the first event shows: {first:?}");

@@ -483,8 +483,9 @@ impl MotionPlanner {
                 let gap = start.iter().zip(&here).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                 if start.len() != here.len() || gap > TRAJECTORY_START_TOLERANCE_RAD {
                     return Err(MotionError::Invalid(format!(
-                        "the trajectory starts {:.4}° away from the commanded position",
-                        gap.to_degrees()
+                        "the trajectory starts {:.4}° away from the commanded position{}",
+                        gap.to_degrees(),
+                        self.still_running_note(t_s, start)
                     )));
                 }
                 self.goal = traj.goal().to_vec();
@@ -493,6 +494,23 @@ impl MotionPlanner {
         }
         self.applied += 1;
         Ok(())
+    }
+
+    /// Why a trajectory that starts where the running one ends came too early: that one started
+    /// late (a scheduled command that arrives after its time starts when it arrives), so the
+    /// schedule it was planned on no longer holds. Empty otherwise.
+    fn still_running_note(&self, t_s: f64, start: &[f64]) -> String {
+        let Motion::Trajectory { t0, traj, warp } = &self.motion else { return String::new() };
+        let continues = traj.goal().len() == start.len()
+            && traj.goal().iter().zip(start).all(|(a, b)| (a - b).abs() <= TRAJECTORY_START_TOLERANCE_RAD);
+        match warp.end_clock(*t0, traj.duration_s()) {
+            Some(end) if continues && end > t_s => format!(
+                " (it continues the trajectory running now, which ends {:.0} ms later: that one started late, \
+                 the schedule was not kept)",
+                (end - t_s) * 1e3
+            ),
+            _ => String::new(),
+        }
     }
 
     /// Slows a trajectory to a stop on its path; any other motion holds at once (STOP).

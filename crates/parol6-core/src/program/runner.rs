@@ -40,8 +40,11 @@ pub const SETTLE_BETWEEN_PASSES: Duration = Duration::from_secs(10);
 const PROGRESS_RESOLUTION_S: f64 = 0.1;
 /// At most this many steps are scheduled ahead of the motion clock.
 pub const LOOKAHEAD: usize = 8;
-/// The first step starts this long after the runner schedules it, s of motion clock.
-pub const LEAD_S: f64 = 0.05;
+/// The first step starts this long after the runner schedules it, s of motion clock. A step
+/// that reaches the backend after its time starts late, and the next one, scheduled for when
+/// it should have ended, is refused: with both cores of a 2-core PC busy the runner's thread
+/// lost 37–87 ms between reading the clock and scheduling (4 runs in 12 failed with 0.05 s).
+pub const LEAD_S: f64 = 0.25;
 
 /// Grid of the instants a schedule starts at, s: the robot's 10 ms control period, so the
 /// same program gives samples at the same offsets on every backend.

@@ -169,6 +169,26 @@ fn a_planned_cartesian_trajectory_is_followed_and_must_start_where_the_arm_is() 
     assert!(e.to_string().contains("away from the commanded position"), "{e}");
 }
 
+/// Regression: on a busy machine the first step of a program reached the simulation 37–87 ms
+/// after its scheduled time, so it started late, and the next step, scheduled for when the
+/// first should have ended, was refused with only "starts 0.03° away". The refusal now says
+/// that the running trajectory ends later and why.
+#[test]
+fn a_continuation_refused_because_the_running_trajectory_started_late_says_so() {
+    let (_, mut p, _, traj) = line_from_rest(0.04);
+    let d = traj.duration_s();
+    let back: Vec<Vec<f64>> = traj.samples().iter().rev().cloned().collect();
+    let back = Arc::new(crate::motion::cartesian::SampledTrajectory::new(traj.dt_s(), back));
+    // planned to start at 10.00 s, applied at 10.037 s
+    p.apply(&MotionCommand::Trajectory(traj), 10.037).expect("starts where the arm is");
+    let e = p.apply(&MotionCommand::Trajectory(back.clone()), 10.0 + d).expect_err("too early");
+    let msg = e.to_string();
+    assert!(msg.contains("away from the commanded position"), "{msg}");
+    assert!(msg.contains("ends 37 ms later") && msg.contains("started late"), "{msg}");
+    // on time it continues
+    p.apply(&MotionCommand::Trajectory(back), 10.037 + d).expect("continues at the end");
+}
+
 /// A pause slows a trajectory to a stop on its path within the acceleration caps; a resume
 /// finishes it at its goal; the pair costs exactly the ramp time.
 #[test]

@@ -35,6 +35,7 @@ pub mod retained;
 pub mod setup;
 pub mod trail;
 pub mod trail_color;
+pub mod view_damage;
 
 pub use camera::OrbitCamera;
 pub use offscreen::{OffscreenRenderer, RgbaImage, write_png};
@@ -191,6 +192,8 @@ pub struct Viewport {
     /// The last frame's inputs and its paint callback: an unchanged view hands egui the same
     /// callback again, so retained painting sees nothing to redraw there.
     last_drawn: Option<LastDrawn>,
+    /// The meshes' boxes, to tell retained painting which part of the view a moving arm changes.
+    bounds: view_damage::SceneBounds,
 }
 
 struct LastDrawn {
@@ -199,6 +202,9 @@ struct LastDrawn {
     camera: OrbitCamera,
     rect: egui::Rect,
     callback: egui::PaintCallback,
+    /// Where the scene's moving parts and the trail were on screen.
+    scene_rect: egui::Rect,
+    trail_rect: egui::Rect,
 }
 
 impl Viewport {
@@ -222,6 +228,7 @@ impl Viewport {
         depth_format: Option<eframe::wgpu::TextureFormat>,
     ) -> Result<Self, ViewportError> {
         let meshes = mesh::ModelMeshes::build(model);
+        let bounds = view_damage::SceneBounds::new(&meshes);
         let warnings = meshes.warnings.clone();
         for w in &warnings {
             tracing::warn!("viewport: {w}");
@@ -256,6 +263,7 @@ impl Viewport {
             warnings,
             egui_renderer: Arc::clone(&render_state.renderer),
             last_drawn: None,
+            bounds,
         })
     }
 
@@ -325,15 +333,47 @@ impl Viewport {
             l.rect == rect && l.camera == self.camera && l.options == self.options && l.scene == *scene
         });
         if !unchanged {
+            // the same view of another scene: only what moved changes
+            let same_view = self
+                .last_drawn
+                .as_ref()
+                .filter(|l| l.rect == rect && l.camera == self.camera && l.options == self.options);
+            let last = same_view.map(|l| (l.callback.clone(), l.scene_rect, l.trail_rect));
+            let mut trail_rect = last.as_ref().map_or(egui::Rect::NOTHING, |l| l.2);
+            let mut trail_changed = true;
             if let Ok(mut frame) = self.shared.lock() {
+                let before = (frame.trail.len(), frame.trail.newest_slot());
                 frame.update(scene, &self.options, &self.camera, aspect);
+                trail_changed = before != (frame.trail.len(), frame.trail.newest_slot());
+                if last.is_none() || trail_changed {
+                    trail_rect = if self.options.show_trail {
+                        view_damage::trail_rect(&frame.trail, &view_proj, rect)
+                    } else {
+                        egui::Rect::NOTHING
+                    };
+                }
             }
+            let scene_rect = self.bounds.scene_rect(scene, &self.options, &view_proj, rect);
             let callback = egui_wgpu::Callback::new_paint_callback(
                 rect,
                 ViewportCallback { id: self.id, frame: Arc::clone(&self.shared) },
             );
-            self.last_drawn =
-                Some(LastDrawn { scene: scene.clone(), options: self.options, camera: self.camera, rect, callback });
+            if let Some((last_callback, last_scene_rect, last_trail_rect)) = last {
+                let mut dirty = last_scene_rect.union(scene_rect);
+                if trail_changed {
+                    dirty = dirty.union(last_trail_rect).union(trail_rect);
+                }
+                retained::CallbackDamage::new(&last_callback, &callback, dirty).publish(ui.ctx());
+            }
+            self.last_drawn = Some(LastDrawn {
+                scene: scene.clone(),
+                options: self.options,
+                camera: self.camera,
+                rect,
+                callback,
+                scene_rect,
+                trail_rect,
+            });
         }
 
         let painter = ui.painter_at(rect);

@@ -5,6 +5,8 @@ use eframe::egui;
 use egui::epaint::{ClippedShape, Shape};
 use egui::{Pos2, Rect};
 
+use super::callback_damage::{CallbackDamage, hinted_change};
+
 /// At most this many rectangles are redrawn per frame; more are merged (smallest growth first).
 /// Few rectangles would merge far-apart changes (a plot's cursor and the 3D view) into one
 /// large area; each rectangle costs only the triangles that reach into it.
@@ -61,18 +63,44 @@ const RESYNC_LOOKAHEAD: usize = 16;
 /// two lists are walked side by side, and after a mismatch the walk resynchronises on the
 /// nearest pair of equal shapes within [`RESYNC_LOOKAHEAD`] of both (shapes inserted, removed or
 /// replaced there count as changed). A label that appears in one panel therefore does not dirty
-/// everything painted after it.
-pub fn changed_rects(old: &[ClippedShape], new: &[ClippedShape]) -> Vec<Rect> {
+/// everything painted after it. A paint callback that replaces the last one dirties only what
+/// its owner's hint says (`hints`, see [`CallbackDamage`]), wherever the walk meets the pair.
+pub fn changed_rects(old: &[ClippedShape], new: &[ClippedShape], hints: &[CallbackDamage]) -> Vec<Rect> {
     let head = old.iter().zip(new).take_while(|(a, b)| same_shape(a, b)).count();
     let (old_rest, new_rest) = (&old[head..], &new[head..]);
     let tail = old_rest.iter().rev().zip(new_rest.iter().rev()).take_while(|(a, b)| same_shape(a, b)).count();
     let old_mid = &old_rest[..old_rest.len() - tail];
     let new_mid = &new_rest[..new_rest.len() - tail];
+    // the hinted pairs of callbacks: (index in old_mid, index in new_mid, what changed)
+    let mut hinted: Vec<(usize, usize, Rect)> = Vec::new();
+    if !hints.is_empty() {
+        let callbacks = |v: &[ClippedShape]| -> Vec<usize> {
+            (0..v.len()).filter(|&k| matches!(v[k].shape, Shape::Callback(_))).collect()
+        };
+        let new_callbacks = callbacks(new_mid);
+        for oi in callbacks(old_mid) {
+            for &nj in &new_callbacks {
+                if let Some(r) = hinted_change(&old_mid[oi], &new_mid[nj], hints) {
+                    hinted.push((oi, nj, r));
+                }
+            }
+        }
+    }
     let mut rects = Vec::new();
-    let mut push = |s: &ClippedShape| {
-        let r = painted_rect(s);
+    let mut push = |s: &ClippedShape, hint: Option<Rect>| {
+        let r = hint.unwrap_or_else(|| painted_rect(s));
         if r.is_positive() {
             rects.push(r);
+        }
+    };
+    let old_hint = |k: usize| hinted.iter().find(|h| h.0 == k).map(|h| h.2);
+    let new_hint = |k: usize| hinted.iter().find(|h| h.1 == k).map(|h| h.2);
+    let mut push_ranges = |old_range: std::ops::Range<usize>, new_range: std::ops::Range<usize>| {
+        for k in old_range {
+            push(&old_mid[k], old_hint(k));
+        }
+        for k in new_range {
+            push(&new_mid[k], new_hint(k));
         }
     };
     let (mut i, mut j) = (0, 0);
@@ -82,11 +110,17 @@ pub fn changed_rects(old: &[ClippedShape], new: &[ClippedShape]) -> Vec<Rect> {
             j += 1;
             continue;
         }
+        if hinted.iter().any(|h| (h.0, h.1) == (i, j)) {
+            push_ranges(i..i + 1, j..j + 1);
+            i += 1;
+            j += 1;
+            continue;
+        }
         let (ni, nj) = resync(old_mid, new_mid, i, j).unwrap_or((i + 1, j + 1));
-        old_mid[i..ni].iter().chain(&new_mid[j..nj]).for_each(&mut push);
+        push_ranges(i..ni, j..nj);
         (i, j) = (ni, nj);
     }
-    old_mid[i..].iter().chain(&new_mid[j..]).for_each(&mut push);
+    push_ranges(i..old_mid.len(), j..new_mid.len());
     rects
 }
 
@@ -185,7 +219,7 @@ mod tests {
     #[test]
     fn identical_frames_have_nothing_to_redraw() {
         let a = vec![rect_shape(0.0, 0.0, Color32::RED), rect_shape(50.0, 50.0, Color32::BLUE)];
-        assert!(changed_rects(&a, &a.clone()).is_empty());
+        assert!(changed_rects(&a, &a.clone(), &[]).is_empty());
     }
 
     #[test]
@@ -193,7 +227,7 @@ mod tests {
         let a = vec![rect_shape(0.0, 0.0, Color32::RED), rect_shape(500.0, 500.0, Color32::BLUE)];
         let mut b = a.clone();
         b[1] = rect_shape(500.0, 500.0, Color32::GREEN);
-        let rects = merge(changed_rects(&a, &b), 1.0, screen());
+        let rects = merge(changed_rects(&a, &b, &[]), 1.0, screen());
         assert_eq!(rects.len(), 1);
         assert!(rects[0].contains_rect(Rect::from_min_size(pos2(500.0, 500.0), vec2(10.0, 10.0))));
         assert!(!rects[0].contains(pos2(5.0, 5.0)), "{rects:?}");
@@ -203,7 +237,7 @@ mod tests {
     fn a_moved_shape_dirties_where_it_was_and_where_it_is() {
         let a = vec![rect_shape(100.0, 100.0, Color32::RED)];
         let b = vec![rect_shape(700.0, 100.0, Color32::RED)];
-        let rects = merge(changed_rects(&a, &b), 1.0, screen());
+        let rects = merge(changed_rects(&a, &b, &[]), 1.0, screen());
         assert_eq!(rects.len(), 2, "{rects:?}");
         assert!(rects.iter().any(|r| r.contains(pos2(105.0, 105.0))));
         assert!(rects.iter().any(|r| r.contains(pos2(705.0, 105.0))));
@@ -213,7 +247,7 @@ mod tests {
     fn an_inserted_shape_dirties_only_the_insertion_when_head_and_tail_match() {
         let a = vec![rect_shape(0.0, 0.0, Color32::RED), rect_shape(900.0, 900.0, Color32::BLUE)];
         let b = vec![a[0].clone(), rect_shape(400.0, 400.0, Color32::GREEN), a[1].clone()];
-        let rects = merge(changed_rects(&a, &b), 1.0, screen());
+        let rects = merge(changed_rects(&a, &b, &[]), 1.0, screen());
         assert_eq!(rects.len(), 1);
         assert!(rects[0].contains(pos2(405.0, 405.0)) && !rects[0].contains(pos2(905.0, 905.0)));
     }
@@ -226,7 +260,7 @@ mod tests {
         new.insert(2, rect_shape(100.0, 500.0, Color32::GREEN));
         new.insert(3, rect_shape(150.0, 500.0, Color32::GREEN));
         new[19] = rect_shape(17.0 * 45.0, 0.0, Color32::BLUE);
-        let rects = merge(changed_rects(&old, &new), 1.0, screen());
+        let rects = merge(changed_rects(&old, &new, &[]), 1.0, screen());
         assert!(rects.iter().any(|r| r.contains(pos2(105.0, 505.0))));
         assert!(rects.iter().any(|r| r.contains(pos2(17.0 * 45.0 + 5.0, 5.0))));
         for k in [5usize, 10, 15] {
@@ -239,7 +273,7 @@ mod tests {
     fn many_scattered_changes_merge_to_a_few_rectangles_and_large_ones_to_the_screen() {
         let a: Vec<_> = (0..20).map(|i| rect_shape(i as f32 * 45.0, i as f32 * 45.0, Color32::RED)).collect();
         let b: Vec<_> = (0..20).map(|i| rect_shape(i as f32 * 45.0, i as f32 * 45.0, Color32::BLUE)).collect();
-        let rects = merge(changed_rects(&a, &b), 1.0, screen());
+        let rects = merge(changed_rects(&a, &b, &[]), 1.0, screen());
         assert!(rects.len() <= MAX_DIRTY_RECTS);
         for s in &b {
             let r = s.shape.visual_bounding_rect();

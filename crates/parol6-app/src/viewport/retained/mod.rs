@@ -8,10 +8,15 @@
 //! ([`damage`]), redraws the changed rectangles (background, every mesh and paint callback
 //! reaching into them, in paint order) into a window-sized texture, and copies the texture
 //! into egui's render pass. The window and `bench render` / `screenshot --ui` take the same
-//! path. On GPUs it is off: there the whole frame costs well under a millisecond.
+//! path. On GPUs it is off: there the whole frame costs well under a millisecond. A paint
+//! callback's owner may say which part of it changed ([`CallbackDamage`]): the 3D view does
+//! while only the arm moves, so the background and grid around it are not redrawn.
 
+mod callback_damage;
 mod damage;
 mod painter;
+
+pub use callback_damage::CallbackDamage;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -106,6 +111,14 @@ pub fn install(
     handle
 }
 
+/// Whether egui will discard the pass whose `output` this is and run another (a new grid or
+/// window sizing itself): its shapes are never shown (egui paints nothing into such a pass).
+/// Output plugins must then leave their state as the last shown frame left it.
+pub(crate) fn pass_will_be_discarded(ctx: &egui::Context, output: &egui::FullOutput) -> bool {
+    output.platform_output.requested_discard()
+        && output.platform_output.num_completed_passes < ctx.options(|o| o.max_passes.get())
+}
+
 /// The egui plugin: finds what changed since the last frame, tessellates only the shapes that
 /// reach into it, and swaps each root frame's shapes for one [`RetainedFrameCallback`].
 struct RetainedPaint {
@@ -139,20 +152,34 @@ impl egui::Plugin for RetainedPaint {
         let size_px = [(screen.width() * ppp).round() as u32, (screen.height() * ppp).round() as u32];
         let screen_pt =
             egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+        // any texture change but new glyphs in the font atlas (drawn text stays valid) may
+        // change any pixel
+        let textures_changed = output
+            .textures_delta
+            .set
+            .iter()
+            .any(|(id, deltas)| *id != egui::TextureId::default() || deltas.iter().any(|d| d.pos.is_none()));
+        if pass_will_be_discarded(ctx, output) {
+            // egui runs the frame again and shows that pass: compare it with the last frame
+            // drawn, not with this one (which paints nothing); keep its texture changes
+            if let Ok(mut pending) = self.handle.shared.pending_textures.lock() {
+                pending.push(output.textures_delta.clone());
+            }
+            if textures_changed {
+                self.handle.shared.need_full.store(true, Ordering::Relaxed);
+            }
+            return;
+        }
         let shapes = std::mem::take(&mut output.shapes);
-        // the first frame, a new size or scale, the painter asking; and any texture change but
-        // new glyphs in the font atlas (drawn text stays valid) may change any pixel
+        let hints = CallbackDamage::take(ctx);
+        // the first frame, a new size or scale, the painter asking
         let full = self.last_screen != Some((size_px, ppp))
             || self.handle.shared.need_full.swap(false, Ordering::Relaxed)
-            || output
-                .textures_delta
-                .set
-                .iter()
-                .any(|(id, deltas)| *id != egui::TextureId::default() || deltas.iter().any(|d| d.pos.is_none()));
+            || textures_changed;
         let rects = if full {
             vec![screen_pt]
         } else {
-            damage::merge(damage::changed_rects(&self.last_shapes, &shapes), ppp, screen_pt)
+            damage::merge(damage::changed_rects(&self.last_shapes, &shapes, &hints), ppp, screen_pt)
         };
         // only what reaches into the rectangles is tessellated (the painter draws nothing else)
         let reaching: Vec<ClippedShape> = shapes.iter().filter(|s| reaches(s, &rects)).cloned().collect();

@@ -13,7 +13,10 @@
 //!
 //! What the panels show that changes during motion (the plots, the timeline, the program's
 //! progress) therefore updates at [`READOUT_HZ`], as the numeric read-outs always have; the
-//! 3D view updates every frame.
+//! 3D view updates every frame. A read-out refresh does not lay out every panel at once: the
+//! frames after it lay out one step of a wave each ([`super::panel_groups::WAVE`]: the left
+//! column, then everything else), with the other groups' kept shapes and widgets, so no single
+//! frame carries all of it.
 
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -23,6 +26,7 @@ use egui::epaint::ClippedShape;
 use egui::{Id, LayerId, Rect};
 
 use super::Parol6App;
+use super::panel_groups::{GroupRects, GroupSet, PartialLayout, WAVE};
 #[cfg(doc)]
 use crate::panels::READOUT_HZ;
 
@@ -36,12 +40,13 @@ const HANDLE_KEY: &str = "parol6-frame-reuse";
 pub(crate) const CENTRAL_SCOPE: &str = "parol6-central";
 
 /// What the app decided about the frame being drawn.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 enum FrameKind {
-    /// Everything laid out; the 3D view got `central`.
-    Full { central: Rect },
-    /// Only the 3D view laid out, into the kept `central`.
-    Reused,
+    /// Everything laid out; the 3D view got `central`, the panel groups `groups`.
+    Full { central: Rect, groups: GroupRects },
+    /// The 3D view and the groups of `lay_out` laid out, into their kept rectangles
+    /// (`regions`: the view's first); the other groups kept.
+    Partial { regions: Vec<Rect>, lay_out: GroupSet },
 }
 
 /// The last full frame, and counts.
@@ -50,6 +55,16 @@ struct Kept {
     this_frame: Option<FrameKind>,
     shapes: Vec<ClippedShape>,
     central: Option<Rect>,
+    /// Where the kept frame's panel groups are (as the last full frame put them).
+    groups: GroupRects,
+    /// The groups whose read-outs were refreshed since they were last laid out.
+    stale: GroupSet,
+    /// The wave's step to try first.
+    next_step: usize,
+    /// A group laid out in a partial frame did not come out where the kept frame has it (a
+    /// panel appeared, went or changed size without input: a recording opened): the next
+    /// frame is full.
+    layout_changed: bool,
     /// The kept frame's text: laid out again (a cache look-up) in reused frames, or egui's
     /// layout cache, which keeps only what the frame before used, would drop it and the next
     /// full frame would lay out every text anew.
@@ -59,13 +74,31 @@ struct Kept {
     stats: ReuseStats,
 }
 
-/// How many frames were drawn in full and how many reused, since start.
+/// How many frames were drawn in full, in part and reused, since start.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ReuseStats {
-    /// Frames whose panels were laid out.
+    /// Frames whose panels were all laid out.
     pub full_frames: u64,
-    /// Frames that showed the panels of the last full frame.
+    /// Frames that laid out one step of a wave (some panel groups) and kept the others.
+    pub wave_frames: u64,
+    /// Frames that laid out the 3D view alone and kept every panel.
     pub reused_frames: u64,
+}
+
+impl Kept {
+    /// The wave's next step with a stale group (it is laid out now, so no longer stale), or
+    /// no group.
+    fn next_wave_step(&mut self) -> GroupSet {
+        for i in 0..WAVE.len() {
+            let step = (self.next_step + i) % WAVE.len();
+            if WAVE[step].intersects(self.stale) {
+                self.next_step = (step + 1) % WAVE.len();
+                self.stale = self.stale.without(WAVE[step]);
+                return WAVE[step];
+            }
+        }
+        GroupSet::EMPTY
+    }
 }
 
 /// The app's handle on frame reuse (found in the egui context, see [`FrameReuse::find`]).
@@ -101,11 +134,19 @@ impl FrameReuse {
         self.kept.lock().ok().map(|mut k| f(&mut k))
     }
 
-    /// The 3D view's rectangle of the last full frame, if that frame can be shown again at
-    /// this screen size and scale.
-    fn kept_central(&self, ctx: &egui::Context) -> Option<Rect> {
+    /// What this frame lays out when the last full frame can be shown again at this screen
+    /// size and scale: the 3D view, and the next step of the wave when groups are stale
+    /// (`readout_due`: the read-outs refresh this frame, every group is stale).
+    fn partial_layout(&self, ctx: &egui::Context, readout_due: bool) -> Option<PartialLayout> {
         let screen = (ctx.viewport_rect(), ctx.pixels_per_point());
-        self.with(|k| if k.screen == Some(screen) { k.central } else { None }).flatten()
+        self.with(|k| {
+            let central = k.central.filter(|_| k.screen == Some(screen) && !k.layout_changed)?;
+            if readout_due {
+                k.stale = GroupSet::ALL;
+            }
+            Some(PartialLayout { central, lay_out: k.next_wave_step(), rects: k.groups })
+        })
+        .flatten()
     }
 
     /// Counts so far.
@@ -113,18 +154,35 @@ impl FrameReuse {
         self.with(|k| k.stats).unwrap_or_default()
     }
 
-    /// Marks this frame as laid out in full, the 3D view in `central`.
-    pub(crate) fn full_frame(&self, central: Rect) {
-        self.with(|k| k.this_frame = Some(FrameKind::Full { central }));
+    /// Marks this frame as laid out in full, the 3D view in `central`, the groups in `groups`.
+    pub(crate) fn full_frame(&self, central: Rect, groups: GroupRects) {
+        self.with(|k| k.this_frame = Some(FrameKind::Full { central, groups }));
     }
 
-    /// Marks this frame as reused, and registers the last full frame's widgets again: egui
-    /// finds what the pointer is over from the widgets of the frame before, so without them a
-    /// click right after a reused frame would land on nothing. Call after the 3D view was laid
-    /// out (its widgets are registered by itself).
-    pub(crate) fn register_kept_widgets(&self, ctx: &egui::Context) {
+    /// Checks where this partial frame laid out its groups (`laid_out`: as the layout returned
+    /// them) against the kept frame: when one moved, appeared or went, the next frame is full.
+    pub(crate) fn check_layout(&self, partial: &PartialLayout, laid_out: &GroupRects) {
+        let moved = super::panel_groups::PanelGroup::ALL
+            .into_iter()
+            .any(|g| partial.lay_out.contains(g) && laid_out.get(g) != partial.rects.get(g));
+        if moved {
+            self.with(|k| k.layout_changed = true);
+            tracing::debug!("frame reuse: a panel group moved, the next frame is full");
+        }
+    }
+
+    /// Marks this frame as laid out in part (`partial`), and registers the kept widgets of
+    /// what it did not lay out again: egui finds what the pointer is over from the widgets of
+    /// the frame before, so without them a click right after such a frame would land on
+    /// nothing. Call after the 3D view was laid out (its widgets and those of the groups laid
+    /// out are registered by themselves).
+    pub(crate) fn register_kept_widgets(&self, ctx: &egui::Context, partial: &PartialLayout) {
+        let regions: Vec<Rect> = std::iter::once(partial.central).chain(partial.rects.of(partial.lay_out)).collect();
+        let laid_out: Vec<Rect> = regions.iter().map(|r| r.expand(0.5)).collect();
+        let stand_ins: Vec<Rect> =
+            partial.rects.of(GroupSet::ALL.without(partial.lay_out)).map(|r| r.expand(0.5)).collect();
         let texts = self.with(|k| {
-            k.this_frame = Some(FrameKind::Reused);
+            k.this_frame = Some(FrameKind::Partial { regions, lay_out: partial.lay_out });
             Arc::clone(&k.texts)
         });
         ctx.fonts_mut(|f| {
@@ -132,7 +190,8 @@ impl FrameReuse {
                 let _ = f.layout_job(egui::text::LayoutJob::clone(job));
             }
         });
-        // the frame before is the last full frame or a reused one, which registered the same set
+        // the frame before is the last full frame or a partial one, which registered the same set
+        // with the groups it laid out anew
         let (kept, present) = ctx.viewport(|v| {
             let kept: Vec<egui::WidgetRect> =
                 v.prev_pass.widgets.layers().flat_map(|(_, w)| w.iter().copied()).collect();
@@ -143,7 +202,11 @@ impl FrameReuse {
         let screen = ctx.viewport_rect();
         // one Ui per layer and enabled/visible state; they paint nothing
         let mut hosts: Vec<((LayerId, bool, bool), egui::Ui)> = Vec::new();
-        for w in kept.into_iter().filter(|w| !present.contains(&w.id)) {
+        // what this frame laid out registered its widgets; those it no longer has are gone
+        let gone = |w: &egui::WidgetRect| laid_out.iter().any(|r| r.contains_rect(w.interact_rect));
+        // a stand-in registers its panel's id with its own rectangle: the kept one wins
+        let stood_in = |w: &egui::WidgetRect| stand_ins.iter().any(|r| r.contains_rect(w.interact_rect));
+        for w in kept.into_iter().filter(|w| !gone(w) && (!present.contains(&w.id) || stood_in(w))) {
             let key = (w.layer_id, w.enabled, w.visible);
             let i = match hosts.iter().position(|(k, _)| *k == key) {
                 Some(i) => i,
@@ -172,21 +235,29 @@ impl FrameReuse {
 }
 
 impl Parol6App {
-    /// The 3D view's rectangle when this frame can reuse the last full frame's panels, else
-    /// `None` (lay out everything). `readout_due`: the read-outs refresh this frame.
-    pub(super) fn reusable_central(&mut self, ctx: &egui::Context, now: Instant, readout_due: bool) -> Option<Rect> {
+    /// What this frame lays out when it can reuse the last full frame's panels (the 3D view, and
+    /// a step of the wave after a read-out refresh), else `None` (lay out everything): never
+    /// while the arm stands still (`moving` false). `readout_due`: the read-outs refresh this
+    /// frame.
+    pub(super) fn partial_layout(
+        &mut self,
+        ctx: &egui::Context,
+        now: Instant,
+        readout_due: bool,
+        moving: bool,
+    ) -> Option<PartialLayout> {
         if !input_quiet(ctx) {
             self.input_at = now;
         }
         let reuse = self.frame_reuse.as_ref()?;
         let quiet = now.duration_since(self.input_at) >= QUIET_BEFORE_REUSE;
-        if readout_due || !quiet || self.test.is_some() || self.sweep.is_some() || !self.commands.is_empty() {
+        if !moving || !quiet || self.test.is_some() || self.sweep.is_some() || !self.commands.is_empty() {
             return None;
         }
         if !ui_at_rest(ctx) {
             return None;
         }
-        reuse.kept_central(ctx)
+        reuse.partial_layout(ctx, readout_due)
     }
 }
 
@@ -210,8 +281,8 @@ fn ui_at_rest(ctx: &egui::Context) -> bool {
         && ctx.viewport(|v| v.this_pass.accesskit_state.is_none())
 }
 
-/// The egui plugin: keeps each full frame's shapes and gives reused frames the kept shapes with
-/// this frame's 3D view swapped in.
+/// The egui plugin: keeps each full frame's shapes and gives partial frames the kept shapes with
+/// this frame's 3D view and the groups it laid out swapped in (a wave step's result is kept).
 struct ReusePlugin {
     handle: FrameReuse,
 }
@@ -225,30 +296,53 @@ impl egui::Plugin for ReusePlugin {
         if ctx.viewport_id() != egui::ViewportId::ROOT {
             return;
         }
+        if crate::viewport::retained::pass_will_be_discarded(ctx, output) {
+            // egui runs the frame again: that pass lays out the same wave step, and keeps
+            self.handle.with(|k| {
+                if let Some(FrameKind::Partial { lay_out, .. }) = k.this_frame.take()
+                    && let Some(step) = WAVE.iter().position(|s| *s == lay_out)
+                {
+                    k.stale = k.stale.union(lay_out);
+                    k.next_step = step;
+                }
+            });
+            return;
+        }
         let screen = (ctx.viewport_rect(), output.pixels_per_point);
         self.handle.with(|k| match k.this_frame.take() {
-            Some(FrameKind::Reused) if k.screen == Some(screen) => {
-                if let Some(central) = k.central {
-                    let fresh = std::mem::take(&mut output.shapes);
-                    output.shapes = splice(&k.shapes, central, fresh);
+            Some(FrameKind::Partial { regions, lay_out }) if k.screen == Some(screen) => {
+                let fresh = std::mem::take(&mut output.shapes);
+                output.shapes = splice(&k.shapes, &regions, fresh);
+                if lay_out.is_empty() {
+                    k.stats.reused_frames += 1;
+                } else {
+                    k.keep(&output.shapes);
+                    k.stats.wave_frames += 1;
                 }
-                k.stats.reused_frames += 1;
             }
             kind => {
-                k.shapes = output.shapes.clone();
-                let mut texts = Vec::new();
-                for s in &k.shapes {
-                    collect_texts(&s.shape, &mut texts);
-                }
-                k.texts = Arc::new(texts);
-                k.central = match kind {
-                    Some(FrameKind::Full { central }) if central.is_positive() => Some(central),
-                    _ => None,
+                k.keep(&output.shapes);
+                (k.central, k.groups) = match kind {
+                    Some(FrameKind::Full { central, groups }) if central.is_positive() => (Some(central), groups),
+                    _ => (None, GroupRects::default()),
                 };
+                (k.stale, k.next_step, k.layout_changed) = (GroupSet::EMPTY, 0, false);
                 k.screen = Some(screen);
                 k.stats.full_frames += 1;
             }
         });
+    }
+}
+
+impl Kept {
+    /// Keeps `shapes` as the frame partial frames start from, and the texts they paint.
+    fn keep(&mut self, shapes: &[ClippedShape]) {
+        self.shapes = shapes.to_vec();
+        let mut texts = Vec::new();
+        for s in shapes {
+            collect_texts(&s.shape, &mut texts);
+        }
+        self.texts = Arc::new(texts);
     }
 }
 
@@ -261,22 +355,33 @@ fn collect_texts(shape: &egui::Shape, out: &mut Vec<Arc<egui::text::LayoutJob>>)
     }
 }
 
-/// The kept frame's shapes with those inside `central` (the 3D view's, found by their clip
-/// rectangle) replaced by `fresh`, in their place in the painting order.
-fn splice(kept: &[ClippedShape], central: Rect, fresh: Vec<ClippedShape>) -> Vec<ClippedShape> {
-    let region = central.expand(0.5);
-    let mut out = Vec::with_capacity(kept.len() + fresh.len());
-    let mut fresh = Some(fresh);
-    for s in kept {
-        if region.contains_rect(s.clip_rect) {
-            if let Some(f) = fresh.take() {
-                out.extend(f);
-            }
-        } else {
-            out.push(s.clone());
+/// The kept frame's shapes with those inside each of `regions` (the 3D view and the groups laid
+/// out this frame, found by their clip rectangles) replaced by the `fresh` ones inside it, in
+/// their place in the painting order (after the rest, when the kept frame had none there).
+/// Fresh shapes outside every region are dropped: the stand-ins paint nothing, and what the
+/// groups laid out paint outside their own rectangle (a side panel's separator line) is the
+/// same as the kept frame's.
+fn splice(kept: &[ClippedShape], regions: &[Rect], fresh: Vec<ClippedShape>) -> Vec<ClippedShape> {
+    let regions: Vec<Rect> = regions.iter().map(|r| r.expand(0.5)).collect();
+    let region_of = |clip: Rect| regions.iter().position(|r| r.contains_rect(clip));
+    let mut by_region: Vec<Option<Vec<ClippedShape>>> = vec![Some(Vec::new()); regions.len()];
+    for s in fresh {
+        if let Some(bucket) = region_of(s.clip_rect).and_then(|i| by_region[i].as_mut()) {
+            bucket.push(s);
         }
     }
-    if let Some(f) = fresh {
+    let mut out = Vec::with_capacity(kept.len() + 16);
+    for s in kept {
+        match region_of(s.clip_rect) {
+            Some(i) => {
+                if let Some(f) = by_region[i].take() {
+                    out.extend(f);
+                }
+            }
+            None => out.push(s.clone()),
+        }
+    }
+    for f in by_region.into_iter().flatten() {
         out.extend(f);
     }
     out

@@ -10,6 +10,7 @@ use eframe::egui;
 use egui::containers::menu::{MenuButton, MenuConfig};
 use std::path::Path;
 
+use super::panel_groups::{GroupRects, PanelGroup, PartialLayout, stand_in};
 use super::{Parol6App, WINDOW_TITLE};
 use crate::palette;
 use crate::panels::registry::{Dock, Panels};
@@ -78,67 +79,100 @@ impl FileMenu {
     }
 }
 
+/// What the menu bar and the help window act on.
+pub(super) struct MenuTargets<'a> {
+    /// The 3D view, for its options in the View menu.
+    pub viewport: Option<&'a mut Viewport>,
+    /// Where the settings are saved (the help window says so).
+    pub settings_path: Option<&'a Path>,
+    /// The help window is open.
+    pub show_help: &'a mut bool,
+    /// The File menu's fields.
+    pub files: &'a mut FileMenu,
+}
+
 impl Parol6App {
-    /// Draws the menu bar, the docked panels and the help window.
+    /// Draws the menu bar, the docked panels and the help window; with `partial`, only its
+    /// groups, the others held by stand-ins (see [`super::panel_groups`]). Returns the
+    /// rectangles of the groups laid out.
     pub(super) fn layout(
         ui: &mut egui::Ui,
         pctx: &mut PanelContext<'_>,
         panels: &mut Panels,
-        viewport: Option<&mut Viewport>,
-        settings_path: Option<&Path>,
-        show_help: &mut bool,
-        files: &mut FileMenu,
-    ) {
-        egui::Panel::top("menu").show(ui, |ui| {
-            egui::MenuBar::new().ui(ui, |ui| {
-                ui.label(egui::RichText::new(WINDOW_TITLE).strong());
-                ui.separator();
-                // Menus of toggles stay open while the operator clicks them.
-                let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
-                MenuButton::new("File").config(stay_open.clone()).ui(ui, |ui| files.ui(ui, pctx));
-                MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
-                    ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
-                    ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
-                    ui.checkbox(&mut pctx.settings.show_plots, "Plots");
-                    ui.checkbox(&mut pctx.settings.show_dynamics, "Dynamics");
+        menu: MenuTargets<'_>,
+        partial: Option<&PartialLayout>,
+    ) -> GroupRects {
+        let MenuTargets { viewport, settings_path, show_help, files } = menu;
+        let mut rects = GroupRects::default();
+        let lays_out = |g| PartialLayout::lays_out(partial, g);
+        let stand_in_rect = |g| PartialLayout::stand_in_rect(partial, g);
+        if let Some(r) = stand_in_rect(PanelGroup::Menu) {
+            stand_in(ui, egui::Panel::top("menu"), r.height());
+        }
+        let menu = lays_out(PanelGroup::Menu).then(|| {
+            egui::Panel::top("menu").show(ui, |ui| {
+                egui::MenuBar::new().ui(ui, |ui| {
+                    ui.label(egui::RichText::new(WINDOW_TITLE).strong());
                     ui.separator();
-                    if let Some(v) = viewport {
-                        v.options_ui(ui);
+                    // Menus of toggles stay open while the operator clicks them.
+                    let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+                    MenuButton::new("File").config(stay_open.clone()).ui(ui, |ui| files.ui(ui, pctx));
+                    MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
+                        ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
+                        ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
+                        ui.checkbox(&mut pctx.settings.show_plots, "Plots");
+                        ui.checkbox(&mut pctx.settings.show_dynamics, "Dynamics");
+                        ui.separator();
+                        if let Some(v) = viewport {
+                            v.options_ui(ui);
+                        }
+                    });
+                    MenuButton::new("Units").config(stay_open).ui(ui, |ui| {
+                        ui.radio_value(&mut pctx.settings.unit, AngleUnit::Deg, "Degrees");
+                        ui.radio_value(&mut pctx.settings.unit, AngleUnit::Rad, "Radians");
+                        ui.separator();
+                        ui.label("TCP orientation");
+                        for c in crate::panels::AngleConvention::ALL {
+                            ui.radio_value(&mut pctx.settings.angle_convention, c, c.describe());
+                        }
+                    });
+                    if ui.button("Help (F1)").clicked() {
+                        *show_help = !*show_help;
                     }
-                });
-                MenuButton::new("Units").config(stay_open).ui(ui, |ui| {
-                    ui.radio_value(&mut pctx.settings.unit, AngleUnit::Deg, "Degrees");
-                    ui.radio_value(&mut pctx.settings.unit, AngleUnit::Rad, "Radians");
                     ui.separator();
-                    ui.label("TCP orientation");
-                    for c in crate::panels::AngleConvention::ALL {
-                        ui.radio_value(&mut pctx.settings.angle_convention, c, c.describe());
-                    }
+                    ui.weak(format!("{} · {} joints", pctx.model.name, pctx.model.dof()));
                 });
-                if ui.button("Help (F1)").clicked() {
-                    *show_help = !*show_help;
-                }
-                ui.separator();
-                ui.weak(format!("{} · {} joints", pctx.model.name, pctx.model.dof()));
-            });
+            })
         });
+        if let Some(r) = menu {
+            rects.set(PanelGroup::Menu, r.response.rect);
+        }
         let mut docked = panels.docked();
         for (_, panel) in docked.iter_mut().filter(|(dock, _)| *dock == Dock::Bottom) {
-            egui::Panel::bottom(panel.title()).show(ui, |ui| panel.ui(ui, pctx));
+            if let Some(r) = stand_in_rect(PanelGroup::Status) {
+                stand_in(ui, egui::Panel::bottom(panel.title()), r.height());
+            } else if lays_out(PanelGroup::Status) {
+                let r = egui::Panel::bottom(panel.title()).show(ui, |ui| panel.ui(ui, pctx));
+                rects.set(PanelGroup::Status, r.response.rect);
+            }
         }
         let columns = [
-            (Dock::Left, "left", LEFT_PANEL_WIDTH, pctx.settings.show_left),
-            (Dock::Right, "right", RIGHT_PANEL_WIDTH, pctx.settings.show_right),
+            (Dock::Left, PanelGroup::Left, "left", LEFT_PANEL_WIDTH, pctx.settings.show_left),
+            (Dock::Right, PanelGroup::Right, "right", RIGHT_PANEL_WIDTH, pctx.settings.show_right),
         ];
-        for (dock, id, width, shown) in columns {
-            if !shown {
-                continue;
-            }
+        for (dock, group, id, width, shown) in columns {
             let panel = match dock {
                 Dock::Left => egui::Panel::left(id),
                 _ => egui::Panel::right(id),
             };
-            panel.exact_size(width).resizable(false).show(ui, |ui| {
+            if let Some(r) = stand_in_rect(group) {
+                stand_in(ui, panel, r.width());
+                continue;
+            }
+            if !shown || !lays_out(group) {
+                continue;
+            }
+            let r = panel.exact_size(width).resizable(false).show(ui, |ui| {
                 egui::ScrollArea::vertical().id_salt(id).auto_shrink([false, false]).show(ui, |ui| {
                     let mut first = true;
                     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == dock) {
@@ -150,10 +184,13 @@ impl Parol6App {
                     }
                 });
             });
+            rects.set(group, r.response.rect);
         }
         let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx.settings));
-        if lower_shown {
-            lower_dock(ui, pctx, &mut docked);
+        if let Some(r) = stand_in_rect(PanelGroup::Lower) {
+            stand_in(ui, egui::Panel::bottom(LOWER_PANEL_ID), r.height());
+        } else if lower_shown && lays_out(PanelGroup::Lower) {
+            rects.set(PanelGroup::Lower, lower_dock(ui, pctx, &mut docked));
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
@@ -164,24 +201,33 @@ impl Parol6App {
                 .vscroll(true)
                 .show(ui.ctx(), |ui| help::help_ui(ui, settings_path));
         }
+        rects
     }
 
-    /// Lays out the 3D view in the space the panels left (`reused`: the last full frame's, when
-    /// this frame reuses its panels; see [`super::frame_reuse`]), in a `Ui` whose id is the
-    /// same either way, and tells frame reuse what this frame was.
-    pub(super) fn central_and_reuse(&mut self, ui: &mut egui::Ui, reused: Option<egui::Rect>, scene: &SceneFrame) {
-        let rect = reused.unwrap_or_else(|| ui.available_rect_before_wrap());
+    /// Lays out the 3D view in the space the panels left (`partial`: the last full frame's, when
+    /// this frame reuses panels; see [`super::frame_reuse`]), in a `Ui` whose id is the same
+    /// either way, and tells frame reuse what this frame was (`groups`: where the layout put
+    /// the panel groups).
+    pub(super) fn central_and_reuse(
+        &mut self,
+        ui: &mut egui::Ui,
+        partial: Option<&PartialLayout>,
+        groups: GroupRects,
+        scene: &SceneFrame,
+    ) {
+        let rect = partial.map_or_else(|| ui.available_rect_before_wrap(), |p| p.central);
         let builder =
             egui::UiBuilder::new().scope_id(egui::Id::unique(super::frame_reuse::CENTRAL_SCOPE)).max_rect(rect);
         ui.scope_builder(builder, |ui| self.central(ui, scene));
         if let Some(reuse) = &self.frame_reuse {
-            match reused {
-                Some(_) => {
+            match partial {
+                Some(p) => {
                     // the panels' space is still the root's, as in the full frame
                     ui.expand_to_include_rect(ui.max_rect());
-                    reuse.register_kept_widgets(ui.ctx());
+                    reuse.check_layout(p, &groups);
+                    reuse.register_kept_widgets(ui.ctx(), p);
                 }
-                None => reuse.full_frame(rect),
+                None => reuse.full_frame(rect, groups),
             }
         }
     }
@@ -230,7 +276,9 @@ impl Parol6App {
 /// the height left, and anything below it would make the panel grow each frame. A window made
 /// smaller clamps it, and egui keeps that height: once the wanted height fits again (and no
 /// button is held, so a drag is not fought) it goes back to it.
-fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Dock, &mut dyn Panel)]) {
+///
+/// Returns the panel's outer rectangle.
+fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Dock, &mut dyn Panel)]) -> egui::Rect {
     let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
     let wanted_h = pctx.settings.lower_panel_height_pt;
     let wanted_h = if wanted_h.is_finite() { wanted_h } else { LOWER_DEFAULT_HEIGHT };
@@ -261,4 +309,5 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
     if (h - wanted_h).abs() > 0.5 && (h < max_h - 0.5 || h > wanted_h) {
         pctx.settings.lower_panel_height_pt = h;
     }
+    shown.response.rect
 }

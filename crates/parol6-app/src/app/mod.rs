@@ -33,6 +33,7 @@ pub(crate) mod frame_reuse;
 mod icon;
 mod layout;
 mod link;
+mod panel_groups;
 mod replay;
 mod settings_store;
 mod soak;
@@ -418,7 +419,7 @@ impl Parol6App {
         if self.frame_reuse.is_none() {
             self.frame_reuse = frame_reuse::FrameReuse::find(&ctx);
         }
-        let reused_central = self.reusable_central(&ctx, t0, refresh);
+        let partial = self.partial_layout(&ctx, t0, refresh, robot.moving);
         let (readout, readout_perf) = match &self.readout {
             Some((_, r, p)) => (r, p),
             None => (robot, &self.perf),
@@ -426,6 +427,7 @@ impl Parol6App {
         let mut preview: Option<Vec<f64>> = None;
         let mut commands = std::mem::take(&mut self.commands);
         let mut notices = std::mem::take(&mut self.notices);
+        let mut groups = panel_groups::GroupRects::default();
         {
             let mut pctx = PanelContext {
                 model: &self.model,
@@ -443,20 +445,20 @@ impl Parol6App {
                 t.frames += 1;
                 Self::test_step(t, &ctx, &mut self.panels.joints, &mut pctx, &self.exit_code, self.started);
             }
-            if reused_central.is_none() {
-                Self::layout(
-                    ui,
-                    &mut pctx,
-                    &mut self.panels,
-                    self.viewport.as_mut(),
-                    self.settings_path.as_deref(),
-                    &mut self.show_help,
-                    &mut self.files,
-                );
+            if partial.is_none_or(|p| !p.lay_out.is_empty()) {
+                let menu = layout::MenuTargets {
+                    viewport: self.viewport.as_mut(),
+                    settings_path: self.settings_path.as_deref(),
+                    show_help: &mut self.show_help,
+                    files: &mut self.files,
+                };
+                groups = Self::layout(ui, &mut pctx, &mut self.panels, menu, partial.as_ref());
             }
         }
         self.notices = notices;
-        if reused_central.is_none() {
+        // a partial frame may not lay out the panel that previews a target (it changes on input,
+        // which makes the frame full)
+        if partial.is_none() || preview.is_some() {
             self.kept_preview = preview.clone();
         } else {
             preview = self.kept_preview.clone();
@@ -493,7 +495,7 @@ impl Parol6App {
                 scene
             }
         };
-        self.central_and_reuse(ui, reused_central, &scene);
+        self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
 
         for c in &commands {
             self.execute(c.clone());

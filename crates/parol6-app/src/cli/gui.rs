@@ -187,6 +187,19 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     parol6_core::stats::percentile(sorted, q).unwrap_or(0.0)
 }
 
+/// The median of `sorted`, `None` (null) when there is none.
+fn p50(sorted: &[f64]) -> Option<f64> {
+    parol6_core::stats::percentile(sorted, 0.5)
+}
+
+/// `{"p50", "p99"}` of `sorted`, null when empty.
+fn p50_p99(sorted: &[f64]) -> serde_json::Value {
+    match (parol6_core::stats::percentile(sorted, 0.5), parol6_core::stats::percentile(sorted, 0.99)) {
+        (Some(p50), Some(p99)) => json!({"p50": p50, "p99": p99}),
+        _ => serde_json::Value::Null,
+    }
+}
+
 /// Frames of the full UI while the arm sweeps all joints; prints JSON.
 fn bench_render_model(
     model: RobotModel,
@@ -239,10 +252,11 @@ fn bench_render_model(
     let mut full_redraws = 0usize;
     let mut moving_frames = 0usize;
     let reuse_at_start = headless.reuse_stats();
-    // UI and frame time of the frames that laid out the panels and of those that reused them
+    // UI and frame time of the frames that laid out all panels, some (a wave step) or none
     let (mut ui_ms_full, mut ui_ms_reused, mut app_ms_full) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut frame_ms_full, mut frame_ms_reused) = (Vec::new(), Vec::new());
-    let mut reused_before = reuse_at_start.map(|r| r.reused_frames);
+    let (mut frame_ms_full, mut frame_ms_wave, mut frame_ms_reused) = (Vec::new(), Vec::new(), Vec::new());
+    let mut ui_ms_wave = Vec::new();
+    let mut reuse_before = reuse_at_start;
     let t0 = Instant::now();
     let mut last_image = None;
     while t0.elapsed().as_secs_f64() < seconds {
@@ -252,16 +266,22 @@ fn bench_render_model(
         }
         frame_ms.push(t.frame_ms);
         ui_ms.push(t.ui_cpu_ms);
-        let reused_now = headless.reuse_stats().map(|r| r.reused_frames);
-        if reused_now.is_some() && reused_now != reused_before {
+        let reuse_now = headless.reuse_stats();
+        let counted = |f: fn(&crate::app::frame_reuse::ReuseStats) -> u64| {
+            reuse_now.as_ref().map(f) != reuse_before.as_ref().map(f) && reuse_now.is_some()
+        };
+        if counted(|r| r.reused_frames) {
             ui_ms_reused.push(t.ui_cpu_ms);
             frame_ms_reused.push(t.frame_ms);
+        } else if counted(|r| r.wave_frames) {
+            ui_ms_wave.push(t.ui_cpu_ms);
+            frame_ms_wave.push(t.frame_ms);
         } else {
             ui_ms_full.push(t.ui_cpu_ms);
             app_ms_full.push(t.app_ms);
             frame_ms_full.push(t.frame_ms);
         }
-        reused_before = reused_now;
+        reuse_before = reuse_now;
         app_ms.push(t.app_ms);
         drawn = (t.primitives, t.vertices, t.triangles, t.egui_area_px.round());
         if let Some(r) = t.retained {
@@ -284,7 +304,7 @@ fn bench_render_model(
     let mut fps: Vec<f64> = frame_ms.iter().map(|ms| 1000.0 / ms.max(1e-6)).collect();
     for v in [&mut frame_ms, &mut ui_ms, &mut ui_ms_full, &mut ui_ms_reused, &mut app_ms, &mut app_ms_full, &mut fps]
         .into_iter()
-        .chain([&mut frame_ms_full, &mut frame_ms_reused])
+        .chain([&mut frame_ms_full, &mut frame_ms_reused, &mut frame_ms_wave, &mut ui_ms_wave])
         .chain(phases.iter_mut())
     {
         v.sort_by(f64::total_cmp);
@@ -293,7 +313,7 @@ fn bench_render_model(
     let [tess, upload, draw, readback] = &phases;
     let breakdown = json!({
         "app_ui_ms_p50": percentile(&app_ms, 0.5),
-        "app_ui_ms_p50_full_frames": percentile(&app_ms_full, 0.5),
+        "app_ui_ms_p50_full_frames": p50(&app_ms_full),
         "tessellate_ms_p50": percentile(tess, 0.5),
         "upload_ms_p50": percentile(upload, 0.5),
         "render_pass_ms_p50": percentile(draw, 0.5),
@@ -336,9 +356,11 @@ fn bench_render_model(
         "frames": n,
         "warm_up_frames": warm_up_frames,
         "moving_frames": moving_frames,
-        // frames whose panels were laid out, and frames that reused them (the 3D view alone)
+        // frames whose panels were all laid out, frames that laid out one step of a wave after a
+        // read-out refresh, and frames that reused every panel (the 3D view alone)
         "frame_reuse": reuse_at_start.zip(headless.reuse_stats()).map(|(a, b)| json!({
             "full_frames": b.full_frames - a.full_frames,
+            "wave_frames": b.wave_frames - a.wave_frames,
             "reused_frames": b.reused_frames - a.reused_frames,
         })),
         "fps_median": fps_median,
@@ -347,14 +369,13 @@ fn bench_render_model(
         "frame_ms_p99": frame_p99,
         "ui_cpu_ms_p50": ui_p50,
         "ui_cpu_ms_p99": percentile(&ui_ms, 0.99),
-        "ui_cpu_ms_p50_full_frames": percentile(&ui_ms_full, 0.5),
-        "ui_cpu_ms_p50_reused_frames": (!ui_ms_reused.is_empty()).then(|| percentile(&ui_ms_reused, 0.5)),
+        "ui_cpu_ms_p50_full_frames": p50(&ui_ms_full),
+        "ui_cpu_ms_p50_wave_frames": p50(&ui_ms_wave),
+        "ui_cpu_ms_p50_reused_frames": p50(&ui_ms_reused),
         // the frame time of each kind: which of them makes the p99
-        "frame_ms_full_frames": {"p50": percentile(&frame_ms_full, 0.5), "p99": percentile(&frame_ms_full, 0.99)},
-        "frame_ms_reused_frames": (!frame_ms_reused.is_empty()).then(|| json!({
-            "p50": percentile(&frame_ms_reused, 0.5),
-            "p99": percentile(&frame_ms_reused, 0.99),
-        })),
+        "frame_ms_full_frames": p50_p99(&frame_ms_full),
+        "frame_ms_wave_frames": p50_p99(&frame_ms_wave),
+        "frame_ms_reused_frames": p50_p99(&frame_ms_reused),
         "breakdown": breakdown,
         "rss_mb_peak": peak_rss_mb(),
         "rss_mb_end": rss_end,

@@ -100,8 +100,9 @@ fn frame_turning(p: &mut Painter, model: &RobotModel, step: usize, j1_step_rad: 
     p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
 }
 
-/// The first pixel where `a` and `b` differ, as (x, y), and how many differ.
-fn first_difference(a: &RgbaImage, b: &RgbaImage) -> Option<((usize, usize), usize)> {
+/// Fails when `a` (drawn whole) and `b` (retained) differ in any pixel, and leaves both as
+/// `{name}_direct_{step}.png` / `{name}_retained_{step}.png` in the temporary directory.
+fn assert_same_image(a: &RgbaImage, b: &RgbaImage, name: &str, step: usize, stats: &retained::RetainedStats) {
     let differing: Vec<usize> = a
         .pixels
         .chunks_exact(4)
@@ -110,7 +111,19 @@ fn first_difference(a: &RgbaImage, b: &RgbaImage) -> Option<((usize, usize), usi
         .filter(|(_, (x, y))| x != y)
         .map(|(i, _)| i)
         .collect();
-    differing.first().map(|&i| ((i % W as usize, i / W as usize), differing.len()))
+    if let Some(&first) = differing.first() {
+        let dir = std::env::temp_dir().join("parol6-render-tests");
+        let _ = std::fs::create_dir_all(&dir);
+        let _ = write_png(&dir.join(format!("{name}_direct_{step}.png")), a);
+        let _ = write_png(&dir.join(format!("{name}_retained_{step}.png")), b);
+        panic!(
+            "step {step}: {} px differ, first at ({}, {}); stats {stats:?}; images in {}",
+            differing.len(),
+            first % W as usize,
+            first / W as usize,
+            dir.display()
+        );
+    }
 }
 
 #[test]
@@ -131,13 +144,7 @@ fn a_swinging_arm_is_redrawn_where_it_was_and_where_it_is() {
         if step > 0 && stats.redrawn_px < 0.9 * VIEW_PX {
             hinted += 1;
         }
-        if let Some((at, n)) = first_difference(&a, &b) {
-            let dir = std::env::temp_dir().join("parol6-render-tests");
-            let _ = std::fs::create_dir_all(&dir);
-            let _ = write_png(&dir.join(format!("swing_direct_{step}.png")), &a);
-            let _ = write_png(&dir.join(format!("swing_retained_{step}.png")), &b);
-            panic!("step {step}: {n} px differ, first at {at:?}; stats {stats:?}; images in {}", dir.display());
-        }
+        assert_same_image(&a, &b, "swing", step, &stats);
     }
     assert!(hinted >= 1, "no frame redrew less than the view");
 }
@@ -172,28 +179,7 @@ fn retained_frames_match_full_frames_pixel_for_pixel() {
         if (1..=2).contains(&step) && stats.redrawn_px > 2_000.0 && stats.redrawn_px < 0.5 * VIEW_PX {
             hinted_redraws += 1;
         }
-        let differing: Vec<usize> = a
-            .pixels
-            .chunks_exact(4)
-            .zip(b.pixels.chunks_exact(4))
-            .enumerate()
-            .filter(|(_, (x, y))| x != y)
-            .map(|(i, _)| i)
-            .collect();
-        if !differing.is_empty() {
-            let dir = std::env::temp_dir().join("parol6-render-tests");
-            let _ = std::fs::create_dir_all(&dir);
-            let _ = write_png(&dir.join(format!("retained_direct_{step}.png")), &a);
-            let _ = write_png(&dir.join(format!("retained_retained_{step}.png")), &b);
-            let first = differing[0];
-            panic!(
-                "step {step}: {} px differ, first at ({}, {}); stats {stats:?}; images in {}",
-                differing.len(),
-                first % W as usize,
-                first / W as usize,
-                dir.display()
-            );
-        }
+        assert_same_image(&a, &b, "retained", step, &stats);
     }
     assert!(partial_frames >= 5, "only {partial_frames} of 10 frames were partial redraws");
     assert!(small_redraws >= 2, "the still 3D view was redrawn: only {small_redraws} small redraws");

@@ -49,7 +49,8 @@ enum FrameKind {
     Partial { regions: Vec<Rect>, lay_out: GroupSet },
 }
 
-/// The last full frame, and counts.
+/// The frame partial frames start from (the last full frame, with each wave step's groups
+/// swapped in since), where its groups are, the wave's state, and counts.
 #[derive(Default)]
 struct Kept {
     this_frame: Option<FrameKind>,
@@ -98,6 +99,16 @@ impl Kept {
             }
         }
         GroupSet::EMPTY
+    }
+
+    /// Keeps `shapes` as the frame partial frames start from, and the texts they paint.
+    fn keep(&mut self, shapes: &[ClippedShape]) {
+        self.shapes = shapes.to_vec();
+        let mut texts = Vec::new();
+        for s in shapes {
+            collect_texts(&s.shape, &mut texts);
+        }
+        self.texts = Arc::new(texts);
     }
 }
 
@@ -331,18 +342,6 @@ impl egui::Plugin for ReusePlugin {
                 k.stats.full_frames += 1;
             }
         });
-    }
-}
-
-impl Kept {
-    /// Keeps `shapes` as the frame partial frames start from, and the texts they paint.
-    fn keep(&mut self, shapes: &[ClippedShape]) {
-        self.shapes = shapes.to_vec();
-        let mut texts = Vec::new();
-        for s in shapes {
-            collect_texts(&s.shape, &mut texts);
-        }
-        self.texts = Arc::new(texts);
     }
 }
 

@@ -333,11 +333,13 @@ impl Viewport {
             l.rect == rect && l.camera == self.camera && l.options == self.options && l.scene == *scene
         });
         if !unchanged {
-            // the same view of another scene: only what moved changes
+            // the same view of another scene: only what moved changes (worked out only for
+            // retained painting, which takes the hint)
+            let hinting = retained::CallbackDamage::wanted(ui.ctx());
             let same_view = self
                 .last_drawn
                 .as_ref()
-                .filter(|l| l.rect == rect && l.camera == self.camera && l.options == self.options);
+                .filter(|l| hinting && l.rect == rect && l.camera == self.camera && l.options == self.options);
             let last = same_view.map(|l| (l.callback.clone(), l.scene_rect, l.trail_rect));
             let mut trail_rect = last.as_ref().map_or(egui::Rect::NOTHING, |l| l.2);
             let mut trail_changed = true;
@@ -345,7 +347,7 @@ impl Viewport {
                 let before = (frame.trail.len(), frame.trail.newest_slot());
                 frame.update(scene, &self.options, &self.camera, aspect);
                 trail_changed = before != (frame.trail.len(), frame.trail.newest_slot());
-                if last.is_none() || trail_changed {
+                if hinting && (last.is_none() || trail_changed) {
                     trail_rect = if self.options.show_trail {
                         view_damage::trail_rect(&frame.trail, &view_proj, rect)
                     } else {
@@ -353,7 +355,8 @@ impl Viewport {
                     };
                 }
             }
-            let scene_rect = self.bounds.scene_rect(scene, &self.options, &view_proj, rect);
+            let scene_rect =
+                if hinting { self.bounds.scene_rect(scene, &self.options, &view_proj, rect) } else { rect };
             let callback = egui_wgpu::Callback::new_paint_callback(
                 rect,
                 ViewportCallback { id: self.id, frame: Arc::clone(&self.shared) },

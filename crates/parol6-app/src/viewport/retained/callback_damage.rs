@@ -11,6 +11,8 @@ use egui::{Id, PaintCallback, Rect};
 
 /// The data key of this frame's hints in the egui context.
 const HINTS_KEY: &str = "parol6-callback-damage";
+/// The data key of the mark that retained painting is installed (it takes the hints).
+const WANTED_KEY: &str = "parol6-callback-damage-wanted";
 /// Hints kept at most (they pile up when nothing takes them: no retained painting).
 const MAX_HINTS: usize = 8;
 
@@ -32,6 +34,17 @@ impl CallbackDamage {
     /// until then, so its identity cannot be taken by another callback.
     pub fn new(old: &PaintCallback, new: &PaintCallback, dirty: Rect) -> Self {
         Self { old: identity(old), new: identity(new), dirty }
+    }
+
+    /// Whether anything takes the hints on `ctx` (retained painting is installed): without it
+    /// an owner need not work them out.
+    pub fn wanted(ctx: &egui::Context) -> bool {
+        ctx.data(|d| d.get_temp::<bool>(Id::unique(WANTED_KEY))).unwrap_or(false)
+    }
+
+    /// Marks `ctx` as taking hints.
+    pub(super) fn mark_wanted(ctx: &egui::Context) {
+        ctx.data_mut(|d| d.insert_temp(Id::unique(WANTED_KEY), true));
     }
 
     /// Tells retained painting about this frame's `hint`.
@@ -107,6 +120,9 @@ mod tests {
     #[test]
     fn hints_are_taken_once_and_bounded() {
         let ctx = egui::Context::default();
+        assert!(!CallbackDamage::wanted(&ctx));
+        CallbackDamage::mark_wanted(&ctx);
+        assert!(CallbackDamage::wanted(&ctx));
         let view = Rect::from_min_size(egui::pos2(0.0, 0.0), egui::vec2(10.0, 10.0));
         let (a, b) = (callback(view), callback(view));
         for _ in 0..20 {

@@ -107,6 +107,7 @@ pub fn install(
     );
     render_state.renderer.write().callback_resources.insert(painter);
     let handle = RetainedHandle { shared };
+    CallbackDamage::mark_wanted(ctx);
     ctx.add_plugin(RetainedPaint { handle: handle.clone(), last_shapes: Vec::new(), last_screen: None });
     handle
 }

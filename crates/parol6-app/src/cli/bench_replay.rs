@@ -40,13 +40,37 @@ fn motion(k: u64, rate_hz: f64, home: &[f64]) -> MotionSample {
 
 /// Writes the synthetic recording into memory.
 pub fn synthetic_recording(model: &RobotModel, minutes: f64, rate_hz: f64) -> Result<Vec<u8>, CliError> {
+    write_synthetic_recording(Cursor::new(Vec::new()), model, minutes, rate_hz).map(Cursor::into_inner)
+}
+
+/// Writes the synthetic recording to `path` as it is made (a ten-minute one is ~60 MB: not
+/// held in memory, so a benchmark's peak memory is the app's).
+pub fn write_synthetic_recording_file(
+    path: &std::path::Path,
+    model: &RobotModel,
+    minutes: f64,
+    rate_hz: f64,
+) -> Result<(), CliError> {
+    let io = |e: std::io::Error| CliError::runtime(format!("cannot write {}: {e}", path.display()));
+    let file = std::fs::File::create(path).map_err(io)?;
+    let writer = write_synthetic_recording(std::io::BufWriter::new(file), model, minutes, rate_hz)?;
+    writer.into_inner().map(drop).map_err(|e| io(e.into_error()))
+}
+
+/// [`synthetic_recording`] into any writer; gives the writer back.
+fn write_synthetic_recording<W: std::io::Write + std::io::Seek>(
+    writer: W,
+    model: &RobotModel,
+    minutes: f64,
+    rate_hz: f64,
+) -> Result<W, CliError> {
     let info = RecordingInfo {
         app_version: env!("CARGO_PKG_VERSION").into(),
         tool: "none".into(),
         program: "synthetic".into(),
         urdf_text: PAROL6_URDF.into(),
     };
-    let mut sink = McapSink::new(Cursor::new(Vec::new()), model, &info).map_err(CliError::runtime)?;
+    let mut sink = McapSink::new(writer, model, &info).map_err(CliError::runtime)?;
     let mut builder = SampleBuilder::new(model.clone(), ZoneThresholds::default());
     let home = home_position(model);
     let ticks = (minutes * 60.0 * rate_hz).round() as u64;
@@ -65,22 +89,20 @@ pub fn synthetic_recording(model: &RobotModel, minutes: f64, rate_hz: f64) -> Re
         let s = builder.build(&motion(k, rate_hz, &home));
         sink.write_sample(&s).map_err(CliError::runtime)?;
     }
-    let (_, cursor) = sink.finish_into_inner().map_err(CliError::runtime)?;
-    Ok(cursor.into_inner())
+    let (_, writer) = sink.finish_into_inner().map_err(CliError::runtime)?;
+    Ok(writer)
 }
 
 /// Runs `parol6 bench replay`.
 pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize, keep: Option<&std::path::Path>) -> CliResult {
     let model = RobotModel::parol6();
-    let t0 = Instant::now();
-    let bytes = synthetic_recording(&model, minutes, rate_hz)?;
-    let write_s = t0.elapsed().as_secs_f64();
     let path = match keep {
         Some(p) => p.to_path_buf(),
         None => std::env::temp_dir().join(format!("parol6-bench-replay-{}.mcap", std::process::id())),
     };
-    std::fs::write(&path, &bytes).map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))?;
-    drop(bytes);
+    let t0 = Instant::now();
+    write_synthetic_recording_file(&path, &model, minutes, rate_hz)?;
+    let write_s = t0.elapsed().as_secs_f64();
     let mut open_ms = Vec::new();
     let mut open_cpu_ms = Vec::new();
     let mut last = None;

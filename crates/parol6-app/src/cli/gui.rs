@@ -222,11 +222,12 @@ fn bench_render_model(
     let mut plotted_samples = 0;
     if plots {
         // opened from a file, as File → Open recording does
-        let bytes = super::bench_replay::synthetic_recording(&model, 10.0, 250.0)?;
         let path = std::env::temp_dir().join(format!("parol6-bench-render-{}.mcap", std::process::id()));
-        std::fs::write(&path, &bytes)
-            .map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))?;
-        drop(bytes);
+        let written = super::bench_replay::write_synthetic_recording_file(&path, &model, 10.0, 250.0);
+        if written.is_err() {
+            let _ = std::fs::remove_file(&path);
+        }
+        written?;
         let data = parol6_core::telemetry::read_replay_file(&path, &model).map_err(CliError::runtime);
         let _ = std::fs::remove_file(&path);
         let data = data?;

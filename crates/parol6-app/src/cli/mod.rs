@@ -183,6 +183,7 @@ impl Cli {
 
 /// Entry point used by `main.rs`.
 pub fn main() -> ExitCode {
+    parol6_core::process::limit_heap_arenas();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

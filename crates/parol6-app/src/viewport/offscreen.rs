@@ -16,8 +16,16 @@ use super::renderer::{FrameData, SceneGpu};
 use super::{DEPTH_FORMAT, SceneFrame, ViewportError, ViewportOptions};
 use crate::palette;
 
-/// Colour format of the offscreen target (gamma-space bytes, like egui's usual window format).
-pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Colour format of the offscreen target on `backend`: gamma-space bytes in the order a window
+/// gets there, so that `bench render` draws what the window draws (egui takes the first
+/// non-sRGB 8-bit format a surface offers: BGRA8 from Vulkan on X11, where llvmpipe copies a
+/// BGRA8 image without shading it, RGBA8 from wgpu's GL). Images are read back as RGBA.
+pub fn offscreen_format(backend: wgpu::Backend) -> wgpu::TextureFormat {
+    match backend {
+        wgpu::Backend::Gl | wgpu::Backend::BrowserWebGpu => wgpu::TextureFormat::Rgba8Unorm,
+        _ => wgpu::TextureFormat::Bgra8Unorm,
+    }
+}
 
 /// An RGBA8 image, rows top to bottom, no padding.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -51,10 +59,11 @@ struct Targets {
     depth_view: wgpu::TextureView,
     readback: wgpu::Buffer,
     padded_row_bytes: u32,
+    format: wgpu::TextureFormat,
 }
 
 impl Targets {
-    fn new(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> Self {
+    fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32, samples: u32) -> Self {
         let size = wgpu::Extent3d { width, height, depth_or_array_layers: 1 };
         let tex = |label, format, samples, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -69,12 +78,12 @@ impl Targets {
             })
         };
         let msaa_view = (samples > 1).then(|| {
-            tex("parol6 offscreen msaa", OFFSCREEN_FORMAT, samples, wgpu::TextureUsages::RENDER_ATTACHMENT)
+            tex("parol6 offscreen msaa", format, samples, wgpu::TextureUsages::RENDER_ATTACHMENT)
                 .create_view(&Default::default())
         });
         let resolve = tex(
             "parol6 offscreen colour",
-            OFFSCREEN_FORMAT,
+            format,
             1,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
@@ -89,7 +98,7 @@ impl Targets {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        Self { width, height, msaa_view, resolve, resolve_view, depth_view, readback, padded_row_bytes }
+        Self { width, height, msaa_view, resolve, resolve_view, depth_view, readback, padded_row_bytes, format }
     }
 }
 
@@ -146,16 +155,17 @@ impl OffscreenRenderer {
         .map_err(|e| ViewportError::Device(e.to_string()))?;
         let max = device.limits().max_texture_dimension_2d;
         check_size(width, height, max)?;
-        let flags = adapter.get_texture_format_features(OFFSCREEN_FORMAT).flags;
+        let format = offscreen_format(adapter.get_info().backend);
+        let flags = adapter.get_texture_format_features(format).flags;
         let depth_flags = adapter.get_texture_format_features(DEPTH_FORMAT).flags;
         let samples = if samples == 0 { super::msaa_for(adapter.get_info().device_type) } else { samples };
         let supported = flags.sample_count_supported(samples) && depth_flags.sample_count_supported(samples);
         let samples = if samples > 1 && supported { samples } else { 1 };
         let meshes = ModelMeshes::build(model);
-        let scene = SceneGpu::new(&device, OFFSCREEN_FORMAT, samples, Some(DEPTH_FORMAT), &meshes, false);
+        let scene = SceneGpu::new(&device, format, samples, Some(DEPTH_FORMAT), &meshes, false);
         let mut frame = FrameData::new(&meshes);
-        frame.set_encode_srgb(!OFFSCREEN_FORMAT.is_srgb());
-        let targets = Targets::new(&device, width, height, samples);
+        frame.set_encode_srgb(!format.is_srgb());
+        let targets = Targets::new(&device, format, width, height, samples);
         Ok(Self {
             instance,
             adapter,
@@ -212,7 +222,7 @@ impl OffscreenRenderer {
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), ViewportError> {
         if (width, height) != self.size() {
             check_size(width, height, self.device.limits().max_texture_dimension_2d)?;
-            self.targets = Targets::new(&self.device, width, height, self.samples);
+            self.targets = Targets::new(&self.device, self.targets.format, width, height, self.samples);
         }
         Ok(())
     }
@@ -316,6 +326,11 @@ impl OffscreenRenderer {
                 pixels.extend_from_slice(&data[start..start + row]);
             }
         }
+        if t.format == wgpu::TextureFormat::Bgra8Unorm {
+            for p in pixels.chunks_exact_mut(4) {
+                p.swap(0, 2);
+            }
+        }
         t.readback.unmap();
         Ok(RgbaImage { width: t.width, height: t.height, pixels })
     }
@@ -335,7 +350,7 @@ impl OffscreenRenderer {
         self.egui_pass_depth = depth;
         let renderer = egui_wgpu::Renderer::new(
             &self.device,
-            OFFSCREEN_FORMAT,
+            self.targets.format,
             egui_wgpu::RendererOptions {
                 msaa_samples: self.samples,
                 depth_stencil_format: depth.then_some(DEPTH_FORMAT),
@@ -351,7 +366,7 @@ impl OffscreenRenderer {
             instance: self.instance.clone(),
             device: self.device.clone(),
             queue: self.queue.clone(),
-            target_format: OFFSCREEN_FORMAT,
+            target_format: self.targets.format,
             renderer: std::sync::Arc::new(egui::mutex::RwLock::new(renderer)),
         }
     }

@@ -53,6 +53,7 @@ pub(super) struct RetainedPainter {
     renderer: egui_wgpu::Renderer,
     format: wgpu::TextureFormat,
     blit_layout: wgpu::BindGroupLayout,
+    blit_sampler: wgpu::Sampler,
     blit_pipeline: wgpu::RenderPipeline,
     /// Fills a scissor rectangle with the background (cheaper than an egui mesh on a CPU).
     fill_pipeline: wgpu::RenderPipeline,
@@ -85,16 +86,33 @@ impl RetainedPainter {
         });
         let blit_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("parol6 retained blit"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        // nearest and 1:1: the copy changes no pixel
+        let blit_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("parol6 retained blit"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Nearest,
+            min_filter: wgpu::FilterMode::Nearest,
+            ..Default::default()
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained blit"),
@@ -141,8 +159,7 @@ impl RetainedPainter {
                 cache: None,
             })
         };
-        let blit_pipeline =
-            pipeline("parol6 retained blit", Some(&layout), ("vs_full_screen", "fs_copy"), pass_depth, &[]);
+        let blit_pipeline = pipeline("parol6 retained blit", Some(&layout), ("vs_copy", "fs_copy"), pass_depth, &[]);
         let empty_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("parol6 retained fill"),
             bind_group_layouts: &[],
@@ -155,7 +172,7 @@ impl RetainedPainter {
             Some(DEPTH_FORMAT),
             &fill_constants,
         );
-        Self { renderer, format, blit_layout, blit_pipeline, fill_pipeline, target: None, shared }
+        Self { renderer, format, blit_layout, blit_sampler, blit_pipeline, fill_pipeline, target: None, shared }
     }
 
     fn make_target(&self, device: &wgpu::Device, size_px: [u32; 2]) -> Target {
@@ -182,7 +199,10 @@ impl RetainedPainter {
         let blit_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("parol6 retained blit"),
             layout: &self.blit_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) }],
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&color_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::Sampler(&self.blit_sampler) },
+            ],
         });
         Target {
             size_px,
@@ -378,9 +398,12 @@ impl egui_wgpu::CallbackTrait for RetainedFrameCallback {
         if let Some(p) = resources.get::<RetainedPainter>()
             && let Some(t) = &p.target
         {
+            // the whole target, whatever rectangle egui gave the callback: a 1:1 copy
+            let [w, h] = t.size_px;
+            render_pass.set_viewport(0.0, 0.0, w as f32, h as f32, 0.0, 1.0);
             render_pass.set_pipeline(&p.blit_pipeline);
             render_pass.set_bind_group(0, &t.blit_bind_group, &[]);
-            render_pass.draw(0..3, 0..1);
+            render_pass.draw(0..6, 0..1);
         }
     }
 }

@@ -44,7 +44,8 @@ pub fn synthetic_recording(model: &RobotModel, minutes: f64, rate_hz: f64) -> Re
 }
 
 /// Writes the synthetic recording to `path` as it is made (a ten-minute one is ~60 MB: not
-/// held in memory, so a benchmark's peak memory is the app's).
+/// held in memory, so a benchmark's peak memory is the app's). A file left half written is
+/// removed.
 pub fn write_synthetic_recording_file(
     path: &std::path::Path,
     model: &RobotModel,
@@ -53,8 +54,12 @@ pub fn write_synthetic_recording_file(
 ) -> Result<(), CliError> {
     let io = |e: std::io::Error| CliError::runtime(format!("cannot write {}: {e}", path.display()));
     let file = std::fs::File::create(path).map_err(io)?;
-    let writer = write_synthetic_recording(std::io::BufWriter::new(file), model, minutes, rate_hz)?;
-    writer.into_inner().map(drop).map_err(|e| io(e.into_error()))
+    let written = write_synthetic_recording(std::io::BufWriter::new(file), model, minutes, rate_hz)
+        .and_then(|writer| writer.into_inner().map(drop).map_err(|e| io(e.into_error())));
+    if written.is_err() {
+        let _ = std::fs::remove_file(path);
+    }
+    written
 }
 
 /// [`synthetic_recording`] into any writer; gives the writer back.

@@ -223,11 +223,7 @@ fn bench_render_model(
     if plots {
         // opened from a file, as File → Open recording does
         let path = std::env::temp_dir().join(format!("parol6-bench-render-{}.mcap", std::process::id()));
-        let written = super::bench_replay::write_synthetic_recording_file(&path, &model, 10.0, 250.0);
-        if written.is_err() {
-            let _ = std::fs::remove_file(&path);
-        }
-        written?;
+        super::bench_replay::write_synthetic_recording_file(&path, &model, 10.0, 250.0)?;
         let data = parol6_core::telemetry::read_replay_file(&path, &model).map_err(CliError::runtime);
         let _ = std::fs::remove_file(&path);
         let data = data?;

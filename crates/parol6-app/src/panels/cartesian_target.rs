@@ -1,5 +1,6 @@
 //! Right panel: a Cartesian TCP target (XYZ in mm + RPY) solved by IK; the operator picks the
-//! branch (previewed as the ghost arm) and runs a profiled move to it.
+//! configuration (previewed as the ghost arm; the nearest the current joints is offered first,
+//! as a joint move to a pose in a program takes it) and runs a profiled move to it.
 
 use eframe::egui;
 
@@ -253,7 +254,10 @@ impl CartesianTargetPanel {
                 ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("No solution: {e}"));
             }
             Some(Ok(sols)) => {
-                ui.label(format!("{} solution(s) within the limits; pick a branch:", sols.len()));
+                ui.label(format!(
+                    "{} solution(s) within the limits; pick a configuration (nearest first):",
+                    sols.len()
+                ));
                 let mut picked = None;
                 for (i, s) in sols.iter().enumerate() {
                     let text = format!(
@@ -277,7 +281,7 @@ impl CartesianTargetPanel {
         let chosen = self.chosen().cloned();
         ui.horizontal(|ui| {
             let go = ui.add_enabled(chosen.is_some(), egui::Button::new("Move to target"));
-            if go.on_hover_text("Profiled joint move to the chosen branch").clicked()
+            if go.on_hover_text("Profiled joint move to the chosen configuration").clicked()
                 && let Some(s) = &chosen
             {
                 ctx.move_to(s.joints_rad.clone());

@@ -48,7 +48,7 @@ const PANELS: [(&str, &str); 8] = [
     (
         "Cartesian target",
         "Type X Y Z (mm) and roll pitch yaw, or \"From TCP\"; every IK branch within the limits \
-         is listed, nearest the current joints first. Hover the panel to see the chosen branch \
+         is listed by configuration, nearest the current joints first. Hover the panel to see the chosen one \
          as a ghost arm, then \"Move to target\".",
     ),
     (

@@ -24,6 +24,38 @@ fn wrap_into(q: f64, min: f64, max: f64, seed: f64) -> Option<f64> {
     best
 }
 
+/// At a wrist singularity only J4 + J6 (J5 = 0) or J4 − J6 (J5 = π) is fixed, to `sum` up to
+/// whole turns: the split nearest `seed` (least squares in J4 and J6) within their limits,
+/// over the turns of J6 that fit. Without limits for J4 / J6, or when no split fits, J4 keeps
+/// the seed's value (the limit check then names the joint).
+fn singular_wrist_split(model: &RobotModel, sum: f64, plus: bool, seed: &[f64]) -> (f64, f64) {
+    let (s4, s6) = (seed[3], seed[5]);
+    let fallback = (s4, if plus { sum - s4 } else { s4 - sum });
+    let (Some(l4), Some(l6)) = (model.limits.get(3), model.limits.get(5)) else {
+        return fallback;
+    };
+    let mut best: Option<(f64, f64, f64)> = None;
+    for k in -3..=3 {
+        let c = sum + TAU * k as f64;
+        // J4 = t; J6 = c − t (J5 = 0) or t − c (J5 = π)
+        let (t_star, lo, hi) = if plus {
+            ((s4 + c - s6) / 2.0, l4.min.max(c - l6.max), l4.max.min(c - l6.min))
+        } else {
+            ((s4 + c + s6) / 2.0, l4.min.max(l6.min + c), l4.max.min(l6.max + c))
+        };
+        if lo > hi {
+            continue;
+        }
+        let t = t_star.clamp(lo, hi);
+        let q6 = if plus { c - t } else { t - c };
+        let d = (t - s4).powi(2) + (q6 - s6).powi(2);
+        if best.is_none_or(|(_, _, bd)| d < bd) {
+            best = Some((t, q6, d));
+        }
+    }
+    best.map_or(fallback, |(q4, q6, _)| (q4, q6))
+}
+
 fn rot_z(q: f64) -> Matrix3<f64> {
     let (s, c) = q.sin_cos();
     Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
@@ -117,8 +149,7 @@ pub fn solve_parol6_in(
                     }
                     let b = if m[(2, 2)] > 0.0 { 0.0 } else { PI };
                     let sum = if b == 0.0 { m[(1, 0)].atan2(m[(0, 0)]) } else { (-m[(1, 0)]).atan2(-m[(0, 0)]) };
-                    let q4 = seed[3];
-                    let q6 = if b == 0.0 { sum - q4 } else { q4 - sum };
+                    let (q4, q6) = singular_wrist_split(model, sum, b == 0.0, seed);
                     (q4, b, q6)
                 } else if wrist == WristBranch::NoFlip {
                     (m[(1, 2)].atan2(m[(0, 2)]), sb.atan2(m[(2, 2)]), m[(2, 1)].atan2(-m[(2, 0)]))

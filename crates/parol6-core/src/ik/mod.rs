@@ -19,12 +19,14 @@ use serde::{Deserialize, Serialize};
 use crate::model::RobotModel;
 
 mod closed_form;
+pub mod config;
 mod numeric;
 
 /// Chain recognition lives with the model (it runs while loading); re-exported here where
 /// callers of the closed form look for it.
 pub use crate::model::is_parol6_chain;
 pub use closed_form::{solve_parol6, solve_parol6_in};
+pub use config::{ConfigRule, configuration_of, solve_nearest};
 pub use numeric::solve_numeric;
 
 /// Pose tolerance a solution must meet (m for position, rad for orientation).
@@ -135,6 +137,17 @@ pub enum IkError {
     /// Bad input (seed length, non-finite target).
     #[error("invalid IK input: {0}")]
     InvalidInput(String),
+    /// The pose is reachable within the limits, but not in the configuration asked for.
+    #[error(
+        "the pose is not reachable in configuration {wanted}; it is reachable in {}",
+        reachable.join(", ")
+    )]
+    OtherConfiguration {
+        /// The configuration asked for (`front/up/no-flip`, `any` for a free part).
+        wanted: String,
+        /// The configurations that reach it within the limits, nearest the seed first.
+        reachable: Vec<String>,
+    },
     /// Closed form asked for a chain that is not the PAROL6.
     #[error("the closed-form solver applies to the PAROL6 chain only")]
     NotParol6,

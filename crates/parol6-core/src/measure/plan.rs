@@ -108,7 +108,12 @@ impl PoseTestPlan {
         let target = self.cube.poses()[pose];
         Program::from_steps(
             POSE_NAMES[pose],
-            vec![Step::MovePose { pose: target, speed_fraction: Some(self.speed_fraction), duration_s: None }],
+            vec![Step::MovePose {
+                pose: target,
+                config: None,
+                speed_fraction: Some(self.speed_fraction),
+                duration_s: None,
+            }],
         )
     }
 
@@ -121,7 +126,12 @@ impl PoseTestPlan {
         let poses = self.cube.poses();
         let steps = Self::VISITS
             .iter()
-            .map(|&i| Step::MovePose { pose: poses[i], speed_fraction: Some(self.speed_fraction), duration_s: None })
+            .map(|&i| Step::MovePose {
+                pose: poses[i],
+                config: None,
+                speed_fraction: Some(self.speed_fraction),
+                duration_s: None,
+            })
             .collect();
         Program::from_steps("ISO 9283 pose cycle", steps)
     }
@@ -205,7 +215,12 @@ impl PathTestPlan {
 
     /// Brings the arm to the start, approaching it as every cycle will.
     pub fn approach(&self) -> Program {
-        let joint = |pose: PoseMm| Step::MovePose { pose, speed_fraction: Some(self.speed_fraction), duration_s: None };
+        let joint = |pose: PoseMm| Step::MovePose {
+            pose,
+            config: None,
+            speed_fraction: Some(self.speed_fraction),
+            duration_s: None,
+        };
         let mut steps = Vec::new();
         if let Some(end) = self.return_from_end() {
             // the line comes back to P2 from P4 every cycle: come from there the first time too

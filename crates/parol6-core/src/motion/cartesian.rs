@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use crate::ik::{self, Branch, IkError};
+use crate::ik::{self, Branch, ConfigRule, IkError};
 use crate::model::RobotModel;
 use crate::profile::{JointMove, ProfileKind};
 
@@ -35,9 +35,9 @@ pub enum CartesianError {
     /// A cap that is not a positive finite number.
     #[error("{0}")]
     Invalid(String),
-    /// A point of the path has no IK solution in the start pose's branch.
+    /// A point of the path has no IK solution in the start pose's configuration.
     #[error(
-        "TCP ({x_mm:.1}, {y_mm:.1}, {z_mm:.1}) mm at t = {t_s:.3} s is not reachable in the start branch: {reason}"
+        "TCP ({x_mm:.1}, {y_mm:.1}, {z_mm:.1}) mm at t = {t_s:.3} s is not reachable in the start's configuration: {reason}"
     )]
     Unreachable {
         /// Time along the move, s.
@@ -137,7 +137,9 @@ impl SampledTrajectory {
 pub struct CartesianMove {
     /// The joint trajectory at the sample rate.
     pub trajectory: Arc<SampledTrajectory>,
-    /// The closed-form branch held throughout (PAROL6), `None` for numeric IK.
+    /// The closed-form configuration held at the end (PAROL6; a move that starts on the wrist
+    /// border keeps the wrist it leaves the border in), `None` for numeric IK or a move that
+    /// stays on the border.
     pub branch: Option<Branch>,
 }
 
@@ -171,7 +173,7 @@ pub fn plan(
     if !(dt_s.is_finite() && dt_s > 0.0) {
         return Err(CartesianError::Invalid(format!("sample period must be > 0, got {dt_s}")));
     }
-    let branch = start_branch(model, start_q);
+    let start_rule = start_branch(model, start_q);
     let length = path.parameter_length_m();
     // time scaling along the path; stretched while a joint cap binds
     let mut stretch = 1.0;
@@ -197,6 +199,7 @@ pub fn plan(
         let n = n as usize;
         let mut samples = Vec::with_capacity(n + 1);
         let mut seed = start_q.to_vec();
+        let mut rule = start_rule;
         for k in 0..=n {
             let t = (k as f64 * dt_s).min(duration);
             let s = timing.sample(t / stretch).q[0];
@@ -206,9 +209,9 @@ pub fn plan(
                 samples.push(start_q.to_vec());
                 continue;
             }
-            let q = solve_in_branch(model, &pose, &seed, branch).map_err(|e| {
+            let q = solve_in_branch(model, &pose, &seed, &mut rule).map_err(|reason| {
                 let p = pose.translation.vector * 1000.0;
-                CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason: e.to_string() }
+                CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason }
             })?;
             seed.clone_from(&q);
             samples.push(q);
@@ -223,6 +226,7 @@ pub fn plan(
         }
         if worst <= 1.0 + 1e-9 {
             check_continuity(&samples, joint, dt_s)?;
+            let branch = rule.branch();
             return Ok(CartesianMove { trajectory: Arc::new(SampledTrajectory::new(dt_s, samples)), branch });
         }
         stretch *= worst * 1.02;
@@ -230,33 +234,31 @@ pub fn plan(
     Err(CartesianError::Invalid("the joint speed caps cannot be met along this path".into()))
 }
 
-pub(crate) fn start_branch(model: &RobotModel, q: &[f64]) -> Option<Branch> {
-    if !model.is_parol6 {
-        return None;
-    }
-    let pose = model.tcp_isometry(q);
-    let sols = ik::solve_parol6(model, &pose, q).ok()?;
-    sols.into_iter().find(|s| s.distance_to_seed < 1e-6).and_then(|s| s.branch)
+/// The configuration a Cartesian move from `q` keeps ([`ConfigRule::of_start`]).
+pub(crate) fn start_branch(model: &RobotModel, q: &[f64]) -> ConfigRule {
+    ConfigRule::of_start(model, q)
 }
 
-/// IK nearest `seed`, staying in `branch` when one is given.
+/// IK nearest `seed` in a configuration `rule` allows; the rule's free parts are then fixed by
+/// the solution where it leaves their border. A pose reachable only in another configuration
+/// is refused saying what to do instead.
 pub(crate) fn solve_in_branch(
     model: &RobotModel,
     pose: &nalgebra::Isometry3<f64>,
     seed: &[f64],
-    branch: Option<Branch>,
-) -> Result<Vec<f64>, IkError> {
-    let sols = match branch {
-        Some(b) if model.is_parol6 => ik::solve_parol6_in(model, pose, seed, Some(b))?,
-        _ => ik::solve(model, pose, seed)?,
-    };
-    let pick = match branch {
-        Some(b) => sols.into_iter().find(|s| s.branch == Some(b)),
-        None => sols.into_iter().next(),
-    };
-    pick.map(|s| s.joints_rad).ok_or_else(|| {
-        IkError::Unreachable("no solution in the start pose's branch (front/back, up/down, flip)".into())
-    })
+    rule: &mut ConfigRule,
+) -> Result<Vec<f64>, String> {
+    match ik::solve_nearest(model, pose, seed, *rule) {
+        Ok(sol) => {
+            *rule = rule.settled_by(&sol);
+            Ok(sol.joints_rad)
+        }
+        Err(e @ IkError::OtherConfiguration { .. }) => Err(format!(
+            "{e}. A Cartesian move keeps the configuration of its start: insert a joint move to the pose \
+             (move_pose, G-code G0, commander MovePose) before this move"
+        )),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 fn check_continuity(samples: &[Vec<f64>], joint: &MotionCaps, dt_s: f64) -> Result<(), CartesianError> {

@@ -7,8 +7,9 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::Program;
-use super::compile::{CompileOptions, StepAction, compile};
+use super::compile::{CompileOptions, CompiledStep, StepAction, compile};
+use super::{PoseMm, Program};
+use crate::ik::ConfigRule;
 use crate::model::RobotModel;
 use crate::motion::MotionCaps;
 use crate::motion::preflight::{MoveKind, PlannedMove, Preflight};
@@ -48,6 +49,28 @@ pub struct CheckIssue {
     pub tcp_mm: Option<[f64; 3]>,
 }
 
+/// One planned step as the pre-flight saw it (every compiled step, motions and the rest).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlannedStep {
+    /// 0-based index of its first program step.
+    pub index: usize,
+    /// How many program steps it covers (a blended chain of lines covers several).
+    pub steps: usize,
+    /// 1-based source line (0: unknown).
+    pub line: usize,
+    /// Step type of its first step (`move_pose`, `move_l`, `dwell`, …).
+    pub kind: &'static str,
+    /// The arm configuration at its end (`front/up/no-flip`; `any` for a part on its border,
+    /// e.g. the wrist at J5 = 0); `None` for a robot without named configurations.
+    pub config: Option<String>,
+    /// TCP pose where it starts: mm, our roll / pitch / yaw in deg.
+    pub start_tcp: PoseMm,
+    /// TCP pose where it ends.
+    pub end_tcp: PoseMm,
+    /// Planned duration, s.
+    pub duration_s: f64,
+}
+
 /// The result of a pre-flight.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CheckReport {
@@ -59,6 +82,8 @@ pub struct CheckReport {
     pub duration_s: f64,
     /// Every problem found.
     pub issues: Vec<CheckIssue>,
+    /// Every planned step, in order (empty when the program does not compile).
+    pub plan: Vec<PlannedStep>,
     /// The checked TCP path, coloured by status (for the 3D view; not in the JSON).
     #[serde(skip)]
     pub path: Vec<CheckedPoint>,
@@ -90,8 +115,20 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
     }
     let opts = CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT };
     let mut path = Vec::new();
+    let mut plan = Vec::new();
     match compile(model, program, start_q, opts) {
         Ok(compiled) => {
+            plan = planned_steps(model, start_q, &compiled);
+            for c in &compiled {
+                issues.extend(c.warnings.iter().map(|w| CheckIssue {
+                    line: c.line,
+                    move_index: c.steps.start,
+                    severity: Severity::Warning,
+                    message: w.clone(),
+                    t_s: None,
+                    tcp_mm: None,
+                }));
+            }
             let moves: Vec<PlannedMove> = compiled
                 .iter()
                 .filter_map(|c| match &c.action {
@@ -143,7 +180,33 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    CheckReport { ok, moves: program.steps.len(), duration_s, issues, path }
+    CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
+}
+
+/// The plan's steps with their configuration and TCP poses at both ends.
+fn planned_steps(model: &RobotModel, start_q: &[f64], compiled: &[CompiledStep]) -> Vec<PlannedStep> {
+    let mut from = start_q;
+    let mut from_tcp = PoseMm::from_isometry(&model.tcp_isometry(start_q));
+    compiled
+        .iter()
+        .map(|c| {
+            let end_tcp = if c.end_q == from { from_tcp } else { PoseMm::from_isometry(&model.tcp_isometry(&c.end_q)) };
+            let config = model.is_parol6.then(|| ConfigRule::of_start(model, &c.end_q).to_string());
+            let step = PlannedStep {
+                index: c.steps.start,
+                steps: c.steps.len(),
+                line: c.line,
+                kind: c.kind,
+                config,
+                start_tcp: from_tcp,
+                end_tcp,
+                duration_s: c.duration_s(),
+            };
+            from = &c.end_q;
+            from_tcp = end_tcp;
+            step
+        })
+        .collect()
 }
 
 /// The checker's message without its "line L, move M (kind): " prefix (the report carries the

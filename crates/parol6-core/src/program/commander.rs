@@ -362,7 +362,7 @@ fn move_step(cmd: &Command<'_>) -> Result<Step, CommanderError> {
     let cart_duration_s = Some(opts.t.unwrap_or(COMMANDER_CART_DURATION_S));
     Ok(match cmd.name {
         "MoveJoint" => Step::MoveJoints { joints_deg: v.to_vec(), speed_fraction: joint_fraction, duration_s: opts.t },
-        "MovePose" => Step::MovePose { pose: pose(), speed_fraction: joint_fraction, duration_s: opts.t },
+        "MovePose" => Step::MovePose { pose: pose(), config: None, speed_fraction: joint_fraction, duration_s: opts.t },
         "MoveCart" => Step::MoveL { pose: pose(), speed_mm_s: None, blend_mm: None, duration_s: cart_duration_s },
         _ => Step::MoveRelTool {
             offset_mm: [v[0], v[1], v[2]],
@@ -413,7 +413,7 @@ pub fn program_to_commander(program: &Program) -> Result<String, CommanderError>
                 }
                 format!("MoveJoint({}{})", six(joints_deg), joint_opts(*speed_fraction, *duration_s))
             }
-            Step::MovePose { pose, speed_fraction, duration_s } => {
+            Step::MovePose { pose, speed_fraction, duration_s, .. } => {
                 format!("MovePose({}{})", abc(pose), joint_opts(*speed_fraction, *duration_s))
             }
             Step::MoveL { pose, blend_mm, duration_s, .. } => {

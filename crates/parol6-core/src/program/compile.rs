@@ -13,6 +13,7 @@ use std::sync::Arc;
 use nalgebra::{Isometry3, Point3, Vector3};
 
 use super::{GripperAction, Program, SpeedSettings, Step};
+use crate::ik::{self, ConfigRule};
 use crate::model::RobotModel;
 use crate::motion::cartesian::{self, CartesianCaps, CartesianError, SampledTrajectory};
 use crate::motion::path::TcpPath;
@@ -71,6 +72,9 @@ pub struct CompiledStep {
     pub action: StepAction,
     /// Joint values when it ends, rad.
     pub end_q: Vec<f64>,
+    /// What was changed to make the step feasible (a time too short or a speed too high for
+    /// the caps, stretched to the fastest the caps allow), in words naming both values.
+    pub warnings: Vec<String>,
 }
 
 impl CompiledStep {
@@ -133,12 +137,13 @@ pub fn compile(
     while i < program.steps.len() {
         let (first, line) = (&program.steps[i].step, program.steps[i].line);
         let blend_end = blended_chain_end(program, i);
+        let mut warnings = Vec::new();
         let (action, covers) = if blend_end > i {
-            let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts)
+            let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut warnings)
                 .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
-            let action = compile_one(model, first, &program.speed, &q, &caps, opts)
+            let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut warnings)
                 .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
             (action, i..i + 1)
         };
@@ -158,7 +163,7 @@ pub fn compile(
                 });
             }
         }
-        out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone() });
+        out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings });
         i = covers.end;
     }
     Ok(out)
@@ -197,6 +202,7 @@ fn compile_one(
     q: &[f64],
     caps: &MotionCaps,
     opts: CompileOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<StepAction, StepError> {
     let joint_fraction = |f: Option<f64>| -> Result<f64, String> {
         let f = f.unwrap_or(speed.joint_fraction);
@@ -220,18 +226,19 @@ fn compile_one(
             let goal: Vec<f64> = joints_deg.iter().map(|d| d.to_radians()).collect();
             model.limits.check(&goal).map_err(|e| e.to_string())?;
             match duration_s {
-                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts)?,
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, warnings)?,
                 None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
             }
         }
-        Step::MovePose { pose, speed_fraction, duration_s } => {
+        Step::MovePose { pose, config, speed_fraction, duration_s } => {
             let target = checked_pose(pose)?;
-            let branch = cartesian::start_branch(model, q);
-            let goal = cartesian::solve_in_branch(model, &target, q, branch)
-                .map_err(|e| format!("the pose is not reachable: {e}"))?;
+            let rule = config.map_or(ConfigRule::ANY, ConfigRule::exactly);
+            let goal = ik::solve_nearest(model, &target, q, rule)
+                .map_err(|e| format!("the pose is not reachable: {e}"))?
+                .joints_rad;
             model.limits.check(&goal).map_err(|e| e.to_string())?;
             match duration_s {
-                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts)?,
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, warnings)?,
                 None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
             }
         }
@@ -241,8 +248,8 @@ fn compile_one(
                 Some(_) if blend_mm.is_some_and(|b| b > 0.0) => {
                     return Err("a line with duration_s cannot blend into the next one (blend_mm)".to_string().into());
                 }
-                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts)?,
-                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?,
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, warnings)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?,
             }
         }
         Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s, duration_s } => {
@@ -252,8 +259,8 @@ fn compile_one(
             }
             let path = TcpPath::line(&from, &timed::tool_frame_goal(&from, offset_mm, rotation_deg));
             match duration_s {
-                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts)?,
-                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?,
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, warnings)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?,
             }
         }
         Step::TimeFunction { sample_rate_hz, pieces } => {
@@ -264,7 +271,7 @@ fn compile_one(
         Step::MoveC { via_mm, pose, speed_mm_s } => {
             let via = Point3::from(checked_mm(via_mm, "via_mm")?);
             let path = TcpPath::arc_through(&from, &via, &checked_pose(pose)?).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
         }
         Step::MoveCircle { center_mm, normal, angle_deg, speed_mm_s } => {
             let center = Point3::from(checked_mm(center_mm, "center_mm")?);
@@ -273,7 +280,7 @@ fn compile_one(
                 return Err(format!("angle_deg must be a number, got {angle_deg}").into());
             }
             let path = TcpPath::arc_about(&from, &center, &n, angle_deg.to_radians()).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
         }
         Step::Spline { waypoints, speed_mm_s } => {
             let mut pts = vec![from];
@@ -281,7 +288,7 @@ fn compile_one(
                 pts.push(checked_pose(w)?);
             }
             let path = TcpPath::spline(&pts).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
         }
         Step::Dwell { seconds } => StepAction::Dwell(checked_wait(*seconds, "seconds")?),
         Step::Gripper { action, position, speed, current_ma } => {
@@ -322,6 +329,7 @@ fn compile_blended(
     q: &[f64],
     caps: &MotionCaps,
     opts: CompileOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<Arc<SampledTrajectory>, StepError> {
     let mut pts = vec![model.tcp_isometry(q)];
     let (mut radius_mm, mut speed_mm_s) = (f64::INFINITY, f64::INFINITY);
@@ -338,7 +346,7 @@ fn compile_blended(
         return Err(StepError::Message("blend_mm must be a finite number".into()));
     }
     let path = TcpPath::blended_polyline(&pts, radius_mm / 1000.0).map_err(|e| StepError::Message(e.to_string()))?;
-    match cartesian_move(model, q, &path, &program.speed, Some(speed_mm_s), caps, opts)? {
+    match cartesian_move(model, q, &path, &program.speed, Some(speed_mm_s), caps, opts, warnings)? {
         StepAction::Motion(t) => Ok(t),
         _ => Err(StepError::Message("a blended path gave no motion".into())),
     }
@@ -366,10 +374,21 @@ fn cartesian_move(
     speed_mm_s: Option<f64>,
     caps: &MotionCaps,
     opts: CompileOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<StepAction, StepError> {
-    let v = speed_mm_s.unwrap_or(speed.tcp_speed_mm_s);
-    if !(v.is_finite() && (MIN_TCP_SPEED_MM_S..=MAX_TCP_SPEED_MM_S).contains(&v)) {
-        return Err(format!("speed_mm_s must lie in {MIN_TCP_SPEED_MM_S}–{MAX_TCP_SPEED_MM_S} mm/s, got {v}").into());
+    let asked = speed_mm_s.unwrap_or(speed.tcp_speed_mm_s);
+    if !(asked.is_finite() && asked >= MIN_TCP_SPEED_MM_S) {
+        return Err(
+            format!("speed_mm_s must lie in {MIN_TCP_SPEED_MM_S}–{MAX_TCP_SPEED_MM_S} mm/s, got {asked}").into()
+        );
+    }
+    // faster than the arm can go: as fast as it can, and said so (official programs run)
+    let v = asked.min(MAX_TCP_SPEED_MM_S);
+    if asked > MAX_TCP_SPEED_MM_S {
+        warnings.push(format!(
+            "speed {asked} mm/s is above the PAROL6's {MAX_TCP_SPEED_MM_S} mm/s: the move runs at \
+             {MAX_TCP_SPEED_MM_S} mm/s"
+        ));
     }
     for (what, a, min) in
         [("tcp_accel_mm_s2", speed.tcp_accel_mm_s2, 5.5), ("tcp_jerk_mm_s3", speed.tcp_jerk_mm_s3, 55.0)]

@@ -19,6 +19,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::ik::Branch;
 use crate::kinematics::iso_from_xyz_rpy;
 use crate::scene::KeepOut;
 
@@ -34,6 +35,24 @@ pub mod runner;
 pub mod table;
 pub mod timefn;
 pub mod torques;
+
+/// A configuration in a file: its label (`front/up/no-flip`), parsed back with its error.
+mod config_label {
+    use serde::{Deserialize, Deserializer, Serializer, de::Error as _};
+
+    use crate::ik::Branch;
+
+    pub fn serialize<S: Serializer>(config: &Option<Branch>, s: S) -> Result<S::Ok, S::Error> {
+        match config {
+            Some(b) => s.serialize_some(&b.label()),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Branch>, D::Error> {
+        Option::<String>::deserialize(d)?.map(|t| t.parse().map_err(D::Error::custom)).transpose()
+    }
+}
 
 /// A TCP pose as written in a program: position in mm, orientation as our URDF roll / pitch /
 /// yaw in degrees (R = Rz(yaw)·Ry(pitch)·Rx(roll)), in the robot's base frame.
@@ -95,10 +114,15 @@ pub enum Step {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         duration_s: Option<f64>,
     },
-    /// Joint move to a TCP pose (the IK solution of the current branch nearest the start).
+    /// Joint move to a TCP pose: the IK solution within the limits nearest the start joints,
+    /// in any configuration, or in `config` when it is given.
     MovePose {
         /// Goal pose.
         pose: PoseMm,
+        /// The arm configuration to reach it in (`front/up/no-flip`: shoulder front|back, elbow
+        /// up|down, wrist no-flip|flip); absent: the nearest solution, whichever it is in.
+        #[serde(default, skip_serializing_if = "Option::is_none", with = "config_label")]
+        config: Option<Branch>,
         /// Fraction of the joint speed caps (0 < f ≤ 1).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         speed_fraction: Option<f64>,
@@ -275,6 +299,7 @@ impl Step {
                 let j: Vec<String> = joints_deg.iter().map(|v| format!("{v:.1}")).collect();
                 format!("joints [{}]°", j.join(", "))
             }
+            Step::MovePose { pose: p, config: Some(c), .. } => format!("joint move to {} in {}", pose(p), c.label()),
             Step::MovePose { pose: p, .. } => format!("joint move to {}", pose(p)),
             Step::MoveL { pose: p, blend_mm, .. } => match blend_mm {
                 Some(b) if *b > 0.0 => format!("line to {} blend {b:.1} mm", pose(p)),

@@ -29,6 +29,7 @@ fn motion_step(dt_s: f64, q: Vec<Vec<f64>>) -> CompiledStep {
         kind: "move_j",
         action: StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, q))),
         end_q,
+        warnings: Vec::new(),
     }
 }
 
@@ -73,7 +74,14 @@ fn a_constant_acceleration_about_a_vertical_axis_needs_i_alpha() {
 #[test]
 fn a_dwell_holds_gravity_and_extends_the_time_axis() {
     let model = pendulum("0 1 0");
-    let dwell = CompiledStep { steps: 1..2, line: 9, kind: "dwell", action: StepAction::Dwell(2.0), end_q: vec![0.0] };
+    let dwell = CompiledStep {
+        steps: 1..2,
+        line: 9,
+        kind: "dwell",
+        action: StepAction::Dwell(2.0),
+        end_q: vec![0.0],
+        warnings: Vec::new(),
+    };
     let out = program_torques(&model, &[dwell], &[0.0], Some(vec![1.0]));
     assert!((out.time_s.last().copied().unwrap_or(0.0) - 2.0).abs() < 1e-12);
     assert_eq!(out.warnings.len(), 1);

@@ -26,8 +26,39 @@ pub(super) fn taught_joint_step(q_rad: &[f64]) -> Step {
     }
 }
 
-/// A Cartesian (line) step to the TCP pose of `q_rad`.
+/// The pre-flight's view of one planned step, for the step list's tooltip.
+fn plan_hover(p: &parol6_core::program::check::PlannedStep) -> String {
+    let pose = |t: &PoseMm| {
+        format!(
+            "({:.1}, {:.1}, {:.1}) mm, ({:.1}, {:.1}, {:.1})°",
+            t.position_mm[0], t.position_mm[1], t.position_mm[2], t.rpy_deg[0], t.rpy_deg[1], t.rpy_deg[2]
+        )
+    };
+    let config = p.config.as_deref().unwrap_or("none (numeric IK)");
+    format!(
+        "{} (line {}), {:.2} s\nconfiguration at its end: {config}\nTCP from {}\n       to {}",
+        p.kind,
+        p.line,
+        p.duration_s,
+        pose(&p.start_tcp),
+        pose(&p.end_tcp)
+    )
+}
+
+/// A joint move to the TCP pose of `q_rad`, in the configuration the arm is in there (so the
+/// step reaches the taught joints again, whatever the arm's pose before it).
 pub(super) fn taught_pose_step(model: &parol6_core::RobotModel, q_rad: &[f64]) -> Step {
+    Step::MovePose {
+        pose: PoseMm::from_isometry(&model.tcp_isometry(q_rad)),
+        config: parol6_core::ik::configuration_of(model, q_rad)
+            .filter(|_| !parol6_core::ik::config::on_wrist_border(q_rad)),
+        speed_fraction: None,
+        duration_s: None,
+    }
+}
+
+/// A Cartesian (line) step to the TCP pose of `q_rad`.
+pub(super) fn taught_line_step(model: &parol6_core::RobotModel, q_rad: &[f64]) -> Step {
     Step::MoveL {
         pose: PoseMm::from_isometry(&model.tcp_isometry(q_rad)),
         speed_mm_s: None,
@@ -105,6 +136,7 @@ impl ProgramPanel {
     /// The steps, one line each (cut to the column so the panel never widens); click selects.
     pub(super) fn step_list(&mut self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
         let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
+        let plan = self.report.as_ref().map(|(_, r)| r.plan.as_slice()).unwrap_or(&[]);
         let mut clicked = None;
         egui::ScrollArea::vertical()
             .id_salt("program-steps")
@@ -118,7 +150,14 @@ impl ProgramPanel {
                         _ => (" ", false),
                     };
                     let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
-                    let text = egui::RichText::new(format!("{mark}{:>3}  {}", i + 1, s.step.summary())).monospace();
+                    // the pre-flight's plan: the configuration the step ends in (motions)
+                    let planned = plan.iter().find(|p| (p.index..p.index + p.steps).contains(&i));
+                    let config = planned.filter(|p| p.end_tcp != p.start_tcp).and_then(|p| p.config.as_deref());
+                    let row = match config {
+                        Some(c) => format!("{mark}{:>3}  [{c}] {}", i + 1, s.step.summary()),
+                        None => format!("{mark}{:>3}  {}", i + 1, s.step.summary()),
+                    };
+                    let text = egui::RichText::new(row).monospace();
                     let text = if strong { text.strong() } else { text };
                     let text = match worst {
                         Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
@@ -126,7 +165,10 @@ impl ProgramPanel {
                         None => text,
                     };
                     let selected = self.selected == Some(i);
-                    let r = ui.add(egui::Button::selectable(selected, text).truncate());
+                    let mut r = ui.add(egui::Button::selectable(selected, text).truncate());
+                    if let Some(p) = planned {
+                        r = r.on_hover_text(plan_hover(p));
+                    }
                     if r.clicked() {
                         clicked = Some(if selected { None } else { Some(i) });
                     }
@@ -149,8 +191,19 @@ impl ProgramPanel {
             {
                 self.teach(taught_joint_step(&q), ctx);
             }
-            if ui.button("Teach pose").on_hover_text(format!("Insert a line to the TCP pose ({source})")).clicked() {
+            if ui
+                .button("Teach pose")
+                .on_hover_text(format!(
+                    "Insert a joint move to the TCP pose in the arm's configuration ({source}): the step reaches \
+                     these joints again"
+                ))
+                .clicked()
+            {
                 let step = taught_pose_step(ctx.model, &q);
+                self.teach(step, ctx);
+            }
+            if ui.button("Teach line").on_hover_text(format!("Insert a line to the TCP pose ({source})")).clicked() {
+                let step = taught_line_step(ctx.model, &q);
                 self.teach(step, ctx);
             }
             let has = self.selected.is_some();
@@ -258,9 +311,33 @@ mod tests {
         let q = parol6_core::parol6::standby_rad().to_vec();
         let Step::MoveJoints { joints_deg, .. } = taught_joint_step(&q) else { panic!() };
         assert!(joints_deg.iter().zip(&q).all(|(d, r)| (d.to_radians() - r).abs() < 1e-12));
-        let Step::MoveL { pose, .. } = taught_pose_step(&model, &q) else { panic!() };
+        let Step::MoveL { pose, .. } = taught_line_step(&model, &q) else { panic!() };
         let tcp = model.tcp_isometry(&q);
         assert!((pose.isometry().translation.vector - tcp.translation.vector).norm() < 1e-9);
         assert!(pose.isometry().rotation.angle_to(&tcp.rotation) < 1e-9);
+        // standby is on the wrist border: no configuration named there
+        let Step::MovePose { config: None, .. } = taught_pose_step(&model, &q) else { panic!() };
+    }
+
+    /// Teach pose records the configuration; the step reaches the taught joints from anywhere.
+    #[test]
+    fn taught_pose_keeps_its_configuration() {
+        let model = parol6_core::RobotModel::parol6();
+        let taught = [0.4, -1.2, 3.4, 0.6, -0.8, 2.5];
+        let step = taught_pose_step(&model, &taught);
+        let Step::MovePose { config: Some(config), .. } = &step else { panic!("{step:?}") };
+        assert_eq!(Some(*config), parol6_core::ik::configuration_of(&model, &taught));
+        let program = parol6_core::program::Program::from_steps("t", vec![step]);
+        for start in [parol6_core::parol6::standby_rad().to_vec(), vec![-0.5, -0.8, 2.8, -0.9, 0.9, 4.0]] {
+            let compiled = parol6_core::program::compile::compile(
+                &model,
+                &program,
+                &start,
+                parol6_core::program::compile::CompileOptions::PREFLIGHT,
+            )
+            .expect("reachable");
+            let end = &compiled[0].end_q;
+            assert!(end.iter().zip(&taught).all(|(a, b)| (a - b).abs() < 1e-6), "{end:?}");
+        }
     }
 }

@@ -25,7 +25,7 @@ fn every_command_maps_to_its_step_with_the_file_line() {
         matches!(steps[2], Step::MoveJoints { speed_fraction: Some(f), duration_s: None, .. } if (*f - 0.5).abs() < 1e-12)
     );
     match steps[3] {
-        Step::MovePose { pose, speed_fraction: None, duration_s: None } => {
+        Step::MovePose { pose, config: None, speed_fraction: None, duration_s: None } => {
             // official (90, -50, 0) = Rx(0)·Ry(-50)·Rz(90)
             let want = crate::angles::rotation_from_abc_deg([90.0, -50.0, 0.0]);
             let got = pose.isometry().rotation.to_rotation_matrix();

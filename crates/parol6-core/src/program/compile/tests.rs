@@ -55,7 +55,7 @@ fn every_step_type_compiles_and_each_motion_starts_where_the_last_ended() {
             speed_fraction: Some(0.8),
             duration_s: None,
         },
-        Step::MovePose { pose: here, speed_fraction: None, duration_s: None },
+        Step::MovePose { pose: here, config: None, speed_fraction: None, duration_s: None },
         Step::Dwell { seconds: 0.25 },
         Step::Gripper { action: GripperAction::Close, position: None, speed: None, current_ma: None },
         Step::SetOutput { output: 2, on: true },
@@ -128,7 +128,7 @@ fn bad_arguments_name_the_step() {
         (
             Step::MoveL {
                 pose: offset(&model, &q0, [1.0, 0.0, 0.0]),
-                speed_mm_s: Some(500.0),
+                speed_mm_s: Some(1.0),
                 blend_mm: None,
                 duration_s: None,
             },
@@ -218,7 +218,12 @@ fn a_move_with_a_duration_takes_that_long_and_ends_on_its_goal() {
     let p = program(vec![
         Step::MoveJoints { joints_deg: goal_deg.clone(), speed_fraction: Some(0.1), duration_s: Some(2.5) },
         Step::MoveL { pose: a, speed_mm_s: Some(10.0), blend_mm: None, duration_s: Some(1.5) },
-        Step::MovePose { pose: offset(&model, &q0, [0.0; 3]), speed_fraction: None, duration_s: Some(3.0) },
+        Step::MovePose {
+            pose: offset(&model, &q0, [0.0; 3]),
+            config: None,
+            speed_fraction: None,
+            duration_s: Some(3.0),
+        },
     ]);
     let c = compile(&model, &p, &q0, CompileOptions::RUN).expect("compiles");
     for (step, want_s) in c.iter().zip([2.5, 1.5, 3.0]) {
@@ -232,24 +237,52 @@ fn a_move_with_a_duration_takes_that_long_and_ends_on_its_goal() {
     assert!((slow[0].duration_s() - 5.0).abs() <= 0.001);
 }
 
+/// Official programs ask for times (commander `t=`) and feeds (G-code `F`) the caps cannot
+/// meet: the move is stretched to the fastest the caps allow, with a warning naming both times
+/// (issue 28; it was an error), and never runs faster than the caps.
 #[test]
-fn a_duration_the_caps_cannot_make_is_refused_naming_the_line() {
+fn a_duration_or_speed_the_caps_cannot_make_is_stretched_with_a_warning() {
     let (model, q0) = start();
     let far: Vec<f64> = q0.iter().map(|v| v.to_degrees() + 10.0).collect();
+    let fastest =
+        program(vec![Step::MoveJoints { joints_deg: far.clone(), speed_fraction: Some(1.0), duration_s: None }]);
+    let fastest_s = compile(&model, &fastest, &q0, CompileOptions::PREFLIGHT).expect("ok")[0].duration_s();
     let p = program(vec![
         Step::Dwell { seconds: 0.1 },
         Step::MoveJoints { joints_deg: far, speed_fraction: None, duration_s: Some(0.05) },
     ]);
-    let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("too fast");
-    assert!(e.to_string().starts_with("step 2 (line 11, move_joints): duration_s 0.05 s is too short"), "{e}");
+    let c = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect("stretched, not refused");
+    assert!(c[0].warnings.is_empty());
+    assert_eq!(c[1].warnings.len(), 1, "{:?}", c[1].warnings);
+    let w = &c[1].warnings[0];
+    assert!(w.starts_with("0.05 s is too short for the joint speed caps: stretched to"), "{w}");
+    // the fastest move, to within one 10 ms sample (the compiled one ends on a sample)
+    let stretched_s: f64 = w["0.05 s is too short for the joint speed caps: stretched to ".len()..]
+        .split(' ')
+        .next()
+        .and_then(|v| v.parse().ok())
+        .expect("a time");
+    assert!((stretched_s - fastest_s).abs() <= 0.011, "{w} ({fastest_s})");
+    assert!((c[1].duration_s() - fastest_s).abs() <= 0.011, "{} vs {fastest_s}", c[1].duration_s());
     let line = Step::MoveL {
         pose: offset(&model, &q0, [80.0, 0.0, 0.0]),
         speed_mm_s: None,
         blend_mm: None,
         duration_s: Some(0.1),
     };
-    let e = compile(&model, &program(vec![line]), &q0, CompileOptions::PREFLIGHT).expect_err("too fast");
-    assert!(e.message.contains("needs at least"), "{e}");
+    let c = compile(&model, &program(vec![line]), &q0, CompileOptions::PREFLIGHT).expect("stretched");
+    assert!(c[0].warnings[0].contains("too short for the TCP and joint caps: stretched to"), "{:?}", c[0].warnings);
+    // 80 mm at no more than 200 mm/s
+    assert!(c[0].duration_s() >= 0.4, "{}", c[0].duration_s());
+    let fast = Step::MoveL {
+        pose: offset(&model, &q0, [80.0, 0.0, 0.0]),
+        speed_mm_s: Some(500.0),
+        blend_mm: None,
+        duration_s: None,
+    };
+    let c = compile(&model, &program(vec![fast]), &q0, CompileOptions::PREFLIGHT).expect("capped");
+    assert!(c[0].warnings[0].contains("500 mm/s is above the PAROL6's 200 mm/s"), "{:?}", c[0].warnings);
+    assert!(c[0].duration_s() >= 0.4, "{}", c[0].duration_s());
     let bad = Step::MoveJoints {
         joints_deg: q0.iter().map(|v| v.to_degrees()).collect(),
         speed_fraction: None,

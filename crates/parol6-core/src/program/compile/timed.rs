@@ -61,10 +61,18 @@ fn stretch(traj: &SampledTrajectory, duration_s: f64, dt_s: f64) -> Result<Sampl
     Ok(SampledTrajectory::new(dt_s, samples))
 }
 
-fn too_short(fastest_s: f64, duration_s: f64, what: &str) -> StepError {
-    StepError::Message(format!(
-        "duration_s {duration_s} s is too short: the move needs at least {fastest_s:.3} s at the {what}"
-    ))
+/// The time a move takes: `duration_s`, or the fastest the caps allow when that is shorter
+/// (stretched, with a warning naming both times: official programs ask for times our caps
+/// cannot meet, and a user expects them to run, slower and safely).
+fn feasible_duration(fastest_s: f64, duration_s: f64, what: &str, warnings: &mut Vec<String>) -> f64 {
+    if duration_s + DURATION_SLACK_S < fastest_s {
+        warnings.push(format!(
+            "{duration_s} s is too short for the {what}: stretched to {fastest_s:.3} s, the fastest they allow"
+        ));
+        fastest_s
+    } else {
+        duration_s
+    }
 }
 
 /// A synchronised joint move from `start` to `goal` that takes `duration_s` (÷ the speed
@@ -75,6 +83,7 @@ pub(super) fn joint_move_in(
     caps: &MotionCaps,
     duration_s: f64,
     opts: super::CompileOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<StepAction, StepError> {
     let duration_s = checked_duration(duration_s)?;
     let mv = JointMove::plan_with_jerk(
@@ -88,9 +97,7 @@ pub(super) fn joint_move_in(
     )
     .map_err(|e| e.to_string())?;
     let fastest_s = mv.duration_s();
-    if duration_s + DURATION_SLACK_S < fastest_s {
-        return Err(too_short(fastest_s, duration_s, "joint speed caps"));
-    }
+    let duration_s = feasible_duration(fastest_s, duration_s, "joint speed caps", warnings);
     let run_s = duration_s / opts.speed_override;
     let n = (run_s / opts.dt_s).ceil().max(1.0);
     if n > MAX_MOVE_SAMPLES as f64 {
@@ -121,6 +128,7 @@ pub(super) fn cartesian_move_in(
     duration_s: f64,
     caps: &MotionCaps,
     opts: super::CompileOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<StepAction, StepError> {
     let duration_s = checked_duration(duration_s)?;
     let fastest = match cartesian_move(
@@ -131,14 +139,13 @@ pub(super) fn cartesian_move_in(
         Some(MAX_TCP_SPEED_MM_S),
         caps,
         super::CompileOptions { speed_override: 1.0, ..opts },
+        warnings,
     )? {
         StepAction::Motion(t) => t,
         _ => return Err(StepError::Message("a Cartesian move gave no motion".into())),
     };
     let fastest_s = fastest.duration_s();
-    if duration_s + DURATION_SLACK_S < fastest_s {
-        return Err(too_short(fastest_s, duration_s, "TCP and joint caps"));
-    }
+    let duration_s = feasible_duration(fastest_s, duration_s, "TCP and joint caps", warnings);
     let traj = stretch(&fastest, duration_s / opts.speed_override, opts.dt_s)?;
     Ok(StepAction::Motion(Arc::new(traj)))
 }
@@ -185,7 +192,7 @@ pub(super) fn follow(
         return Err(format!("the function would take {run_s:.0} s (more than {MAX_MOVE_SAMPLES} samples)").into());
     }
     let n = n as usize;
-    let branch = cartesian::start_branch(model, q);
+    let mut rule = cartesian::start_branch(model, q);
     let mut samples = Vec::with_capacity(n + 1);
     samples.push(q.to_vec());
     let mut seed = q.to_vec();
@@ -196,15 +203,9 @@ pub(super) fn follow(
             seg += 1;
         }
         let pose = between(points, seg, t);
-        let goal = cartesian::solve_in_branch(model, &pose, &seed, branch).map_err(|e| {
+        let goal = cartesian::solve_in_branch(model, &pose, &seed, &mut rule).map_err(|reason| {
             let p = pose.translation.vector * 1000.0;
-            StepError::Cartesian(CartesianError::Unreachable {
-                t_s: t,
-                x_mm: p.x,
-                y_mm: p.y,
-                z_mm: p.z,
-                reason: e.to_string(),
-            })
+            StepError::Cartesian(CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason })
         })?;
         for (j, ((a, b), cap)) in seed.iter().zip(&goal).zip(&caps.speed_rad_s).enumerate() {
             let v = (b - a).abs() / opts.dt_s;

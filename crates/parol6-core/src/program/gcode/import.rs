@@ -425,7 +425,10 @@ impl State {
         match code {
             0 | 1 if !has_axes => Ok(()),
             0 => {
-                self.push(line, Step::MovePose { pose: pose_of(&target), speed_fraction: None, duration_s: None });
+                self.push(
+                    line,
+                    Step::MovePose { pose: pose_of(&target), config: None, speed_fraction: None, duration_s: None },
+                );
                 self.pos = target;
                 Ok(())
             }

@@ -49,7 +49,10 @@ fn official_angles_a90_b0_cm20_are_our_roll0_pitch20_yaw90() {
     let s = steps("G0 X250 Y0 Z300 A90 B0 C-20");
     let p = pose_of(&s[0]);
     assert!(near(p.rpy_deg, [0.0, 20.0, 90.0], 1e-9), "{p:?}");
-    let program = Program::from_steps("t", vec![Step::MovePose { pose: p, speed_fraction: None, duration_s: None }]);
+    let program = Program::from_steps(
+        "t",
+        vec![Step::MovePose { pose: p, config: None, speed_fraction: None, duration_s: None }],
+    );
     let model = RobotModel::parol6();
     let text = program_to_gcode(&program, &model, &GcodeExportOptions::new(&program, vec![0.0; 6])).expect("export");
     assert!(text.contains("G0 X250 Y0 Z300 A90 B0 C-20\n"), "{text}");
@@ -480,7 +483,7 @@ fn build(moves: &[Move], start: PoseMm) -> Program {
             }
             Move::Rapid { d, abc } => {
                 let p = [at.position_mm[0] + d[0], at.position_mm[1] + d[1], at.position_mm[2] + d[2]];
-                Step::MovePose { pose: pose(p, *abc), speed_fraction: None, duration_s: None }
+                Step::MovePose { pose: pose(p, *abc), config: None, speed_fraction: None, duration_s: None }
             }
             Move::Arc { plane, r, phase, sweep, abc, speed } => {
                 let plane = arc::Plane::ALL[*plane];

@@ -217,3 +217,6 @@ fn without_place_prefix(message: &str) -> String {
         _ => message.to_string(),
     }
 }
+
+#[cfg(test)]
+mod tests;

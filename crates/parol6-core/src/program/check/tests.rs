@@ -1,0 +1,134 @@
+//! Pre-flight of whole programs: configurations (issue 28), stretched moves as warnings, the
+//! planned-step list.
+
+use super::*;
+use crate::ik::Branch;
+use crate::program::Step;
+
+fn standby() -> Vec<f64> {
+    crate::parol6::standby_rad().to_vec()
+}
+
+fn pose(position_mm: [f64; 3], rpy_deg: [f64; 3]) -> PoseMm {
+    PoseMm { position_mm, rpy_deg }
+}
+
+fn program(steps: Vec<Step>) -> Program {
+    let mut p = Program::from_steps("test", steps);
+    for (i, s) in p.steps.iter_mut().enumerate() {
+        s.line = 20 + i;
+    }
+    p
+}
+
+fn move_pose(p: PoseMm, config: Option<Branch>) -> Step {
+    Step::MovePose { pose: p, config, speed_fraction: None, duration_s: None }
+}
+
+/// Regression (issue 28): `G28` then `G0 X220 Y0 Z200 A0 B0 C0` was refused ("front/down/no-flip
+/// branch needs J4 = 180.00°"): joint moves to a pose were pinned to the start's branch label.
+/// Tool-down poses at the front, the sides and the back are reached from standby and after a
+/// home step, each in the configuration nearest the start.
+#[test]
+fn tool_down_poses_are_reached_from_standby_and_after_home() {
+    let model = RobotModel::parol6();
+    for p in [
+        [220.0, 0.0, 200.0],
+        [0.0, 220.0, 200.0],
+        [0.0, -220.0, 200.0],
+        [-100.0, 200.0, 150.0],
+        [-100.0, -200.0, 150.0],
+    ] {
+        for rpy in [[0.0, 0.0, 0.0]] {
+            for steps in [
+                vec![move_pose(pose(p, rpy), None)],
+                vec![Step::Home { speed_fraction: None }, move_pose(pose(p, rpy), None)],
+            ] {
+                let r = check_program(&model, &program(steps), &standby(), CheckOptions::default());
+                assert!(r.ok, "{p:?} {rpy:?}: {:?}", r.issues);
+                let last = r.plan.last().expect("a planned step");
+                assert_eq!(last.kind, "move_pose");
+                let reached = last.end_tcp.position_mm.iter().zip(&p).all(|(a, b)| (a - b).abs() < 1e-6);
+                assert!(reached, "{:?}", last.end_tcp);
+                assert!(last.config.as_deref().is_some_and(|c| c.split('/').count() == 3), "{last:?}");
+            }
+        }
+    }
+}
+
+/// A step that names its configuration is reached in it, or refused naming the others.
+#[test]
+fn a_named_configuration_is_used_or_refused() {
+    let model = RobotModel::parol6();
+    let goal = [0.4, -1.2, 3.4, 0.6, -0.8, 2.5];
+    let target = PoseMm::from_isometry(&model.tcp_isometry(&goal));
+    let config = crate::ik::configuration_of(&model, &goal).expect("closed form");
+    let r = check_program(&model, &program(vec![move_pose(target, Some(config))]), &standby(), CheckOptions::default());
+    assert!(r.ok, "{:?}", r.issues);
+    assert_eq!(r.plan[0].config.as_deref(), Some(config.label().as_str()));
+    // the same pose in the opposite shoulder is out of J1's range
+    let mut other = config;
+    other.shoulder = match config.shoulder {
+        crate::ik::ShoulderBranch::Front => crate::ik::ShoulderBranch::Back,
+        crate::ik::ShoulderBranch::Back => crate::ik::ShoulderBranch::Front,
+    };
+    let r = check_program(&model, &program(vec![move_pose(target, Some(other))]), &standby(), CheckOptions::default());
+    assert!(!r.ok);
+    let e = &r.issues[0];
+    assert_eq!((e.line, e.move_index), (20, 0));
+    assert!(e.message.contains(&format!("not reachable in configuration {}", other.label())), "{}", e.message);
+    assert!(e.message.contains(&config.label()), "{}", e.message);
+}
+
+/// A line whose end is reachable only in another wrist configuration is refused, saying which
+/// and what to insert.
+#[test]
+fn a_line_into_another_configuration_says_what_to_insert() {
+    let model = RobotModel::parol6();
+    let start = [1.5, -1.3, 2.9, 0.0, 0.8, 3.0];
+    // J5 < 0 with J4 = 0.2: the no-flip twin needs J4 = 0.2 − π, beyond ±105°
+    let goal = [1.5, -1.3, 2.9, 0.2, -0.8, 3.0];
+    let target = PoseMm::from_isometry(&model.tcp_isometry(&goal));
+    let line = Step::MoveL { pose: target, speed_mm_s: None, blend_mm: None, duration_s: None };
+    let r = check_program(&model, &program(vec![line]), &start, CheckOptions::default());
+    assert!(!r.ok);
+    let e = &r.issues[0];
+    assert_eq!(e.line, 20);
+    assert!(e.message.contains("not reachable in configuration front/"), "{}", e.message);
+    assert!(e.message.contains("insert a joint move to the pose"), "{}", e.message);
+    // the joint move the message asks for, then the line, pass
+    let r = check_program(&model, &program(vec![move_pose(target, None)]), &start, CheckOptions::default());
+    assert!(r.ok, "{:?}", r.issues);
+}
+
+/// Stretched moves are warnings naming the line; the plan lists every step with both ends.
+#[test]
+fn stretched_moves_are_warnings_and_every_step_is_planned() {
+    let model = RobotModel::parol6();
+    // off the wrist singularity, so the only warnings are the stretched move's
+    let mut q0 = standby();
+    q0[4] = 0.6;
+    let mut far: Vec<f64> = q0.iter().map(|v| v.to_degrees()).collect();
+    far[0] -= 40.0;
+    let steps = vec![
+        Step::MoveJoints { joints_deg: far, speed_fraction: None, duration_s: Some(0.2) },
+        Step::Dwell { seconds: 0.5 },
+        Step::Home { speed_fraction: None },
+    ];
+    let r = check_program(&model, &program(steps), &q0, CheckOptions::default());
+    assert!(r.ok, "a stretched move is not an error: {:?}", r.issues);
+    // (the home step ends on the standby wrist singularity: a warning of its own)
+    let w: Vec<_> = r.issues.iter().filter(|i| i.severity == Severity::Warning && i.move_index == 0).collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!((w[0].line, w[0].move_index), (20, 0));
+    assert!(w[0].message.contains("0.2 s is too short"), "{}", w[0].message);
+    assert_eq!(r.plan.len(), 3);
+    assert_eq!(r.plan.iter().map(|p| p.kind).collect::<Vec<_>>(), ["move_joints", "dwell", "home"]);
+    assert_eq!(r.plan[1].start_tcp, r.plan[1].end_tcp);
+    assert_eq!(r.plan[0].end_tcp, r.plan[1].start_tcp);
+    assert!((r.plan[1].duration_s - 0.5).abs() < 1e-12);
+    assert!((r.plan.iter().map(|p| p.duration_s).sum::<f64>() - r.duration_s).abs() < 1e-9);
+    let json = serde_json::to_value(&r).expect("serialises");
+    assert_eq!(json["plan"][0]["line"], 20);
+    assert!(json["plan"][0]["end_tcp"]["position_mm"].is_array());
+}

@@ -63,7 +63,7 @@ pub struct PlannedStep {
     /// The arm configuration at its end (`front/up/no-flip`; `any` for a part on its border,
     /// e.g. the wrist at J5 = 0); `None` for a robot without named configurations.
     pub config: Option<String>,
-    /// TCP pose where it starts: mm, our roll / pitch / yaw in deg.
+    /// TCP pose where it starts: mm, our roll / pitch / yaw in deg (to 0.0001 mm and °).
     pub start_tcp: PoseMm,
     /// TCP pose where it ends.
     pub end_tcp: PoseMm,
@@ -183,10 +183,20 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
     CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
 }
 
+/// A TCP pose for the plan: to 0.1 µm and 0.0001° (no float noise, no −0).
+fn tcp_of(model: &RobotModel, q: &[f64]) -> PoseMm {
+    let round = |v: f64| {
+        let r = (v * 1e4).round() / 1e4;
+        if r == 0.0 { 0.0 } else { r }
+    };
+    let p = PoseMm::from_isometry(&model.tcp_isometry(q));
+    PoseMm { position_mm: p.position_mm.map(round), rpy_deg: p.rpy_deg.map(round) }
+}
+
 /// The plan's steps with their configuration and TCP poses at both ends.
 fn planned_steps(model: &RobotModel, start_q: &[f64], compiled: &[CompiledStep]) -> Vec<PlannedStep> {
     let mut from = start_q;
-    let mut from_tcp = PoseMm::from_isometry(&model.tcp_isometry(start_q));
+    let mut from_tcp = tcp_of(model, start_q);
     compiled
         .iter()
         .map(|c| {

@@ -175,3 +175,32 @@ fn official_convention_reads_rx_ry_rz_like_the_official_tools() {
     // the Cartesian target takes official angles
     assert!(h.query_by_label("target RZ").is_some());
 }
+
+/// Issue 28: the step list shows the configuration each motion ends in (from the pre-flight's
+/// plan); *Teach pose* records a joint move to the pose in the arm's configuration and *Teach
+/// line* a line.
+#[test]
+fn the_step_list_shows_configurations_and_teach_pose_records_a_joint_move() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("Draw").click();
+    h.run_steps(4);
+    assert!(
+        h.query_all_by_label_contains("[front/down/no-flip] line to").next().is_some(),
+        "a line of Draw shows its configuration"
+    );
+    let before = steps(&h).len();
+    h.get_by_label("Teach line").click();
+    h.run_steps(2);
+    let s = steps(&h);
+    assert_eq!(s.len(), before + 1);
+    assert!(s.iter().any(|s| matches!(s, Step::MoveL { .. })));
+    let lines = s.iter().filter(|s| matches!(s, Step::MoveL { .. })).count();
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    let s = steps(&h);
+    assert_eq!(s.len(), before + 2);
+    assert_eq!(s.iter().filter(|s| matches!(s, Step::MoveL { .. })).count(), lines, "no new line");
+    // standby is on the wrist border (J5 = 0): no configuration is named there
+    let taught = s.iter().find(|s| matches!(s, Step::MovePose { .. })).expect("a joint move to the pose");
+    let Step::MovePose { config: None, .. } = taught else { panic!("{taught:?}") };
+}

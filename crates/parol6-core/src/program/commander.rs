@@ -4,7 +4,7 @@
 //! ```text
 //! Begin()
 //! MoveJoint(90, -80, 170, 0, 60, 180, t=2)
-//! MoveCart(30, 263.6, 292.1, 90, -50, 0, t=1.5)
+//! MoveCart(0, 312.463, 254.03, -90, 0, -50, t=1.5)
 //! Output(1, HIGH)
 //! Delay(0.5)
 //! End()
@@ -18,9 +18,9 @@
 //! | `Begin()` | (start of the program) |
 //! | `End()` / `Loop()` | end; `Loop()` sets [`Program::looping`] (the runner starts over) |
 //! | `MoveJoint(j1…j6 deg, opts)` | `move_joints` |
-//! | `MovePose(x, y, z mm, rx, ry, rz deg, opts)` | `move_pose` (joint move to the pose) |
-//! | `MoveCart(x, y, z, rx, ry, rz, opts)` | `move_l` (straight line) |
-//! | `MoveCartRelTRF(dx, dy, dz, rx, ry, rz, opts)` | `move_rel_tool` (offset and rotations in the tool frame) |
+//! | `MovePose(x, y, z mm, rx, ry, rz deg, opts)` | `move_pose` (joint move to the pose; the pose in the commander's frame, see *Frame*) |
+//! | `MoveCart(x, y, z, rx, ry, rz, opts)` | `move_l` (straight line; the pose in the commander's frame) |
+//! | `MoveCartRelTRF(dx, dy, dz, rx, ry, rz, opts)` | `move_rel_tool` (offset and rotations in the commander's frame, converted to our TCP frame) |
 //! | `Delay(s)` | `dwell` (the commander needs more than 0.01 s) |
 //! | `Output(1\|2, HIGH\|LOW)` | `set_output` |
 //! | `Gripper(position 0–255, speed 0–255, current 100–1000 mA)` | `gripper` to a position |
@@ -29,7 +29,9 @@
 //! `Gripper_cal()` (calibration has no program step here: calibrate from the gripper panel), the
 //! commands the commander lists but never implemented (`Input()`, `Home()`, `SpeedJoint()`,
 //! `SpeedCart()`, …) and anything else are errors naming the line and the command; nothing
-//! is skipped.
+//! is skipped. So is a typo in a move's options, such as `MoveCart(…,-50.t=3)`: the commander's
+//! pattern takes the six numbers at the start of the line and drops the rest (the move runs in
+//! its 3.6 s default), we refuse the line.
 //!
 //! **Frame.** The commander's poses are poses of its own TCP frame, frame 6 of its DH table,
 //! not of our flange: `MoveCart` / `MovePose` `x, y, z, rx, ry, rz` are that frame's position and

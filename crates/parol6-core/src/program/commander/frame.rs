@@ -76,7 +76,7 @@ impl CommanderFrame {
 }
 
 /// `Trans(offset) · Rx(a)·Ry(b)·Rz(c)` (mm, deg), the move both programs apply in the tool frame.
-fn tool_move(offset_mm: [f64; 3], rotation_deg: [f64; 3]) -> Isometry3<f64> {
+pub(super) fn tool_move(offset_mm: [f64; 3], rotation_deg: [f64; 3]) -> Isometry3<f64> {
     let [a, b, c] = rotation_deg.map(f64::to_radians);
     let rotation = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), a)
         * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), b)

@@ -2,7 +2,8 @@
 //!
 //! The robot itself, without GUI or serial: URDF → [`model::RobotModel`], forward kinematics,
 //! Jacobians and inverse kinematics ([`kinematics`], [`ik`]), the two three-angle orientation
-//! conventions (ours and the official PAROL6 tools', [`angles`]), joint limits and limit zones with
+//! conventions (ours and the official PAROL6 tools', [`angles`]), the commander GUI's TCP frame
+//! ([`frames`]), joint limits and limit zones with
 //! their colours ([`limits`]), synchronised joint motion profiles ([`profile`]), the rapier3d
 //! simulation on its own 1 kHz thread with dynamics and the self-collision guard ([`sim`]), and
 //! the motion layer shared by the simulation and the robot ([`motion`]: one command type, one
@@ -22,6 +23,7 @@
 pub use nalgebra as na;
 
 pub mod angles;
+pub mod frames;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;

@@ -4,7 +4,7 @@
 //! ```text
 //! Begin()
 //! MoveJoint(90, -80, 170, 0, 60, 180, t=2)
-//! MoveCart(30, 263.6, 292.1, 90, -50, 0, t=1.5)
+//! MoveCart(0, 312.463, 254.03, -90, 0, -50, t=1.5)
 //! Output(1, HIGH)
 //! Delay(0.5)
 //! End()
@@ -18,9 +18,9 @@
 //! | `Begin()` | (start of the program) |
 //! | `End()` / `Loop()` | end; `Loop()` sets [`Program::looping`] (the runner starts over) |
 //! | `MoveJoint(j1…j6 deg, opts)` | `move_joints` |
-//! | `MovePose(x, y, z mm, rx, ry, rz deg, opts)` | `move_pose` (joint move to the pose) |
-//! | `MoveCart(x, y, z, rx, ry, rz, opts)` | `move_l` (straight line) |
-//! | `MoveCartRelTRF(dx, dy, dz, rx, ry, rz, opts)` | `move_rel_tool` (offset and rotations in the tool frame) |
+//! | `MovePose(x, y, z mm, rx, ry, rz deg, opts)` | `move_pose` (joint move to the pose; the pose in the commander's frame, see *Frame*) |
+//! | `MoveCart(x, y, z, rx, ry, rz, opts)` | `move_l` (straight line; the pose in the commander's frame) |
+//! | `MoveCartRelTRF(dx, dy, dz, rx, ry, rz, opts)` | `move_rel_tool` (offset and rotations in the commander's frame, converted to our TCP frame) |
 //! | `Delay(s)` | `dwell` (the commander needs more than 0.01 s) |
 //! | `Output(1\|2, HIGH\|LOW)` | `set_output` |
 //! | `Gripper(position 0–255, speed 0–255, current 100–1000 mA)` | `gripper` to a position |
@@ -29,11 +29,33 @@
 //! `Gripper_cal()` (calibration has no program step here: calibrate from the gripper panel), the
 //! commands the commander lists but never implemented (`Input()`, `Home()`, `SpeedJoint()`,
 //! `SpeedCart()`, …) and anything else are errors naming the line and the command; nothing
-//! is skipped.
+//! is skipped. So is a typo in a move's options, such as `MoveCart(…,-50.t=3)`: the commander's
+//! pattern takes the six numbers at the start of the line and drops the rest (the move runs in
+//! its 3.6 s default), we refuse the line.
 //!
-//! Angles `rx, ry, rz` are the official convention `R = Rx(rz)·Ry(ry)·Rz(rx)`, converted to
-//! our roll / pitch / yaw by [`crate::angles`]. `MoveCartRelTRF`'s angles are rotations about
-//! the tool's x, y, z axes in that order, as the commander applies them.
+//! **Frame.** The commander's poses are poses of its own TCP frame, frame 6 of its DH table,
+//! not of our flange: `MoveCart` / `MovePose` `x, y, z, rx, ry, rz` are that frame's position and
+//! orientation, and `MoveCartRelTRF` moves that frame along and about its own axes. The frame
+//! is fixed to the flange by one constant transform, defined in [`crate::frames`] (Rx(π) at
+//! (−45.25, 0, −25.8) mm in the flange frame). At standby the commander shows
+//! `(0, 262.57, 288.75, -90, 0, -90)`, so after `MoveJoint(90,-90,180,0,0,180)` the line
+//! `MoveCart(0,262.57,288.75,-90,0,-90)` does not move the arm, here as there.
+//!
+//! **Tool.** The commander has no tool: its frame stays on the flange whatever is mounted. Our
+//! steps hold TCP poses (`flange · tool`), so import converts each commander pose to the TCP
+//! pose of the *same flange pose* for the tool of [`CommanderOptions`] (the robot's tool when
+//! read through [`super::files`]; the bare flange for [`parse_commander`]), and export the other
+//! way. A commander program therefore moves the arm to the same joints whichever tool is set;
+//! change the tool after importing and the steps keep their TCP poses, as in every format:
+//! import again. `MoveCartRelTRF` becomes the `move_rel_tool` that ends at the same flange
+//! pose: its angles are rotations about the commander frame's x, then y, then z axis
+//! (`D' = D · Trans(d) · Rx·Ry·Rz`, as the commander applies them), which about our TCP axes are
+//! `(rx, −ry, −rz)`, and its offset gains the lever between the commander frame's origin and
+//! our TCP when it turns. Both programs move their own frame's origin on a straight line, so
+//! where a move turns the tool the paths between the (equal) end poses differ slightly.
+//!
+//! Angles `rx, ry, rz` are the official convention `R = Rx(rz)·Ry(ry)·Rz(rx)`, converted by
+//! [`crate::angles`].
 //!
 //! Options after the six numbers, as in the commander: `t=` seconds wins over everything (the
 //! step's `duration_s`); otherwise `MoveJoint` / `MovePose` with both `v=` and `a=` (0–100 %)
@@ -48,10 +70,19 @@
 //!
 //! Export writes the steps that have an equivalent and refuses the first that has none, by
 //! its number, line and type (Cartesian lines need a `duration_s`: the commander times them
-//! only with `t=`).
+//! only with `t=`). Every number is rounded to 3 decimals, as the commander's readout writes
+//! them (`round(x, 3)`), and written in its shortest form: `-80`, not `-80.00001816331088`;
+//! `0`, not `-0`. Import of an export gives the same numbers back.
 
-use super::{GripperAction, PoseMm, Program, SourcedStep, SpeedSettings, Step};
-use crate::angles::{abc_to_rpy_deg, rpy_to_abc_deg};
+mod frame;
+
+use nalgebra::Isometry3;
+
+use self::frame::{CommanderFrame, number_text};
+use super::{GripperAction, Program, SourcedStep, SpeedSettings, Step};
+use crate::RobotModel;
+
+pub use self::frame::COMMANDER_DECIMALS;
 
 /// Programs larger than this are refused, bytes.
 pub const MAX_PROGRAM_BYTES: usize = 16 * 1024 * 1024;
@@ -94,11 +125,38 @@ pub enum CommanderError {
     File(String),
 }
 
+/// What converting between commander poses and ours needs beyond the text.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CommanderOptions {
+    /// Our TCP in the flange (`L6`) frame: the robot's tip offset times its tool (metres).
+    pub tool: Isometry3<f64>,
+}
+
+impl Default for CommanderOptions {
+    /// The bare flange.
+    fn default() -> Self {
+        Self { tool: Isometry3::identity() }
+    }
+}
+
+impl CommanderOptions {
+    /// For the robot's TCP as it is set (tip offset and tool).
+    pub fn for_model(model: &RobotModel) -> Self {
+        Self { tool: model.tip_offset * model.tool }
+    }
+}
+
 /// The commands the commander lists but does not run.
 const NOT_IMPLEMENTED: [&str; 6] = ["Input", "Home", "SpeedJoint", "SpeedCart", "Get_data", "Timeouts"];
 
-/// Reads a commander program.
+/// Reads a commander program, its poses for the bare flange (see [`parse_commander_with`]).
 pub fn parse_commander(text: &str) -> Result<Program, CommanderError> {
+    parse_commander_with(text, &CommanderOptions::default())
+}
+
+/// Reads a commander program; its poses become TCP poses of `options.tool`.
+pub fn parse_commander_with(text: &str, options: &CommanderOptions) -> Result<Program, CommanderError> {
+    let frame = CommanderFrame::new(&options.tool);
     if text.len() > MAX_PROGRAM_BYTES {
         return Err(CommanderError::File(format!(
             "the program is {} bytes; commander programs are limited to {} MiB",
@@ -152,7 +210,7 @@ pub fn parse_commander(text: &str) -> Result<Program, CommanderError> {
                     message: "the program must end with End() or Loop()".into(),
                 });
             }
-            "MoveJoint" | "MovePose" | "MoveCart" | "MoveCartRelTRF" => move_step(&cmd)?,
+            "MoveJoint" | "MovePose" | "MoveCart" | "MoveCartRelTRF" => move_step(&cmd, &frame)?,
             "Delay" => {
                 let [s] = cmd.numbers::<1>()?;
                 if s <= COMMANDER_CYCLE_S {
@@ -311,7 +369,7 @@ struct MoveOptions {
     t: Option<f64>,
 }
 
-fn move_step(cmd: &Command<'_>) -> Result<Step, CommanderError> {
+fn move_step(cmd: &Command<'_>, frame: &CommanderFrame) -> Result<Step, CommanderError> {
     if cmd.args.len() < 6 {
         return Err(cmd.err(format!("needs 6 numbers, got {}", cmd.args.len())));
     }
@@ -358,25 +416,30 @@ fn move_step(cmd: &Command<'_>) -> Result<Step, CommanderError> {
         (None, Some(v), Some(_)) => Some((v / 100.0).max(super::compile::MIN_JOINT_FRACTION)),
         _ => None,
     };
-    let pose = || PoseMm { position_mm: [v[0], v[1], v[2]], rpy_deg: abc_to_rpy_deg([v[3], v[4], v[5]]) };
+    let pose = || frame.pose_in(v);
     let cart_duration_s = Some(opts.t.unwrap_or(COMMANDER_CART_DURATION_S));
     Ok(match cmd.name {
         "MoveJoint" => Step::MoveJoints { joints_deg: v.to_vec(), speed_fraction: joint_fraction, duration_s: opts.t },
         "MovePose" => Step::MovePose { pose: pose(), config: None, speed_fraction: joint_fraction, duration_s: opts.t },
         "MoveCart" => Step::MoveL { pose: pose(), speed_mm_s: None, blend_mm: None, duration_s: cart_duration_s },
-        _ => Step::MoveRelTool {
-            offset_mm: [v[0], v[1], v[2]],
-            rotation_deg: [v[3], v[4], v[5]],
-            speed_mm_s: None,
-            duration_s: cart_duration_s,
-        },
+        _ => {
+            let (offset_mm, rotation_deg) = frame.rel_in(v);
+            Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s: None, duration_s: cart_duration_s }
+        }
     })
 }
 
-/// Writes a program as commander text; refuses the first step with no commander equivalent.
+/// Writes a program as commander text, its poses for the bare flange (see
+/// [`program_to_commander_with`]).
 pub fn program_to_commander(program: &Program) -> Result<String, CommanderError> {
+    program_to_commander_with(program, &CommanderOptions::default())
+}
+
+/// Writes a program as commander text, its poses read as TCP poses of `options.tool`;
+/// refuses the first step with no commander equivalent.
+pub fn program_to_commander_with(program: &Program, options: &CommanderOptions) -> Result<String, CommanderError> {
+    let frame = CommanderFrame::new(&options.tool);
     let mut out = String::from("Begin()\n");
-    let six = |v: &[f64]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(",");
     for (i, s) in program.steps.iter().enumerate() {
         let refuse = |message: &str| CommanderError::Step {
             index: i + 1,
@@ -384,51 +447,58 @@ pub fn program_to_commander(program: &Program) -> Result<String, CommanderError>
             kind: s.step.kind(),
             message: message.into(),
         };
+        let num = |x: f64| number_text(x).ok_or_else(|| refuse(&format!("{x} is not a number the commander can read")));
+        let six = |v: &[f64]| -> Result<String, CommanderError> {
+            Ok(v.iter().map(|x| num(*x)).collect::<Result<Vec<_>, _>>()?.join(","))
+        };
+        // a time as written must still be above 0 s
+        let time = |d: f64| -> Result<String, CommanderError> {
+            let t = num(d)?;
+            if t == "0" { Err(refuse(&format!("duration_s {d} s is 0 at 3 decimals"))) } else { Ok(format!(",t={t}")) }
+        };
         // joint moves: t= wins; otherwise the speed as v= and a= unless it is the commander's default
         let joint_opts = |fraction: Option<f64>, duration_s: Option<f64>| match duration_s {
-            Some(d) => format!(",t={d}"),
+            Some(d) => time(d),
             None => {
                 let f = fraction.unwrap_or(program.speed.joint_fraction);
                 if f == COMMANDER_JOINT_FRACTION {
-                    String::new()
+                    Ok(String::new())
                 } else {
-                    let pct = f * 100.0;
-                    format!(",v={pct},a={pct}")
+                    let pct = num(f * 100.0)?;
+                    Ok(format!(",v={pct},a={pct}"))
                 }
             }
         };
-        let cart_time = |duration_s: Option<f64>| {
-            duration_s.map(|d| format!(",t={d}")).ok_or_else(|| {
-                refuse("the commander times Cartesian moves only by t= (3.6 s without it); give the step a duration_s")
-            })
-        };
-        let abc = |p: &PoseMm| {
-            let a = rpy_to_abc_deg(p.rpy_deg);
-            six(&[p.position_mm[0], p.position_mm[1], p.position_mm[2], a[0], a[1], a[2]])
+        let cart_time = |duration_s: Option<f64>| match duration_s {
+            Some(d) => time(d),
+            None => Err(refuse(
+                "the commander times Cartesian moves only by t= (3.6 s without it); give the step a duration_s",
+            )),
         };
         let text = match &s.step {
             Step::MoveJoints { joints_deg, speed_fraction, duration_s } => {
                 if joints_deg.len() != 6 {
                     return Err(refuse("MoveJoint takes 6 joint values"));
                 }
-                format!("MoveJoint({}{})", six(joints_deg), joint_opts(*speed_fraction, *duration_s))
+                format!("MoveJoint({}{})", six(joints_deg)?, joint_opts(*speed_fraction, *duration_s)?)
             }
             Step::MovePose { pose, speed_fraction, duration_s, .. } => {
-                format!("MovePose({}{})", abc(pose), joint_opts(*speed_fraction, *duration_s))
+                format!("MovePose({}{})", six(&frame.pose_out(pose))?, joint_opts(*speed_fraction, *duration_s)?)
             }
             Step::MoveL { pose, blend_mm, duration_s, .. } => {
                 if blend_mm.is_some_and(|b| b != 0.0) {
                     return Err(refuse("the commander does not blend lines; remove blend_mm"));
                 }
-                format!("MoveCart({}{})", abc(pose), cart_time(*duration_s)?)
+                format!("MoveCart({}{})", six(&frame.pose_out(pose))?, cart_time(*duration_s)?)
             }
             Step::MoveRelTool { offset_mm, rotation_deg, duration_s, .. } => {
-                let v = [offset_mm[0], offset_mm[1], offset_mm[2], rotation_deg[0], rotation_deg[1], rotation_deg[2]];
-                format!("MoveCartRelTRF({}{})", six(&v), cart_time(*duration_s)?)
+                format!("MoveCartRelTRF({}{})", six(&frame.rel_out(offset_mm, rotation_deg))?, cart_time(*duration_s)?)
             }
             Step::Dwell { seconds } if *seconds == 0.0 => "Dummy()".into(),
-            Step::Dwell { seconds } if *seconds > COMMANDER_CYCLE_S => format!("Delay({seconds})"),
-            Step::Dwell { .. } => return Err(refuse("the commander's Delay() is longer than 0.01 s")),
+            Step::Dwell { seconds } => match num(*seconds)? {
+                t if t.parse::<f64>().is_ok_and(|v| v > COMMANDER_CYCLE_S) => format!("Delay({t})"),
+                _ => return Err(refuse("the commander's Delay() is longer than 0.01 s")),
+            },
             Step::SetOutput { output, on } if matches!(output, 1 | 2) => {
                 format!("Output({output},{})", if *on { "HIGH" } else { "LOW" })
             }

@@ -135,7 +135,10 @@ pub fn parse_program(
         ProgramFormat::Gcode => parse_gcode(text, &GcodeImportOptions::for_model(ctx.model, ctx.start_q))
             .map_err(|e| content(e.to_string())),
         ProgramFormat::Csv => table::parse_csv_table(text).map_err(|e| content(e.to_string())),
-        ProgramFormat::Commander => commander::parse_commander(text).map_err(|e| content(e.to_string())),
+        ProgramFormat::Commander => {
+            commander::parse_commander_with(text, &commander::CommanderOptions::for_model(ctx.model))
+                .map_err(|e| content(e.to_string()))
+        }
     }
 }
 
@@ -173,7 +176,10 @@ pub fn format_program(
                 .map_err(|e| content(e.to_string()))
         }
         ProgramFormat::Csv => table::program_to_csv(program).map_err(|e| content(e.to_string())),
-        ProgramFormat::Commander => commander::program_to_commander(program).map_err(|e| content(e.to_string())),
+        ProgramFormat::Commander => {
+            commander::program_to_commander_with(program, &commander::CommanderOptions::for_model(ctx.model))
+                .map_err(|e| content(e.to_string()))
+        }
     }
 }
 

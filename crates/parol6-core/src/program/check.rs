@@ -136,7 +136,10 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
                         index: c.steps.start,
                         line: c.line,
                         label: c.kind.to_string(),
-                        kind: if matches!(c.kind, "home" | "move_joints" | "move_pose") {
+                        // a Cartesian move that does not move the joints (a line of no length,
+                        // as the commander's `MoveCart` to where the arm is) holds still: it is
+                        // checked as the joint move it is, so a singular pose is a warning there
+                        kind: if matches!(c.kind, "home" | "move_joints" | "move_pose") || holds_still(t) {
                             MoveKind::Joint
                         } else {
                             MoveKind::Cartesian
@@ -181,6 +184,18 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
     CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
+}
+
+/// No joint strays more than this from where a move starts for the move to count as holding
+/// still, rad (0.0057°: a commander pose written to 0.001 mm and 0.001° of where the arm is).
+const HOLDS_STILL_RAD: f64 = 1e-4;
+
+/// True when no joint moves along the trajectory (beyond [`HOLDS_STILL_RAD`]).
+fn holds_still(t: &crate::motion::cartesian::SampledTrajectory) -> bool {
+    let samples = t.samples();
+    samples
+        .first()
+        .is_none_or(|q0| samples.iter().all(|q| q.iter().zip(q0).all(|(a, b)| (a - b).abs() < HOLDS_STILL_RAD)))
 }
 
 /// A TCP pose for the plan: to 0.1 µm and 0.0001° (no float noise, no −0).

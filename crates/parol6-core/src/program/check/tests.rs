@@ -132,3 +132,24 @@ fn stretched_moves_are_warnings_and_every_step_is_planned() {
     assert_eq!(json["plan"][0]["line"], 20);
     assert!(json["plan"][0]["end_tcp"]["position_mm"].is_array());
 }
+
+/// Regression (issue 28): the commander's `MoveJoint` to standby then `MoveCart` to the pose it
+/// shows there is a no-op in the commander; here the line of no length at the standby wrist
+/// singularity was a pre-flight error ("error on a TCP path"). A move whose joints hold still is
+/// checked as the joint move it is: a warning.
+#[test]
+fn a_line_of_no_length_at_a_singular_pose_is_a_warning() {
+    let model = RobotModel::parol6();
+    let q0 = standby();
+    let here = PoseMm::from_isometry(&model.tcp_isometry(&q0));
+    let line = Step::MoveL { pose: here, speed_mm_s: None, blend_mm: None, duration_s: Some(3.6) };
+    let r = check_program(&model, &program(vec![line]), &q0, CheckOptions::default());
+    assert!(r.ok, "{:?}", r.issues);
+    assert!(r.issues.iter().all(|i| i.severity == Severity::Warning));
+    // a real line away from the singular pose is still an error there
+    let mut away = here;
+    away.position_mm[2] -= 20.0;
+    let line = Step::MoveL { pose: away, speed_mm_s: None, blend_mm: None, duration_s: None };
+    let r = check_program(&model, &program(vec![line]), &q0, CheckOptions::default());
+    assert!(!r.ok, "{:?}", r.issues);
+}

@@ -49,10 +49,18 @@ pub enum ProgramCommand {
         json: bool,
     },
     /// Run a program: on the headless simulation (as fast as it can unless --realtime), or
-    /// with --fake-robot / --port on the controller. Prints a JSON summary.
+    /// with --fake-robot / --port on the controller. Prints a JSON summary (`schedule_slip_s`:
+    /// how much later than planned the steps ran where they were handed over late).
     Run {
         /// Program file: .json (native), .gcode/.nc, .csv point table, .txt commander program.
         file: PathBuf,
+        /// Start pose J1,…,J6 in degrees (default: the standby pose), as for `program check`:
+        /// the file is read and checked from there. The simulation starts there; on the robot
+        /// (--fake-robot / --port) the arm must already be there (within 0.1° on every joint:
+        /// the run is refused otherwise; move it with `parol6 hw move --joints … --deg`).
+        /// Without it the robot runs from wherever it is.
+        #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
+        start_deg: Option<String>,
         /// Speed override: every step's speed × this, 0.01–1.
         #[arg(long, default_value_t = 1.0, value_parser = f64_within(0.01, 1.0))]
         speed: f64,
@@ -131,9 +139,13 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
         }
-        ProgramCommand::Run { file, speed, realtime, rate, record } => {
+        ProgramCommand::Run { file, start_deg, speed, realtime, rate, record } => {
             let model = robot.load()?;
-            let program = load(file, &model, &parol6_core::motion::home_position(&model))?;
+            let start = start_pose(start_deg.as_deref(), &model)?;
+            if let Err(e) = model.limits.check(&start) {
+                return Err(CliError::usage(format!("--start-deg: the start pose is outside the limits: {e}")));
+            }
+            let program = load(file, &model, &start)?;
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
             let robot_link = connect.port.is_some() || connect.fake_robot;
             if robot_link && *realtime {
@@ -153,12 +165,18 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 let link = open(connect, rate, tap)?;
                 let _emulator = link.emulator;
                 let session = Arc::new(link.session);
+                if start_deg.is_some() {
+                    arm_at(&session.robot_state(), &start)?;
+                }
                 let poll = || (session.robot_state(), Some(link_health(&session.snapshot())));
                 run_on(Arc::clone(&session) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             } else {
                 let time_scale = if *realtime { 1.0 } else { HEADLESS_TIME_SCALE };
                 let config = SimConfig { mode: SimMode::Dynamic, time_scale, ..SimConfig::default() };
                 let sim = Arc::new(SimHandle::spawn_with_tap(model.clone(), config, tap).map_err(CliError::usage)?);
+                if start_deg.is_some() {
+                    place_sim(&sim, &start)?;
+                }
                 let poll = || (sim.state(), None);
                 run_on(Arc::clone(&sim) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             };
@@ -226,6 +244,42 @@ fn start_pose(text: Option<&str>, model: &RobotModel) -> Result<Vec<f64>, CliErr
     match text {
         Some(text) => parse_joints_deg(text, model.dof()),
         None => Ok(parol6_core::motion::home_position(model)),
+    }
+}
+
+/// Largest difference between the arm's commanded joints and `--start-deg` on the robot, rad.
+const START_TOLERANCE_RAD: f64 = 0.1 * std::f64::consts::PI / 180.0;
+
+/// Refuses a run on the robot unless its commanded joints are at `start`.
+fn arm_at(state: &RobotState, start: &[f64]) -> Result<(), CliError> {
+    let q = &state.commanded.q;
+    let off = q.iter().zip(start).enumerate().find(|(_, (a, b))| (*a - *b).abs() > START_TOLERANCE_RAD);
+    match off {
+        None if q.len() == start.len() => Ok(()),
+        _ => Err(CliError::usage(format!(
+            "--start-deg: the arm is at [{}]° (J{}), not at the start pose; move it there first \
+             (parol6 hw move --joints … --deg) or leave --start-deg out to run from where it is",
+            q.iter().map(|v| format!("{:.2}", v.to_degrees())).collect::<Vec<_>>().join(", "),
+            off.map_or(1, |(i, _)| i + 1)
+        ))),
+    }
+}
+
+/// Places the simulated arm at `start` (at rest) and waits until its state shows it.
+fn place_sim(sim: &SimHandle, start: &[f64]) -> Result<(), CliError> {
+    sim.send(parol6_core::sim::SimCommand::Teleport(start.to_vec()))
+        .map_err(|e| CliError::runtime(format!("--start-deg: {e}")))?;
+    let t0 = Instant::now();
+    loop {
+        let s = sim.state();
+        let there = s.commanded.q.iter().zip(start).all(|(a, b)| (a - b).abs() < 1e-9);
+        if there && !s.moving {
+            return Ok(());
+        }
+        if t0.elapsed() > Duration::from_secs(5) {
+            return Err(CliError::runtime("--start-deg: the simulation did not take the start pose"));
+        }
+        std::thread::sleep(Duration::from_millis(2));
     }
 }
 
@@ -304,6 +358,7 @@ fn run_on(
         "duration_s": p.clock_s.1 - p.clock_s.0,
         "wall_s": wall.elapsed().as_secs_f64(),
         "max_tracking_error_deg": p.max_tracking_error_rad.to_degrees(),
+        "schedule_slip_s": p.schedule_slip_s,
     });
     let outcome = match failure {
         None => Ok(()),

@@ -62,6 +62,24 @@ pub struct RobotState {
     /// Digital I/O and gripper.
     #[serde(default)]
     pub io: IoState,
+    /// The scheduled commands ([`RobotBackend::submit`] with a time): how many arrived and how
+    /// late the schedule runs.
+    #[serde(default)]
+    pub schedule: ScheduleState,
+}
+
+/// Where the backend's schedule stands (see [`MotionPlanner::schedule_arriving`]).
+///
+/// [`MotionPlanner::schedule_arriving`]: super::MotionPlanner::schedule_arriving
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ScheduleState {
+    /// Scheduled commands received so far, refused ones included: a state whose count covers
+    /// what a client submitted has seen those commands.
+    pub received: u64,
+    /// How late the schedule runs, s: a command scheduled for `t` is applied at `t + delay_s`.
+    /// 0 while every step is handed over in time; it grows when one arrives late (or starts
+    /// late), and returns to 0 when STOP or PAUSE drops the schedule.
+    pub delay_s: f64,
 }
 
 impl RobotState {
@@ -86,6 +104,7 @@ impl RobotState {
             blocked: None,
             homed: source == StateSource::Simulation,
             io: IoState::default(),
+            schedule: ScheduleState::default(),
         }
     }
 

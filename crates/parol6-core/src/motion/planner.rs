@@ -71,6 +71,10 @@ pub struct MotionPlanner {
     refusal_seq: u64,
     last_refusal: Option<(u64, String)>,
     kinematics: Option<JogKinematics>,
+    /// How late the schedule runs, s (see the `schedule` module).
+    delay_s: f64,
+    /// Scheduled commands received ([`MotionPlanner::note_scheduled`]).
+    received: u64,
 }
 
 impl MotionPlanner {
@@ -89,6 +93,8 @@ impl MotionPlanner {
             refusal_seq: 0,
             last_refusal: None,
             kinematics: None,
+            delay_s: 0.0,
+            received: 0,
         }
     }
 
@@ -128,7 +134,7 @@ impl MotionPlanner {
         self.motion = Motion::Hold;
         self.hold_q = q.to_vec();
         self.goal = q.to_vec();
-        self.pending.clear();
+        self.clear_schedule();
     }
 
     /// Checks a command against the limits and its own arguments without applying it.
@@ -137,43 +143,13 @@ impl MotionPlanner {
     }
 
     /// Applies `cmd` at time `t_s` (an immediate command). An immediate STOP or PAUSE also
-    /// drops every scheduled command. A refused command leaves the planner unchanged.
+    /// drops every scheduled command (and the schedule's delay). A refused command leaves the
+    /// planner unchanged.
     pub fn apply(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
         if matches!(cmd, MotionCommand::Stop | MotionCommand::Pause) {
-            self.pending.clear();
+            self.clear_schedule();
         }
         self.apply_at(cmd, t_s)
-    }
-
-    /// Schedules `cmd` for `at_s` on the motion clock; it is applied at exactly that time
-    /// during the first [`MotionPlanner::sample`] at or after it (refusals then show in
-    /// [`MotionPlanner::last_refusal`]). Checked against the limits now.
-    pub fn schedule(&mut self, cmd: MotionCommand, at_s: f64) -> Result<(), MotionError> {
-        if !at_s.is_finite() {
-            return Err(MotionError::Invalid(format!("schedule time {at_s} is not a finite number")));
-        }
-        self.validate(&cmd)?;
-        self.order += 1;
-        let s = Scheduled { at_s, order: self.order, cmd };
-        let pos = self.pending.partition_point(|p| (p.at_s, p.order) <= (s.at_s, s.order));
-        self.pending.insert(pos, s);
-        Ok(())
-    }
-
-    /// Applies `cmd` at `t_s` as a scheduled command does (scheduled commands are kept).
-    pub fn apply_scheduled(&mut self, cmd: &MotionCommand, t_s: f64) -> Result<(), MotionError> {
-        self.apply_at(cmd, t_s)
-    }
-
-    /// Takes the earliest scheduled command due by `t_s`, with its time, for a backend that
-    /// checks more before applying it (the simulation's collision guard); the backend then
-    /// calls [`MotionPlanner::apply_scheduled`] with that time.
-    pub fn pop_due(&mut self, t_s: f64) -> Option<(f64, MotionCommand)> {
-        if self.pending.first().is_some_and(|p| p.at_s <= t_s) {
-            let s = self.pending.remove(0);
-            return Some((s.at_s, s.cmd));
-        }
-        None
     }
 
     /// When the current motion ends if nothing stops it (a jog: when it would reach its
@@ -210,11 +186,6 @@ impl MotionPlanner {
             }
             _ => self.setpoint_at(t_s).q,
         }
-    }
-
-    /// Number of scheduled commands not yet applied.
-    pub fn pending(&self) -> usize {
-        self.pending.len()
     }
 
     /// Commands applied so far (immediate and scheduled, refused ones not counted).
@@ -274,14 +245,7 @@ impl MotionPlanner {
 
     /// [`MotionPlanner::sample`] into a caller-owned setpoint (no allocation on a steady tick).
     pub fn sample_into(&mut self, t_s: f64, out: &mut Setpoint) {
-        while self.pending.first().is_some_and(|p| p.at_s <= t_s) {
-            let s = self.pending.remove(0);
-            if let Err(e) = self.apply_at(&s.cmd, s.at_s) {
-                self.refusal_seq += 1;
-                self.last_refusal =
-                    Some((self.refusal_seq, format!("{} at t = {:.3} s refused: {e}", s.cmd.name(), s.at_s)));
-            }
-        }
+        self.apply_due(t_s);
         self.retire(t_s);
         self.setpoint_into(t_s, out);
     }
@@ -572,6 +536,8 @@ impl MotionPlanner {
 fn no_kinematics() -> MotionError {
     MotionError::Invalid("this backend has no kinematic model for Cartesian commands".into())
 }
+
+mod schedule;
 
 #[cfg(test)]
 mod tests;

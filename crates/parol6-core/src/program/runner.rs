@@ -4,10 +4,17 @@
 //! How it keeps the same meaning on every backend: the program is compiled once, from the
 //! commanded position the backend holds at the start, into joint trajectories at the 1 kHz
 //! control rate; each is *scheduled* on the backend's motion clock at the instant the previous
-//! one ends (dwells add their time), up to [`LOOKAHEAD`] steps ahead, so the commanded
-//! trajectory does not depend on when this thread wakes. I/O steps are sent when the motion
-//! clock reaches them (at most one poll late, [`POLL`]); a wait for an input re-starts the
-//! schedule when the input arrives.
+//! one ends (dwells add their time), [`LOOKAHEAD`] steps and [`AHEAD_MIN_S`] of motion clock
+//! ahead (at most [`MAX_AHEAD`] steps), so the commanded trajectory does not depend on when this
+//! thread wakes. I/O steps are sent when the motion clock reaches them (at most one poll late,
+//! [`POLL`]); a wait for an input re-starts the schedule when the input arrives.
+//!
+//! A step handed over after its time (this thread lost the processor, or a headless simulation
+//! runs many times faster than the wall clock) is never refused: the backend's schedule slips
+//! as a whole ([`crate::motion::ScheduleState`]), every trajectory still starts exactly where
+//! the one before it ends, and this thread reads the slip from the backend's state and keeps
+//! its I/O, dwells and progress on the slipped schedule. It only trusts a state that has seen
+//! every step it submitted.
 //!
 //! Pause slows the current trajectory to a stop on its path ([`MotionCommand::Pause`]); resume
 //! finishes it and schedules the rest again. Stop pauses, then holds. A refused step, a backend
@@ -22,6 +29,8 @@ use std::time::Duration;
 
 use arc_swap::ArcSwap;
 use crossbeam_channel::{Receiver, Sender, TryRecvError};
+
+pub use types::{RunOptions, RunProgress, RunState, RunnerControl};
 
 use super::Program;
 use super::check::{CheckOptions, check_program};
@@ -38,12 +47,19 @@ pub const POLL: Duration = Duration::from_millis(20);
 pub const SETTLE_BETWEEN_PASSES: Duration = Duration::from_secs(10);
 /// The time-left readout is published when it changed by this much, s.
 const PROGRESS_RESOLUTION_S: f64 = 0.1;
-/// At most this many steps are scheduled ahead of the motion clock.
+/// At least this many steps are scheduled ahead of the motion clock (when the program has them).
 pub const LOOKAHEAD: usize = 8;
+/// Steps are also scheduled until they reach this far ahead of the motion clock, s, or
+/// [`AHEAD_POLLS`] polls' worth of motion clock where it runs faster than the wall clock.
+pub const AHEAD_MIN_S: f64 = 1.0;
+/// Polls' worth of motion clock scheduled ahead (a headless simulation advances 0.4 s a poll).
+pub const AHEAD_POLLS: f64 = 5.0;
+/// At most this many steps are scheduled ahead (the robot session's queue holds 256 requests).
+pub const MAX_AHEAD: usize = 64;
 /// The first step starts this long after the runner schedules it, s of motion clock. A step
-/// that reaches the backend after its time starts late, and the next one, scheduled for when
-/// it should have ended, is refused: with both cores of a 2-core PC busy the runner's thread
-/// lost 37–87 ms between reading the clock and scheduling (4 runs in 12 failed with 0.05 s).
+/// that reaches the backend after its time starts late and the schedule slips (with both cores
+/// of a 2-core PC busy the runner's thread lost 37–87 ms between reading the clock and
+/// scheduling).
 pub const LEAD_S: f64 = 0.25;
 
 /// Grid of the instants a schedule starts at, s: the robot's 10 ms control period, so the
@@ -55,96 +71,14 @@ fn start_clock(now_s: f64) -> f64 {
     ((now_s + LEAD_S) / START_GRID_S).ceil() * START_GRID_S
 }
 
+/// The backend's motion clock on the runner's schedule: its time less the schedule's delay.
+fn schedule_clock(s: &RobotState) -> f64 {
+    s.time_s - s.schedule.delay_s
+}
+
 /// Planned time of the steps after `index`, s.
 fn left_after(compiled: &[CompiledStep], index: usize) -> f64 {
     compiled.get(index + 1..).map_or(0.0, |rest| rest.iter().map(CompiledStep::duration_s).sum())
-}
-
-/// Operator controls.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RunnerControl {
-    /// Slow to a stop on the path.
-    Pause,
-    /// Go on (after a pause or a single step).
-    Resume,
-    /// Run the next step (or finish the current one), then pause.
-    Step,
-    /// Pause, then hold and end the run.
-    Stop,
-}
-
-/// Where a run is.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub enum RunState {
-    /// Compiling and checking before anything moves.
-    Preparing,
-    /// Running.
-    Running,
-    /// Paused by the operator (or after a single step).
-    Paused,
-    /// Every step done.
-    Done,
-    /// Stopped by the operator.
-    Stopped,
-    /// Refused or halted; the reason.
-    Failed(String),
-}
-
-impl RunState {
-    /// True once the run has ended.
-    pub fn is_finished(&self) -> bool {
-        matches!(self, RunState::Done | RunState::Stopped | RunState::Failed(_))
-    }
-}
-
-/// Progress of a run, published by its thread.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct RunProgress {
-    /// Program name.
-    pub name: String,
-    /// 0-based program step under way (or the last one).
-    pub step: usize,
-    /// Number of program steps.
-    pub steps: usize,
-    /// State.
-    pub state: RunState,
-    /// What the run waits for, if anything ("input 1 high").
-    pub waiting_for: Option<String>,
-    /// Planned time left, s (waits for inputs not counted).
-    pub time_left_s: f64,
-    /// Planned duration of the whole program, s.
-    pub planned_s: f64,
-    /// Program steps completed.
-    pub steps_done: usize,
-    /// Largest commanded − measured joint difference seen while running, rad.
-    pub max_tracking_error_rad: f64,
-    /// Motion clock when the first step starts and at the end of the run, s.
-    pub clock_s: (f64, f64),
-    /// Completed passes of a looping run.
-    pub passes: u64,
-    /// CPU time the runner thread used while executing (checking and planning excluded), s;
-    /// `None` where the OS does not report per-thread CPU time.
-    pub runner_cpu_s: Option<f64>,
-}
-
-/// How to run.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RunOptions {
-    /// Every step's speed × this (0 < f ≤ 1).
-    pub speed_override: f64,
-    /// Start paused after the first step (single-step mode).
-    pub single_step: bool,
-    /// Start over after the last step (each pass is checked and planned again from where
-    /// the arm is). A program with [`Program::looping`] set loops either way.
-    pub looping: bool,
-    /// Optional pauses (`pause` steps with `optional`, G-code `M1`) pause the run too.
-    pub optional_pauses: bool,
-}
-
-impl Default for RunOptions {
-    fn default() -> Self {
-        Self { speed_override: 1.0, single_step: false, looping: false, optional_pauses: false }
-    }
 }
 
 /// A program running on its own thread. Dropping it stops the run (the arm holds).
@@ -183,12 +117,14 @@ impl ProgramRunner {
             clock_s: (0.0, 0.0),
             passes: 0,
             runner_cpu_s: None,
+            schedule_slip_s: 0.0,
         }));
         let (tx, rx) = crossbeam_channel::bounded(16);
         let p = Arc::clone(&progress);
         let abort = Arc::new(AtomicBool::new(false));
         let a = Arc::clone(&abort);
         let join = std::thread::Builder::new().name("parol6-program".into()).spawn(move || {
+            let schedule = backend.state().schedule;
             let mut run = Run {
                 backend: backend.as_ref(),
                 progress: &p,
@@ -198,6 +134,9 @@ impl ProgramRunner {
                 optional_pauses: opts.optional_pauses,
                 exec_cpu_ns: None,
                 last_end_s: 0.0,
+                received_base: schedule.received,
+                submitted: 0,
+                delay_s: schedule.delay_s,
             };
             run.run(&model, &program, opts);
         })?;
@@ -265,8 +204,14 @@ struct Run<'a> {
     optional_pauses: bool,
     /// Thread CPU time when the first step was scheduled (planning excluded), ns.
     exec_cpu_ns: Option<u64>,
-    /// Motion clock at which the last finished step ended (as scheduled), s.
+    /// Motion clock at which the last finished step ended (as scheduled, slip included), s.
     last_end_s: f64,
+    /// The backend's count of scheduled commands received before this run submitted any.
+    received_base: u64,
+    /// Steps this run submitted with a time.
+    submitted: u64,
+    /// The backend's schedule delay last seen, s.
+    delay_s: f64,
 }
 
 /// A step scheduled on the motion clock.
@@ -398,20 +343,30 @@ impl Run<'_> {
         }
         let mut next = 0; // first step not yet scheduled
         let mut slots: VecDeque<Slot> = VecDeque::new();
-        let mut clock = start_clock(self.backend.state().time_s);
-        let mut refusal = self.backend.state().last_refusal.as_ref().map_or(0, |r| r.0);
-        self.publish(|p| p.clock_s.0 = clock);
+        let s0 = self.backend.state();
+        self.see_delay(&s0);
+        let mut clock = start_clock(schedule_clock(&s0));
+        let mut refusal = s0.last_refusal.as_ref().map_or(0, |r| r.0);
+        let first_s = clock + self.delay_s;
+        self.publish(|p| p.clock_s.0 = first_s);
+        // motion clock per poll, s (a headless simulation runs faster than the wall clock)
+        let mut last_seen = s0.time_s;
+        let mut per_poll_s = 0.0_f64;
         // single-step mode: a step has been scheduled; wait for the operator once it is done
         let mut hold_at_boundary = false;
         loop {
             if slots.is_empty() && hold_at_boundary && next < compiled.len() {
                 self.idle_until_control()?;
                 hold_at_boundary = false;
-                clock = start_clock(self.backend.state().time_s);
+                clock = start_clock(schedule_clock(&self.backend.state()));
             }
             // schedule ahead on the motion clock (one step at a time in single-step mode; a
             // wait for an input ends the batch: what follows it starts when the input comes)
-            while slots.len() < LOOKAHEAD && next < compiled.len() && !(self.single && hold_at_boundary) {
+            let ahead_until = last_seen - self.delay_s + AHEAD_MIN_S.max(AHEAD_POLLS * per_poll_s);
+            while next < compiled.len()
+                && !(self.single && hold_at_boundary)
+                && (slots.len() < LOOKAHEAD || (slots.len() < MAX_AHEAD && clock < ahead_until))
+            {
                 let c = &compiled[next];
                 // what follows a wait for an input or the operator is scheduled once it ends
                 let wait = matches!(c.action, StepAction::WaitInput { .. } | StepAction::Pause { .. });
@@ -425,6 +380,7 @@ impl Run<'_> {
                     self.backend
                         .submit(MotionCommand::Trajectory(Arc::clone(t)), Some(clock))
                         .map_err(|e| Halt::Failed(format!("step {}: {e}", c.steps.start + 1)))?;
+                    self.submitted += 1;
                     if self.abort.load(Ordering::SeqCst) {
                         // submitted while the operator pressed STOP: stop it too
                         let _ = self.backend.send(MotionCommand::Stop);
@@ -440,18 +396,20 @@ impl Run<'_> {
                     break;
                 }
             }
-            let Some(&Slot { index, start_s, end_s }) = slots.front() else {
+            if slots.is_empty() {
                 if next >= compiled.len() {
                     return Ok(());
                 }
                 continue;
-            };
+            }
             std::thread::sleep(POLL);
             let s = self.backend.state();
             self.watch(&s, &mut refusal, compiled, &slots)?;
             if self.abort.load(Ordering::SeqCst) {
                 return Err(Halt::Aborted);
             }
+            per_poll_s = s.time_s - last_seen;
+            last_seen = s.time_s;
             if let Some(ctrl) = self.poll_control() {
                 if ctrl == RunnerControl::Resume {
                     self.single = false;
@@ -478,22 +436,57 @@ impl Run<'_> {
                     hold_at_boundary = midway;
                 }
                 slots.clear();
-                clock = start_clock(self.backend.state().time_s);
+                let s = self.backend.state();
+                self.see_delay(&s);
+                clock = start_clock(schedule_clock(&s));
                 continue;
             }
-            let c = &compiled[index];
-            if s.time_s < start_s {
+            // the slots are judged on the backend's schedule, from a state that has seen every
+            // step submitted (a state from before one arrived knows nothing of its slip)
+            if s.schedule.received < self.received_base + self.submitted {
                 continue;
+            }
+            self.see_delay(&s);
+            if let Some(rebased) = self.advance_slots(compiled, &mut slots, schedule_clock(&s))? {
+                clock = rebased;
+            }
+        }
+    }
+
+    /// Takes the backend's schedule delay from a state that has seen every submitted step; a
+    /// growth is the run's slip (STOP and PAUSE reset the backend's delay to 0).
+    fn see_delay(&mut self, s: &RobotState) {
+        let d = s.schedule.delay_s;
+        if d > self.delay_s {
+            let slip = d - self.delay_s;
+            self.publish(|p| p.schedule_slip_s += slip);
+        }
+        self.delay_s = d;
+    }
+
+    /// Acts on every slot whose time has come at `now_s` (the backend's clock on the runner's
+    /// schedule): sends I/O, waits for inputs and pause steps, retires finished motions and
+    /// dwells, publishes the progress. Returns the new schedule start after a wait.
+    fn advance_slots(
+        &mut self,
+        compiled: &[CompiledStep],
+        slots: &mut VecDeque<Slot>,
+        now_s: f64,
+    ) -> Result<Option<f64>, Halt> {
+        while let Some(&Slot { index, start_s, end_s }) = slots.front() {
+            let c = &compiled[index];
+            if now_s < start_s {
+                break;
             }
             match &c.action {
                 StepAction::Io(cmd) => {
                     self.backend.io(*cmd).map_err(|e| Halt::Failed(format!("step {}: {e}", c.steps.start + 1)))?;
-                    self.finish_slot(&mut slots, compiled);
+                    self.finish_slot(slots, compiled);
                 }
                 StepAction::WaitInput { input, on, timeout_s } => {
                     self.wait_input(*input, *on, *timeout_s)?;
-                    self.finish_slot(&mut slots, compiled);
-                    clock = start_clock(self.backend.state().time_s);
+                    self.finish_slot(slots, compiled);
+                    return Ok(Some(start_clock(schedule_clock(&self.backend.state()))));
                 }
                 StepAction::Pause { optional } => {
                     if !*optional || self.optional_pauses {
@@ -504,29 +497,31 @@ impl Run<'_> {
                         self.idle_until_control()?;
                         self.publish(|p| p.waiting_for = None);
                     }
-                    self.finish_slot(&mut slots, compiled);
-                    clock = start_clock(self.backend.state().time_s);
+                    self.finish_slot(slots, compiled);
+                    return Ok(Some(start_clock(schedule_clock(&self.backend.state()))));
                 }
-                StepAction::Motion(_) | StepAction::Dwell(_) if s.time_s >= end_s => {
-                    self.finish_slot(&mut slots, compiled);
+                StepAction::Motion(_) | StepAction::Dwell(_) if now_s >= end_s => {
+                    self.finish_slot(slots, compiled);
                 }
                 _ => {
                     let shown = self.progress.load();
-                    let left = (end_s - s.time_s).max(0.0) + left_after(compiled, index);
+                    let left = (end_s - now_s).max(0.0) + left_after(compiled, index);
                     if shown.step != c.steps.start || (shown.time_left_s - left).abs() >= PROGRESS_RESOLUTION_S {
                         self.publish(|p| {
                             p.step = c.steps.start;
                             p.time_left_s = left;
                         });
                     }
+                    break;
                 }
             }
         }
+        Ok(None)
     }
 
     fn finish_slot(&mut self, slots: &mut VecDeque<Slot>, compiled: &[CompiledStep]) {
         if let Some(done) = slots.pop_front() {
-            self.last_end_s = done.end_s;
+            self.last_end_s = done.end_s + self.delay_s;
             let c = &compiled[done.index];
             self.publish(|p| {
                 p.steps_done = c.steps.end;
@@ -574,6 +569,9 @@ impl Run<'_> {
 }
 
 mod pausing;
+mod types;
 
+#[cfg(test)]
+mod late_tests;
 #[cfg(test)]
 mod tests;

@@ -330,8 +330,9 @@ impl Simulation {
         match cmd {
             SimCommand::Motion(m) => self.apply_motion(m, now, true)?,
             SimCommand::MotionAt { cmd, at_s } => {
+                self.planner.note_scheduled();
                 let cmd = self.with_policy(cmd)?;
-                self.planner.schedule(cmd, at_s.max(now))?;
+                self.planner.schedule_arriving(cmd, at_s, now)?;
             }
             SimCommand::Teleport(q) => {
                 let t = self.check_target(&q)?;
@@ -559,6 +560,7 @@ impl Simulation {
             commanded: self.sp.clone(),
             planner_mode: self.planner.mode(),
             commands_applied: self.planner.applied(),
+            schedule: self.planner.schedule_state(),
             link_poses,
             tcp,
             zones: self.model.limits.zone_reports(&self.q, &self.qd, &self.config.thresholds),

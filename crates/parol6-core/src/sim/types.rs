@@ -156,6 +156,8 @@ pub struct SimSnapshot {
     pub planner_mode: PlannerMode,
     /// Motion commands applied so far.
     pub commands_applied: u64,
+    /// The scheduled commands: how many arrived and how late the schedule runs.
+    pub schedule: crate::motion::ScheduleState,
     /// World pose of every link (order of [`RobotModel::links`]).
     pub link_poses: Vec<Isometry3<f64>>,
     /// TCP pose.
@@ -201,6 +203,7 @@ impl SimSnapshot {
             blocked: None,
             homed: true,
             io: self.io,
+            schedule: self.schedule,
         }
     }
 }

@@ -126,6 +126,9 @@ impl Streamer {
         blocked: Option<String>,
     ) -> Result<(), String> {
         let t = self.time_s();
+        if at_s.is_some() {
+            self.planner.note_scheduled();
+        }
         if !cmd.starts_motion() && at_s.is_none() {
             if self.streaming {
                 self.planner.apply(&cmd, t).map_err(|e| format!("{} refused: {e}", cmd.name()))?;
@@ -145,7 +148,7 @@ impl Streamer {
         }
         let res = match at_s {
             None => self.planner.apply(&cmd, t),
-            Some(at) => self.planner.schedule(cmd.clone(), at.max(t)),
+            Some(at) => self.planner.schedule_arriving(cmd.clone(), at, t),
         };
         if let Err(e) = res {
             if !was_streaming {

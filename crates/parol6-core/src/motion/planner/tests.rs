@@ -292,3 +292,55 @@ proptest! {
         }
     }
 }
+
+/// Issue 28: a scheduled trajectory that arrives after its time starts when it arrives, and
+/// the schedule slips as a whole: the continuation scheduled for when the late one should have
+/// ended starts when it does end (exactly where it ends), and a command after a gap keeps its
+/// distance. STOP drops the schedule and its delay.
+#[test]
+fn a_late_step_slips_the_whole_schedule_and_the_continuation_starts_at_its_end() {
+    let (_, mut p, _, traj) = line_from_rest(0.04);
+    let d = traj.duration_s();
+    let back: Vec<Vec<f64>> = traj.samples().iter().rev().cloned().collect();
+    let back = Arc::new(crate::motion::cartesian::SampledTrajectory::new(traj.dt_s(), back));
+    let start = traj.samples()[0].clone();
+    // planned 10.00 s, arrives at 10.037 s; the return is planned for 10 + d, then a hold 0.5 s
+    // after it ends
+    p.sample(10.037);
+    p.note_scheduled();
+    p.schedule_arriving(MotionCommand::Trajectory(traj.clone()), 10.0, 10.037).expect("valid");
+    p.note_scheduled();
+    p.schedule_arriving(MotionCommand::Trajectory(back.clone()), 10.0 + d, 10.037).expect("valid");
+    p.note_scheduled();
+    p.schedule_arriving(mv(start.clone()), 10.0 + 2.0 * d + 0.5, 10.037).expect("valid");
+    let state = p.schedule_state();
+    assert_eq!(state.received, 3);
+    assert!((state.delay_s - 0.037).abs() < 1e-12, "{state:?}");
+    let mut t = 10.037;
+    let mut prev = p.sample(t).q;
+    let mut max_step: f64 = 0.0;
+    while t < 10.037 + 2.0 * d + 0.6 {
+        t += 0.001;
+        let q = p.sample(t).q;
+        max_step = q.iter().zip(&prev).map(|(a, b)| (a - b).abs()).fold(max_step, f64::max);
+        prev = q;
+    }
+    assert!(p.last_refusal().is_none(), "{:?}", p.last_refusal());
+    assert_eq!(p.applied(), 1 + 3, "the move of `line_from_rest`, then all three");
+    assert!(max_step < 0.01, "no jump: {max_step} rad in 1 ms");
+    assert_eq!(p.sample(t).q, start, "back at the start");
+    assert!((p.schedule_state().delay_s - 0.037).abs() < 1e-9, "{:?}", p.schedule_state());
+    // a continuation that falls due while the running one still runs waits for its end
+    p.apply(&MotionCommand::Trajectory(traj.clone()), t).expect("starts here");
+    p.schedule(MotionCommand::Trajectory(back), t + d / 2.0 - 0.037).expect("valid");
+    let mid = p.sample(t + d / 2.0).q;
+    assert_ne!(mid, traj.goal(), "still on the first line");
+    assert_eq!(p.mode(), PlannerMode::Trajectory);
+    assert!(p.pending() == 1 && p.last_refusal().is_none());
+    assert_eq!(p.sample(t + 2.0 * d + 0.01).q, start, "then back, without a refusal");
+    assert!(p.last_refusal().is_none(), "{:?}", p.last_refusal());
+    assert!((p.schedule_state().delay_s - (0.037 + d / 2.0)).abs() < 1e-6, "{:?}", p.schedule_state());
+    // STOP drops the delay
+    p.apply(&MotionCommand::Stop, t + 3.0 * d).expect("stop");
+    assert_eq!(p.schedule_state().delay_s, 0.0);
+}

@@ -4,7 +4,7 @@ use crate::program::{PoseMm, Step};
 use crate::sim::{SimConfig, SimHandle, SimMode};
 use std::time::Instant;
 
-fn sim(time_scale: f64) -> (RobotModel, Arc<SimHandle>) {
+pub(super) fn sim(time_scale: f64) -> (RobotModel, Arc<SimHandle>) {
     let model = RobotModel::parol6();
     let config = SimConfig { mode: SimMode::Kinematic, time_scale, ..SimConfig::default() };
     let sim = Arc::new(SimHandle::spawn(model.clone(), config).expect("sim"));
@@ -12,7 +12,7 @@ fn sim(time_scale: f64) -> (RobotModel, Arc<SimHandle>) {
 }
 
 /// A pose away from the standby wrist singularity, and a program of lines around it.
-fn square(model: &RobotModel) -> (Vec<f64>, Vec<Step>) {
+pub(super) fn square(model: &RobotModel) -> (Vec<f64>, Vec<Step>) {
     let mut q = crate::parol6::standby_rad().to_vec();
     q[1] += 0.2;
     q[2] -= 0.3;

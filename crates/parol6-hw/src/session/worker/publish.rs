@@ -93,6 +93,7 @@ impl Worker {
             mode,
             moving,
             commands_applied: planner.applied(),
+            schedule: planner.schedule_state(),
             last_refusal: self.streamer.last_refusal().cloned(),
             blocked: self.snap.motion_allowed().err().map(|e| e.to_string()),
             homed: self.snap.homed.iter().all(|h| *h),

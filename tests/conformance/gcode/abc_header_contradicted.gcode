@@ -1,0 +1,4 @@
+; parol6: abc=xyz
+G21 G90
+G0 X0 Y380 Z100 A10 B5 C-8
+M30

@@ -45,9 +45,15 @@ pub enum ProgramCommand {
         /// Start pose J1,…,J6 in degrees (default: the standby pose).
         #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
         start_deg: Option<String>,
-        /// Print the report as JSON (`{"ok","moves","duration_s","issues":[…]}`).
+        /// Print the report as JSON (`{"ok","moves","duration_s","issues":[…],"plan":[…]}`; the plan
+        /// lists each planned step: index, line, kind, config, start_tcp / end_tcp in mm and deg,
+        /// duration_s).
         #[arg(long)]
         json: bool,
+        /// Also print the plan, a line per planned step: line, kind, the configuration it ends in
+        /// (shoulder/elbow/wrist), its duration and the TCP where it ends (mm, roll/pitch/yaw deg).
+        #[arg(long, conflicts_with = "json")]
+        plan: bool,
         /// G-code A B C: commander (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz
         /// (R = Rx(A)·Ry(B)·Rz(C)). A file's `; parol6: abc=…` header wins over the default; an
         /// --abc that contradicts the header is an error naming its line.
@@ -145,7 +151,7 @@ impl ProgramCommand {
 /// Runs `parol6 program …`.
 pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
     match &args.command {
-        ProgramCommand::Check { file, start_deg, json, abc } => {
+        ProgramCommand::Check { file, start_deg, json, plan, abc } => {
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
             let program = load_with_abc(file, &model, &start, *abc)?;
@@ -153,7 +159,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             if *json {
                 print_json(&serde_json::to_value(&report).map_err(|e| CliError::runtime(e.to_string()))?)?;
             } else {
-                print_report(file, &report)?;
+                print_report(file, &report, *plan)?;
             }
             if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
         }
@@ -432,9 +438,25 @@ fn parse_joints_deg(text: &str, dof: usize) -> Result<Vec<f64>, CliError> {
     Ok(vals)
 }
 
-fn print_report(file: &Path, r: &CheckReport) -> CliResult {
+fn print_report(file: &Path, r: &CheckReport, plan: bool) -> CliResult {
     use std::fmt::Write as _;
     let mut out = String::new();
+    if plan {
+        for p in &r.plan {
+            let [x, y, z] = p.end_tcp.position_mm;
+            let [roll, pitch, yaw] = p.end_tcp.rpy_deg;
+            let _ = writeln!(
+                out,
+                "{}:{}: step {}: {:<13} {:<18} {:>8.2} s  to ({x:.2}, {y:.2}, {z:.2}) mm ({roll:.2}, {pitch:.2}, {yaw:.2})°",
+                file.display(),
+                p.line,
+                p.index + 1,
+                p.kind,
+                p.config.as_deref().unwrap_or("-"),
+                p.duration_s
+            );
+        }
+    }
     for i in &r.issues {
         let sev = if i.severity == Severity::Error { "error" } else { "warning" };
         let _ = writeln!(out, "{}:{}: {sev}: step {}: {}", file.display(), i.line, i.move_index + 1, i.message);

@@ -49,7 +49,15 @@ impl CommanderFrame {
     pub(super) fn pose_out(&self, pose: &PoseMm) -> [f64; 6] {
         let d = pose.isometry() * self.k;
         let p = d.translation.vector * 1000.0;
-        let [a, b, c] = abc_deg_from_rotation(&d.rotation.to_rotation_matrix());
+        let abc = abc_deg_from_rotation(&d.rotation.to_rotation_matrix());
+        // At ry = ±90° as written only rx − rz (or rx + rz) is defined, and reading the rounded
+        // angles back gives the canonical split: write that split, so that reading and writing
+        // again keeps the text.
+        let [a, b, c] = if rounded(abc[1]).abs() == 90.0 {
+            abc_deg_from_rotation(&rotation_from_abc_deg(abc.map(rounded)))
+        } else {
+            abc
+        };
         [p.x, p.y, p.z, a, b, c]
     }
 
@@ -94,12 +102,17 @@ fn mm(v: &Vector3<f64>) -> [f64; 3] {
     [v.x * 1000.0, v.y * 1000.0, v.z * 1000.0]
 }
 
+/// `x` rounded to [`COMMANDER_DECIMALS`] decimals.
+fn rounded(x: f64) -> f64 {
+    let scale = 10f64.powi(COMMANDER_DECIMALS);
+    (x * scale).round() / scale
+}
+
 /// A number as export writes it: rounded to [`COMMANDER_DECIMALS`] decimals, the shortest
 /// text that reads back as that value, no exponent and no `-0` (`-80.00001816331088` → `-80`,
 /// `0.1 + 0.2` → `0.3`). `None` for a value that is not finite.
 pub(super) fn number_text(x: f64) -> Option<String> {
-    let scale = 10f64.powi(COMMANDER_DECIMALS);
-    let r = (x * scale).round() / scale;
+    let r = rounded(x);
     if !r.is_finite() {
         return None;
     }

@@ -79,7 +79,7 @@ pub struct RunOptions {
     /// Start paused after the first step (single-step mode).
     pub single_step: bool,
     /// Start over after the last step (each pass is checked and planned again from where
-    /// the arm is). A program with [`Program::looping`] set loops either way.
+    /// the arm is). A program with [`Program::looping`](crate::program::Program::looping) set loops either way.
     pub looping: bool,
     /// Optional pauses (`pause` steps with `optional`, G-code `M1`) pause the run too.
     pub optional_pauses: bool,

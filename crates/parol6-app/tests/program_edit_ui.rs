@@ -1,7 +1,8 @@
 //! Editing programs in the GUI, driven headless through egui's kittest harness on the full
 //! app: teach the pose, type numbers (decimals, negatives) into a step, undo / redo,
 //! duplicate, delete, save and read back; the point-table window; the "discard unsaved
-//! changes?" question; and the official RX/RY/RZ angle convention in the readouts.
+//! changes?" question; the official RX/RY/RZ angle convention in the readouts; and the
+//! G-code A/B/C convention chosen in the Units menu.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -203,4 +204,39 @@ fn the_step_list_shows_configurations_and_teach_pose_records_a_joint_move() {
     // standby is on the wrist border (J5 = 0): no configuration is named there
     let taught = s.iter().find(|s| matches!(s, Step::MovePose { .. })).expect("a joint move to the pose");
     let Step::MovePose { config: None, .. } = taught else { panic!("{taught:?}") };
+}
+
+/// The rotation of the first step's pose (a `G0` reads as a `move_pose`).
+fn first_rotation(h: &Harness<'_, Parol6App>) -> parol6_core::na::Rotation3<f64> {
+    let Step::MovePose { pose, .. } = steps(h)[0].clone() else { panic!("{:?}", steps(h)) };
+    let [r, p, y] = pose.rpy_deg.map(f64::to_radians);
+    parol6_core::na::Rotation3::from_euler_angles(r, p, y)
+}
+
+#[test]
+fn gcode_abc_setting_in_the_units_menu_reads_files_without_a_header() {
+    use parol6_core::angles::AbcConvention;
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    assert_eq!(h.state_mut().settings_mut().gcode_abc, AbcConvention::Commander, "the default");
+    h.get_by_label("Units").click();
+    h.run_steps(2);
+    h.get_by_label(AbcConvention::Xyz.describe()).click();
+    h.run_steps(2);
+    assert_eq!(h.state_mut().settings_mut().gcode_abc, AbcConvention::Xyz, "chosen in the Units menu");
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+
+    let dir = temp_dir("abc");
+    let plain = dir.join("plain.gcode");
+    std::fs::write(&plain, "G21 G90\nG0 X0 Y220 Z250 A80 B10 C90\nM30\n").unwrap();
+    open_file(&mut h, &plain);
+    let xyz = AbcConvention::Xyz.rotation([80.0, 10.0, 90.0]);
+    assert!((first_rotation(&h).matrix() - xyz.matrix()).norm() < 1e-9, "read as xyz");
+    // a header names the file's own convention, whatever the setting
+    let headed = dir.join("headed.gcode");
+    std::fs::write(&headed, "; parol6: abc=commander\nG21 G90\nG0 X0 Y220 Z250 A80 B10 C90\nM30\n").unwrap();
+    open_file(&mut h, &headed);
+    let commander = AbcConvention::Commander.rotation([80.0, 10.0, 90.0]);
+    assert!((first_rotation(&h).matrix() - commander.matrix()).norm() < 1e-9, "read as the header says");
+    let _ = std::fs::remove_dir_all(&dir);
 }

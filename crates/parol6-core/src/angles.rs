@@ -9,6 +9,10 @@
 //!
 //! Positions and the base frame are the same in both. Example: our (roll 0, pitch 20, yaw 90)°
 //! is the official (A 90, B 0, C −20)°.
+//!
+//! G-code `A B C` words have had two official meanings, [`AbcConvention`]: the one above
+//! ([`AbcConvention::Commander`]) and `R = Rx(A)·Ry(B)·Rz(C)` ([`AbcConvention::Xyz`], the Python
+//! API's last G-code revision). For `A10 B5 C-8` the two rotations differ by 24.27°.
 
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -60,6 +64,105 @@ impl AngleConvention {
             AngleConvention::UrdfRpy => rpy_deg,
             AngleConvention::OfficialAbc => rpy_to_abc_deg(rpy_deg),
         }
+    }
+}
+
+/// How the three angles of a G-code `A B C` triple make a rotation.
+///
+/// - [`AbcConvention::Commander`] (the default): `R = Rx(C)·Ry(B)·Rz(A)`, the PAROL commander's
+///   `MovePose` / `MoveCart` angles and the official Python API's poses and G-code until its
+///   commit `4c64028` (2025-12-29, spatialmath `SE3.RPY(…, order='xyz')`);
+/// - [`AbcConvention::Xyz`]: `R = Rx(A)·Ry(B)·Rz(C)`, rotations about X, Y and Z (intrinsic
+///   X-Y-Z, scipy `from_euler('XYZ')`), the API's poses and G-code from that commit until its
+///   G-code module was removed (`263d5f6`, 2026-02-10).
+///
+/// They agree where only `B` is not zero; `A30` alone is Rz(30°) in one and Rx(30°) in the
+/// other.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AbcConvention {
+    /// `R = Rx(C)·Ry(B)·Rz(A)`: the commander's and the API's until December 2025.
+    #[default]
+    Commander,
+    /// `R = Rx(A)·Ry(B)·Rz(C)`: rotations about X, Y and Z (the API's last G-code revision).
+    Xyz,
+}
+
+impl AbcConvention {
+    /// Both conventions, for selectors.
+    pub const ALL: [AbcConvention; 2] = [AbcConvention::Commander, AbcConvention::Xyz];
+
+    /// The name used on the command line, in settings and in G-code headers (`commander`, `xyz`).
+    pub fn name(self) -> &'static str {
+        match self {
+            AbcConvention::Commander => "commander",
+            AbcConvention::Xyz => "xyz",
+        }
+    }
+
+    /// The name with its rotation order, for menus and file comments.
+    pub fn describe(self) -> &'static str {
+        match self {
+            AbcConvention::Commander => "commander: R = Rx(C)·Ry(B)·Rz(A)",
+            AbcConvention::Xyz => "xyz: R = Rx(A)·Ry(B)·Rz(C)",
+        }
+    }
+
+    /// The rotation of `A B C` (deg) in this convention.
+    pub fn rotation(self, abc_deg: [f64; 3]) -> Rotation3<f64> {
+        match self {
+            AbcConvention::Commander => rotation_from_abc_deg(abc_deg),
+            AbcConvention::Xyz => {
+                let [a, b, c] = abc_deg.map(f64::to_radians);
+                Rotation3::from_axis_angle(&Vector3::x_axis(), a)
+                    * Rotation3::from_axis_angle(&Vector3::y_axis(), b)
+                    * Rotation3::from_axis_angle(&Vector3::z_axis(), c)
+            }
+        }
+    }
+
+    /// The `A B C` (deg) of `rotation` in this convention; inverse of [`Self::rotation`] (B in
+    /// ±90°, angles in (−180°, 180°]).
+    pub fn abc_deg(self, rotation: &Rotation3<f64>) -> [f64; 3] {
+        let [a, b, c] = abc_deg_from_rotation(rotation);
+        match self {
+            AbcConvention::Commander => [a, b, c],
+            // Rx(A)·Ry(B)·Rz(C) is the commander's product with A and C swapped.
+            AbcConvention::Xyz => [c, b, a],
+        }
+    }
+
+    /// `A B C` (deg) in this convention → our roll / pitch / yaw (deg).
+    pub fn to_rpy_deg(self, abc_deg: [f64; 3]) -> [f64; 3] {
+        rpy_from_matrix(self.rotation(abc_deg).matrix()).map(f64::to_degrees)
+    }
+
+    /// Our roll / pitch / yaw (deg) → `A B C` (deg) in this convention.
+    pub fn from_rpy_deg(self, rpy_deg: [f64; 3]) -> [f64; 3] {
+        let [r, p, y] = rpy_deg.map(f64::to_radians);
+        self.abc_deg(&UnitQuaternion::from_euler_angles(r, p, y).to_rotation_matrix())
+    }
+}
+
+impl std::fmt::Display for AbcConvention {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An `A/B/C` convention name that is neither `commander` nor `xyz`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown A/B/C convention \"{0}\" (use commander or xyz)")]
+pub struct UnknownAbcConvention(pub String);
+
+impl std::str::FromStr for AbcConvention {
+    type Err = UnknownAbcConvention;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        AbcConvention::ALL
+            .into_iter()
+            .find(|c| c.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| UnknownAbcConvention(s.to_string()))
     }
 }
 
@@ -152,7 +255,78 @@ mod tests {
         assert!(close(abc, [0.0, 0.0, 180.0], 1e-9), "{abc:?}");
     }
 
+    /// The angle between two rotations, deg.
+    fn angle_between_deg(a: &Rotation3<f64>, b: &Rotation3<f64>) -> f64 {
+        // via quaternions: acos of a rotation matrix's trace can leave [-1, 1] by rounding
+        UnitQuaternion::from_rotation_matrix(a).angle_to(&UnitQuaternion::from_rotation_matrix(b)).to_degrees()
+    }
+
+    #[test]
+    fn a10_b5_cm8_differs_by_24_deg_between_the_abc_conventions() {
+        // Hand-multiplied: Rx(A)·Ry(B)·Rz(C) has first row (cB·cC, −cB·sC, sB) and last column
+        // (sB, −sA·cB, cA·cB); Rx(C)·Ry(B)·Rz(A) has first row (cB·cA, −cB·sA, sB).
+        let (sa, ca) = 10f64.to_radians().sin_cos();
+        let (sb, cb) = 5f64.to_radians().sin_cos();
+        let (sc, cc) = (-8f64).to_radians().sin_cos();
+        let xyz = AbcConvention::Xyz.rotation([10.0, 5.0, -8.0]);
+        let m = xyz.matrix();
+        for (got, want) in [(m[(0, 0)], cb * cc), (m[(0, 1)], -cb * sc), (m[(0, 2)], sb), (m[(1, 2)], -sa * cb)] {
+            assert!((got - want).abs() < 1e-12, "{got} {want}");
+        }
+        assert!((m[(2, 2)] - ca * cb).abs() < 1e-12);
+        let commander = AbcConvention::Commander.rotation([10.0, 5.0, -8.0]);
+        let m = commander.matrix();
+        for (got, want) in [(m[(0, 0)], cb * ca), (m[(0, 1)], -cb * sa), (m[(0, 2)], sb)] {
+            assert!((got - want).abs() < 1e-12, "{got} {want}");
+        }
+        // the "24°": 24.267° (computed independently from the matrices above)
+        let turn = angle_between_deg(&xyz, &commander);
+        assert!((turn - 24.267).abs() < 1e-3, "{turn}");
+    }
+
+    #[test]
+    fn abc_names_parse_and_print() {
+        for c in AbcConvention::ALL {
+            assert_eq!(c.name().parse::<AbcConvention>(), Ok(c));
+            assert_eq!(c.to_string(), c.name());
+        }
+        assert_eq!("XYZ".parse::<AbcConvention>(), Ok(AbcConvention::Xyz));
+        let e = "zyx".parse::<AbcConvention>().unwrap_err().to_string();
+        assert_eq!(e, "unknown A/B/C convention \"zyx\" (use commander or xyz)");
+        assert_eq!(AbcConvention::default(), AbcConvention::Commander);
+    }
+
+    #[test]
+    fn single_angles_name_their_axes() {
+        let rx30 = Rotation3::from_axis_angle(&Vector3::x_axis(), 30f64.to_radians());
+        let rz30 = Rotation3::from_axis_angle(&Vector3::z_axis(), 30f64.to_radians());
+        assert!(angle_between_deg(&AbcConvention::Xyz.rotation([30.0, 0.0, 0.0]), &rx30) < 1e-9);
+        assert!(angle_between_deg(&AbcConvention::Commander.rotation([30.0, 0.0, 0.0]), &rz30) < 1e-9);
+        assert!(close(AbcConvention::Xyz.abc_deg(&rz30), [0.0, 0.0, 30.0], 1e-9));
+        // the commander convention is the one of `rpy_to_abc_deg`
+        assert!(close(AbcConvention::Commander.from_rpy_deg([0.0, 20.0, 90.0]), [90.0, 0.0, -20.0], 1e-9));
+    }
+
     proptest! {
+        #[test]
+        fn abc_conventions_round_trip(
+            a in -179.0f64..179.0, b in -89.0f64..89.0, c in -179.0f64..179.0,
+            r in -180.0f64..180.0, p in -89.0f64..89.0, y in -180.0f64..180.0,
+        ) {
+            for convention in AbcConvention::ALL {
+                // angles → rotation → angles gives the same angles (B within ±90°)
+                let rotation = convention.rotation([a, b, c]);
+                let back = convention.abc_deg(&rotation);
+                prop_assert!(close(back, [a, b, c], 1e-6), "{convention}: {back:?}");
+                // our roll/pitch/yaw → A B C → roll/pitch/yaw keeps the rotation
+                let abc = convention.from_rpy_deg([r, p, y]);
+                let rpy = convention.to_rpy_deg(abc);
+                let d = angle_between_deg(&rotation_rpy_deg(rpy), &rotation_rpy_deg([r, p, y]));
+                prop_assert!(d < 1e-7, "{convention}: {d}");
+                prop_assert!(angle_between_deg(&convention.rotation(abc), &rotation_rpy_deg([r, p, y])) < 1e-7);
+            }
+        }
+
         #[test]
         fn round_trip_keeps_the_rotation(r in -180.0f64..180.0, p in -89.0f64..89.0, y in -180.0f64..180.0) {
             let abc = rpy_to_abc_deg([r, p, y]);

@@ -135,6 +135,12 @@ impl Parol6App {
                         for c in crate::panels::AngleConvention::ALL {
                             ui.radio_value(&mut pctx.settings.angle_convention, c, c.describe());
                         }
+                        ui.separator();
+                        ui.label("G-code A B C")
+                            .on_hover_text("Files with a \"; parol6: abc=…\" header line are read as it says");
+                        for c in crate::panels::AbcConvention::ALL {
+                            ui.radio_value(&mut pctx.settings.gcode_abc, c, c.describe());
+                        }
                     });
                     if ui.button("Help (F1)").clicked() {
                         *show_help = !*show_help;

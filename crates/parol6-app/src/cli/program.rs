@@ -12,6 +12,7 @@ use parol6_core::motion::{RobotBackend, RobotState};
 use parol6_core::program::Program;
 use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
 use parol6_core::program::files::{FormatContext, ProgramIoError, read_program, write_program};
+use parol6_core::program::gcode::{AbcChoice, AbcConvention};
 use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
@@ -47,6 +48,11 @@ pub enum ProgramCommand {
         /// Print the report as JSON (`{"ok","moves","duration_s","issues":[…]}`).
         #[arg(long)]
         json: bool,
+        /// G-code A B C: commander (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz
+        /// (R = Rx(A)·Ry(B)·Rz(C)). A file's `; parol6: abc=…` header wins over the default; an
+        /// --abc that contradicts the header is an error naming its line.
+        #[arg(long, value_name = "commander|xyz")]
+        abc: Option<AbcConvention>,
     },
     /// Run a program: on the headless simulation (as fast as it can unless --realtime), or
     /// with --fake-robot / --port on the controller. Prints a JSON summary (`schedule_slip_s`:
@@ -70,6 +76,12 @@ pub enum ProgramCommand {
         /// Record the run to this MCAP file (Foxglove / Lichtblick; `parol6 mcap info|csv`).
         #[arg(long, value_name = "OUT.mcap")]
         record: Option<PathBuf>,
+        /// G-code A B C: commander (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz
+        /// (R = Rx(A)·Ry(B)·Rz(C)). A file's `; parol6: abc=…` header wins over the default; an
+        /// --abc that contradicts the header is an error naming its line.
+        #[arg(long, value_name = "commander|xyz")]
+        abc: Option<AbcConvention>,
+
         /// Session settings (robot only).
         #[command(flatten)]
         rate: RateArgs,
@@ -104,6 +116,12 @@ pub enum ProgramCommand {
         /// where G-code axes that are not yet set take their values.
         #[arg(long, value_name = "J1,…,J6", allow_hyphen_values = true)]
         start_deg: Option<String>,
+        /// G-code A B C, read (a .gcode input) and written (a .gcode output): commander
+        /// (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz (R = Rx(A)·Ry(B)·Rz(C)). An input's
+        /// `; parol6: abc=…` header wins over the default; an --abc that contradicts it is an
+        /// error naming its line.
+        #[arg(long, value_name = "commander|xyz")]
+        abc: Option<AbcConvention>,
     },
 }
 
@@ -127,10 +145,10 @@ impl ProgramCommand {
 /// Runs `parol6 program …`.
 pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
     match &args.command {
-        ProgramCommand::Check { file, start_deg, json } => {
+        ProgramCommand::Check { file, start_deg, json, abc } => {
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
-            let program = load(file, &model, &start)?;
+            let program = load_with_abc(file, &model, &start, *abc)?;
             let report = check_program(&model, &program, &start, CheckOptions::default());
             if *json {
                 print_json(&serde_json::to_value(&report).map_err(|e| CliError::runtime(e.to_string()))?)?;
@@ -139,13 +157,13 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
         }
-        ProgramCommand::Run { file, start_deg, speed, realtime, rate, record } => {
+        ProgramCommand::Run { file, start_deg, speed, realtime, rate, record, abc } => {
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
             if let Err(e) = model.limits.check(&start) {
                 return Err(CliError::usage(format!("--start-deg: the start pose is outside the limits: {e}")));
             }
-            let program = load(file, &model, &start)?;
+            let program = load_with_abc(file, &model, &start, *abc)?;
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
             let robot_link = connect.port.is_some() || connect.fake_robot;
             if robot_link && *realtime {
@@ -192,14 +210,14 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             let program = load(file, &model, &start)?;
             super::program_torques::run(file, &model, &program, &start, *json, *series)
         }
-        ProgramCommand::Convert { input, output, start_deg } => {
+        ProgramCommand::Convert { input, output, start_deg, abc } => {
             if is_recording(input) {
-                return recording_to_gcode_file(input, output);
+                return recording_to_gcode_file(input, output, abc.unwrap_or_default());
             }
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
-            let program = load(input, &model, &start)?;
-            let ctx = FormatContext { model: &model, start_q: &start };
+            let program = load_with_abc(input, &model, &start, *abc)?;
+            let ctx = FormatContext { abc: abc_choice(*abc), ..FormatContext::new(&model, &start) };
             write_program(&program, output, &ctx).map_err(cli_error)?;
             print_json(&serde_json::json!({
                 "input": input.display().to_string(),
@@ -217,7 +235,7 @@ fn is_recording(path: &Path) -> bool {
 
 /// `program convert REC.mcap OUT.gcode`: the recorded TCP path (`/tcp_pose`) as G1 lines
 /// within 0.1 mm / 0.5° of it.
-fn recording_to_gcode_file(input: &Path, output: &Path) -> CliResult {
+fn recording_to_gcode_file(input: &Path, output: &Path, abc: AbcConvention) -> CliResult {
     use parol6_core::program::gcode::{PathTolerance, recording_to_gcode};
     let ext = output.extension().and_then(|e| e.to_str()).unwrap_or_default().to_ascii_lowercase();
     if !["gcode", "nc", "ngc"].contains(&ext.as_str()) {
@@ -227,7 +245,7 @@ fn recording_to_gcode_file(input: &Path, output: &Path) -> CliResult {
         )));
     }
     let bytes = std::fs::read(input).map_err(|e| CliError::runtime(format!("{}: {e}", input.display())))?;
-    let text = recording_to_gcode(&bytes, &PathTolerance::default())
+    let text = recording_to_gcode(&bytes, &PathTolerance::default(), abc)
         .map_err(|e| CliError::usage(format!("{}: {e}", input.display())))?;
     let lines = text.lines().filter(|l| l.starts_with("G1")).count();
     std::fs::write(output, &text).map_err(|e| CliError::runtime(format!("{}: {e}", output.display())))?;
@@ -377,7 +395,24 @@ fn run_on(
 /// Reads a program file of any format (by extension), starting from `start_q` where the format
 /// needs a start pose; errors name the file and where in it.
 pub fn load(path: &Path, model: &RobotModel, start_q: &[f64]) -> Result<Program, CliError> {
-    read_program(path, &FormatContext { model, start_q }).map_err(cli_error)
+    load_with_abc(path, model, start_q, None)
+}
+
+/// [`load`] with G-code `A B C` as `--abc` says (`None`: the default, or the file's header).
+pub fn load_with_abc(
+    path: &Path,
+    model: &RobotModel,
+    start_q: &[f64],
+    abc: Option<AbcConvention>,
+) -> Result<Program, CliError> {
+    let ctx = FormatContext { abc: abc_choice(abc), ..FormatContext::new(model, start_q) };
+    read_program(path, &ctx).map_err(cli_error)
+}
+
+/// `--abc` given: asked for explicitly (a header that contradicts it is an error); not given:
+/// the default, which a file's header overrides.
+fn abc_choice(abc: Option<AbcConvention>) -> AbcChoice {
+    abc.map_or_else(AbcChoice::default, AbcChoice::explicit)
 }
 
 fn parse_joints_deg(text: &str, dof: usize) -> Result<Vec<f64>, CliError> {

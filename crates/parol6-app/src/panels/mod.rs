@@ -9,7 +9,7 @@ use eframe::egui;
 use std::time::Instant;
 
 use parol6_core::RobotModel;
-pub use parol6_core::angles::AngleConvention;
+pub use parol6_core::angles::{AbcConvention, AngleConvention};
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::MotionCommand;
 use parol6_core::profile::ProfileKind;
@@ -123,6 +123,8 @@ pub struct Settings {
     /// How TCP orientations are shown and typed: our roll/pitch/yaw or the official PAROL6
     /// tools' RX/RY/RZ (so a user reads the same numbers as in the official GUI and API).
     pub angle_convention: AngleConvention,
+    /// How G-code `A B C` are read (files without a `; parol6: abc=…` header) and written.
+    pub gcode_abc: AbcConvention,
     /// Program files opened or saved, newest first (at most [`RECENT_PROGRAMS`]).
     pub recent_programs: Vec<String>,
     /// Plots panel shown (under the 3D view).
@@ -177,6 +179,7 @@ impl Default for Settings {
             jog_speed_fraction: 0.2,
             cartesian_jog_fraction: 0.25,
             angle_convention: AngleConvention::UrdfRpy,
+            gcode_abc: AbcConvention::default(),
             recent_programs: Vec::new(),
             show_plots: false,
             show_dynamics: false,

@@ -12,7 +12,7 @@
 
 use std::path::Path;
 
-use super::gcode::{GcodeExportOptions, GcodeImportOptions, parse_gcode, program_to_gcode};
+use super::gcode::{AbcChoice, GcodeExportOptions, GcodeImportOptions, parse_gcode, program_to_gcode};
 use super::{Program, commander, json, table};
 use crate::RobotModel;
 
@@ -65,14 +65,25 @@ impl ProgramFormat {
     }
 }
 
-/// What reading or writing needs beyond the text: the robot (for poses of joint steps) and the
-/// pose the program starts from (where formats with modal or relative positions start).
+/// What reading or writing needs beyond the text: the robot (for poses of joint steps), the
+/// pose the program starts from (where formats with modal or relative positions start) and how
+/// G-code `A B C` read.
 #[derive(Debug, Clone, Copy)]
 pub struct FormatContext<'a> {
     /// The robot.
     pub model: &'a RobotModel,
     /// Joint values the program starts from, rad.
     pub start_q: &'a [f64],
+    /// G-code `A B C` convention: read where a file's header names none (or, explicit, checked
+    /// against the header), written on export.
+    pub abc: AbcChoice,
+}
+
+impl<'a> FormatContext<'a> {
+    /// `model` starting at `start_q`, G-code `A B C` in the default convention.
+    pub fn new(model: &'a RobotModel, start_q: &'a [f64]) -> Self {
+        Self { model, start_q, abc: AbcChoice::default() }
+    }
 }
 
 /// Why a program file cannot be read or written.
@@ -132,8 +143,10 @@ pub fn parse_program(
     let content = |message: String| ProgramIoError::Content { path: origin.to_string(), message };
     match format {
         ProgramFormat::Json => json::parse(text).map_err(|e| content(e.to_string())),
-        ProgramFormat::Gcode => parse_gcode(text, &GcodeImportOptions::for_model(ctx.model, ctx.start_q))
-            .map_err(|e| content(e.to_string())),
+        ProgramFormat::Gcode => {
+            parse_gcode(text, &GcodeImportOptions::for_model(ctx.model, ctx.start_q).with_abc(ctx.abc))
+                .map_err(|e| content(e.to_string()))
+        }
         ProgramFormat::Csv => table::parse_csv_table(text).map_err(|e| content(e.to_string())),
         ProgramFormat::Commander => {
             commander::parse_commander_with(text, &commander::CommanderOptions::for_model(ctx.model))
@@ -172,8 +185,8 @@ pub fn format_program(
     match format {
         ProgramFormat::Json => Ok(json::to_string(program)),
         ProgramFormat::Gcode => {
-            program_to_gcode(program, ctx.model, &GcodeExportOptions::new(program, ctx.start_q.to_vec()))
-                .map_err(|e| content(e.to_string()))
+            let options = GcodeExportOptions::new(program, ctx.start_q.to_vec()).with_abc(ctx.abc.convention);
+            program_to_gcode(program, ctx.model, &options).map_err(|e| content(e.to_string()))
         }
         ProgramFormat::Csv => table::program_to_csv(program).map_err(|e| content(e.to_string())),
         ProgramFormat::Commander => {
@@ -213,7 +226,7 @@ mod tests {
     fn gcode_files_read_and_write_by_extension() {
         let m = model();
         let q = crate::parol6::standby_rad().to_vec();
-        let ctx = FormatContext { model: &m, start_q: &q };
+        let ctx = FormatContext::new(&m, &q);
         let text = "G21 G90\nG1 X0 Y250 Z300 A90 B0 C180 F3000\nG4 P500\n";
         let p = parse_program(text, ProgramFormat::Gcode, &ctx, "t.gcode").unwrap();
         assert_eq!(p.steps.len(), 2);
@@ -230,7 +243,7 @@ mod tests {
     fn tables_and_commander_programs_convert_through_files() {
         let m = model();
         let q = crate::parol6::standby_rad().to_vec();
-        let ctx = FormatContext { model: &m, start_q: &q };
+        let ctx = FormatContext::new(&m, &q);
         let csv = "j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg\n90,-80,170,0,60,180\n80,-80,170,0,60,180\n";
         let p = parse_program(csv, ProgramFormat::Csv, &ctx, "t.csv").unwrap();
         assert_eq!(p.steps.len(), 2);
@@ -262,7 +275,7 @@ mod tests {
     fn save_then_read_gives_the_same_program_and_errors_name_the_file() {
         let m = model();
         let q = crate::parol6::standby_rad().to_vec();
-        let ctx = FormatContext { model: &m, start_q: &q };
+        let ctx = FormatContext::new(&m, &q);
         let dir = std::env::temp_dir().join(format!("parol6-files-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("p.json");

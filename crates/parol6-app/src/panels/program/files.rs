@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use eframe::egui;
 use parol6_core::program::files::{FormatContext, ProgramFormat, read_program, write_program};
+use parol6_core::program::gcode::AbcChoice;
 
 use super::ProgramPanel;
 use crate::panels::PanelContext;
@@ -129,7 +130,9 @@ impl ProgramPanel {
     /// the program in memory stays as it is.
     pub fn load_file(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
         let start_q = ctx.robot.commanded.q.clone();
-        let fctx = FormatContext { model: ctx.model, start_q: &start_q };
+        // the G-code A/B/C setting is a default: a file's `; parol6: abc=…` header wins
+        let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
+        let fctx = FormatContext { abc, ..FormatContext::new(ctx.model, &start_q) };
         let program = read_program(path, &fctx).map_err(|e| e.to_string())?;
         let shown = path.display().to_string();
         self.set_program(program, shown.clone(), Some(path.to_path_buf()));
@@ -142,7 +145,8 @@ impl ProgramPanel {
     /// from that file.
     pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
         let start_q = ctx.robot.commanded.q.clone();
-        let fctx = FormatContext { model: ctx.model, start_q: &start_q };
+        let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
+        let fctx = FormatContext { abc, ..FormatContext::new(ctx.model, &start_q) };
         write_program(self.editor.program(), path, &fctx).map_err(|e| e.to_string())?;
         self.editor.mark_saved();
         let shown = path.display().to_string();

@@ -3,9 +3,9 @@
 use nalgebra::{Isometry3, Point3, Translation3, Vector3};
 
 use super::arc::Plane;
+use super::header::{abc_header, looks_like_header};
 use super::path::{PathTolerance, simplify};
-use super::{GcodeGripper, format_number};
-use crate::angles::rpy_to_abc_deg;
+use super::{AbcConvention, GcodeGripper, format_number};
 use crate::model::RobotModel;
 use crate::motion::home_position;
 use crate::motion::path::{TcpPath, circle_through};
@@ -23,12 +23,25 @@ pub struct GcodeExportOptions {
     /// How far the `G1` lines of sampled moves (splines, arcs outside the XY / ZX / YZ planes)
     /// may leave the path.
     pub tolerance: PathTolerance,
+    /// How `A B C` are written (named in the file's header line).
+    pub abc: AbcConvention,
 }
 
 impl GcodeExportOptions {
     /// Starting at `start_q`, gripper words as fit `program`'s tool, default tolerance.
     pub fn new(program: &Program, start_q: Vec<f64>) -> Self {
-        Self { start_q, gripper: GcodeGripper::for_tool(program.tool), tolerance: PathTolerance::default() }
+        Self {
+            start_q,
+            gripper: GcodeGripper::for_tool(program.tool),
+            tolerance: PathTolerance::default(),
+            abc: AbcConvention::default(),
+        }
+    }
+
+    /// These options writing `A B C` in `abc`.
+    pub fn with_abc(mut self, abc: AbcConvention) -> Self {
+        self.abc = abc;
+        self
     }
 }
 
@@ -50,16 +63,31 @@ pub enum GcodeExportError {
     Input(String),
 }
 
-/// `X… Y… Z… A… B… C…` of a pose (A/B/C in the official convention).
-pub(crate) fn axis_words(p: &PoseMm) -> String {
-    let abc = rpy_to_abc_deg(p.rpy_deg);
+/// `X… Y… Z… A… B… C…` of a pose (A/B/C in `abc`).
+pub(crate) fn axis_words(p: &PoseMm, abc: AbcConvention) -> String {
+    let abc = abc.from_rpy_deg(p.rpy_deg);
     let v = [p.position_mm[0], p.position_mm[1], p.position_mm[2], abc[0], abc[1], abc[2]];
-    ["X", "Y", "Z", "A", "B", "C"]
-        .iter()
-        .zip(v)
-        .map(|(l, v)| format!("{l}{}", format_number(v)))
-        .collect::<Vec<_>>()
-        .join(" ")
+    lettered("XYZABC", &v)
+}
+
+/// `letters[k]` followed by `values[k]`, space-separated.
+fn lettered(letters: &str, values: &[f64]) -> String {
+    letters.chars().zip(values).map(|(l, v)| format!("{l}{}", format_number(*v))).collect::<Vec<_>>().join(" ")
+}
+
+/// An arc ending closer than this to its start is a full circle, mm (the reader's is 1e-6).
+const FULL_CIRCLE_MM: f64 = 1e-7;
+
+/// The comment lines that open every file written: the header naming `abc` and what the axis
+/// words mean.
+pub(crate) fn preamble(abc: AbcConvention) -> String {
+    let order = match abc {
+        AbcConvention::Commander => {
+            "R = Rx(C)·Ry(B)·Rz(A) (the PAROL commander's and the official API's until 2025-12)"
+        }
+        AbcConvention::Xyz => "R = Rx(A)·Ry(B)·Rz(C) (the official API's last G-code revision)",
+    };
+    format!("{}\n; X Y Z mm in the base frame; A B C deg, {order}\n", abc_header(abc))
 }
 
 /// Writes `program` for `model` as G-code.
@@ -84,12 +112,16 @@ pub fn program_to_gcode(
         blend_mm: None,
         options,
     };
+    w.out.push_str(&preamble(options.abc));
     for line in [&program.name, &program.description] {
-        if !line.is_empty() {
-            w.line(&format!("; {}", line.replace(['\n', '\r'], " ")));
+        let line = line.replace(['\n', '\r'], " ");
+        if looks_like_header(&line) {
+            // not to be read back as a header
+            w.line(&format!("; \"{line}\""));
+        } else if !line.is_empty() {
+            w.line(&format!("; {line}"));
         }
     }
-    w.line("; X Y Z mm in the base frame; A B C deg, R = Rx(C)·Ry(B)·Rz(A) (official PAROL6 API)");
     w.line("G21 G90 G17");
     for (index, s) in program.steps.iter().enumerate() {
         let kind = s.step.kind();
@@ -126,7 +158,7 @@ impl Writer<'_> {
     }
 
     fn rapid(&mut self, goal: Isometry3<f64>, comment: &str) {
-        let text = format!("G0 {}{comment}", axis_words(&PoseMm::from_isometry(&goal)));
+        let text = format!("G0 {}{comment}", axis_words(&PoseMm::from_isometry(&goal), self.options.abc));
         self.line(&text);
         self.pose = goal;
     }
@@ -159,7 +191,7 @@ impl Writer<'_> {
                 let goal = checked(pose)?;
                 let speed = timed_speed(&self.pose, &goal, *duration_s).unwrap_or_else(|| speed_of(speed_mm_s));
                 let f = self.feed_word(speed);
-                self.line(&format!("G1 {}{f}", axis_words(pose)));
+                self.line(&format!("G1 {}{f}", axis_words(pose, self.options.abc)));
                 self.pose = goal;
             }
             Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s, duration_s } => {
@@ -169,7 +201,10 @@ impl Writer<'_> {
                 let goal = crate::program::compile::timed::tool_frame_goal(&self.pose, offset_mm, rotation_deg);
                 let speed = timed_speed(&self.pose, &goal, *duration_s).unwrap_or_else(|| speed_of(speed_mm_s));
                 let f = self.feed_word(speed);
-                self.line(&format!("G1 {}{f} ; tool-frame move", axis_words(&PoseMm::from_isometry(&goal))));
+                self.line(&format!(
+                    "G1 {}{f} ; tool-frame move",
+                    axis_words(&PoseMm::from_isometry(&goal), self.options.abc)
+                ));
                 self.pose = goal;
             }
             Step::TimeFunction { sample_rate_hz, pieces } => {
@@ -185,7 +220,7 @@ impl Writer<'_> {
                     let ((t0, _), (t1, goal)) = (w[0], w[1]);
                     let speed = timed_speed(&self.pose, &goal, Some(t1 - t0)).unwrap_or_else(|| speed_of(&None));
                     let f = self.feed_word(speed);
-                    self.line(&format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&goal))));
+                    self.line(&format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&goal), self.options.abc)));
                     self.pose = goal;
                 }
             }
@@ -291,7 +326,15 @@ impl Writer<'_> {
             words.push_str(&format!(" {}{}", ['I', 'J', 'K'][k], format_number(offset[k])));
         }
         let f = self.feed_word(speed_mm_s);
-        let text = format!("{} {}{words}{f}", if ccw { "G3" } else { "G2" }, axis_words(&PoseMm::from_isometry(goal)));
+        let goal_pose = PoseMm::from_isometry(goal);
+        let axes = if (goal.translation.vector * 1000.0 - start).norm() < FULL_CIRCLE_MM {
+            // a full circle keeps the orientation: its end written as X Y Z only, so that a
+            // reader whose A B C are not yet set (0) reads the same circle
+            lettered("XYZ", &goal_pose.position_mm)
+        } else {
+            axis_words(&goal_pose, self.options.abc)
+        };
+        let text = format!("{} {axes}{words}{f}", if ccw { "G3" } else { "G2" });
         self.line(&text);
     }
 
@@ -311,7 +354,7 @@ impl Writer<'_> {
         ));
         for k in kept.into_iter().skip(1) {
             let f = self.feed_word(speed_mm_s);
-            let text = format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&poses[k])));
+            let text = format!("G1 {}{f}", axis_words(&PoseMm::from_isometry(&poses[k]), self.options.abc));
             self.line(&text);
         }
     }

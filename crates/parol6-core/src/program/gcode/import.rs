@@ -2,16 +2,16 @@
 //! blend, position) tracked line by line. See the [module docs](super) for the dialect.
 
 use super::arc::{self, Plane};
+use super::block::{AXES, Block, Group};
+use super::header::Header;
 use super::lexer::{Word, words_of_line};
 use super::{
-    ARC_RADIUS_TOLERANCE_MM, GcodeError, GcodeGripper, GcodeImportOptions, MAX_ANGLE_DEG, MAX_GCODE_BYTES, MAX_STEPS,
-    format_number,
+    ARC_RADIUS_TOLERANCE_MM, AbcConvention, GcodeError, GcodeGripper, GcodeImportOptions, MAX_ANGLE_DEG,
+    MAX_GCODE_BYTES, MAX_STEPS, format_number,
 };
-use crate::angles::{abc_to_rpy_deg, rpy_to_abc_deg};
-use crate::program::compile::{MAX_POSITION_MM, MAX_TCP_SPEED_MM_S, MAX_WAIT_S, MIN_TCP_SPEED_MM_S};
+use crate::program::compile::{MAX_POSITION_MM, MAX_WAIT_S, MIN_TCP_SPEED_MM_S};
 use crate::program::{GripperAction, PoseMm, Program, SourcedStep, Step};
 
-const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 const MM_PER_INCH: f64 = 25.4;
 /// Start and end closer than this are one point (a full circle), mm.
 const SAME_POINT_MM: f64 = 1e-6;
@@ -31,9 +31,13 @@ pub fn parse_gcode(text: &str, options: &GcodeImportOptions) -> Result<Program, 
         ));
     }
     let mut state = State::new(options);
+    let mut header = Header::new(options.abc);
     for (i, raw) in text.split('\n').enumerate() {
         let line = i + 1;
         let words = words_of_line(line, raw)?;
+        if let Some(abc) = header.line(line, raw, !words.is_empty())? {
+            state.abc = abc;
+        }
         if !words.is_empty() {
             state.run_line(line, words)?;
         }
@@ -44,129 +48,13 @@ pub fn parse_gcode(text: &str, options: &GcodeImportOptions) -> Result<Program, 
     Ok(Program { name: options.name.clone(), steps: state.steps, ..Program::default() })
 }
 
-/// Modal groups: at most one code of each on a line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Group {
-    /// G0 G1 G2 G3 and the one-line G4 G10 G28.
-    Motion,
-    Plane,
-    Units,
-    Distance,
-    Work,
-    Path,
-}
-
-/// One line's words, sorted out.
-struct Block {
-    line: usize,
-    codes: Vec<(Group, u32, Word)>,
-    m: Option<(u32, Word)>,
-    /// Parameter words in line order, with "used" marks.
-    params: Vec<(Word, bool)>,
-}
-
-impl Block {
-    fn sort(line: usize, words: Vec<Word>) -> Result<Self, GcodeError> {
-        let mut b = Block { line, codes: Vec::new(), m: None, params: Vec::new() };
-        for w in words {
-            let code = (w.value.fract() == 0.0 && (0.0..1000.0).contains(&w.value)).then_some(w.value as u32);
-            match w.letter {
-                'G' => {
-                    let group = match code {
-                        Some(0..=4 | 10 | 28) => Group::Motion,
-                        Some(17..=19) => Group::Plane,
-                        Some(20 | 21) => Group::Units,
-                        Some(54..=59) => Group::Work,
-                        Some(61 | 64) => Group::Path,
-                        Some(90 | 91) => Group::Distance,
-                        _ => return Err(GcodeError::at_word(line, &w.text, "unsupported G code")),
-                    };
-                    if let Some((_, _, other)) = b.codes.iter().find(|(g, _, _)| *g == group) {
-                        return Err(GcodeError::at_word(
-                            line,
-                            &w.text,
-                            format!(
-                                "conflicts with \"{}\" on the same line (one code of a group per line)",
-                                other.text
-                            ),
-                        ));
-                    }
-                    b.codes.push((group, code.unwrap_or(0), w));
-                }
-                'M' => {
-                    let Some(code @ (0..=5 | 30)) = code else {
-                        return Err(GcodeError::at_word(line, &w.text, "unsupported M code"));
-                    };
-                    if let Some((_, other)) = &b.m {
-                        return Err(GcodeError::at_word(
-                            line,
-                            &w.text,
-                            format!("one M code per line (\"{}\" is already on it)", other.text),
-                        ));
-                    }
-                    b.m = Some((code, w));
-                }
-                'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'R' | 'F' | 'P' | 'S' | 'L' => {
-                    if let Some((other, _)) = b.params.iter().find(|(p, _)| p.letter == w.letter) {
-                        return Err(GcodeError::at_word(
-                            line,
-                            &w.text,
-                            format!("{} appears twice on the line (\"{}\" first)", w.letter, other.text),
-                        ));
-                    }
-                    b.params.push((w, false));
-                }
-                'T' => {
-                    return Err(GcodeError::at_word(
-                        line,
-                        &w.text,
-                        "tool changes (T) are not supported: the tool is chosen in PAROL6 Studio",
-                    ));
-                }
-                _ => return Err(GcodeError::at_word(line, &w.text, "unsupported word")),
-            }
-        }
-        Ok(b)
-    }
-
-    fn code(&self, group: Group) -> Option<(u32, Word)> {
-        self.codes.iter().find(|(g, _, _)| *g == group).map(|(_, c, w)| (*c, w.clone()))
-    }
-
-    fn has(&self, letter: char) -> bool {
-        self.params.iter().any(|(w, _)| w.letter == letter)
-    }
-
-    /// Takes (marks used) the word of `letter`.
-    fn take(&mut self, letter: char) -> Option<Word> {
-        let (w, used) = self.params.iter_mut().find(|(w, _)| w.letter == letter)?;
-        *used = true;
-        Some(w.clone())
-    }
-
-    fn take_axes(&mut self) -> [Option<Word>; 6] {
-        AXES.map(|a| self.take(a))
-    }
-
-    /// The first word nobody used, as an error.
-    fn leftover(&self) -> Result<(), GcodeError> {
-        let Some((w, _)) = self.params.iter().find(|(_, used)| !used) else { return Ok(()) };
-        let why = match w.letter {
-            'I' | 'J' | 'K' | 'R' => "I, J, K and R are only used by G2 and G3",
-            'P' => "P is only used by G4, G10, G64 and M3/M4/M5",
-            'S' => "S is only used by G4 (dwell seconds); there is no spindle",
-            'L' => "L is only used by G10",
-            _ => "axis words need a motion code (G0, G1, G2 or G3) on the line or active",
-        };
-        Err(GcodeError::at_word(self.line, &w.text, why))
-    }
-}
-
 struct State {
     steps: Vec<SourcedStep>,
-    /// Base-frame position: X, Y, Z (mm), A, B, C (deg, official convention).
+    /// How A, B, C make a rotation.
+    abc: AbcConvention,
+    /// Base-frame position: X, Y, Z (mm), A, B, C (deg, in `abc`).
     pos: [f64; 6],
-    home: [f64; 6],
+    home: PoseMm,
     mm_per_unit: f64,
     absolute: bool,
     plane: Plane,
@@ -180,21 +68,15 @@ struct State {
     ended: Option<(usize, String)>,
 }
 
-fn axes_of(p: &PoseMm) -> [f64; 6] {
-    let abc = rpy_to_abc_deg(p.rpy_deg);
-    [p.position_mm[0], p.position_mm[1], p.position_mm[2], abc[0], abc[1], abc[2]]
-}
-
-fn pose_of(a: &[f64; 6]) -> PoseMm {
-    PoseMm { position_mm: [a[0], a[1], a[2]], rpy_deg: abc_to_rpy_deg([a[3], a[4], a[5]]) }
-}
-
 impl State {
     fn new(o: &GcodeImportOptions) -> Self {
+        let [x, y, z] = o.start_pose.position_mm;
         Self {
             steps: Vec::new(),
-            pos: axes_of(&o.start_pose),
-            home: axes_of(&o.home_pose),
+            abc: o.abc.convention,
+            // X Y Z where the program starts; A B C 0 until given, as in the official parser
+            pos: [x, y, z, 0.0, 0.0, 0.0],
+            home: o.home_pose,
             mm_per_unit: 1.0,
             absolute: true,
             plane: Plane::Xy,
@@ -206,6 +88,17 @@ impl State {
             gripper: o.gripper,
             ended: None,
         }
+    }
+
+    /// `X Y Z A B C` of a pose.
+    fn axes_of(&self, p: &PoseMm) -> [f64; 6] {
+        let abc = self.abc.from_rpy_deg(p.rpy_deg);
+        [p.position_mm[0], p.position_mm[1], p.position_mm[2], abc[0], abc[1], abc[2]]
+    }
+
+    /// The pose of `X Y Z A B C`.
+    fn pose_of(&self, a: &[f64; 6]) -> PoseMm {
+        PoseMm { position_mm: [a[0], a[1], a[2]], rpy_deg: self.abc.to_rpy_deg([a[3], a[4], a[5]]) }
     }
 
     fn push(&mut self, line: usize, step: Step) {
@@ -257,7 +150,7 @@ impl State {
                     ));
                 }
                 self.push(line, Step::Home { speed_fraction: None });
-                self.pos = self.home;
+                self.pos = self.axes_of(&self.home);
             }
             Some((10, _)) => {}
             Some((code, w)) => {
@@ -301,18 +194,19 @@ impl State {
         Ok(r)
     }
 
+    /// The feed of `F`, mm/s: any finite value from the PAROL6's slowest TCP speed up (a feed
+    /// above its fastest is passed on: compiling slows that move down, with a warning).
     fn feed(&self, line: usize, f: &Word) -> Result<f64, GcodeError> {
         let mm_min = f.value * self.mm_per_unit;
         let mm_s = mm_min / 60.0;
-        if !(MIN_TCP_SPEED_MM_S..=MAX_TCP_SPEED_MM_S).contains(&mm_s) {
+        if !(mm_s.is_finite() && mm_s >= MIN_TCP_SPEED_MM_S) {
             return Err(GcodeError::at_word(
                 line,
                 &f.text,
                 format!(
-                    "feed {} mm/min is outside the PAROL6's {}–{} mm/min ({MIN_TCP_SPEED_MM_S}–{MAX_TCP_SPEED_MM_S} mm/s)",
+                    "feed {} mm/min is below the PAROL6's slowest {} mm/min ({MIN_TCP_SPEED_MM_S} mm/s)",
                     format_number(mm_min),
                     MIN_TCP_SPEED_MM_S * 60.0,
-                    MAX_TCP_SPEED_MM_S * 60.0
                 ),
             ));
         }
@@ -425,16 +319,14 @@ impl State {
         match code {
             0 | 1 if !has_axes => Ok(()),
             0 => {
-                self.push(
-                    line,
-                    Step::MovePose { pose: pose_of(&target), config: None, speed_fraction: None, duration_s: None },
-                );
+                let pose = self.pose_of(&target);
+                self.push(line, Step::MovePose { pose, config: None, speed_fraction: None, duration_s: None });
                 self.pos = target;
                 Ok(())
             }
             1 => {
                 let step = Step::MoveL {
-                    pose: pose_of(&target),
+                    pose: self.pose_of(&target),
                     speed_mm_s: self.feed_mm_s,
                     blend_mm: self.blend_mm,
                     duration_s: None,
@@ -579,7 +471,7 @@ impl State {
             let mid = arc::rotate(s, centre, 0.5 * sweep);
             let mut via = [0.0; 3];
             (via[ia], via[ib], via[n]) = (mid[0], mid[1], 0.5 * (self.pos[n] + target[n]));
-            Step::MoveC { via_mm: via, pose: pose_of(&target), speed_mm_s: self.feed_mm_s }
+            Step::MoveC { via_mm: via, pose: self.pose_of(&target), speed_mm_s: self.feed_mm_s }
         };
         self.push(line, step);
         self.pos = target;

@@ -42,6 +42,16 @@ pub(crate) fn words_of_line(line: usize, raw: &str) -> Result<Vec<Word>, GcodeEr
         while end < chars.len() && (chars[end].is_ascii_digit() || matches!(chars[end], '.' | '+' | '-')) {
             end += 1;
         }
+        let exponent = exponent_len(&chars[end..]);
+        if end > start && exponent > 0 {
+            // `X1e308`: name the number, not a word "E308"
+            let number: String = chars[start..end + exponent].iter().collect();
+            return Err(GcodeError::at_word(
+                line,
+                &format!("{letter}{number}"),
+                format!("\"{number}\" is not a G-code number: exponents are not allowed, write it out"),
+            ));
+        }
         let number: String = chars[start..end].iter().collect();
         let text = format!("{letter}{number}");
         let value = parse_number(line, &text, &number)?;
@@ -64,6 +74,16 @@ pub(crate) fn words_of_line(line: usize, raw: &str) -> Result<Vec<Word>, GcodeEr
         words.remove(0);
     }
     Ok(words)
+}
+
+/// Length of an exponent (`e5`, `E-12`) opening `rest`, 0 when there is none.
+fn exponent_len(rest: &[char]) -> usize {
+    if !rest.first().is_some_and(|c| matches!(c, 'e' | 'E')) {
+        return 0;
+    }
+    let sign = usize::from(rest.get(1).is_some_and(|c| matches!(c, '+' | '-')));
+    let digits = rest[1 + sign..].iter().take_while(|c| c.is_ascii_digit()).count();
+    if digits == 0 { 0 } else { 1 + sign + digits }
 }
 
 /// The line without `;` and `( … )` comments.
@@ -144,6 +164,13 @@ mod tests {
         assert_eq!(err("G1 X1.2.3"), "line 3: word \"X1.2.3\": \"1.2.3\" is not a number");
         assert_eq!(err("G1 X1-2"), "line 3: word \"X1-2\": \"1-2\" is not a number");
         assert_eq!(err("G1 X-"), "line 3: word \"X-\": \"-\" is not a number");
+        assert_eq!(
+            err("G1 X1e308"),
+            "line 3: word \"X1e308\": \"1e308\" is not a G-code number: exponents are not allowed, write it out"
+        );
+        assert!(err("G1 Y-2.5E-3 Z1").starts_with("line 3: word \"Y-2.5E-3\": \"-2.5E-3\""));
+        // an E word of its own (a 3D printer's extruder) is still an unknown word, not a number
+        assert_eq!(texts("G1 X1 E5"), ["G1", "X1", "E5"]);
         assert_eq!(err("G1 * 2"), "line 3: unexpected character '*'");
         assert_eq!(err("G1 (open"), "line 3: a comment '(' is not closed on its line");
         assert_eq!(err("G1 (a (b) c)"), "line 3: a '(' inside a comment: comments do not nest");

@@ -1,6 +1,9 @@
 //! G-code import and export in the dialect of the official PAROL6 Python API
 //! (`parol6/gcode/` of `PCrnjak/PAROL6-python-API`), with the gaps it leaves filled the way a
-//! CNC user expects (marked *here* below).
+//! CNC user expects (marked *here* below). Every place where we read a file differently from
+//! the official parser on purpose is a row of the dialect table in `docs/gcode-dialect.md`
+//! (with the official source, the standard's view and a conformance file in
+//! `tests/conformance/gcode/`).
 //!
 //! - [`parse_gcode`]: G-code text → [`Program`] (every step's `line` is its G-code line);
 //! - [`program_to_gcode`]: any program → G-code;
@@ -10,17 +13,29 @@
 //! # The dialect
 //!
 //! A line holds words: a letter and a number right after it (`G1`, `X-12.5`, `F3000`; upper or
-//! lower case; no exponents). `;` starts a comment to the end of the line, `( … )` is a
+//! lower case; no exponents: `X1e3` is an error naming the number). `;` starts a comment to the end of the line, `( … )` is a
 //! comment inside a line (not nested, closed on the same line). `N123` may open a line (a line
 //! number; ignored). A line that is only `%` (a tape mark) is ignored. Blank lines are ignored.
 //! Anything else is an error naming the line and the word: nothing is skipped silently.
 //!
 //! Coordinates: `X Y Z` in mm (inch after `G20`), the TCP position in the robot base frame;
-//! `A B C` in degrees, the TCP orientation in the **official API's convention**:
-//! `R = Rx(C)·Ry(B)·Rz(A)` ([`crate::angles`]), not our URDF roll/pitch/yaw. Our (roll 0,
-//! pitch 20, yaw 90)° is `A90 B0 C-20`. Axes left out keep their value (the start pose of the
-//! import options before any move sets them). *Here* `A/B/C` are never scaled by `G20` (the
-//! official interpreter scales them by 25.4 too).
+//! `A B C` in degrees, the TCP orientation in one of the two **official conventions**
+//! ([`AbcConvention`], not our URDF roll/pitch/yaw): `commander` (the default),
+//! `R = Rx(C)·Ry(B)·Rz(A)`, the PAROL commander's and the Python API's until 2025-12-29, where
+//! our (roll 0, pitch 20, yaw 90)° is `A90 B0 C-20`; or `xyz`, `R = Rx(A)·Ry(B)·Rz(C)`, the API's
+//! last G-code revision. The default is `commander` because the official G-code reader meant it
+//! for four of its five months, the commander's readout (where users copy poses from) uses it,
+//! and every file we wrote before the choice existed is in it. The choice comes from
+//! [`GcodeImportOptions::abc`] ([`AbcChoice`]: the CLI's `--abc`, the GUI's setting) or from a
+//! header line of the file before its first G-code word, `; parol6: abc=xyz` (case-insensitive;
+//! `abc` is the only key), which export always writes. The header wins over a default; an
+//! explicit choice that contradicts it is an error naming the header's line.
+//!
+//! Axes left out keep their value. Before any move sets them, `X Y Z` are the start pose's
+//! position (the arm's pose when the program starts, as the official API's line-at-a-time path)
+//! and **`A B C` are 0**, as in the official parser (an XYZ-only file no longer keeps the start
+//! pose's orientation: it runs with the tool in the orientation `A0 B0 C0`). *Here* `A/B/C` are
+//! never scaled by `G20` (the official interpreter scales them by 25.4 too).
 //!
 //! | word | meaning here |
 //! |---|---|
@@ -35,7 +50,7 @@
 //! | `G54`…`G59` | active work offset: programmed `X…C` + offset = base-frame value (per axis, as the official API adds them); offsets come from the options or `G10 L2`, zero by default |
 //! | `G61` / `G64 P` | *here*: exact stop / round the corners between `G1` lines with radius `P` (`blend_mm`) |
 //! | `G90` / `G91` | absolute / incremental axis words (`I J K` are always incremental) |
-//! | `F` | feed, mm/min (inch/min after `G20`), modal; must give 2–200 mm/s (the PAROL6's TCP speed range). Before any `F`, lines use the program's TCP speed |
+//! | `F` | feed, mm/min (inch/min after `G20`), modal, on any line (*here*: the official parser drops an `F` on a motion line); at least 2 mm/s (the PAROL6's slowest TCP speed). A feed above its fastest (200 mm/s) is passed on as the step's speed, and pre-flight slows the move down with a warning. Before any `F`, lines use the program's TCP speed |
 //! | `M0` / `M1` | pause until the operator resumes (`pause`); `M1` only when the run has optional stops on |
 //! | `M3` / `M4` / `M5` | gripper close / close / open. Pneumatic ([`GcodeGripper::Pneumatic`], official): valve output `P` (1 or 2, default 1), open = output high; electric ([`GcodeGripper::Electric`]): the electric gripper fully closed / open |
 //! | `M2` / `M30` | program end; any word after it is an error |
@@ -46,29 +61,39 @@
 //! words before any motion code, numbers that do not parse or are too long, positions beyond
 //! ±10 000 mm and arcs whose circle reaches beyond them.
 //!
+//! Axis words on a line without a motion code move with the active one (*here*: the official
+//! parser drops such lines); `R` > 0 is the arc of at most 180° (*here*: the official parser
+//! inverts the sign).
+//!
 //! A line runs in this order: units, plane, distance mode, work offset, path mode, feed,
 //! `G10`, gripper, then `G4` / `G28` / the motion, then `M0 M1 M2 M30`.
 //!
-//! Export writes base-frame coordinates (no work offset), all six axes on every move, `G21 G90
-//! G17` first and `M30` last. Joint steps (`move_joints`, `move_pose`) become `G0` to the
+//! Export writes the header line `; parol6: abc=…` of its [`GcodeExportOptions::abc`] first,
+//! then base-frame coordinates (no work offset), all six axes on every move but a full circle's
+//! end (its `X Y Z` only: a full circle keeps the orientation), `G21 G90 G17` first and `M30`
+//! last. Joint steps (`move_joints`, `move_pose`) become `G0` to the
 //! forward-kinematics pose of their goal (a `G0` read back is a `move_pose`, which takes the
 //! inverse-kinematics solution nearest the start, not necessarily the same joint values);
 //! splines and arcs outside the XY / ZX / YZ planes are sampled into `G1` lines within the
 //! tolerance of the export options; a step with no G-code equivalent (`wait_input`, a gripper
 //! position, an output in electric mode) is an error naming the step.
 
+pub use crate::angles::AbcConvention;
 use crate::model::RobotModel;
 use crate::parol6::Tool;
 
 use super::PoseMm;
 
 mod arc;
+mod block;
 mod export;
+mod header;
 mod import;
 mod lexer;
 mod path;
 
 pub use export::{GcodeExportError, GcodeExportOptions, program_to_gcode};
+pub use header::abc_header;
 pub use import::parse_gcode;
 pub use path::{PathTolerance, recording_to_gcode, tcp_path_to_gcode};
 
@@ -108,13 +133,42 @@ impl GcodeGripper {
     }
 }
 
+/// Which [`AbcConvention`] reads a G-code file's `A B C`, and how firmly it was chosen.
+///
+/// A file may name its convention in a header line (`; parol6: abc=xyz`, see the
+/// [module docs](self)). The header wins over a default ([`AbcChoice::default_to`]: the GUI's
+/// setting, the CLI without `--abc`); a choice the user made for this file
+/// ([`AbcChoice::explicit`]: `--abc`) that contradicts the header is an error naming the
+/// header's line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct AbcChoice {
+    /// The convention for a file without a header (and for export).
+    pub convention: AbcConvention,
+    /// True when the user asked for `convention` for this file: a header naming the other one
+    /// is then an error.
+    pub explicit: bool,
+}
+
+impl AbcChoice {
+    /// `convention` for files that do not name theirs.
+    pub fn default_to(convention: AbcConvention) -> Self {
+        Self { convention, explicit: false }
+    }
+
+    /// `convention`, asked for explicitly: a file whose header names the other is refused.
+    pub fn explicit(convention: AbcConvention) -> Self {
+        Self { convention, explicit: true }
+    }
+}
+
 /// How to read a G-code file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GcodeImportOptions {
     /// Program name.
     pub name: String,
-    /// The TCP pose the program starts from: axes left out take their values from it until a
-    /// move sets them, and the first arc starts there.
+    /// The TCP pose the program starts from: `X Y Z` left out take its position until a move
+    /// sets them, and the first arc starts there. Its orientation is not used: `A B C` not yet
+    /// given are 0, as in the official parser.
     pub start_pose: PoseMm,
     /// The TCP pose after `G28` (the home / standby pose).
     pub home_pose: PoseMm,
@@ -122,11 +176,13 @@ pub struct GcodeImportOptions {
     pub work_offsets: [[f64; 6]; 6],
     /// What `M3`/`M4`/`M5` drive.
     pub gripper: GcodeGripper,
+    /// How `A B C` make a rotation.
+    pub abc: AbcChoice,
 }
 
 impl GcodeImportOptions {
     /// Options starting at `start_pose` with home at `home_pose`, no work offsets, pneumatic
-    /// gripper words.
+    /// gripper words, the default `A B C` convention.
     pub fn new(start_pose: PoseMm, home_pose: PoseMm) -> Self {
         Self {
             name: String::new(),
@@ -134,7 +190,14 @@ impl GcodeImportOptions {
             home_pose,
             work_offsets: [[0.0; 6]; 6],
             gripper: GcodeGripper::default(),
+            abc: AbcChoice::default(),
         }
+    }
+
+    /// These options with `A B C` read as `abc` says.
+    pub fn with_abc(mut self, abc: AbcChoice) -> Self {
+        self.abc = abc;
+        self
     }
 
     /// Options for `model` starting at joints `start_q` (rad): the start pose is their forward
@@ -188,3 +251,5 @@ pub(crate) fn format_number(v: f64) -> String {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_abc;

@@ -4,8 +4,8 @@
 
 use nalgebra::{Isometry3, Point3, UnitQuaternion};
 
-use super::export::{GcodeExportError, axis_words};
-use super::format_number;
+use super::export::{GcodeExportError, axis_words, preamble};
+use super::{AbcConvention, format_number};
 use crate::program::PoseMm;
 use crate::program::compile::{MAX_TCP_SPEED_MM_S, MIN_TCP_SPEED_MM_S};
 use crate::telemetry::reader::read_recording;
@@ -124,8 +124,13 @@ pub(crate) fn slerp(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>, f: f64) ->
 /// through the poses Ramer–Douglas–Peucker keeps within `tolerance`, each with the feed that
 /// takes it as long as the samples did (limited to the PAROL6's 2–200 mm/s); a stretch of at
 /// least 0.1 s standing still (under 0.5 mm/s and 0.5°/s) becomes a `G4` dwell of its
-/// duration, as does a kept line shorter than the tolerance. Times must increase.
-pub fn tcp_path_to_gcode(samples: &[(f64, PoseMm)], tolerance: &PathTolerance) -> Result<String, GcodeExportError> {
+/// duration, as does a kept line shorter than the tolerance. Times must increase. `A B C` are
+/// written in `abc`, named in the file's header line.
+pub fn tcp_path_to_gcode(
+    samples: &[(f64, PoseMm)],
+    tolerance: &PathTolerance,
+    abc: AbcConvention,
+) -> Result<String, GcodeExportError> {
     tolerance.check()?;
     if samples.is_empty() {
         return Err(GcodeExportError::Input("the path has no samples".into()));
@@ -161,16 +166,15 @@ pub fn tcp_path_to_gcode(samples: &[(f64, PoseMm)], tolerance: &PathTolerance) -
     }
     let duration_s = samples[samples.len() - 1].0 - samples[0].0;
     let mut out = format!(
-        "; TCP path: {} samples over {} s, {} lines within {} mm and {}°\n\
-         ; X Y Z mm in the base frame; A B C deg, R = Rx(C)·Ry(B)·Rz(A) (official PAROL6 API)\n\
-         G21 G90 G17\n",
+        "{}; TCP path: {} samples over {} s, {} lines within {} mm and {}°\nG21 G90 G17\n",
+        preamble(abc),
         samples.len(),
         format_number(duration_s),
         kept.len(),
         format_number(tolerance.position_mm),
         format_number(tolerance.orientation_deg)
     );
-    out.push_str(&format!("G0 {}\n", axis_words(&samples[kept[0]].1)));
+    out.push_str(&format!("G0 {}\n", axis_words(&samples[kept[0]].1, abc)));
     let mut feed = None;
     for w in kept.windows(2) {
         let (i, j) = (w[0], w[1]);
@@ -189,7 +193,7 @@ pub fn tcp_path_to_gcode(samples: &[(f64, PoseMm)], tolerance: &PathTolerance) -
         let f = (speed_mm_s * 60.0).round().clamp(MIN_TCP_SPEED_MM_S * 60.0, MAX_TCP_SPEED_MM_S * 60.0);
         let f_word = if feed == Some(f) { String::new() } else { format!(" F{}", format_number(f)) };
         feed = Some(f);
-        out.push_str(&format!("G1 {}{f_word}\n", axis_words(&samples[j].1)));
+        out.push_str(&format!("G1 {}{f_word}\n", axis_words(&samples[j].1, abc)));
     }
     out.push_str("M30\n");
     Ok(out)
@@ -197,7 +201,11 @@ pub fn tcp_path_to_gcode(samples: &[(f64, PoseMm)], tolerance: &PathTolerance) -
 
 /// G-code for the TCP path of one of our MCAP recordings (its `/tcp_pose` topic, at most
 /// 100 Hz), as [`tcp_path_to_gcode`]. Samples with a time that does not increase are dropped.
-pub fn recording_to_gcode(bytes: &[u8], tolerance: &PathTolerance) -> Result<String, GcodeExportError> {
+pub fn recording_to_gcode(
+    bytes: &[u8],
+    tolerance: &PathTolerance,
+    abc: AbcConvention,
+) -> Result<String, GcodeExportError> {
     let rec = read_recording(bytes).map_err(|e| GcodeExportError::Input(format!("the recording: {e}")))?;
     let mut samples: Vec<(f64, PoseMm)> = Vec::with_capacity(rec.tcp_path.len());
     let t0 = rec.tcp_path.first().map_or(0, |p| p.timestamp.as_ns());
@@ -216,5 +224,5 @@ pub fn recording_to_gcode(bytes: &[u8], tolerance: &PathTolerance) -> Result<Str
     if samples.is_empty() {
         return Err(GcodeExportError::Input("the recording has no /tcp_pose messages".into()));
     }
-    tcp_path_to_gcode(&samples, tolerance)
+    tcp_path_to_gcode(&samples, tolerance, abc)
 }

@@ -1,0 +1,4 @@
+; parol6: abc=xyz
+G21 G90
+G0 X0 Y220 Z250 A80 B10 C90
+M30

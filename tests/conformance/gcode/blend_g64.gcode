@@ -1,0 +1,9 @@
+; G64 P rounds the corners between G1 lines
+G21 G90
+G0 X-10 Y210 Z250 A90 B0 C90
+G64 P2
+G1 X10 F1200
+G1 Y230
+G61
+G1 X-10
+M30

@@ -1,0 +1,7 @@
+; G10 L2 sets a work offset, G55 uses it
+G21 G90
+G10 L2 P2 X0 Y220 Z230
+G0 X0 Y0 Z20 A90 B0 C90
+G55 G1 X10 Y0 Z0 F1200
+G54
+M30

@@ -13,6 +13,7 @@
 //! | `line` | for `warning` / `error`: the 1-based source line named |
 //! | `message` | optional: text the warning or error must contain |
 //! | `start_deg` | optional: start joints, deg (default: standby 90, −90, 180, 0, 0, 180) |
+//! | `abc` | optional, G-code only: `commander` or `xyz`, as `--abc` gives it (explicit: a file header that contradicts it is an error) |
 //!
 //! The file is read as `parol6 program check FILE` reads it (`program::files`, the format from
 //! the extension), then checked from the start joints.
@@ -25,6 +26,7 @@ use std::path::PathBuf;
 use parol6_core::model::RobotModel;
 use parol6_core::program::check::{CheckOptions, Severity, check_program};
 use parol6_core::program::files::{FormatContext, read_program};
+use parol6_core::program::gcode::AbcChoice;
 
 const STANDBY_DEG: [f64; 6] = [90.0, -90.0, 180.0, 0.0, 0.0, 180.0];
 
@@ -58,7 +60,7 @@ fn cases() -> Vec<Case> {
                     line.split_once(':').unwrap_or_else(|| panic!("{}:{}: not `key: value`", sidecar.display(), n + 1));
                 let k = k.trim().to_string();
                 assert!(
-                    ["official", "ours", "expect", "line", "message", "start_deg"].contains(&k.as_str()),
+                    ["official", "ours", "expect", "line", "message", "start_deg", "abc"].contains(&k.as_str()),
                     "{}:{}: unknown key {k}",
                     sidecar.display(),
                     n + 1
@@ -104,7 +106,11 @@ fn run(model: &RobotModel, case: &Case) -> Result<(), String> {
     if expect != "ok" && line.is_none() {
         return Err(format!("expect: {expect} needs `line:`"));
     }
-    let ctx = FormatContext { model, start_q: &start };
+    let abc = match case.keys.get("abc") {
+        Some(name) => AbcChoice::explicit(name.parse().map_err(|e| format!("abc: {e}"))?),
+        None => AbcChoice::default(),
+    };
+    let ctx = FormatContext { abc, ..FormatContext::new(model, &start) };
     let program = match read_program(&case.file, &ctx) {
         Ok(p) => p,
         Err(e) => {

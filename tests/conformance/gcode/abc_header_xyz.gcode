@@ -1,6 +1,6 @@
 ; parol6: abc=xyz
 ; The header line names the convention; other readers see a comment
 G21 G90
-G0 X0 Y220 Z250 A80 B10 C90
-G1 Z230 F1200
+G0 X0 Y380 Z100 A10 B5 C-8
+G4 P500
 M30

@@ -232,7 +232,10 @@ fn gcode_abc_setting_in_the_units_menu_reads_files_without_a_header() {
     open_file(&mut h, &plain);
     let xyz = AbcConvention::Xyz.rotation([80.0, 10.0, 90.0]);
     assert!((first_rotation(&h).matrix() - xyz.matrix()).norm() < 1e-9, "read as xyz");
-    // a header names the file's own convention, whatever the setting
+    // a header names the file's own convention, whatever the setting (a fresh window: the
+    // path field of this one holds the first file's path)
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().settings_mut().gcode_abc = AbcConvention::Xyz;
     let headed = dir.join("headed.gcode");
     std::fs::write(&headed, "; parol6: abc=commander\nG21 G90\nG0 X0 Y220 Z250 A80 B10 C90\nM30\n").unwrap();
     open_file(&mut h, &headed);

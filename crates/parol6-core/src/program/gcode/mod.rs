@@ -5,7 +5,7 @@
 //! (with the official source, the standard's view and a conformance file in
 //! `tests/conformance/gcode/`).
 //!
-//! - [`parse_gcode`]: G-code text → [`Program`] (every step's `line` is its G-code line);
+//! - [`parse_gcode`]: G-code text → [`Program`](crate::program::Program) (every step's `line` is its G-code line);
 //! - [`program_to_gcode`]: any program → G-code;
 //! - [`tcp_path_to_gcode`] / [`recording_to_gcode`]: a sampled TCP path (or the `/tcp_pose`
 //!   topic of one of our MCAP recordings) → `G1` lines within a tolerance.

@@ -366,6 +366,7 @@ fn cartesian_error(index: usize, line: usize, kind: &'static str, e: StepError) 
     CompileError { index, line, kind, message, t_s, tcp_mm }
 }
 
+#[expect(clippy::too_many_arguments, reason = "the move, its caps and where its warnings go; one call site each")]
 fn cartesian_move(
     model: &RobotModel,
     q: &[f64],

@@ -120,6 +120,7 @@ pub(super) fn joint_move_in(
 /// A Cartesian move along `path` that takes `duration_s` (÷ the speed override): planned at
 /// the PAROL6's top TCP speed under the program's acceleration and jerk and the joint caps,
 /// then slowed to that time.
+#[expect(clippy::too_many_arguments, reason = "the move, its caps and where its warnings go; one call site each")]
 pub(super) fn cartesian_move_in(
     model: &RobotModel,
     q: &[f64],

@@ -190,8 +190,8 @@ pub fn solve_nearest(
     }
     let only = rule.branch();
     let first_error = match super::solve_parol6_in(model, target, seed, only) {
-        Ok(sols) => match sols.iter().find(|s| rule.admits(s)) {
-            Some(best) => return Ok(best.clone()),
+        Ok(sols) => match sols.into_iter().find(|s| rule.admits(s)) {
+            Some(best) => return Ok(best),
             None => IkError::NoSolutionWithinLimits {
                 branches: 0,
                 detail: format!("no solution in configuration {rule} lies within the limits"),

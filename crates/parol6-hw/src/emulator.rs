@@ -17,6 +17,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use arc_swap::ArcSwap;
+use parol6_core::motion::stepper::{StepperCommand, Steppers, substeps};
 use parol6_core::parol6::JOINT_COUNT;
 
 use crate::frame::{
@@ -24,12 +25,8 @@ use crate::frame::{
     ReceivedCommand, StatusFrame, TIMING_TICKS_PER_S, joint_flags_byte,
 };
 use crate::parser::CommandParser;
-use crate::units::{FW_MAX_SPEED_STEPS_S, STANDBY_STEPS};
+use crate::units::STANDBY_STEPS;
 
-/// The firmware's hard-coded MOVE period, s.
-const FW_MOVE_PERIOD_S: f64 = 0.01;
-/// Integration sub-step, s (the firmware loop runs much faster than the host rate).
-const SUBSTEP_S: f64 = 0.0005;
 /// Seek speeds shown while each homing stage runs, steps/s (ROBOT.md §8).
 const HOMING_SEEK_STEPS_S: [i32; JOINT_COUNT] = [-2050, -2550, -2550, 5550, -5050, -9550];
 
@@ -69,8 +66,9 @@ struct HomingRun {
 #[derive(Debug, Clone)]
 pub struct ControllerModel {
     config: EmulatorConfig,
-    position_steps: [f64; JOINT_COUNT],
-    speed_steps_s: [f64; JOINT_COUNT],
+    /// The drives, stepped by the firmware's law (`parol6_core::motion::stepper`, shared with
+    /// the simulation).
+    steppers: Steppers,
     homed: [bool; JOINT_COUNT],
     disabled: bool,
     homing: Option<HomingRun>,
@@ -94,9 +92,8 @@ impl ControllerModel {
     pub fn new(config: EmulatorConfig) -> Self {
         let homed = [config.start_homed; JOINT_COUNT];
         Self {
-            position_steps: config.initial_steps.map(f64::from),
+            steppers: Steppers::at(config.initial_steps),
             config,
-            speed_steps_s: [0.0; JOINT_COUNT],
             homed,
             disabled: false,
             homing: None,
@@ -115,12 +112,12 @@ impl ControllerModel {
 
     /// Step counters, rounded.
     pub fn position_steps(&self) -> [i32; JOINT_COUNT] {
-        self.position_steps.map(|p| p.round() as i32)
+        self.steppers.position_steps()
     }
 
     /// Current speed set points, steps/s.
     pub fn speed_steps_s(&self) -> [i32; JOINT_COUNT] {
-        self.speed_steps_s.map(|v| v.trunc() as i32)
+        self.steppers.speed_steps_s().map(|v| v.trunc() as i32)
     }
 
     /// True while the DISABLE latch is set.
@@ -205,38 +202,33 @@ impl ControllerModel {
         }
     }
 
-    /// Sets the speed set points the current command implies (called on accept and each sub-step).
+    /// Sets the speed set points the current command implies (called on accept and each
+    /// sub-step): the MOVE and JOG laws are `parol6_core::motion::stepper`'s.
     fn apply_speeds(&mut self) {
         let Some(cmd) = self.last else { return };
-        let fw_max = f64::from(FW_MAX_SPEED_STEPS_S);
         if let Some(run) = self.homing {
             let stage = self.homing_stage(run.elapsed_s);
-            for (i, (v, seek)) in self.speed_steps_s.iter_mut().zip(HOMING_SEEK_STEPS_S).enumerate() {
-                *v = if stage_moves(stage, i) { f64::from(seek) } else { 0.0 };
-            }
+            let speeds = std::array::from_fn(|i| if stage_moves(stage, i) { f64::from(HOMING_SEEK_STEPS_S[i]) } else { 0.0 });
+            self.steppers.set_command(StepperCommand::Hold);
+            self.steppers.set_speeds_steps_s(speeds);
             return;
         }
+        let fields = &cmd.fields;
         match CommandCode::from_byte(cmd.code) {
             Some(CommandCode::Idle) => {
-                for i in 0..JOINT_COUNT {
-                    self.speed_steps_s[i] = f64::from(cmd.fields.speeds_steps_s[i]);
-                }
+                self.steppers.set_command(StepperCommand::Hold);
+                self.steppers.set_speeds_steps_s(fields.speeds_steps_s.map(f64::from));
             }
             Some(CommandCode::Jog) if !self.disabled => {
-                for i in 0..JOINT_COUNT {
-                    self.speed_steps_s[i] = f64::from(cmd.fields.speeds_steps_s[i]).clamp(-fw_max, fw_max);
-                }
+                self.steppers.set_command(StepperCommand::Jog { speed_steps_s: fields.speeds_steps_s });
             }
             Some(CommandCode::Move) if !self.disabled => {
-                for i in 0..JOINT_COUNT {
-                    let pos = self.position_steps[i].round();
-                    let err = f64::from(cmd.fields.positions_steps[i]) - pos;
-                    let p = (err / FW_MOVE_PERIOD_S).trunc();
-                    let v = ((f64::from(cmd.fields.speeds_steps_s[i]) + p) / 2.0).trunc();
-                    self.speed_steps_s[i] = v.clamp(-fw_max, fw_max);
-                }
+                self.steppers.set_command(StepperCommand::Move {
+                    target_steps: fields.positions_steps,
+                    speed_steps_s: fields.speeds_steps_s,
+                });
             }
-            _ => self.speed_steps_s = [0.0; JOINT_COUNT],
+            _ => self.steppers.set_command(StepperCommand::Hold),
         }
     }
 
@@ -256,13 +248,7 @@ impl ControllerModel {
 
     /// Lets `dt_s` seconds of firmware main loop pass.
     pub fn advance(&mut self, dt_s: f64) {
-        if !(dt_s.is_finite() && dt_s > 0.0) {
-            return;
-        }
-        let mut left = dt_s.min(1.0);
-        while left > 0.0 {
-            let h = left.min(SUBSTEP_S);
-            left -= h;
+        for h in substeps(dt_s) {
             if let Some(run) = self.homing.as_mut() {
                 run.elapsed_s += h;
                 let elapsed = run.elapsed_s;
@@ -275,7 +261,7 @@ impl ControllerModel {
                 }
                 if stage >= 3 {
                     self.homed = [true; JOINT_COUNT];
-                    self.position_steps = STANDBY_STEPS.map(f64::from);
+                    self.steppers.set_position_steps(STANDBY_STEPS.map(f64::from));
                     self.homing = None;
                     // FW restarts homing when the last command is still HOME.
                     if self.last.map(|c| c.code) == Some(CommandCode::Home.byte()) {
@@ -291,9 +277,7 @@ impl ControllerModel {
                 Some(CommandCode::Jog) | Some(CommandCode::Move)
             ) && !self.disabled;
             if stepping {
-                for i in 0..JOINT_COUNT {
-                    self.position_steps[i] += self.speed_steps_s[i] * h;
-                }
+                self.steppers.integrate(h);
             }
         }
     }

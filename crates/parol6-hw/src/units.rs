@@ -12,8 +12,9 @@ use crate::frame::{I24_MAX, I24_MIN};
 
 /// Degrees per motor step before the gear ratio (360 / 6400).
 pub const DEG_PER_MOTOR_STEP: f64 = 360.0 / MICROSTEPS_PER_MOTOR_REV;
-/// Firmware speed clamp for JOG and MOVE, steps/s (AccelStepper max speed).
-pub const FW_MAX_SPEED_STEPS_S: i32 = 50_000;
+/// Firmware speed clamp for JOG and MOVE, steps/s (AccelStepper max speed; the stepper law's,
+/// `parol6_core::motion::stepper`).
+pub const FW_MAX_SPEED_STEPS_S: i32 = parol6_core::motion::stepper::FW_MAX_SPEED_STEPS_S as i32;
 /// Minimum jog speed, steps/s (API `JOG_MIN_STEPS`).
 pub const JOG_MIN_SPEED_STEPS_S: f64 = 100.0;
 /// Jog max speed as a fraction of the max speed (API: 0.8).
@@ -72,7 +73,7 @@ pub fn steps_to_deg(joint: usize, steps: i32) -> f64 {
 /// Joint angle (rad) → steps, rounded half to even.
 pub fn rad_to_steps(joint: usize, rad: f64) -> Result<i32, UnitError> {
     check_joint(joint)?;
-    to_i24(joint, (rad / rad_per_step(joint)).round_ties_even())
+    to_i24(joint, parol6_core::motion::stepper::steps_of_rad(joint, rad))
 }
 
 /// Joint angle (deg) → steps, `round(deg / 0.05625 × ratio)` half to even.

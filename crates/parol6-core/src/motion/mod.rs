@@ -46,6 +46,8 @@ mod io;
 pub mod path;
 mod planner;
 pub mod preflight;
+pub mod stepper;
+pub mod tracking;
 mod validate;
 mod warp;
 

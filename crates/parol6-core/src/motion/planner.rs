@@ -250,6 +250,18 @@ impl MotionPlanner {
         self.setpoint_into(t_s, out);
     }
 
+    /// The setpoint sampling at `t_s` would give, ahead of the motion clock and without
+    /// changing the planner: scheduled commands due by then are applied on a copy (cloned only
+    /// when one is due). The tracking modes' targets ([`super::tracking`]).
+    pub fn preview_into(&self, t_s: f64, out: &mut Setpoint) {
+        if self.pending.first().is_some_and(|p| p.at_s <= t_s) {
+            let mut ahead = self.clone();
+            ahead.sample_into(t_s, out);
+        } else {
+            self.setpoint_into(t_s, out);
+        }
+    }
+
     /// The setpoint of the current motion at `t_s` (no side effects).
     pub fn setpoint_at(&self, t_s: f64) -> Setpoint {
         let mut sp = Setpoint::at_rest(&[]);

@@ -27,6 +27,7 @@ use crate::motion::{
 pub mod collision;
 pub mod dynamics;
 pub mod multibody;
+mod servo;
 mod thread;
 pub mod torque_profile;
 mod types;
@@ -36,7 +37,7 @@ pub use dynamics::{InverseDynamics, JointTorques};
 pub use multibody::{MotorGains, Physics};
 pub use thread::{SimHandle, SimStats, process_cpu_time_ns, thread_cpu_time_ns};
 pub use torque_profile::{TorqueProfile, TorqueRun};
-pub use types::{SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
+pub use types::{ServoModel, SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
 
 /// Time constant of the low-pass filter on the measured joint acceleration, s.
 const QDD_FILTER_S: f64 = 0.005;
@@ -72,9 +73,14 @@ pub struct Simulation {
     tap_dropped: u64,
     /// Samples offered to the tap (their `seq`).
     tap_seq: u64,
-    /// Measured state.
+    /// The simulated PAROL6 board's drives ([`ServoModel::Firmware`]); `None`: ideal motors.
+    servo: Option<servo::SimServo>,
+    /// Measured state (the drives' step counters with the firmware servo, else the links).
     q: Vec<f64>,
     qd: Vec<f64>,
+    /// The rapier links' joint state (dynamic mode).
+    link_q: Vec<f64>,
+    link_qd: Vec<f64>,
     torques: Vec<f64>,
     ff: Vec<f64>,
     qd_prev: Vec<f64>,
@@ -157,6 +163,10 @@ impl Simulation {
             torque_control: false,
             torque_run: None,
             sp: Setpoint::at_rest(&home),
+            servo: (config.servo == ServoModel::Firmware && model.is_parol6 && n == crate::parol6::JOINT_COUNT)
+                .then(|| servo::SimServo::new(&home, config.tracking, dt_s)),
+            link_q: home.clone(),
+            link_qd: vec![0.0; n],
             user_torques: vec![0.0; n],
             io: crate::motion::IoState::default(),
             tap: None,
@@ -181,6 +191,8 @@ impl Simulation {
             model,
             config,
         };
+        let q0 = sim.q.clone();
+        sim.hold_drives_at(&q0);
         sim.collision = sim.guard.check(&sim.model, &sim.q);
         sim.update_torques();
         Ok(sim)
@@ -339,6 +351,7 @@ impl Simulation {
                 self.physics.teleport(&t);
                 self.q.copy_from_slice(&t);
                 self.qd.fill(0.0);
+                self.hold_drives_at(&t);
                 self.qdd_filt.fill(0.0);
                 self.sp = Setpoint::at_rest(&t);
                 self.user_torques.fill(0.0);
@@ -356,11 +369,18 @@ impl Simulation {
                     self.physics.teleport(&here);
                     self.q.copy_from_slice(&here);
                     self.qd.fill(0.0);
+                    self.hold_drives_at(&here);
                     self.qdd_filt.fill(0.0);
                     self.sp = Setpoint::at_rest(&here);
                     self.planner.reset(&here);
                     self.mode = mode;
                 }
+            }
+            SimCommand::SetTracking(mode) => {
+                if let Some(servo) = self.servo.as_mut() {
+                    servo.set_mode(mode);
+                }
+                self.config.tracking = mode;
             }
             SimCommand::Io(io) => {
                 io.validate().map_err(SimError::InvalidCommand)?;
@@ -409,7 +429,23 @@ impl Simulation {
             let here: Vec<f64> = self.model.limits.iter().zip(&self.q).map(|(l, &v)| l.clamp(v)).collect();
             self.sp = Setpoint::at_rest(&here);
             self.planner.reset(&here);
+            self.hold_drives_at(&here);
         }
+    }
+
+    /// The firmware servo's drives at rest at `q` (whole steps), the measured joints with them.
+    fn hold_drives_at(&mut self, q: &[f64]) {
+        self.link_q.copy_from_slice(q);
+        self.link_qd.fill(0.0);
+        if let Some(servo) = self.servo.as_mut() {
+            servo.teleport(q);
+            servo.read(&mut self.q, &mut self.qd);
+        }
+    }
+
+    /// The tracking mode of the simulated board.
+    pub fn tracking(&self) -> crate::motion::tracking::TrackingMode {
+        self.servo.as_ref().map_or(self.config.tracking, servo::SimServo::mode)
     }
 
     /// Advances the setpoint by one step: scheduled commands due by then are applied at their
@@ -433,17 +469,27 @@ impl Simulation {
     pub fn step(&mut self) {
         let t0 = Instant::now();
         self.update_run_torques();
+        // the board's drives: this frame's target (planner sampled at this step's start), 1 step
+        let driven = !self.torque_control && self.servo.is_some();
+        if let Some(servo) = self.servo.as_mut().filter(|_| driven) {
+            servo.step(self.steps, self.steps as f64 * self.dt_s, self.dt_s, &self.planner, &self.sp);
+        }
         self.advance_setpoint();
         match self.mode {
-            SimMode::Kinematic => {
-                self.q.copy_from_slice(&self.sp.q);
-                self.qd.copy_from_slice(&self.sp.qd);
-            }
+            SimMode::Kinematic => match self.servo.as_ref() {
+                Some(servo) => servo.read(&mut self.q, &mut self.qd),
+                None => {
+                    self.q.copy_from_slice(&self.sp.q);
+                    self.qd.copy_from_slice(&self.sp.qd);
+                }
+            },
             SimMode::Dynamic => {
+                let drives_still = self.servo.as_ref().is_none_or(|s| !s.moving());
                 let still = !self.torque_control
                     && self.torque_run.is_none()
+                    && drives_still
                     && self.sp.qd.iter().chain(&self.sp.qdd).all(|v| *v == 0.0)
-                    && self.qd.iter().all(|v| v.abs() < REST_QD_RAD_S);
+                    && self.link_qd.iter().all(|v| v.abs() < REST_QD_RAD_S);
                 self.rest_steps = if still { self.rest_steps.saturating_add(1) } else { 0 };
                 if !self.resting() {
                     self.step_physics();
@@ -482,6 +528,13 @@ impl Simulation {
     fn step_physics(&mut self) {
         if self.torque_control {
             self.physics.set_joint_torques(&self.user_torques);
+        } else if let Some(servo) = self.servo.as_ref() {
+            // the links carried stiffly to the drives' step counters: computed-torque
+            // feedforward at the drives' position and speed, motors correct the rest
+            servo.read(&mut self.q, &mut self.qd);
+            self.id.compute_into(&self.model, &self.q, &self.qd, &self.sp.qdd, &mut self.ff);
+            self.physics.set_joint_torques(&self.ff);
+            self.physics.set_motor_targets(&self.q, &self.qd);
         } else {
             // computed-torque feedforward on the setpoint, motors correct the rest
             self.id.compute_into(&self.model, &self.sp.q, &self.sp.qd, &self.sp.qdd, &mut self.ff);
@@ -491,13 +544,22 @@ impl Simulation {
         self.physics.stop_at_limits(&self.speed_cap, self.dt_s);
         self.physics.step();
         self.physics.clamp_joint_velocities(&self.speed_cap);
-        self.qd_prev.copy_from_slice(&self.qd);
-        self.physics.read_state(&mut self.q, &mut self.qd);
+        self.qd_prev.copy_from_slice(&self.link_qd);
+        self.physics.read_state(&mut self.link_q, &mut self.link_qd);
         // measured acceleration, low-passed (time constant QDD_FILTER_S)
         let alpha = self.dt_s / (QDD_FILTER_S + self.dt_s);
-        for i in 0..self.qd.len() {
-            let raw = (self.qd[i] - self.qd_prev[i]) / self.dt_s;
+        for i in 0..self.link_qd.len() {
+            let raw = (self.link_qd[i] - self.qd_prev[i]) / self.dt_s;
             self.qdd_filt[i] += alpha * (raw - self.qdd_filt[i]);
+        }
+        // the board reports its step counters; without drives (ideal motors, user torques)
+        // the links are what is measured
+        match self.servo.as_ref().filter(|_| !self.torque_control) {
+            Some(servo) => servo.read(&mut self.q, &mut self.qd),
+            None => {
+                self.q.copy_from_slice(&self.link_q);
+                self.qd.copy_from_slice(&self.link_qd);
+            }
         }
     }
 
@@ -536,7 +598,7 @@ impl Simulation {
         match (self.mode, self.torque_control) {
             (SimMode::Dynamic, true) => self.torques.copy_from_slice(&self.user_torques),
             (SimMode::Dynamic, false) => {
-                self.id.compute_into(&self.model, &self.q, &self.qd, &self.qdd_filt, &mut self.torques);
+                self.id.compute_into(&self.model, &self.link_q, &self.link_qd, &self.qdd_filt, &mut self.torques);
             }
             (SimMode::Kinematic, _) => {
                 self.id.compute_into(&self.model, &self.q, &self.qd, &self.sp.qdd, &mut self.torques);

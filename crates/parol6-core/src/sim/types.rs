@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::kinematics::TcpPose;
 use crate::limits::{LimitPolicy, LimitViolation, ZoneReport, ZoneThresholds};
+use crate::motion::tracking::TrackingMode;
 use crate::motion::{MotionCommand, MotionError, PlannerMode, Setpoint};
 use crate::profile::ProfileError;
 
@@ -18,6 +19,23 @@ pub enum SimMode {
     /// The rapier multibody is stepped under gravity; position motors track the setpoint.
     #[default]
     Dynamic,
+}
+
+/// What drives the simulated joints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ServoModel {
+    /// The PAROL6 board's drives: every 10 ms the streamed MOVE target (in the
+    /// [`SimConfig::tracking`] mode) is held for the period and the joints step by the
+    /// firmware's law ([`crate::motion::stepper`]): its lag, its ±50 000 steps/s clamp, whole
+    /// steps. The measured joints are the step counters, as the board reports them; the rapier
+    /// links (dynamic mode) are carried stiffly to them. Only for the PAROL6 model; other
+    /// models use [`ServoModel::Ideal`].
+    #[default]
+    Firmware,
+    /// Ideal motors that follow the planned setpoint itself (no firmware, no steps): for robot
+    /// models other than the PAROL6, which have no such board.
+    Ideal,
 }
 
 /// Settings of a [`Simulation`].
@@ -37,6 +55,10 @@ pub struct SimConfig {
     /// headless program run uses more, and the thread simply runs behind when the machine
     /// cannot keep up).
     pub time_scale: f64,
+    /// What drives the joints (the PAROL6 firmware's stepper law by default).
+    pub servo: ServoModel,
+    /// Which targets the simulated board is streamed (as the serial session streams the robot).
+    pub tracking: TrackingMode,
 }
 
 impl Default for SimConfig {
@@ -48,6 +70,8 @@ impl Default for SimConfig {
             mode: SimMode::Dynamic,
             check_collisions: true,
             time_scale: 1.0,
+            servo: ServoModel::Firmware,
+            tracking: TrackingMode::default(),
         }
     }
 }
@@ -71,6 +95,8 @@ pub enum SimCommand {
     Io(crate::motion::IoCommand),
     /// Switch between kinematic and dynamic stepping.
     SetMode(SimMode),
+    /// Changes the tracking mode of the simulated board (from its next 10 ms frame).
+    SetTracking(TrackingMode),
     /// Dynamic mode: drive the joints with these torques (N·m), motors off, until a motion
     /// command. Kinematic mode refuses it.
     ApplyJointTorques(Vec<f64>),

@@ -47,6 +47,8 @@ pub struct SessionConfig {
     /// Ask the OS for a real-time (SCHED_FIFO) or raised (nice −10) priority for the session
     /// thread; refused requests (EPERM) are ignored (default on).
     pub raise_priority: bool,
+    /// Which targets the MOVE frames carry (`parol6_core::motion::tracking`; default `lead`).
+    pub tracking: parol6_core::motion::tracking::TrackingMode,
 }
 
 impl Default for SessionConfig {
@@ -65,6 +67,7 @@ impl Default for SessionConfig {
             disagreement_steps: 2000,
             disagreement_timeout: Duration::from_millis(500),
             raise_priority: true,
+            tracking: parol6_core::motion::tracking::TrackingMode::default(),
         }
     }
 }

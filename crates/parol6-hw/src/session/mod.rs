@@ -93,6 +93,7 @@ impl Session {
             MotionCaps::of(&model),
             home_position(&model),
             config.period_s(),
+            config.tracking,
         )
         .with_kinematics(kinematics);
         let (tx, rx) = crossbeam_channel::bounded(REQUEST_QUEUE);

@@ -10,6 +10,8 @@
 use std::time::Instant;
 
 use parol6_core::limits::JointLimits;
+use parol6_core::motion::stepper::StepperCommand;
+use parol6_core::motion::tracking::{Tracker, TrackingMode};
 use parol6_core::motion::{JogKinematics, MotionCaps, MotionCommand, MotionPlanner, PlannerMode, Setpoint};
 use parol6_core::parol6::JOINT_COUNT;
 
@@ -33,6 +35,10 @@ pub(super) struct Streamer {
     streaming: bool,
     jog: Option<(usize, f64)>,
     setpoint: Option<Setpoint>,
+    /// The setpoint of the tick before (what the status read at this tick answers).
+    answered: Option<Setpoint>,
+    /// Which targets the MOVE frames carry (`parol6_core::motion::tracking`, as the simulation).
+    tracker: Tracker,
     /// The previous MOVE target sent and how many frames ago (the guard's reference).
     reference: Option<([i32; JOINT_COUNT], u32)>,
     pub(super) homing: Homing,
@@ -42,9 +48,17 @@ pub(super) struct Streamer {
 }
 
 impl Streamer {
-    pub(super) fn new(limits: JointLimits, caps: MotionCaps, home: Vec<f64>, period_s: f64) -> Self {
+    pub(super) fn new(
+        limits: JointLimits,
+        caps: MotionCaps,
+        home: Vec<f64>,
+        period_s: f64,
+        tracking: TrackingMode,
+    ) -> Self {
         let q0 = home.clone();
         Self {
+            answered: None,
+            tracker: Tracker::new(tracking, period_s),
             planner: MotionPlanner::new(limits, caps, home, &q0),
             period_s,
             tick: 0,
@@ -84,9 +98,10 @@ impl Streamer {
         &self.planner
     }
 
-    /// The setpoint of the last sampled tick (None while IDLE).
-    pub(super) fn setpoint(&self) -> Option<&Setpoint> {
-        self.setpoint.as_ref()
+    /// The setpoint of the tick before the last: the instant the latest status reply describes
+    /// (the board answers frame k with its counters as frame k arrived, read at tick k + 1).
+    pub(super) fn answered_setpoint(&self) -> Option<&Setpoint> {
+        self.answered.as_ref().or(self.setpoint.as_ref())
     }
 
     pub(super) fn last_refusal(&self) -> Option<&(u64, String)> {
@@ -114,6 +129,7 @@ impl Streamer {
         self.streaming = false;
         self.jog = None;
         self.reference = None;
+        self.answered = None;
     }
 
     /// Applies a motion command (immediately, or scheduled for `at_s`) at the current tick.
@@ -167,11 +183,13 @@ impl Streamer {
     }
 
     /// Samples the trajectory at this tick's time (scheduled commands due by then are applied
-    /// at their exact times) and returns the MOVE target in steps; `None` while IDLE. A target
-    /// that cannot be expressed in steps stops streaming and is returned as the error.
-    pub(super) fn sample_target(&mut self) -> Result<Option<[i32; JOINT_COUNT]>, String> {
+    /// at their exact times) and returns the MOVE target and feed-forward in steps, in the
+    /// tracking mode; `None` while IDLE. A target that cannot be expressed in steps stops
+    /// streaming and is returned as the error.
+    pub(super) fn sample_target(&mut self) -> Result<Option<([i32; JOINT_COUNT], [i32; JOINT_COUNT])>, String> {
         if !self.streaming {
             self.setpoint = None;
+            self.answered = None;
             return Ok(None);
         }
         let t = self.time_s();
@@ -186,13 +204,20 @@ impl Streamer {
         if self.planner.mode() != PlannerMode::Jog {
             self.jog = None;
         }
-        let steps = joints_rad_to_steps(&sp.q);
-        self.setpoint = Some(sp);
-        match steps {
-            Ok(s) => Ok(Some(s)),
-            Err(e) => {
+        let (target, stop) = self.tracker.targets(&self.planner, t, &sp);
+        let fields = match (joints_rad_to_steps(target), stop.map(joints_rad_to_steps).transpose()) {
+            (Ok(_), Ok(_)) => parol6_core::motion::stepper::move_fields(target, stop),
+            (Err(e), _) | (_, Err(e)) => {
                 self.stop_streaming();
-                Err(format!("commanded target cannot be sent: {e}"))
+                return Err(format!("commanded target cannot be sent: {e}"));
+            }
+        };
+        self.answered = self.setpoint.replace(sp);
+        match fields {
+            Some(StepperCommand::Move { target_steps, speed_steps_s }) => Ok(Some((target_steps, speed_steps_s))),
+            _ => {
+                self.stop_streaming();
+                Err("commanded target cannot be sent: not a finite number".into())
             }
         }
     }
@@ -237,7 +262,7 @@ mod tests {
 
     fn streamer() -> Streamer {
         let model = RobotModel::parol6();
-        Streamer::new(JointLimits::parol6(), MotionCaps::of(&model), home_position(&model), 0.01)
+        Streamer::new(JointLimits::parol6(), MotionCaps::of(&model), home_position(&model), 0.01, TrackingMode::Official)
     }
 
     #[test]
@@ -245,12 +270,12 @@ mod tests {
         let mut s = streamer();
         let steps = crate::units::STANDBY_STEPS;
         let q = crate::units::joints_steps_to_rad(&steps);
-        assert_eq!(s.sample_target(), Ok(None));
+        assert_eq!(s.sample_target().map(|t| t.map(|(p, _)| p)), Ok(None));
         s.end_tick(None);
         s.apply(MotionCommand::JogJoint { joint: 3, fraction: 0.5 }, None, Some((q, steps)), None).unwrap();
-        assert_eq!(s.sample_target(), Ok(Some(steps)), "the jog starts where the arm is");
+        assert_eq!(s.sample_target().map(|t| t.map(|(p, _)| p)), Ok(Some(steps)), "the jog starts where the arm is");
         s.end_tick(Some(steps));
-        let next = s.sample_target().unwrap().unwrap();
+        let next = s.sample_target().map(|t| t.map(|(p, _)| p)).unwrap().unwrap();
         assert!(next[3] > steps[3]);
         assert_eq!(next[..3], steps[..3]);
         assert!(matches!(s.motion_state(), MotionState::Jogging { joint: 3, .. }));
@@ -277,9 +302,9 @@ mod tests {
         let out = s.apply(MotionCommand::JogJoint { joint: 0, fraction: 0.5 }, None, Some((q, steps)), None);
         assert!(out.is_err(), "further out is refused");
         s.apply(MotionCommand::JogJoint { joint: 0, fraction: -0.5 }, None, Some((q, steps)), None).unwrap();
-        s.sample_target().unwrap();
+        s.sample_target().map(|t| t.map(|(p, _)| p)).unwrap();
         s.end_tick(Some(steps));
-        let t = s.sample_target().unwrap().unwrap();
+        let t = s.sample_target().map(|t| t.map(|(p, _)| p)).unwrap().unwrap();
         assert!(t[0] < 14_050);
     }
 }

@@ -457,9 +457,10 @@ impl Worker {
             return f;
         }
         match target {
-            Some(steps) => {
+            Some((steps, speeds)) => {
                 let mut f = self.frame(CommandCode::Move);
                 f.fields.positions_steps = steps;
+                f.fields.speeds_steps_s = speeds;
                 f
             }
             None => self.idle_frame(),

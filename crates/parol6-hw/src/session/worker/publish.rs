@@ -55,7 +55,9 @@ impl Worker {
         if let Some(tap) = &self.tap {
             let _ = tap.try_send(MotionSample {
                 seq: self.streamer.tick(),
-                time_s: t_s,
+                // the status read at this tick describes the arm when the board took the
+                // previous frame: the sample is stamped with that frame's instant
+                time_s: (t_s - self.cfg.period_s()).max(0.0),
                 commanded: state.commanded.clone(),
                 measured_q: state.q.clone(),
                 measured_qd: state.qd.clone(),
@@ -72,7 +74,9 @@ impl Worker {
         let qd = self.snap.joint_speed_rad_s.to_vec();
         let planner = self.streamer.planner();
         let streaming = self.streamer.is_streaming();
-        let commanded = match self.streamer.setpoint() {
+        // the measured joints are the board's answer to the previous frame: paired with the
+        // setpoint of that frame's instant, so commanded − measured is the arm's tracking error
+        let commanded = match self.streamer.answered_setpoint() {
             Some(sp) if streaming => sp.clone(),
             _ => Setpoint::at_rest(&q),
         };

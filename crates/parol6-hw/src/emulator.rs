@@ -208,7 +208,8 @@ impl ControllerModel {
         let Some(cmd) = self.last else { return };
         if let Some(run) = self.homing {
             let stage = self.homing_stage(run.elapsed_s);
-            let speeds = std::array::from_fn(|i| if stage_moves(stage, i) { f64::from(HOMING_SEEK_STEPS_S[i]) } else { 0.0 });
+            let speeds =
+                std::array::from_fn(|i| if stage_moves(stage, i) { f64::from(HOMING_SEEK_STEPS_S[i]) } else { 0.0 });
             self.steppers.set_command(StepperCommand::Hold);
             self.steppers.set_speeds_steps_s(speeds);
             return;

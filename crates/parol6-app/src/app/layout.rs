@@ -141,6 +141,15 @@ impl Parol6App {
                         for c in crate::panels::AbcConvention::ALL {
                             ui.radio_value(&mut pctx.settings.gcode_abc, c, c.describe());
                         }
+                        ui.separator();
+                        ui.label("Tracking").on_hover_text(
+                            "Which targets the board is streamed, in the simulation at once and on the robot from \
+                             the next connection: official (the plan now, the arm trails ≈ 25 ms), lead (the plan \
+                             25 ms ahead), feedforward (as lead, with feed-forward speeds)",
+                        );
+                        for m in parol6_core::motion::tracking::TrackingMode::ALL {
+                            ui.radio_value(&mut pctx.settings.tracking, m, m.name());
+                        }
                     });
                     if ui.button("Help (F1)").clicked() {
                         *show_help = !*show_help;

@@ -29,11 +29,15 @@ pub(super) struct HwLink {
 }
 
 impl HwLink {
-    pub(super) fn connect(target: &ConnectTarget, model: &RobotModel) -> anyhow::Result<Self> {
+    pub(super) fn connect(
+        target: &ConnectTarget,
+        model: &RobotModel,
+        tracking: parol6_core::motion::tracking::TrackingMode,
+    ) -> anyhow::Result<Self> {
         if !model.is_parol6 {
             anyhow::bail!("the serial link drives a PAROL6 only; this model is \"{}\"", model.name);
         }
-        let config = parol6_hw::SessionConfig::default();
+        let config = parol6_hw::SessionConfig { tracking, ..parol6_hw::SessionConfig::default() };
         let recorder = super::telemetry::start_recorder(model);
         let tap = recorder.as_ref().map(parol6_core::telemetry::Recorder::tap);
         let mut link = match target {

@@ -127,6 +127,8 @@ pub struct Parol6App {
     viewport: Option<Viewport>,
     viewport_error: Option<String>,
     settings: Settings,
+    /// The tracking mode the simulation was last given.
+    sim_tracking: parol6_core::motion::tracking::TrackingMode,
     settings_path: Option<PathBuf>,
     /// The operator panels (see [`crate::panels::registry`]).
     panels: Panels,
@@ -172,10 +174,10 @@ impl Parol6App {
         let model = opts.model;
         let sim_recorder = telemetry::start_recorder(&model);
         let tap = sim_recorder.as_ref().map(parol6_core::telemetry::Recorder::tap);
-        let sim = Arc::new(
-            SimHandle::spawn_with_tap(model.clone(), SimConfig::default(), tap).context("starting the simulation")?,
-        );
         let settings = load_settings(opts.settings_path.as_deref());
+        let sim_config = SimConfig { tracking: settings.tracking, ..SimConfig::default() };
+        let sim =
+            Arc::new(SimHandle::spawn_with_tap(model.clone(), sim_config, tap).context("starting the simulation")?);
         let (viewport, viewport_error) = match render_state {
             Some(rs) => match Viewport::with_target(rs, &model, opts.msaa_samples, Some(crate::viewport::DEPTH_FORMAT))
             {
@@ -199,6 +201,7 @@ impl Parol6App {
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,
+            sim_tracking: settings.tracking,
             settings,
             settings_path: opts.settings_path,
             perf: PerfStats::default(),
@@ -274,7 +277,7 @@ impl Parol6App {
 
     fn connect(&mut self, target: &ConnectTarget) {
         self.disconnect();
-        match HwLink::connect(target, &self.model) {
+        match HwLink::connect(target, &self.model, self.settings.tracking) {
             Ok(link) => {
                 let what = match target {
                     ConnectTarget::Port(p) => format!("opened {p}: waiting for the controller to answer"),
@@ -374,6 +377,13 @@ impl Parol6App {
 
     /// Draws one frame of the whole UI into `ui` and executes the commands it produced.
     pub fn frame(&mut self, ui: &mut egui::Ui) {
+        if self.settings.tracking != self.sim_tracking {
+            // the simulation takes a new tracking mode at once; the robot at its next connection
+            self.sim_tracking = self.settings.tracking;
+            if let Err(e) = self.sim.send(SimCommand::SetTracking(self.settings.tracking)) {
+                self.notice(format!("tracking mode: {e}"), true);
+            }
+        }
         let t0 = Instant::now();
         let ctx = ui.ctx().clone();
         let snap = self.sim.snapshot();

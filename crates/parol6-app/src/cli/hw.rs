@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::Sender;
 use parol6_core::model::PAROL6_URDF;
 use parol6_core::motion::MotionSample;
+use parol6_core::motion::tracking::TrackingMode;
 use parol6_core::{RobotModel, Tool};
 
 use parol6_core::profile::ProfileKind;
@@ -52,6 +53,19 @@ pub struct RateArgs {
     /// Command rate, Hz, 50–500.
     #[arg(long, default_value_t = 100.0, value_parser = f64_within(50.0, 500.0))]
     pub rate: f64,
+    /// Which MOVE targets motion streams: official (the plan now, zero feed-forward, as the
+    /// official API: the arm trails by ≈ 25 ms), lead (the plan 25 ms ahead: the arm is where the
+    /// plan says when it says it), feedforward (the same tracking as lead, with feed-forward
+    /// speeds). The simulation's board uses the same mode.
+    #[arg(long, default_value_t = TrackingMode::default())]
+    pub tracking: TrackingMode,
+}
+
+impl RateArgs {
+    /// The default rate and tracking mode.
+    pub fn defaults() -> Self {
+        Self { rate: 100.0, tracking: TrackingMode::default() }
+    }
 }
 
 /// `parol6 hw` subcommands.
@@ -164,7 +178,7 @@ pub(crate) fn open(
     rate: &RateArgs,
     tap: Option<Sender<MotionSample>>,
 ) -> Result<Link, CliError> {
-    let config = SessionConfig { rate_hz: rate.rate, ..SessionConfig::default() };
+    let config = SessionConfig { rate_hz: rate.rate, tracking: rate.tracking, ..SessionConfig::default() };
     let emulator = if connect.fake_robot {
         Some(
             EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })

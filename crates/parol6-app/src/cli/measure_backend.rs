@@ -10,6 +10,7 @@ use std::time::Duration;
 use crossbeam_channel::{Receiver, Sender};
 use parol6_core::RobotModel;
 use parol6_core::measure::driver::{MeasureError, MeasureRun};
+use parol6_core::motion::tracking::TrackingMode;
 use parol6_core::motion::{MotionSample, RobotBackend};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_hw::emulator::EmulatorHandle;
@@ -35,9 +36,10 @@ pub struct Opened {
 
 impl Opened {
     /// The headless simulation of `model`, with a sample tap when `tapped`.
-    pub fn simulation(model: &RobotModel, tapped: bool) -> Result<Self, CliError> {
+    pub fn simulation(model: &RobotModel, tapped: bool, tracking: TrackingMode) -> Result<Self, CliError> {
         let (tx, rx) = tap(tapped);
-        let config = SimConfig { mode: SimMode::Dynamic, time_scale: HEADLESS_TIME_SCALE, ..SimConfig::default() };
+        let config =
+            SimConfig { mode: SimMode::Dynamic, time_scale: HEADLESS_TIME_SCALE, tracking, ..SimConfig::default() };
         let sim = SimHandle::spawn_with_tap(model.clone(), config, tx).map_err(CliError::usage)?;
         Ok(Self { backend: Arc::new(sim), tap: rx, name: "simulation".into(), _emulator: None })
     }
@@ -61,7 +63,7 @@ impl Opened {
         if connect.port.is_some() || connect.fake_robot {
             Self::robot(connect, rate, tapped)
         } else {
-            Self::simulation(model, tapped)
+            Self::simulation(model, tapped, rate.tracking)
         }
     }
 }

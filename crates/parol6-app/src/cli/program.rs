@@ -196,7 +196,8 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 run_on(Arc::clone(&session) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             } else {
                 let time_scale = if *realtime { 1.0 } else { HEADLESS_TIME_SCALE };
-                let config = SimConfig { mode: SimMode::Dynamic, time_scale, ..SimConfig::default() };
+                let config =
+                    SimConfig { mode: SimMode::Dynamic, time_scale, tracking: rate.tracking, ..SimConfig::default() };
                 let sim = Arc::new(SimHandle::spawn_with_tap(model.clone(), config, tap).map_err(CliError::usage)?);
                 if start_deg.is_some() {
                     place_sim(&sim, &start)?;
@@ -204,6 +205,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 let poll = || (sim.state(), None);
                 run_on(Arc::clone(&sim) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             };
+            summary.json["tracking"] = serde_json::json!(rate.tracking.name());
             if let Some(t) = telemetry {
                 summary.json["recording"] = t.finish()?;
             }

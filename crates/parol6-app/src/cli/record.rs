@@ -162,7 +162,7 @@ pub fn run(args: &RecordArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRe
     let telemetry = Telemetry::start(&model, tool_of(robot), &text, &args.output)?;
     let source;
     if on_robot {
-        let link = open(connect, &RateArgs { rate: 100.0 }, Some(telemetry.tap()))?;
+        let link = open(connect, &RateArgs::defaults(), Some(telemetry.tap()))?;
         source = link.session.snapshot().port.clone();
         let poll = || (link.session.robot_state(), Some(link_health(&link.session.snapshot())));
         telemetry.feed_while(&poll, || std::thread::sleep(duration));

@@ -134,6 +134,8 @@ pub struct Settings {
     /// Height of the panel under the 3D view (plots, dynamics, replay timeline) as last
     /// dragged, points.
     pub lower_panel_height_pt: f32,
+    /// Tracking mode of motion on the robot and in the simulation (`parol6_core::motion::tracking`).
+    pub tracking: parol6_core::motion::tracking::TrackingMode,
 }
 
 /// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
@@ -184,6 +186,7 @@ impl Default for Settings {
             show_plots: false,
             show_dynamics: false,
             lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
+            tracking: parol6_core::motion::tracking::TrackingMode::default(),
         }
     }
 }

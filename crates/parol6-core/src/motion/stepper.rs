@@ -148,7 +148,8 @@ impl Steppers {
         match self.command {
             StepperCommand::Move { target_steps, speed_steps_s } => {
                 for j in 0..JOINT_COUNT {
-                    self.speed_steps_s[j] = move_speed_steps_s(self.position_steps[j], target_steps[j], speed_steps_s[j]);
+                    self.speed_steps_s[j] =
+                        move_speed_steps_s(self.position_steps[j], target_steps[j], speed_steps_s[j]);
                 }
             }
             StepperCommand::Jog { speed_steps_s } => self.speed_steps_s = speed_steps_s.map(jog_speed_steps_s),

@@ -262,7 +262,13 @@ mod tests {
 
     fn streamer() -> Streamer {
         let model = RobotModel::parol6();
-        Streamer::new(JointLimits::parol6(), MotionCaps::of(&model), home_position(&model), 0.01, TrackingMode::Official)
+        Streamer::new(
+            JointLimits::parol6(),
+            MotionCaps::of(&model),
+            home_position(&model),
+            0.01,
+            TrackingMode::Official,
+        )
     }
 
     #[test]

@@ -21,6 +21,14 @@ fn sim(mode: SimMode) -> Simulation {
     Simulation::new(parol6(), config).expect("embedded model builds")
 }
 
+/// Ideal motors (`ServoModel::Ideal`): for the tests of the planner's setpoint through the
+/// simulation (exact profiles, jogs, stops), which the firmware servo's 25 ms lag and whole steps
+/// would blur; the firmware servo is tested in `motion::stepper` and `tests/servo_tracking.rs`.
+fn ideal_sim(mode: SimMode) -> Simulation {
+    let config = SimConfig { mode, servo: super::ServoModel::Ideal, ..SimConfig::default() };
+    Simulation::new(parol6(), config).expect("embedded model builds")
+}
+
 fn run_s(sim: &mut Simulation, seconds: f64) {
     let steps = (seconds / sim.dt_s()).round() as usize;
     for _ in 0..steps {
@@ -185,7 +193,7 @@ fn new_simulation_rests_at_standby() {
 
 #[test]
 fn kinematic_move_follows_the_profile_exactly() {
-    let mut s = sim(SimMode::Kinematic);
+    let mut s = ideal_sim(SimMode::Kinematic);
     let start = standby_rad().to_vec();
     let goal = vec![1.2, -1.2, 2.8, 0.3, -0.4, 2.0];
     s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
@@ -242,7 +250,7 @@ fn home_returns_to_standby() {
 
 #[test]
 fn jog_targets_move_at_the_speed_limit() {
-    let mut s = sim(SimMode::Kinematic);
+    let mut s = ideal_sim(SimMode::Kinematic);
     let mut goal = standby_rad().to_vec();
     goal[0] += 0.5;
     s.apply(SimCommand::Motion(MotionCommand::follow(goal.clone()))).expect("in range");
@@ -255,7 +263,7 @@ fn jog_targets_move_at_the_speed_limit() {
 
 #[test]
 fn stop_holds_where_the_robot_is() {
-    let mut s = sim(SimMode::Kinematic);
+    let mut s = ideal_sim(SimMode::Kinematic);
     s.apply(SimCommand::Motion(MotionCommand::MoveJoints {
         goal_rad: vec![1.0, -1.2, 2.8, 0.3, -0.4, 2.0],
         speed_fraction: 1.0,

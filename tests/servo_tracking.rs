@@ -21,7 +21,7 @@ use parol6_core::profile::ProfileKind;
 use parol6_core::program::compile::{CompileOptions, StepAction, compile};
 use parol6_core::program::gcode::{GcodeImportOptions, parse_gcode};
 use parol6_core::program::{PoseMm, Program, builtin};
-use parol6_core::sim::{SimCommand, SimConfig, Simulation};
+use parol6_core::sim::{ServoModel, SimCommand, SimConfig, Simulation};
 use parol6_hw::units::{STANDBY_STEPS, joints_steps_to_rad};
 use parol6_hw::{CommandCode, CommandFields, CommandFrame, ControllerModel, EmulatorConfig, ReceivedCommand};
 
@@ -119,9 +119,14 @@ impl Errors {
 /// Runs `program` on the simulation and the board in `mode`; returns the largest difference of
 /// their measured joints (deg) at the 10 ms samples and the board's tracking errors.
 fn compare(model: &RobotModel, program: &Program, mode: TrackingMode) -> (f64, Errors, Errors) {
+    compare_with(model, program, mode, ServoModel::Firmware)
+}
+
+fn compare_with(model: &RobotModel, program: &Program, mode: TrackingMode, servo: ServoModel) -> (f64, Errors, Errors) {
     let (cmds, end_s) = schedule(model, program);
     let mut board = Board::new(model, mode, &cmds);
-    let mut sim = Simulation::new(model.clone(), SimConfig { tracking: mode, ..SimConfig::default() }).expect("sim");
+    let mut sim =
+        Simulation::new(model.clone(), SimConfig { tracking: mode, servo, ..SimConfig::default() }).expect("sim");
     sim.apply(SimCommand::Teleport(standby())).expect("teleport");
     for (at, c) in &cmds {
         sim.apply(SimCommand::MotionAt { cmd: c.clone(), at_s: *at }).expect("scheduled");
@@ -182,6 +187,17 @@ fn the_simulation_measures_what_the_emulated_board_measures_in_every_mode() {
             assert!(diff_deg <= 0.05, "{} in {mode}: the simulation is {diff_deg:.4}° from the board", program.name);
         }
     }
+}
+
+/// The simulation before issue 31 (ideal motors tracking the plan itself) fails the check above:
+/// it is degrees away from the board in the official API's mode.
+#[test]
+fn the_old_ideal_motors_do_not_predict_the_board() {
+    let model = RobotModel::parol6();
+    let draw = builtin::programs(&model).into_iter().find(|p| p.name.to_lowercase().contains("draw")).expect("draw");
+    let (diff_deg, _, sim) = compare_with(&model, &draw, TrackingMode::Official, ServoModel::Ideal);
+    eprintln!("ideal motors, Draw, official: |sim − board| up to {diff_deg:.3}°, sim tracking max {:.3}°", sim.max_deg);
+    assert!(diff_deg > 1.0, "{diff_deg}");
 }
 
 /// The acceptance figures: full speed, Draw, Pick & place and the 5 000-line blended G-code.
@@ -284,4 +300,24 @@ fn link_loss_at_every_frame_leaves_the_arm_on_the_planned_path_in_every_mode() {
             eprintln!("link loss, {name}, {mode}: {ticks} frames, worst {worst_steps:.2} steps from the plan");
         }
     }
+}
+
+/// The simulated arm comes to rest after a move (its physics then sleeps): the drives stop on
+/// whole steps and the links settle on them.
+#[test]
+fn the_simulated_arm_rests_after_a_move() {
+    let model = RobotModel::parol6();
+    let mut sim = Simulation::new(model, SimConfig::default()).expect("sim");
+    let mut goal = standby();
+    goal[0] += 0.3;
+    sim.apply(SimCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal,
+        speed_fraction: 0.8,
+        profile: ProfileKind::Trapezoidal,
+    }))
+    .expect("move");
+    for _ in 0..3000 {
+        sim.step();
+    }
+    assert!(sim.resting(), "not resting 3 s after a 0.5 s move");
 }

@@ -56,15 +56,16 @@ pub struct RateArgs {
     /// Which MOVE targets motion streams: official (the plan now, zero feed-forward, as the
     /// official API: the arm trails by ≈ 25 ms), lead (the plan 25 ms ahead: the arm is where the
     /// plan says when it says it), feedforward (the same tracking as lead, with feed-forward
-    /// speeds). The simulation's board uses the same mode.
-    #[arg(long, default_value_t = TrackingMode::default())]
-    pub tracking: TrackingMode,
+    /// speeds). The simulation's board uses the same mode. Default: a program file's own
+    /// `tracking`, else lead.
+    #[arg(long, value_name = "official|lead|feedforward")]
+    pub tracking: Option<TrackingMode>,
 }
 
 impl RateArgs {
     /// The default rate and tracking mode.
     pub fn defaults() -> Self {
-        Self { rate: 100.0, tracking: TrackingMode::default() }
+        Self { rate: 100.0, tracking: None }
     }
 }
 
@@ -178,7 +179,8 @@ pub(crate) fn open(
     rate: &RateArgs,
     tap: Option<Sender<MotionSample>>,
 ) -> Result<Link, CliError> {
-    let config = SessionConfig { rate_hz: rate.rate, tracking: rate.tracking, ..SessionConfig::default() };
+    let config =
+        SessionConfig { rate_hz: rate.rate, tracking: rate.tracking.unwrap_or_default(), ..SessionConfig::default() };
     let emulator = if connect.fake_robot {
         Some(
             EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })

@@ -199,7 +199,7 @@ pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs)
     }
     if let Some(path) = &args.report {
         let simulation = if uses_robot(connect) {
-            let sim = Opened::simulation(&model, false, args.rate.tracking)?;
+            let sim = Opened::simulation(&model, false, args.rate.tracking.unwrap_or_default())?;
             let run = start_pose_test(sim.backend.clone(), model.clone(), plan)
                 .map_err(|e| CliError::runtime(format!("cannot start the measurement thread: {e}")))?;
             let s = wait(run, "ISO 9283 on the simulation")?;
@@ -304,8 +304,11 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
             .collect()
     };
     let recordings = run_all(&opened)?;
-    let simulation =
-        if uses_robot(connect) { Some(run_all(&Opened::simulation(&model, true, args.rate.tracking)?)?) } else { None };
+    let simulation = if uses_robot(connect) {
+        Some(run_all(&Opened::simulation(&model, true, args.rate.tracking.unwrap_or_default())?)?)
+    } else {
+        None
+    };
     let mut paths_json = Vec::new();
     let mut reports = Vec::new();
     for (i, rec) in recordings.iter().enumerate() {

@@ -63,7 +63,7 @@ impl Opened {
         if connect.port.is_some() || connect.fake_robot {
             Self::robot(connect, rate, tapped)
         } else {
-            Self::simulation(model, tapped, rate.tracking)
+            Self::simulation(model, tapped, rate.tracking.unwrap_or_default())
         }
     }
 }

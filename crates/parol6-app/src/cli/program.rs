@@ -170,6 +170,9 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 return Err(CliError::usage(format!("--start-deg: the start pose is outside the limits: {e}")));
             }
             let program = load_with_abc(file, &model, &start, *abc)?;
+            // --tracking, else the program's own, else the default
+            let tracking = rate.tracking.or(program.tracking).unwrap_or_default();
+            let rate = &RateArgs { tracking: Some(tracking), ..rate.clone() };
             let opts = RunOptions { speed_override: *speed, ..RunOptions::default() };
             let robot_link = connect.port.is_some() || connect.fake_robot;
             if robot_link && *realtime {
@@ -196,8 +199,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 run_on(Arc::clone(&session) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             } else {
                 let time_scale = if *realtime { 1.0 } else { HEADLESS_TIME_SCALE };
-                let config =
-                    SimConfig { mode: SimMode::Dynamic, time_scale, tracking: rate.tracking, ..SimConfig::default() };
+                let config = SimConfig { mode: SimMode::Dynamic, time_scale, tracking, ..SimConfig::default() };
                 let sim = Arc::new(SimHandle::spawn_with_tap(model.clone(), config, tap).map_err(CliError::usage)?);
                 if start_deg.is_some() {
                     place_sim(&sim, &start)?;
@@ -205,7 +207,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 let poll = || (sim.state(), None);
                 run_on(Arc::clone(&sim) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             };
-            summary.json["tracking"] = serde_json::json!(rate.tracking.name());
+            summary.json["tracking"] = serde_json::json!(tracking.name());
             if let Some(t) = telemetry {
                 summary.json["recording"] = t.finish()?;
             }

@@ -10,6 +10,7 @@
 //!   "speed": { "joint_fraction": 0.5, "tcp_speed_mm_s": 100, "tcp_accel_mm_s2": 500, "tcp_jerk_mm_s3": 5000 },
 //!   "keep_out": [ { "name": "fixture", "kind": "box", "center_mm": [250, 0, 50], "size_mm": [100, 100, 100] } ],
 //!   "looping": false,
+//!   "tracking": "lead",
 //!   "steps": [
 //!     { "type": "home" },
 //!     { "type": "move_l", "pose": { "position_mm": [0, 250, 300], "rpy_deg": [180, 0, 90] }, "speed_mm_s": 50 },
@@ -73,6 +74,8 @@ struct ProgramFile {
     keep_out: Vec<KeepOut>,
     #[serde(default, skip_serializing_if = "is_false")]
     looping: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tracking: Option<crate::motion::tracking::TrackingMode>,
     steps: Vec<Step>,
 }
 
@@ -152,6 +155,7 @@ pub fn parse(text: &str) -> Result<Program, ProgramFileError> {
         keep_out: file.keep_out,
         steps,
         looping: file.looping,
+        tracking: file.tracking,
     })
 }
 
@@ -166,6 +170,7 @@ pub fn to_string(program: &Program) -> String {
         speed: program.speed,
         keep_out: program.keep_out.clone(),
         looping: program.looping,
+        tracking: program.tracking,
         steps: Vec::new(),
     };
     // the envelope pretty-printed, each step compact on its own line (a diff shows the steps)
@@ -312,6 +317,18 @@ mod tests {
         assert_eq!((back.name, back.tool, back.speed, back.keep_out), (p.name, p.tool, p.speed, p.keep_out));
         // one step per line, from line 12 on in the written file
         assert!(back.steps.windows(2).all(|w| w[1].line == w[0].line + 1), "{text}");
+    }
+
+    #[test]
+    fn a_program_keeps_its_tracking_mode() {
+        use crate::motion::tracking::TrackingMode;
+        let with = EXAMPLE.replacen("\"steps\"", "\"tracking\": \"official\",\n  \"steps\"", 1);
+        let p = parse(&with).expect("valid");
+        assert_eq!(p.tracking, Some(TrackingMode::Official));
+        assert_eq!(parse(&to_string(&p)).expect("reads its own output").tracking, Some(TrackingMode::Official));
+        assert_eq!(parse(EXAMPLE).expect("valid").tracking, None);
+        let e = parse(&with.replace("\"official\"", "\"fast\"")).expect_err("unknown mode");
+        assert!(e.to_string().contains("tracking") && e.to_string().contains("fast"), "{e}");
     }
 
     #[test]

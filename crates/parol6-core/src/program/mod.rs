@@ -377,6 +377,9 @@ pub struct Program {
     pub steps: Vec<SourcedStep>,
     /// Run the steps over and over until stopped (the commander's `Loop()`).
     pub looping: bool,
+    /// The tracking mode the program is meant to run in (`None`: the caller's choice;
+    /// `parol6 program run --tracking` overrides it).
+    pub tracking: Option<crate::motion::tracking::TrackingMode>,
 }
 
 impl Program {

@@ -28,6 +28,7 @@ pub mod collision;
 pub mod dynamics;
 pub mod multibody;
 mod servo;
+mod step;
 mod thread;
 pub mod torque_profile;
 mod types;
@@ -43,6 +44,10 @@ pub use types::{ServoModel, SimCommand, SimConfig, SimError, SimMode, SimSnapsho
 const QDD_FILTER_S: f64 = 0.005;
 /// Measured joint speed below which a still setpoint counts toward rest, rad/s.
 const REST_QD_RAD_S: f64 = 1e-4;
+/// With the firmware servo the measured joints are the drives' step counters (still means
+/// exactly still); the links carried to them count as settled below this speed, rad/s (they
+/// keep a residual ~1e-4 rad/s of solver jitter, 0.006°/s).
+const REST_LINK_QD_RAD_S: f64 = 1e-3;
 /// Steps of a still setpoint and a still arm after which the physics is no longer stepped
 /// (0.5 s at 1 kHz): the arm holds exactly where it settled until the next command.
 const REST_AFTER_STEPS: u32 = 500;
@@ -484,12 +489,15 @@ impl Simulation {
                 }
             },
             SimMode::Dynamic => {
-                let drives_still = self.servo.as_ref().is_none_or(|s| !s.moving());
+                let (drives_still, link_qd_max) = match self.servo.as_ref() {
+                    Some(s) => (!s.moving(), REST_LINK_QD_RAD_S),
+                    None => (true, REST_QD_RAD_S),
+                };
                 let still = !self.torque_control
                     && self.torque_run.is_none()
                     && drives_still
                     && self.sp.qd.iter().chain(&self.sp.qdd).all(|v| *v == 0.0)
-                    && self.link_qd.iter().all(|v| v.abs() < REST_QD_RAD_S);
+                    && self.link_qd.iter().all(|v| v.abs() < link_qd_max);
                 self.rest_steps = if still { self.rest_steps.saturating_add(1) } else { 0 };
                 if !self.resting() {
                     self.step_physics();
@@ -503,7 +511,8 @@ impl Simulation {
         }
         // at rest nothing changes: the state is reported at the robot's rate, not every step
         if let Some(tap) = &self.tap
-            && (!self.resting() || self.steps.is_multiple_of(RESTING_TAP_EVERY_STEPS))
+            && (!self.resting()
+                || u64::from(self.rest_steps - REST_AFTER_STEPS).is_multiple_of(RESTING_TAP_EVERY_STEPS))
         {
             self.tap_seq += 1;
             let sample = MotionSample {
@@ -524,45 +533,6 @@ impl Simulation {
         self.last_step_ns = u64::try_from(t0.elapsed().as_nanos()).unwrap_or(u64::MAX);
     }
 
-    /// One rapier step of the dynamic arm: torques and motor targets in, measured state out.
-    fn step_physics(&mut self) {
-        if self.torque_control {
-            self.physics.set_joint_torques(&self.user_torques);
-        } else if let Some(servo) = self.servo.as_ref() {
-            // the links carried stiffly to the drives' step counters: computed-torque
-            // feedforward at the drives' position and speed, motors correct the rest
-            servo.read(&mut self.q, &mut self.qd);
-            self.id.compute_into(&self.model, &self.q, &self.qd, &self.sp.qdd, &mut self.ff);
-            self.physics.set_joint_torques(&self.ff);
-            self.physics.set_motor_targets(&self.q, &self.qd);
-        } else {
-            // computed-torque feedforward on the setpoint, motors correct the rest
-            self.id.compute_into(&self.model, &self.sp.q, &self.sp.qd, &self.sp.qdd, &mut self.ff);
-            self.physics.set_joint_torques(&self.ff);
-            self.physics.set_motor_targets(&self.sp.q, &self.sp.qd);
-        }
-        self.physics.stop_at_limits(&self.speed_cap, self.dt_s);
-        self.physics.step();
-        self.physics.clamp_joint_velocities(&self.speed_cap);
-        self.qd_prev.copy_from_slice(&self.link_qd);
-        self.physics.read_state(&mut self.link_q, &mut self.link_qd);
-        // measured acceleration, low-passed (time constant QDD_FILTER_S)
-        let alpha = self.dt_s / (QDD_FILTER_S + self.dt_s);
-        for i in 0..self.link_qd.len() {
-            let raw = (self.link_qd[i] - self.qd_prev[i]) / self.dt_s;
-            self.qdd_filt[i] += alpha * (raw - self.qdd_filt[i]);
-        }
-        // the board reports its step counters; without drives (ideal motors, user torques)
-        // the links are what is measured
-        match self.servo.as_ref().filter(|_| !self.torque_control) {
-            Some(servo) => servo.read(&mut self.q, &mut self.qd),
-            None => {
-                self.q.copy_from_slice(&self.link_q);
-                self.qd.copy_from_slice(&self.link_qd);
-            }
-        }
-    }
-
     /// Whether the arm has settled with nothing commanded, so that its physics is not stepped.
     pub fn resting(&self) -> bool {
         self.rest_steps > REST_AFTER_STEPS
@@ -572,38 +542,6 @@ impl Simulation {
     /// real-time thread may wake seldom (see [`SimHandle`]).
     pub fn dormant(&self) -> bool {
         self.resting() && self.planner.pending() == 0
-    }
-
-    /// A torque run: this step's profile torques (plus gravity when asked), or, once its time
-    /// is up, back to the motors holding where the arm is.
-    fn update_run_torques(&mut self) {
-        let Some((run, start_s)) = &self.torque_run else { return };
-        let t = self.sim_time_s() - start_s;
-        if t >= run.duration_s {
-            self.leave_torque_control();
-            return;
-        }
-        let gravity = run.gravity_compensation;
-        run.torques_into(t, &mut self.user_torques);
-        if gravity {
-            // missing velocities and accelerations read as 0: the gravity torques of `q`
-            self.id.compute_into(&self.model, &self.q, &[], &[], &mut self.ff);
-            for (u, g) in self.user_torques.iter_mut().zip(&self.ff) {
-                *u += g;
-            }
-        }
-    }
-
-    fn update_torques(&mut self) {
-        match (self.mode, self.torque_control) {
-            (SimMode::Dynamic, true) => self.torques.copy_from_slice(&self.user_torques),
-            (SimMode::Dynamic, false) => {
-                self.id.compute_into(&self.model, &self.link_q, &self.link_qd, &self.qdd_filt, &mut self.torques);
-            }
-            (SimMode::Kinematic, _) => {
-                self.id.compute_into(&self.model, &self.q, &self.qd, &self.sp.qdd, &mut self.torques);
-            }
-        }
     }
 
     /// The current state. The joint torques are computed here (inverse dynamics of the current

@@ -184,7 +184,8 @@ fn half_radian_step_settles_in_0_3_s_without_passing_the_limit() {
 fn new_simulation_rests_at_standby() {
     let mut s = sim(SimMode::Dynamic);
     let snap = s.snapshot();
-    assert!(max_abs_diff(&snap.q, &standby_rad()) < 1e-6);
+    // the measured joints are the drives' whole steps (J3's standby is 0.24 step off a step)
+    assert!(max_abs_diff(&snap.q, &standby_rad()) < 3e-5);
     assert_eq!(snap.link_poses.len(), parol6().links.len());
     assert_eq!(snap.zones.len(), 6);
     assert!(snap.collision.is_none());

@@ -498,7 +498,9 @@ impl Simulation {
                     && drives_still
                     && self.sp.qd.iter().chain(&self.sp.qdd).all(|v| *v == 0.0)
                     && self.link_qd.iter().all(|v| v.abs() < link_qd_max);
-                self.rest_steps = if still { self.rest_steps.saturating_add(1) } else { 0 };
+                // a rest starts counting on the tap's 10-step grid, so that its samples stay on it
+                let counting = self.rest_steps > 0 || self.steps.is_multiple_of(RESTING_TAP_EVERY_STEPS);
+                self.rest_steps = if still && counting { self.rest_steps.saturating_add(1) } else { 0 };
                 if !self.resting() {
                     self.step_physics();
                 }
@@ -511,8 +513,7 @@ impl Simulation {
         }
         // at rest nothing changes: the state is reported at the robot's rate, not every step
         if let Some(tap) = &self.tap
-            && (!self.resting()
-                || u64::from(self.rest_steps - REST_AFTER_STEPS).is_multiple_of(RESTING_TAP_EVERY_STEPS))
+            && (!self.resting() || self.steps.is_multiple_of(RESTING_TAP_EVERY_STEPS))
         {
             self.tap_seq += 1;
             let sample = MotionSample {

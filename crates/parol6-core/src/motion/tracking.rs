@@ -22,6 +22,11 @@
 //!   speed) settles 10 ms of travel *past* its target when the link drops, which can be off the
 //!   path and past a limit; that form is not offered.
 //!
+//! Per frame a target moves at most 98 % of the joint's ROBOT.md §5 speed × the period from the
+//! previous one (the serial session's last-line guard bound): where the plan itself jumps in
+//! speed (a jog or a dragged slider starts without an acceleration phase) the lead builds up
+//! over a few frames instead of jumping.
+//!
 //! Safety: on link loss the board holds its last MOVE target (and feed-forward). Every target
 //! here is a planned position (a sample of the planner, which keeps every setpoint inside the
 //! limits) and, with feed-forward, so is the point the drives then settle on (within a step).
@@ -92,12 +97,23 @@ pub struct Tracker {
     period_s: f64,
     target: Setpoint,
     stop: Setpoint,
+    /// The previous frame's target, rad (the bound of the next one's step).
+    prev: Vec<f64>,
 }
+
+/// Share of the ROBOT.md §5 speed a target may move per frame (the guard allows all of it).
+const FRAME_STEP_SHARE: f64 = 0.98;
 
 impl Tracker {
     /// A tracker for frames every `period_s` (the firmware's law assumes 10 ms).
     pub fn new(mode: TrackingMode, period_s: f64) -> Self {
-        Self { mode, period_s, target: Setpoint::at_rest(&[]), stop: Setpoint::at_rest(&[]) }
+        Self { mode, period_s, target: Setpoint::at_rest(&[]), stop: Setpoint::at_rest(&[]), prev: Vec::new() }
+    }
+
+    /// Streaming (re)starts with the drives at `q_rad`: the next target's step is bounded from there.
+    pub fn reset(&mut self, q_rad: &[f64]) {
+        self.prev.clear();
+        self.prev.extend_from_slice(q_rad);
     }
 
     /// The mode.
@@ -119,17 +135,39 @@ impl Tracker {
         commanded: &'a Setpoint,
     ) -> (&'a [f64], Option<&'a [f64]>) {
         let lead = lead_s(self.period_s.max(FW_MOVE_PERIOD_S * 0.5));
-        match self.mode {
-            TrackingMode::Official => (&commanded.q, None),
+        let ahead = match self.mode {
+            TrackingMode::Official => {
+                self.target.clone_from(commanded);
+                false
+            }
             TrackingMode::Lead => {
                 planner.preview_into(t_s + lead, &mut self.target);
-                (&self.target.q, None)
+                true
             }
             TrackingMode::Feedforward => {
                 planner.preview_into(t_s + lead - self.period_s, &mut self.target);
                 planner.preview_into(t_s + lead, &mut self.stop);
-                (&self.target.q, Some(&self.stop.q))
+                true
             }
+        };
+        if ahead && self.prev.len() == self.target.q.len() {
+            let vmax = crate::parol6::max_speed_rad_s();
+            for (j, (q, p)) in self.target.q.iter_mut().zip(&self.prev).enumerate() {
+                let d = vmax.get(j).map_or(f64::INFINITY, |v| v * self.period_s * FRAME_STEP_SHARE);
+                let bounded = q.clamp(p - d, p + d);
+                if bounded != *q {
+                    *q = bounded;
+                    // the lead is building up: no feed-forward beyond the bounded target
+                    if let Some(s) = self.stop.q.get_mut(j) {
+                        *s = bounded;
+                    }
+                }
+            }
+        }
+        self.prev.clone_from(&self.target.q);
+        match self.mode {
+            TrackingMode::Feedforward => (&self.target.q, Some(&self.stop.q)),
+            _ => (&self.target.q, None),
         }
     }
 

@@ -40,6 +40,7 @@ impl SimServo {
     /// At rest at the whole steps nearest `q_rad`, holding there.
     pub(super) fn teleport(&mut self, q_rad: &[f64]) {
         self.steppers.teleport_rad(q_rad);
+        self.tracker.reset(q_rad);
     }
 
     /// One simulation step from step index `step` (time `t_s`, the planner sampled there as

@@ -18,6 +18,9 @@ use parol6_core::parol6::JOINT_COUNT;
 use super::snapshot::MotionState;
 use crate::units::joints_rad_to_steps;
 
+/// A MOVE frame's target and feed-forward, steps and steps/s.
+pub(super) type MoveFields = ([i32; JOINT_COUNT], [i32; JOINT_COUNT]);
+
 /// Progress of the controller's homing routine.
 #[derive(Debug, Clone)]
 pub(super) enum Homing {
@@ -116,6 +119,7 @@ impl Streamer {
     /// Starts streaming from the measured position (planner reset there).
     fn start(&mut self, measured_rad: &[f64], measured_steps: &[i32; JOINT_COUNT]) {
         self.planner.reset(measured_rad);
+        self.tracker.reset(measured_rad);
         self.streaming = true;
         self.jog = None;
         self.reference = Some((*measured_steps, 1));
@@ -186,7 +190,7 @@ impl Streamer {
     /// at their exact times) and returns the MOVE target and feed-forward in steps, in the
     /// tracking mode; `None` while IDLE. A target that cannot be expressed in steps stops
     /// streaming and is returned as the error.
-    pub(super) fn sample_target(&mut self) -> Result<Option<([i32; JOINT_COUNT], [i32; JOINT_COUNT])>, String> {
+    pub(super) fn sample_target(&mut self) -> Result<Option<MoveFields>, String> {
         if !self.streaming {
             self.setpoint = None;
             self.answered = None;

@@ -236,9 +236,9 @@ fn lead_tracks_the_plan_within_0_3_degrees_on_the_emulated_board() {
 fn off_segment(a: &[f64], b: &[f64], rest: &[i32; JOINT_COUNT]) -> f64 {
     let steps = |q: &[f64], j: usize| q[j] / rad_per_step(j);
     let (mut num, mut den) = (0.0, 0.0);
-    for j in 0..JOINT_COUNT {
+    for (j, r) in rest.iter().enumerate() {
         let d = steps(b, j) - steps(a, j);
-        num += (f64::from(rest[j]) - steps(a, j)) * d;
+        num += (f64::from(*r) - steps(a, j)) * d;
         den += d * d;
     }
     let l = if den > 0.0 { (num / den).clamp(0.0, 1.0) } else { 0.0 };

@@ -22,7 +22,7 @@
 //!   speed) settles 10 ms of travel *past* its target when the link drops, which can be off the
 //!   path and past a limit; that form is not offered.
 //!
-//! Per frame a target moves at most 98 % of the joint's ROBOT.md §5 speed × the period from the
+//! Per frame a target moves at most the joint's ROBOT.md §5 speed × the period from the
 //! previous one (the serial session's last-line guard bound): where the plan itself jumps in
 //! speed (a jog or a dragged slider starts without an acceleration phase) the lead builds up
 //! over a few frames instead of jumping.
@@ -101,8 +101,9 @@ pub struct Tracker {
     prev: Vec<f64>,
 }
 
-/// Share of the ROBOT.md §5 speed a target may move per frame (the guard allows all of it).
-const FRAME_STEP_SHARE: f64 = 0.98;
+/// Share of the ROBOT.md §5 speed a target may move per frame: all of it (a plan cruising at
+/// the speed limit is not bounded; the guard adds a rounding margin of its own).
+const FRAME_STEP_SHARE: f64 = 1.0;
 
 impl Tracker {
     /// A tracker for frames every `period_s` (the firmware's law assumes 10 ms).

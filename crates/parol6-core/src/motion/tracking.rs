@@ -157,10 +157,11 @@ impl Tracker {
                 let d = vmax.get(j).map_or(f64::INFINITY, |v| v * self.period_s * FRAME_STEP_SHARE);
                 let bounded = q.clamp(p - d, p + d);
                 if bounded != *q {
+                    // the lead is building up: the stop point moves back by as much
+                    let excess = *q - bounded;
                     *q = bounded;
-                    // the lead is building up: no feed-forward beyond the bounded target
                     if let Some(s) = self.stop.q.get_mut(j) {
-                        *s = bounded;
+                        *s -= excess;
                     }
                 }
             }

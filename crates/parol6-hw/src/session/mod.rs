@@ -273,6 +273,20 @@ impl Session {
         kind: ProfileKind,
         timeout: Duration,
     ) -> Result<Arc<Snapshot>, HwError> {
+        self.move_to_blocking_or(goal_rad, speed_fraction, kind, timeout, &|| false)
+    }
+
+    /// [`Session::move_to_blocking`] that also returns as soon as `give_up()` is true (polled
+    /// every 2 ms; a Ctrl-C): `Ok` with the snapshot of that instant, the move still under way
+    /// (the caller stops it, e.g. with [`Session::stop`]).
+    pub fn move_to_blocking_or(
+        &self,
+        goal_rad: &[f64],
+        speed_fraction: f64,
+        kind: ProfileKind,
+        timeout: Duration,
+        give_up: &dyn Fn() -> bool,
+    ) -> Result<Arc<Snapshot>, HwError> {
         let goal_steps = joints_rad_to_steps(goal_rad)?;
         let sent_at = Instant::now();
         self.move_to(goal_rad, speed_fraction, kind)?;
@@ -282,7 +296,7 @@ impl Session {
             let settled = s.motion == MotionState::Holding
                 && s.target_steps == Some(goal_steps)
                 && s.joint_steps.iter().zip(goal_steps).all(|(a, b)| (a - b).abs() <= tol);
-            (started && settled) || s.link != LinkState::Connected || s.estop_pressed
+            (started && settled) || s.link != LinkState::Connected || s.estop_pressed || give_up()
         })?;
         if s.link != LinkState::Connected {
             return Err(HwError::Refused(format!("link is {:?} ({})", s.link, s.fault.clone().unwrap_or_default())));

@@ -82,7 +82,7 @@ impl BoardRewriter {
                 Some(StatusFrame { positions_steps: IMPOSSIBLE_STEPS, ..frame })
             }
             BoardMode::SilentAfter(n) if self.frames > n => None,
-            BoardMode::Erratic if self.frames % 2 == 0 => {
+            BoardMode::Erratic if self.frames.is_multiple_of(2) => {
                 Some(StatusFrame { positions_steps: IMPOSSIBLE_STEPS, ..frame })
             }
             BoardMode::Erratic => Some(frame),

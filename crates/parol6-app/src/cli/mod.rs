@@ -20,6 +20,7 @@ pub mod bench_seed;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;
+pub mod hw_checks;
 pub mod kin;
 pub mod mcap;
 pub mod measure;

@@ -5,6 +5,11 @@
 //! pseudo-terminal path (then one JSON line per stdin command). The subcommands that talk to a
 //! controller take the global `--port P` or `--fake-robot` (the built-in emulator, powered up
 //! homed at standby, started in-process for the one command).
+//!
+//! `jog` and `move` check their request and open the controller before `--record` creates its
+//! file. On SIGINT / SIGTERM ([`super::interrupt`]) they stop the arm the normal way: the
+//! session holds (MOVE frames at a fixed target, [`super::hw_stop`]), then closes with IDLE
+//! frames as on link loss; the recording is closed and the command exits 130.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -28,7 +33,7 @@ use super::kin::parse_list;
 use super::options::{ConnectArgs, f64_above, f64_within};
 use super::output::print_line;
 use super::record::{Telemetry, link_health};
-use super::{CliError, CliResult, print_json};
+use super::{CliError, CliResult, interrupt, print_json};
 
 /// How long to wait for the first status frame.
 pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
@@ -269,25 +274,38 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
             let target = MoveTarget { joints, deg: *deg, speed: *speed, smooth: *smooth };
             recorded(record.as_deref(), |tap, t| move_to(connect, rate, &target, tap, t))
         }
-        HwCommand::Emulate { homed, home_seconds } => emulate(*homed, *home_seconds),
+        HwCommand::Emulate { homed, home_seconds } => super::hw_stop::emulate_until_signal(*homed, *home_seconds),
     }
 }
 
 /// Runs `body` with a recorder when `record` names a file, and prints its JSON with the
-/// recording's summary added.
+/// recording's summary added. The recorder's file is created by the body ([`Telemetry::begin`])
+/// once the request is checked and the controller answers: a refused request or a port that
+/// cannot be opened leaves an existing file alone. A body stopped by a signal returns its JSON
+/// with `"interrupted"` set; the command then exits 130.
 fn recorded(
     record: Option<&Path>,
     body: impl FnOnce(Option<Sender<MotionSample>>, Option<&Telemetry>) -> Result<serde_json::Value, CliError>,
 ) -> CliResult {
     let telemetry = match record {
-        Some(p) => Some(Telemetry::start(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p)?),
+        Some(p) => Some(Telemetry::prepare(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p, "")?),
         None => None,
     };
     let mut out = body(telemetry.as_ref().map(Telemetry::tap), telemetry.as_ref())?;
     if let Some(t) = telemetry {
         out["recording"] = t.finish()?;
     }
-    print_json(&out)
+    if out["interrupted"].is_null() {
+        return print_json(&out);
+    }
+    let what = match out["recording"]["file"].as_str() {
+        Some(f) => {
+            format!("the arm held, then IDLE; recording {f} closed with {} samples", out["recording"]["samples"])
+        }
+        None => "the arm held, then IDLE".to_string(),
+    };
+    print_json(&out)?;
+    Err(interrupt::error(what))
 }
 
 /// Runs `body`, feeding the session's state and link health to the recorder meanwhile.
@@ -329,6 +347,9 @@ fn jog(
         return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
     }
     let link = open(connect, rate, tap)?;
+    if let Some(t) = telemetry {
+        t.begin()?;
+    }
     let session = &link.session;
     let start = session.snapshot();
     ready_to_move(&start)?;
@@ -342,6 +363,14 @@ fn jog(
     }
     let end = fed(telemetry, session, || jog_for(session, joint_index, speed, duration))?;
     let s = session.snapshot();
+    if interrupt::requested() {
+        let out = json!({
+            "command": "jog", "joint": joint, "speed": speed, "seconds": seconds,
+            "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+            "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        });
+        return Ok(super::hw_stop::hold_before_closing(link, out));
+    }
     let commanded = parol6_core::motion::RobotBackend::state(session).commanded.q.get(joint_index).copied();
     let commanded_steps = commanded.and_then(|q| parol6_hw::units::rad_to_steps(joint_index, q).ok());
     jog_outcome(joint_index, &start, &s, commanded_steps, &end)?;
@@ -362,7 +391,10 @@ fn jog_for(session: &Session, joint_index: usize, speed: f64, duration: Duration
     let before = session.snapshot();
     session.jog(joint_index, speed).map_err(hw_err)?;
     while Instant::now() < end {
-        std::thread::sleep(Duration::from_millis(50));
+        if interrupt::sleep(Duration::from_millis(50)) {
+            // the caller holds, then closes
+            return Ok(JogEnd { stopped_at_limit: false, fault: None });
+        }
         if let Some(fault) = new_fault(&before, &session.snapshot()) {
             // The session stopped motion (an arm that does not follow, E-stop, impossible
             // positions …): no new jog from here.
@@ -425,8 +457,19 @@ fn move_to(
         parol6_core::profile::JointMove::parol6(&start.joint_rad, &goal, speed, kind).map_err(CliError::usage)?;
     let timeout = Duration::try_from_secs_f64(plan.duration_s() + 10.0)
         .map_err(|_| CliError::usage(format!("the move would take {} s", plan.duration_s())))?;
+    if let Some(t) = telemetry {
+        t.begin()?;
+    }
     let t0 = Instant::now();
-    let s = fed(telemetry, session, || session.move_to_blocking(&goal, speed, kind, timeout)).map_err(hw_err)?;
+    let s = fed(telemetry, session, || session.move_to_blocking_or(&goal, speed, kind, timeout, &interrupt::requested))
+        .map_err(hw_err)?;
+    if interrupt::requested() {
+        let out = json!({
+            "command": "move", "ok": false, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
+            "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        });
+        return Ok(super::hw_stop::hold_before_closing(link, out));
+    }
     Ok(json!({
         "command": "move", "ok": true, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
         "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
@@ -450,7 +493,7 @@ fn send_latch(
     print_json(&json!({"command": name, "ok": true, "state": summary(&link.session.snapshot())}))
 }
 
-fn emulate(homed: bool, home_seconds: f64) -> CliResult {
+pub(super) fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     if !(home_seconds.is_finite() && home_seconds > 0.0 && home_seconds <= 60.0) {
         return Err(CliError::usage("--home-seconds must be > 0 and ≤ 60"));
     }

@@ -1,9 +1,11 @@
 //! The `parol6` command line (clap). Every subcommand prints JSON on stdout; errors are one
 //! line on stderr, never a panic. Exit status: 0 success, 2 bad input or a refused request
-//! ([`EXIT_USAGE`]), 1 device or I/O failure. A closed stdout (`parol6 … | head`) ends the
-//! command quietly with status 0.
+//! ([`EXIT_USAGE`]), 1 device or I/O failure, 130 interrupted by SIGINT or SIGTERM
+//! ([`interrupt`]: motion stopped, recording closed, the JSON printed with `"interrupted"`).
+//! A closed stdout (`parol6 … | head`) ends the command quietly with status 0.
 //!
-//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
+//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller;
+//! [`hw_stop`]: how it ends on a signal),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
 //! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
@@ -21,6 +23,8 @@ pub mod gui;
 pub mod hw;
 pub mod hw_bench;
 pub mod hw_checks;
+pub mod hw_stop;
+pub mod interrupt;
 pub mod kin;
 pub mod mcap;
 pub mod measure;
@@ -76,7 +80,9 @@ pub type CliResult = Result<(), CliError>;
 #[derive(Debug, Parser)]
 #[command(name = "parol6", version, about = "PAROL6 Studio: simulate, visualise and jog the PAROL6 arm")]
 #[command(after_help = "Without a subcommand, opens the window. Options marked global may be given before or \
-                        after the subcommand. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure.")]
+                        after the subcommand. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure, \
+                        130 interrupted (Ctrl-C or SIGTERM: motion stopped, recording closed; a second one \
+                        exits at once).")]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -142,6 +148,23 @@ impl Cli {
         }
     }
 
+    /// True for the commands that run until they end or are stopped, and stop cleanly on
+    /// SIGINT / SIGTERM ([`interrupt`]); the others keep the default action (the process ends).
+    pub fn stops_on_signal(&self) -> bool {
+        match &self.command {
+            None | Some(Command::Replay(_) | Command::Record(_) | Command::PathTest(_)) => true,
+            Some(Command::Hw(h)) => {
+                matches!(
+                    h.command,
+                    hw::HwCommand::Jog { .. } | hw::HwCommand::Move { .. } | hw::HwCommand::Emulate { .. }
+                )
+            }
+            Some(Command::Program(p)) => matches!(p.command, program::ProgramCommand::Run { .. }),
+            Some(Command::Iso9283(a)) => a.measurements.is_none(),
+            Some(_) => false,
+        }
+    }
+
     /// Refuses global options the chosen subcommand does not use (they would be ignored).
     pub fn check_global_options(&self) -> CliResult {
         let uses_robot = match &self.command {
@@ -198,7 +221,10 @@ pub fn main() -> ExitCode {
     );
     // Before any thread exists (it sets an environment variable).
     let _runtime_dir = if headless_gpu { output::PrivateRuntimeDir::ensure() } else { None };
-    let result = cli.check_global_options().and_then(|()| run(&cli));
+    let result = cli
+        .check_global_options()
+        .and_then(|()| if cli.stops_on_signal() { interrupt::install() } else { Ok(()) })
+        .and_then(|()| run(&cli));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

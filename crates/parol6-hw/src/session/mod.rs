@@ -319,6 +319,20 @@ impl Session {
         kind: ProfileKind,
         timeout: Duration,
     ) -> Result<Arc<Snapshot>, HwError> {
+        self.move_to_blocking_or(goal_rad, speed_fraction, kind, timeout, &|| false)
+    }
+
+    /// [`Session::move_to_blocking`] that also returns as soon as `give_up()` is true (polled
+    /// every 2 ms; a Ctrl-C): `Ok` with the snapshot of that instant, the move still under way
+    /// (the caller stops it, e.g. with [`Session::stop`]).
+    pub fn move_to_blocking_or(
+        &self,
+        goal_rad: &[f64],
+        speed_fraction: f64,
+        kind: ProfileKind,
+        timeout: Duration,
+        give_up: &dyn Fn() -> bool,
+    ) -> Result<Arc<Snapshot>, HwError> {
         let goal_steps = joints_rad_to_steps(goal_rad)?;
         let refusal_before = self.robot_state().last_refusal.as_ref().map(|r| r.0);
         let implausible_before = self.snapshot().implausible_frames;
@@ -333,7 +347,7 @@ impl Session {
             let settled = s.motion == MotionState::Holding
                 && s.target_steps == Some(goal_steps)
                 && s.joint_steps.iter().zip(goal_steps).all(|(a, b)| (a - b).abs() <= tol);
-            if after && settled {
+            if (after && settled) || give_up() {
                 return Ok(s);
             }
             if s.link == LinkState::Closed {

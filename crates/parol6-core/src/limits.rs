@@ -10,6 +10,31 @@ use serde::{Deserialize, Serialize};
 /// Tolerance used when comparing a value against a limit (absorbs rounding of deg↔rad).
 pub const LIMIT_EPSILON_RAD: f64 = 1e-9;
 
+/// Plausibility bounds on numbers a user types or a file gives (command line, URDF). They are
+/// not joint limits: a value beyond them is a mistake (a typo, `1e308`, an overflowed `1e400`),
+/// refused as bad input before any computation, so nothing downstream prints `null` or a
+/// 300-digit number. Values within them but outside the joint limits still compute, with the
+/// usual limit warning.
+pub mod plausible {
+    /// Largest joint position magnitude, rad (ten turns; metres for a prismatic joint).
+    pub const JOINT_POSITION_MAX_ABS_RAD: f64 = 20.0 * std::f64::consts::PI;
+    /// Largest joint velocity magnitude, rad/s.
+    pub const JOINT_VELOCITY_MAX_ABS_RAD_S: f64 = 1.0e3;
+    /// Largest joint acceleration magnitude, rad/s².
+    pub const JOINT_ACCELERATION_MAX_ABS_RAD_S2: f64 = 1.0e5;
+    /// Largest Cartesian coordinate magnitude, m (a pose, a URDF origin or a shape size).
+    pub const LENGTH_MAX_ABS_M: f64 = 1.0e3;
+    /// Largest orientation angle magnitude, rad (ten turns).
+    pub const ANGLE_MAX_ABS_RAD: f64 = 20.0 * std::f64::consts::PI;
+    /// Largest link mass, kg, and largest inertia-tensor entry, kg·m².
+    pub const MASS_MAX_KG: f64 = 1.0e5;
+
+    /// `value` is finite and its magnitude at most `max_abs`.
+    pub fn within(value: f64, max_abs: f64) -> bool {
+        value.is_finite() && value.abs() <= max_abs
+    }
+}
+
 /// One joint's position range (and speed / acceleration caps where known).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct JointLimit {

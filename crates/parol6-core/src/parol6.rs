@@ -179,7 +179,9 @@ impl Tool {
         }
     }
 
-    /// Parse a tool name (as printed by [`Tool::name`]); also accepts `pneumatic` and `ssg-48`.
+    /// Parse a tool name (as printed by [`Tool::name`]), normalised: ASCII case and surrounding
+    /// white space are ignored, and the aliases `flange` (none), `pneumatic` (pneumatic-vertical)
+    /// and `ssg-48` (ssg48) are accepted. Anything else is `None`, which callers refuse.
     pub fn from_name(name: &str) -> Option<Tool> {
         let n = name.trim().to_ascii_lowercase();
         match n.as_str() {
@@ -197,6 +199,18 @@ impl Tool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tool_names_are_normalised_as_documented() {
+        for (typed, tool) in
+            [("NONE", Tool::None), ("none ", Tool::None), ("ssg-48", Tool::Ssg48), (" SSG48", Tool::Ssg48)]
+        {
+            assert_eq!(Tool::from_name(typed), Some(tool), "{typed:?}");
+        }
+        for bad in ["", "ssg 48", "n0ne", "vacuum2"] {
+            assert_eq!(Tool::from_name(bad), None, "{bad:?}");
+        }
+    }
 
     #[test]
     fn limits_deg_and_rad_agree() {

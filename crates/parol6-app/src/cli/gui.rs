@@ -36,7 +36,14 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
     let replay = match replay {
         Some(file) => {
             let t0 = Instant::now();
-            let data = crate::app::read_replay(file, &model).map_err(CliError::usage)?;
+            // one rule with `mcap info`: a file that cannot be read is an I/O failure (exit 1),
+            // one that is not a recording of this robot is bad input (exit 2)
+            let data = parol6_core::telemetry::read_replay_file(file, &model).map_err(|e| match e {
+                parol6_core::telemetry::ReplayError::Io { .. } => CliError::runtime(e),
+                parol6_core::telemetry::ReplayError::Recording(e) => {
+                    CliError::usage(format!("cannot replay {}: {e}", file.display()))
+                }
+            })?;
             for w in &data.warnings {
                 super::warn(format!("{}: {w}", file.display()));
             }

@@ -66,6 +66,50 @@ pub fn parse_list(what: &str, text: &str, expected: Option<usize>) -> Result<Vec
     Ok(values)
 }
 
+/// Refuses a typed value beyond a plausibility bound of [`parol6_core::limits::plausible`]
+/// (exit 2, naming the option and the value). `max_abs_si` is the bound in SI units (m, rad, …);
+/// `si_per_typed` converts a typed value to them (e.g. π/180 for degrees, 1e-3 for mm), and
+/// `unit` names the typed unit. `first` is the 1-based position of `typed[0]` in the option.
+pub fn check_plausible(
+    what: &str,
+    typed: &[f64],
+    first: usize,
+    (max_abs_si, si_per_typed): (f64, f64),
+    unit: &str,
+    quantity: &str,
+) -> Result<(), CliError> {
+    let max_typed = max_abs_si / si_per_typed;
+    let unit = if unit.starts_with('°') { unit.to_string() } else { format!(" {unit}") };
+    match typed.iter().position(|v| !parol6_core::limits::plausible::within(*v, max_typed)) {
+        None => Ok(()),
+        Some(i) => Err(CliError::usage(format!(
+            "{what}: value {} ({}{unit}) is not a plausible {quantity}: the bound is ±{}{unit}",
+            first + i,
+            short_number(typed[i]),
+            short_number(max_typed)
+        ))),
+    }
+}
+
+/// A number short enough for a message: scientific notation when large or tiny.
+pub fn short_number(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-4) {
+        format!("{v:.3e}")
+    } else {
+        format!("{}", (v * 1e4).round() / 1e4)
+    }
+}
+
+/// Parses joint values typed in radians, or degrees with `deg`, refuses implausible ones,
+/// and returns them in radians.
+pub fn parse_joint_positions(what: &str, text: &str, n: usize, deg: bool) -> Result<Vec<f64>, CliError> {
+    let typed = parse_list(what, text, Some(n))?;
+    let (scale, unit) = if deg { (std::f64::consts::PI / 180.0, "°") } else { (1.0, "rad") };
+    let bound = parol6_core::limits::plausible::JOINT_POSITION_MAX_ABS_RAD;
+    check_plausible(what, &typed, 1, (bound, scale), unit, "joint position")?;
+    Ok(typed.into_iter().map(|v| v * scale).collect())
+}
+
 fn tcp_json(p: &TcpPose) -> serde_json::Value {
     json!({"position_m": p.position_m, "rpy_rad": p.rpy_rad, "quaternion_wxyz": p.quaternion_wxyz, "matrix": p.matrix4()})
 }
@@ -73,10 +117,7 @@ fn tcp_json(p: &TcpPose) -> serde_json::Value {
 /// Runs `parol6 fk`.
 pub fn run_fk(a: &FkArgs, robot: &RobotArgs) -> CliResult {
     let model = robot.load()?;
-    let mut q = parse_list("--joints", &a.joints, Some(model.dof()))?;
-    if a.deg {
-        q.iter_mut().for_each(|v| *v = v.to_radians());
-    }
+    let q = parse_joint_positions("--joints", &a.joints, model.dof(), a.deg)?;
     let pose = model.fk(&q);
     let within = model.limits.check(&q);
     if let Err(e) = &within {
@@ -99,13 +140,19 @@ pub fn run_ik(a: &IkArgs, robot: &RobotArgs) -> CliResult {
     let model = robot.load()?;
     let p = parse_list("--pose", &a.pose, Some(6))?;
     let scale = if a.mm { 1e-3 } else { 1.0 };
+    let (length_unit, angle_unit) = (if a.mm { "mm" } else { "m" }, if a.deg { "°" } else { "rad" });
+    let angle_scale = if a.deg { std::f64::consts::PI / 180.0 } else { 1.0 };
+    let bounds = parol6_core::limits::plausible::LENGTH_MAX_ABS_M;
+    check_plausible("--pose", &p[..3], 1, (bounds, scale), length_unit, "position")?;
+    let angle_bound = parol6_core::limits::plausible::ANGLE_MAX_ABS_RAD;
+    check_plausible("--pose", &p[3..], 4, (angle_bound, angle_scale), angle_unit, "angle")?;
     let ang = |v: f64| if a.deg { v.to_radians() } else { v };
     let target = parol6_core::kinematics::iso_from_xyz_rpy(
         [p[0] * scale, p[1] * scale, p[2] * scale],
         [ang(p[3]), ang(p[4]), ang(p[5])],
     );
     let seed = match &a.seed {
-        Some(s) => parse_list("--seed", s, Some(model.dof()))?.into_iter().map(ang).collect(),
+        Some(s) => parse_joint_positions("--seed", s, model.dof(), a.deg)?,
         None => default_seed(&model),
     };
     let mut sols =

@@ -22,6 +22,7 @@ pub mod bench_seed;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;
+pub mod hw_checks;
 pub mod hw_stop;
 pub mod interrupt;
 pub mod kin;

@@ -20,6 +20,9 @@ pub struct RobotArgs {
     #[arg(long, value_name = "LINK", global = true)]
     pub tip: Option<String>,
     /// Tool on the flange: none, pneumatic-vertical, pneumatic-horizontal, ssg48, msg, vacuum.
+    /// Names are normalised: case and surrounding spaces are ignored, and the aliases `flange`
+    /// (none), `pneumatic` (pneumatic-vertical) and `ssg-48` (ssg48) are accepted; any other name
+    /// is refused.
     #[arg(long, value_name = "NAME", global = true)]
     pub tool: Option<String>,
 }
@@ -50,7 +53,11 @@ impl RobotArgs {
                 }
                 RobotModel::parol6()
             }
-            Some(p) => RobotModel::from_urdf_file(p, self.tip.as_deref()).map_err(CliError::usage)?,
+            // a file that cannot be read is an I/O failure (exit 1); bad content is bad input (2)
+            Some(p) => RobotModel::from_urdf_file(p, self.tip.as_deref()).map_err(|e| match e {
+                parol6_core::model::ModelError::Io { .. } => CliError::runtime(e),
+                e => CliError::usage(e),
+            })?,
         };
         for w in &model.warnings {
             warn(w);

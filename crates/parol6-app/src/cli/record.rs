@@ -162,7 +162,9 @@ impl Telemetry {
 pub fn urdf_text(robot: &RobotArgs) -> Result<String, CliError> {
     match &robot.urdf {
         None => Ok(parol6_core::model::PAROL6_URDF.to_string()),
-        Some(p) => std::fs::read_to_string(p).map_err(|e| CliError::usage(format!("cannot read {}: {e}", p.display()))),
+        Some(p) => {
+            std::fs::read_to_string(p).map_err(|e| CliError::runtime(format!("cannot read {}: {e}", p.display())))
+        }
     }
 }
 

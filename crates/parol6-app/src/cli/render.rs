@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::json;
 
-use super::kin::{default_seed, parse_list};
+use super::kin::{default_seed, parse_joint_positions};
 use super::options::RobotArgs;
 use super::{CliError, CliResult, print_json, warn};
 use crate::ui_screenshot::HeadlessApp;
@@ -57,13 +57,7 @@ impl ScreenshotArgs {
     pub fn robot_and_joints(&self, robot: &RobotArgs) -> Result<(parol6_core::RobotModel, Vec<f64>), CliError> {
         let model = robot.load()?;
         let q = match &self.joints {
-            Some(s) => {
-                let mut q = parse_list("--joints", s, Some(model.dof()))?;
-                if self.deg {
-                    q.iter_mut().for_each(|v| *v = v.to_radians());
-                }
-                q
-            }
+            Some(s) => parse_joint_positions("--joints", s, model.dof(), self.deg)?,
             None => default_seed(&model),
         };
         Ok((model, q))

@@ -9,9 +9,10 @@ use parol6_core::sim::{InverseDynamics, SimCommand, SimConfig, SimError, SimHand
 use serde_json::json;
 
 use super::bench::NsStats;
-use super::kin::parse_list;
+use super::kin::{check_plausible, parse_joint_positions, parse_list};
 use super::options::RobotArgs;
 use super::{CliError, CliResult, print_json, warn};
+use parol6_core::limits::plausible;
 
 /// Arguments of `parol6 dynamics`.
 #[derive(Debug, clap::Args)]
@@ -34,21 +35,32 @@ pub struct DynamicsArgs {
 pub fn run_dynamics(a: &DynamicsArgs, robot: &RobotArgs) -> CliResult {
     let model = robot.load()?;
     let n = model.dof();
-    let conv = |v: Vec<f64>| -> Vec<f64> { if a.deg { v.into_iter().map(f64::to_radians).collect() } else { v } };
-    let q = conv(parse_list("--joints", &a.joints, Some(n))?);
-    let qd = match &a.velocities {
-        Some(s) => conv(parse_list("--velocities", s, Some(n))?),
-        None => vec![0.0; n],
+    let q = parse_joint_positions("--joints", &a.joints, n, a.deg)?;
+    let (scale, deg) = if a.deg { (std::f64::consts::PI / 180.0, "°") } else { (1.0, "rad") };
+    let rates = |what: &str, text: &Option<String>, bound: f64, unit: &str, quantity: &str| match text {
+        Some(s) => {
+            let typed = parse_list(what, s, Some(n))?;
+            check_plausible(what, &typed, 1, (bound, scale), &format!("{deg}{unit}"), quantity)?;
+            Ok::<_, CliError>(typed.into_iter().map(|v| v * scale).collect())
+        }
+        None => Ok(vec![0.0; n]),
     };
-    let qdd = match &a.accelerations {
-        Some(s) => conv(parse_list("--accelerations", s, Some(n))?),
-        None => vec![0.0; n],
-    };
+    let qd = rates("--velocities", &a.velocities, plausible::JOINT_VELOCITY_MAX_ABS_RAD_S, "/s", "joint velocity")?;
+    let qdd = rates(
+        "--accelerations",
+        &a.accelerations,
+        plausible::JOINT_ACCELERATION_MAX_ABS_RAD_S2,
+        "/s²",
+        "joint acceleration",
+    )?;
     let within = model.limits.check(&q);
     if let Err(e) = &within {
         warn(e);
     }
     let t = InverseDynamics::new(&model).compute(&model, &q, &qd, &qdd).map_err(CliError::usage)?;
+    if let Some(j) = t.total_nm.iter().position(|v| !v.is_finite()) {
+        return Err(CliError::usage(format!("the torque of joint {} is not a finite number for these values", j + 1)));
+    }
     print_json(&json!({
         "joints": model.joint_names(),
         "joints_rad": q,

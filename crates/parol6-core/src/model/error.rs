@@ -74,6 +74,26 @@ pub enum ModelError {
     /// A joint axis is zero or not finite.
     #[error("joint \"{0}\" has a zero or invalid axis")]
     InvalidAxis(String),
+    /// A number of the URDF is not finite or beyond a plausibility bound.
+    #[error("{place} is {value}: {why}")]
+    ImplausibleNumber {
+        /// The link or joint and the field.
+        place: String,
+        /// The value as read.
+        value: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// The text is not well-formed XML; `line` and `column` are 1-based.
+    #[error("not a URDF robot description: line {line}, column {column}: {message}")]
+    XmlSyntax {
+        /// Line of the error.
+        line: u32,
+        /// Column of the error.
+        column: u32,
+        /// What the XML parser found.
+        message: String,
+    },
     /// The text is too large or nests too deep to parse safely (checked before parsing).
     #[error(transparent)]
     InputRefused(#[from] crate::urdf_input::UrdfInputError),

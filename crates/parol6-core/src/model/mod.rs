@@ -9,7 +9,7 @@
 //!
 //! Jobs: [`urdf`] (URDF text → chain and links; the entry point is
 //! [`RobotModel::from_urdf_str`] below), [`geometry`] (shapes, inertials), [`mesh_path`]
-//! (mesh filename → file), [`error`] ([`ModelError`]), [`parol6_chain`] (is this the PAROL6?),
+//! (mesh filename → file), `numbers` (every number finite and plausible), [`error`] ([`ModelError`]), [`parol6_chain`] (is this the PAROL6?),
 //! [`srdf`] (collision pairs to skip).
 
 use std::path::{Path, PathBuf};
@@ -23,6 +23,7 @@ use crate::parol6::Tool;
 mod error;
 mod geometry;
 mod mesh_path;
+mod numbers;
 mod parol6_chain;
 mod srdf;
 mod urdf;
@@ -171,8 +172,8 @@ impl RobotModel {
         if !xml.contains("<robot") {
             return Err(ModelError::NotUrdf("no <robot> element".into()));
         }
-        let robot =
-            urdf_rs::read_from_string(xml).map_err(|e| ModelError::NotUrdf(urdf::first_line(&e.to_string())))?;
+        let robot = urdf_rs::read_from_string(xml).map_err(|e| urdf::parse_error(xml, &e.to_string()))?;
+        numbers::check_numbers(&robot)?;
         urdf::build(&robot, opts)
     }
 

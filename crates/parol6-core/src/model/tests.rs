@@ -37,7 +37,7 @@ fn embedded_parol6_loads_cleanly() {
 #[test]
 fn malformed_not_xml() {
     assert!(matches!(load("this is not xml"), Err(ModelError::NotUrdf(_))));
-    assert!(matches!(load("<robot name='x'><link name="), Err(ModelError::NotUrdf(_))));
+    assert!(matches!(load("<robot name='x'><link name="), Err(ModelError::XmlSyntax { line: 1, .. })));
 }
 
 #[test]
@@ -160,4 +160,14 @@ fn srdf_pairs_are_read() {
     let n = m.apply_srdf(r#"<robot><disable_collisions link1="base_link" link2="L4" reason="Never"/><disable_collisions link1="L1" link2="L5"/></robot>"#);
     assert_eq!(n, 2);
     assert_eq!(m.disabled_collision_pairs[1], ("L1".to_string(), "L5".to_string()));
+}
+
+#[test]
+fn urdf_syntax_errors_name_the_line_and_column() {
+    let xml = "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\">\n<joint name=\"j\" type=\"revolute\">\n<parent link=\"a\"/></joint></robot>\n";
+    let e = load(xml).expect_err("not nested properly").to_string();
+    assert!(e.contains("line 5, column"), "{e}");
+    let xml = "<robot name=\"r\">\n<link name=\"a\"/>\n<link name=\"b\"/>\n<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\n<origin xyz=\"0 0 abc\"/></joint></robot>\n";
+    let e = load(xml).expect_err("bad vector").to_string();
+    assert!(e.contains("line 5:") && e.contains("0 0 abc"), "{e}");
 }

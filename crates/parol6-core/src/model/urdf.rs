@@ -16,6 +16,27 @@ pub(super) fn first_line(s: &str) -> String {
     s.lines().next().unwrap_or("").chars().take(300).collect()
 }
 
+/// The error of a URDF the parser refused: where the XML is malformed (line and column, from
+/// `roxmltree`, which reports positions where `urdf-rs` does not), else the parser's first line,
+/// with the line of a quoted value it names (`for [0 0 abc]`) when the text has it.
+pub(super) fn parse_error(xml: &str, parser_message: &str) -> ModelError {
+    if let Err(e) = roxmltree::Document::parse(xml) {
+        let pos = e.pos();
+        let message = e.to_string();
+        let message = message.rsplit_once(" at ").map_or(message.as_str(), |(m, _)| m).to_string();
+        return ModelError::XmlSyntax { line: pos.row, column: pos.col, message };
+    }
+    let first = first_line(parser_message);
+    let quoted = first.rsplit_once(" for [").and_then(|(_, v)| v.strip_suffix(']'));
+    match quoted.and_then(|v| xml.find(&format!("\"{v}\""))) {
+        Some(at) => {
+            let line = xml[..at].matches('\n').count() + 1;
+            ModelError::NotUrdf(format!("line {line}: {first}"))
+        }
+        None => ModelError::NotUrdf(first),
+    }
+}
+
 pub(super) fn build(robot: &urdf_rs::Robot, opts: &LoadOptions) -> Result<RobotModel, ModelError> {
     if robot.links.is_empty() {
         return Err(ModelError::NoLinks(robot.name.clone()));

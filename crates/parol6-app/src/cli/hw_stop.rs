@@ -16,10 +16,12 @@ const HOLD_FRAMES: u64 = 3;
 /// After a signal: stops the motion (the session holds the commanded position of this
 /// instant), waits until [`HOLD_FRAMES`] hold frames are on the wire (at most 0.5 s), then
 /// closes the session, which leaves the board with IDLE frames (the emulator, if any, after
-/// it). Returns `out` with `"interrupted"` and `"stopping"` (`hold_frames`, `held_steps`,
-/// `then: "IDLE"`).
+/// it). Returns `out` with `"interrupted"` and `"stopping"` (`hold_frames`, `held_steps`, the
+/// `link` state at the signal, `then: "IDLE"`).
 pub(super) fn hold_before_closing(link: Link, mut out: serde_json::Value) -> serde_json::Value {
     let session = &link.session;
+    // a lost link has already stopped motion (IDLE): there is nothing to hold
+    let link_state = session.snapshot().link;
     let stop = session.stop().map_err(|e| e.to_string());
     let holding = |s: &Snapshot| s.motion == MotionState::Holding && s.last_command == Some(CommandCode::Move);
     let first = session.wait_until(Duration::from_millis(400), holding).ok();
@@ -39,6 +41,7 @@ pub(super) fn hold_before_closing(link: Link, mut out: serde_json::Value) -> ser
         "hold_frames": hold_frames,
         "held_steps": held_steps,
         "stop_error": stop.err(),
+        "link": link_state,
         "then": "IDLE",
     });
     out

@@ -24,6 +24,7 @@ pub use nalgebra as na;
 
 pub mod angles;
 pub mod frames;
+pub mod fsio;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;

@@ -82,7 +82,7 @@ pub enum HwCommand {
         #[arg(long, value_parser = f64_above(0.0, 60.0))]
         seconds: f64,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
     },
     /// Move to a joint pose along the synchronised profile.
@@ -104,7 +104,7 @@ pub enum HwCommand {
         #[arg(long)]
         smooth: bool,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
     },
     /// Run the controller emulator on a pseudo-terminal; prints its path first.

@@ -88,7 +88,7 @@ pub enum ModelError {
         resolved: PathBuf,
     },
     /// A mesh file exists but is not read: it is not a regular file (a FIFO, a device) or is
-    /// larger than [`super::MAX_MESH_FILE_BYTES`]. Reported in [`RobotModel::warnings`]; the
+    /// larger than [`super::MAX_MESH_FILE_BYTES`]. Reported in [`super::RobotModel::warnings`]; the
     /// link is drawn as a placeholder and has no collision shape from it.
     #[error("link \"{link}\": mesh \"{uri}\" not read: {reason}")]
     MeshRefused {

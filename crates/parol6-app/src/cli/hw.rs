@@ -89,7 +89,7 @@ pub enum HwCommand {
         #[arg(long, value_parser = f64_above(0.0, 60.0))]
         seconds: f64,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
         /// The operator's confirmation for a joint measured a little beyond one of its limits
         /// (after a crash): jog it back inside (JOG speed frames at a quarter of the jog speed,
@@ -116,7 +116,7 @@ pub enum HwCommand {
         #[arg(long)]
         smooth: bool,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
     },
     /// Run the controller emulator on a pseudo-terminal; prints its path first.

@@ -74,6 +74,14 @@ impl From<anyhow::Error> for CliError {
     }
 }
 
+/// A file refused by type or size (a FIFO, a device, a directory, over its bound) is the
+/// user's input (exit 2); a file that cannot be read or saved is an I/O failure (exit 1).
+impl From<parol6_core::fsio::FsioError> for CliError {
+    fn from(e: parol6_core::fsio::FsioError) -> Self {
+        if e.is_refusal() { Self::usage(e) } else { Self::runtime(e) }
+    }
+}
+
 /// Result of a subcommand.
 pub type CliResult = Result<(), CliError>;
 
@@ -94,7 +102,7 @@ pub struct Cli {
     pub connect: options::ConnectArgs,
     /// The window only: record the backend it opens on (the simulation, or the robot with
     /// --port / --fake-robot) to this MCAP file until the window closes.
-    #[arg(long, value_name = "OUT.mcap")]
+    #[arg(long, value_name = "OUT.mcap", value_parser = options::output_file)]
     pub record: Option<std::path::PathBuf>,
 }
 

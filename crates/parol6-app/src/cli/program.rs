@@ -83,7 +83,7 @@ pub enum ProgramCommand {
         #[arg(long)]
         realtime: bool,
         /// Record the run to this MCAP file (Foxglove / Lichtblick; `parol6 mcap info|csv`).
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
         /// G-code A B C: commander (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz
         /// (R = Rx(A)·Ry(B)·Rz(C)). A file's `; parol6: abc=…` header wins over the default; an
@@ -281,11 +281,11 @@ fn recording_to_gcode_file(input: &Path, output: &Path, abc: AbcConvention) -> C
             output.display()
         )));
     }
-    let bytes = std::fs::read(input).map_err(|e| CliError::runtime(format!("{}: {e}", input.display())))?;
+    let bytes = super::mcap::read_recording_file(input)?;
     let text = recording_to_gcode(&bytes, &PathTolerance::default(), abc)
         .map_err(|e| CliError::usage(format!("{}: {e}", input.display())))?;
     let lines = text.lines().filter(|l| l.starts_with("G1")).count();
-    std::fs::write(output, &text).map_err(|e| CliError::runtime(format!("{}: {e}", output.display())))?;
+    parol6_core::fsio::write_atomic_bytes(output, text.as_bytes())?;
     print_json(&serde_json::json!({
         "input": input.display().to_string(),
         "output": output.display().to_string(),
@@ -343,6 +343,7 @@ fn place_sim(sim: &SimHandle, start: &[f64]) -> Result<(), CliError> {
 fn cli_error(e: ProgramIoError) -> CliError {
     match e {
         ProgramIoError::Io { .. } => CliError::runtime(e.to_string()),
+        ProgramIoError::File(f) => f.into(),
         _ => CliError::usage(e.to_string()),
     }
 }

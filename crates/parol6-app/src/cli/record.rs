@@ -31,7 +31,7 @@ pub struct RecordArgs {
     #[arg(long, value_parser = f64_above(0.0, 3600.0))]
     pub seconds: f64,
     /// Output MCAP file.
-    #[arg(short = 'o', long = "output", value_name = "OUT.mcap")]
+    #[arg(short = 'o', long = "output", value_name = "OUT.mcap", value_parser = super::options::output_file)]
     pub output: PathBuf,
     /// Simulation only: move gently back and forth (10 % of the way toward each joint's
     /// mid-range) instead of holding still.
@@ -162,9 +162,8 @@ impl Telemetry {
 pub fn urdf_text(robot: &RobotArgs) -> Result<String, CliError> {
     match &robot.urdf {
         None => Ok(parol6_core::model::PAROL6_URDF.to_string()),
-        Some(p) => {
-            std::fs::read_to_string(p).map_err(|e| CliError::runtime(format!("cannot read {}: {e}", p.display())))
-        }
+        Some(p) => parol6_core::fsio::read_regular_bounded_string(p, parol6_core::urdf_input::MAX_URDF_BYTES as u64)
+            .map_err(CliError::from),
     }
 }
 

@@ -107,4 +107,16 @@ pub enum ModelError {
         /// Where it was looked for.
         resolved: PathBuf,
     },
+    /// A mesh file exists but is not read: it is not a regular file (a FIFO, a device) or is
+    /// larger than [`super::MAX_MESH_FILE_BYTES`]. Reported in [`super::RobotModel::warnings`]; the
+    /// link is drawn as a placeholder and has no collision shape from it.
+    #[error("link \"{link}\": mesh \"{uri}\" not read: {reason}")]
+    MeshRefused {
+        /// The link.
+        link: String,
+        /// The filename as written in the URDF.
+        uri: String,
+        /// Why (names the resolved path).
+        reason: String,
+    },
 }

@@ -101,6 +101,11 @@ fn sane_record_at(bytes: &[u8], pos: usize) -> bool {
     }
 }
 
+/// The first chunk with a header that adds up starting in `from..to`.
+fn chunk_within(bytes: &[u8], from: usize, to: usize) -> Option<usize> {
+    (from..to).find(|&p| bytes[p] == op::CHUNK && sane_record_at(bytes, p))
+}
+
 /// The first position after `from` where a walk can go on.
 fn resync(bytes: &[u8], from: usize) -> Option<usize> {
     const STARTS: [u8; 4] = [op::CHUNK, op::METADATA, op::DATA_END, op::FOOTER];
@@ -226,6 +231,17 @@ pub fn walk_recording(bytes: &[u8], visit: &mut dyn FnMut(u8, &[u8])) -> Walked 
                 w.saw_footer = true;
                 None
             }
+            (_, Some(end)) if let Some(hidden) = chunk_within(bytes, pos + 1, end) => {
+                // a damaged length or opcode made this record swallow a chunk
+                damage(
+                    &mut w,
+                    pos,
+                    format!(
+                        "a record (opcode {opcode:#04x}) at byte {pos} of {len} bytes covers the chunk at byte {hidden}: a damaged header, skipped to that chunk"
+                    ),
+                );
+                Some(hidden)
+            }
             (_, Some(end)) => {
                 if opcode == op::DATA_END {
                     in_summary = true;
@@ -324,6 +340,9 @@ fn chunk(
             };
         }
     };
+    // a frame that ends before the chunk's data does: the header's length lies (it would hide
+    // the chunks after it)
+    let whole = whole.filter(|_| !inflated.complete || inflated.consumed == data.len());
     // where the walk goes on when the chunk is done with
     let next = |complete: bool| match whole {
         Some(end) => Some(end),

@@ -370,7 +370,12 @@ fn chunk(
     // cut short or damaged inside its data: keep every whole record decoded before
     let (n, messages, kept) = visit_records(records, visit);
     w.records += n;
-    let cut = whole.is_none() && inflated.error.is_none() && inflated.consumed == data.len();
+    // the data ran out at the end of the file, and no sane record follows (else damaged data
+    // made zstd wait for more: the walk goes on there)
+    let cut = whole.is_none()
+        && inflated.error.is_none()
+        && inflated.consumed == data.len()
+        && resync(bytes, pos + 1).is_none();
     let lost = match usize::try_from(h.uncompressed_bytes) {
         Ok(size) if size <= MAX_RECORD_BYTES && size >= kept => format!("{} bytes of records", size - kept),
         _ => "the rest of its records (the chunk was still being written)".to_string(),

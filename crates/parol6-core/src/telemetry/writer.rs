@@ -29,8 +29,10 @@ use super::frames::TfFrames;
 use super::sample::{DriveKind, LinkHealth, TelemetrySample};
 use super::schema::{self, Header, JointStateMsg, LogMsg, Pose, PoseInFrame, Quaternion, Time, Vector3, WorstZone};
 
-/// Chunks are closed at least this often, s.
-pub const FLUSH_INTERVAL_S: f64 = 1.0;
+/// Chunks are closed at least this often (of motion time and of wall time), s: a crash
+/// (SIGKILL, a power loss) loses at most the open chunk. The reader also gives back what a
+/// chunk cut short holds up to the cut, a zstd block of up to 128 KiB of records at a time.
+pub const FLUSH_INTERVAL_S: f64 = 0.25;
 
 /// A chunk is closed once its uncompressed records pass this size (8 MiB: about 6 s of a 1 kHz
 /// simulation), so at the rates we record the time-based flush closes them.
@@ -67,7 +69,7 @@ pub struct RecordingSummary {
 /// A file that reaches the disk on every flush (`sync_data`), so a power loss loses at most
 /// the chunk being written.
 #[derive(Debug)]
-pub struct SyncedFile(BufWriter<File>);
+pub struct SyncedFile(BufWriter<KeptBytes<File>>);
 
 impl Write for SyncedFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
@@ -75,7 +77,66 @@ impl Write for SyncedFile {
     }
     fn flush(&mut self) -> std::io::Result<()> {
         self.0.flush()?;
-        self.0.get_ref().sync_data()
+        let file = self.0.get_ref();
+        file.inner.sync_data().map_err(|e| file.explain(e))
+    }
+}
+
+/// A writer that counts the bytes its file keeps (the furthest byte written) and names them,
+/// and a full disk, in its errors: "no space left on device (ENOSPC); the file keeps its first
+/// N bytes …".
+#[derive(Debug)]
+pub struct KeptBytes<W> {
+    inner: W,
+    pos: u64,
+    kept_bytes: u64,
+}
+
+impl<W> KeptBytes<W> {
+    /// Counts what `inner` (an empty file) keeps.
+    pub fn new(inner: W) -> Self {
+        Self { inner, pos: 0, kept_bytes: 0 }
+    }
+
+    /// Bytes the file holds so far.
+    pub fn kept_bytes(&self) -> u64 {
+        self.kept_bytes
+    }
+
+    fn explain(&self, e: std::io::Error) -> std::io::Error {
+        let kept = self.kept_bytes;
+        std::io::Error::new(
+            e.kind(),
+            format!("{}; the file keeps its first {kept} bytes, readable up to its last whole chunk", describe_io(&e)),
+        )
+    }
+}
+
+impl<W: Write> Write for KeptBytes<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf).map_err(|e| self.explain(e))?;
+        self.pos += n as u64;
+        self.kept_bytes = self.kept_bytes.max(self.pos);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush().map_err(|e| self.explain(e))
+    }
+}
+
+impl<W: Seek> Seek for KeptBytes<W> {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        self.pos = self.inner.seek(pos).map_err(|e| self.explain(e))?;
+        Ok(self.pos)
+    }
+}
+
+/// What an I/O error says, a full disk named as such (ENOSPC).
+pub fn describe_io(e: &std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::StorageFull && e.get_ref().is_none() {
+        "no space left on device (ENOSPC)".to_string()
+    } else {
+        e.to_string()
     }
 }
 
@@ -126,7 +187,7 @@ impl McapSink<SyncedFile> {
     pub fn create_file(path: &Path, model: &RobotModel, info: &RecordingInfo) -> Result<Self, TelemetryError> {
         let io = |e: std::io::Error| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() };
         let file = File::create(path).map_err(io)?;
-        Self::new(SyncedFile(BufWriter::with_capacity(1 << 16, file)), model, info)
+        Self::new(SyncedFile(BufWriter::with_capacity(1 << 16, KeptBytes::new(file))), model, info)
     }
 }
 
@@ -344,7 +405,10 @@ impl<W: Write + Seek> McapSink<W> {
     pub fn finish_into_inner(mut self) -> Result<(RecordingSummary, W), TelemetryError> {
         self.writer.finish()?;
         let mut w = self.writer.into_inner();
-        w.flush().map_err(|e| TelemetryError::Io { path: "recording".into(), reason: e.to_string() })?;
+        w.flush().map_err(|e| TelemetryError::Write(describe_io(&e)))?;
         Ok((self.summary, w))
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -14,6 +14,14 @@ pub enum ModelError {
         /// The OS error.
         reason: String,
     },
+    /// The path is not a regular file (a FIFO, a device, a directory): refused before reading.
+    #[error("cannot read URDF file {path}: {reason}")]
+    NotRegularFile {
+        /// The file.
+        path: PathBuf,
+        /// What it is instead.
+        reason: String,
+    },
     /// The text is not XML, or not a `<robot>` description.
     #[error("not a URDF robot description: {0}")]
     NotUrdf(String),

@@ -163,7 +163,7 @@ impl RobotModel {
                 let size_bytes = std::fs::metadata(path).map_or(limit_bytes + 1, |m| m.len() as usize);
                 ModelError::InputRefused(crate::urdf_input::UrdfInputError::TooLarge { size_bytes, limit_bytes })
             }
-            crate::fsio::FsioError::NotRegular { kind, .. } => ModelError::Io {
+            crate::fsio::FsioError::NotRegular { kind, .. } => ModelError::NotRegularFile {
                 path: path.to_path_buf(),
                 reason: format!("refused, it is {kind}, not a regular file"),
             },

@@ -22,6 +22,15 @@ use parol6_tests::hostile_board::BoardMode;
 const LONG_MOVE_DEG: &str = "30,-90,180,0,0,180";
 
 /// The emulator (homed at standby) behind a peer that lies as `mode` says.
+/// The tests of this file run one at a time: each drives a 100 Hz session against an emulated
+/// board, and on a 2-core CI machine a dozen at once starved each other into 80 ms link losses
+/// that the tests do not expect (seen in CI: "link lost … no valid status for 80 ms" in place of
+/// the E-stop under test).
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    ONE_AT_A_TIME.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 fn board(mode: BoardMode) -> (EmulatorHandle, FaultPeer) {
     let emu = EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
         .expect("emulator");
@@ -46,6 +55,7 @@ fn assert_device_failure(run: &Run, what: &str, needles: &[&str]) {
 
 #[test]
 fn hw_move_against_a_board_far_outside_the_limits_ends_promptly_with_the_fault() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::FarOutside);
     let run = hw(peer.path(), &["move", "--joints", LONG_MOVE_DEG, "--deg", "--speed", "0.05"]);
     assert_device_failure(&run, "move", &["answers are impossible", "J3 reads -200000 steps"]);
@@ -55,6 +65,7 @@ fn hw_move_against_a_board_far_outside_the_limits_ends_promptly_with_the_fault()
 
 #[test]
 fn hw_jog_on_a_board_far_outside_the_limits_is_a_device_fault() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::FarOutside);
     let run = hw(peer.path(), &["jog", "--joint", "2", "--speed", "0.5", "--seconds", "1"]);
     assert_device_failure(&run, "jog", &["answers are impossible"]);
@@ -63,6 +74,7 @@ fn hw_jog_on_a_board_far_outside_the_limits_is_a_device_fault() {
 
 #[test]
 fn hw_move_link_loss_exits_1_naming_the_cause() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::SilentAfter(150));
     let run = hw(peer.path(), &["move", "--joints", LONG_MOVE_DEG, "--deg", "--speed", "0.05"]);
     assert_device_failure(&run, "move", &["link lost during the move"]);
@@ -71,6 +83,7 @@ fn hw_move_link_loss_exits_1_naming_the_cause() {
 
 #[test]
 fn hw_move_estop_during_the_move_exits_1() {
+    let _one_at_a_time = serial();
     let emu = EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
         .expect("emulator");
     let port = emu.path().to_string();
@@ -84,6 +97,7 @@ fn hw_move_estop_during_the_move_exits_1() {
 
 #[test]
 fn hw_jog_on_a_board_that_never_moves_fails() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::Stale);
     let run = hw(peer.path(), &["jog", "--joint", "1", "--speed", "0.8", "--seconds", "2"]);
     assert_device_failure(&run, "jog", &["the arm did not move"]);
@@ -91,6 +105,7 @@ fn hw_jog_on_a_board_that_never_moves_fails() {
 
 #[test]
 fn hw_move_on_a_board_that_never_moves_names_the_cause() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::Stale);
     let run = hw(peer.path(), &["move", "--joints", LONG_MOVE_DEG, "--deg", "--speed", "0.5"]);
     assert_device_failure(&run, "move", &["the move stopped before the goal", "commanded position"]);
@@ -100,6 +115,7 @@ fn hw_move_on_a_board_that_never_moves_names_the_cause() {
 
 #[test]
 fn hw_jog_after_positions_jumped_to_impossible_values_fails() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::JumpAfter(100));
     let run = hw(peer.path(), &["jog", "--joint", "2", "--speed", "0.3", "--seconds", "3"]);
     assert_device_failure(&run, "jog", &["impossible"]);
@@ -108,6 +124,7 @@ fn hw_jog_after_positions_jumped_to_impossible_values_fails() {
 
 #[test]
 fn hw_move_after_positions_jumped_to_impossible_values_fails_promptly() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::JumpAfter(100));
     let run = hw(peer.path(), &["move", "--joints", LONG_MOVE_DEG, "--deg", "--speed", "0.05"]);
     assert_device_failure(&run, "move", &["impossible"]);
@@ -116,6 +133,7 @@ fn hw_move_after_positions_jumped_to_impossible_values_fails_promptly() {
 
 #[test]
 fn hw_jog_after_hw_disable_fails() {
+    let _one_at_a_time = serial();
     let emu = EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
         .expect("emulator");
     let disabled = hw(emu.path(), &["disable"]);
@@ -126,6 +144,7 @@ fn hw_jog_after_hw_disable_fails() {
 
 #[test]
 fn the_controller_stopped_answering_is_not_said_of_a_board_that_answers_impossibly() {
+    let _one_at_a_time = serial();
     let (_emu, peer) = board(BoardMode::Erratic);
     let run = hw(peer.path(), &["status"]);
     assert_device_failure(&run, "status", &["answers are impossible"]);
@@ -134,6 +153,7 @@ fn the_controller_stopped_answering_is_not_said_of_a_board_that_answers_impossib
 
 #[test]
 fn a_joint_beyond_its_limit_moves_back_only_inward_with_confirmation() {
+    let _one_at_a_time = serial();
     let mut at = parol6_hw::units::STANDBY_STEPS;
     at[0] = 14_300; // J1 pushed 300 steps (2.6°) beyond its upper limit 14 000
     let emu = EmulatorHandle::spawn(EmulatorConfig {
@@ -165,6 +185,7 @@ fn a_joint_beyond_its_limit_moves_back_only_inward_with_confirmation() {
 
 #[test]
 fn hw_emulate_survives_an_invalid_utf8_line() {
+    let _one_at_a_time = serial();
     let mut child = Command::new(env!("CARGO_BIN_EXE_parol6"))
         .args(["hw", "emulate", "--homed"])
         .stdin(Stdio::piped())

@@ -216,3 +216,48 @@ fn record_to_dash_wrote_a_file_named_dash() {
     assert_eq!(names(&dir), ["rec.mcap"], "no file named -");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 29 item 1, the last in-place write: `record -o` over an existing recording truncated it
+/// before the first sample, so a crash lost the old recording; a FIFO as the output blocked the
+/// start until a reader came, and a device node was written. Now the new recording is made
+/// beside the old one and replaces it only when finished, and a FIFO or device is refused.
+#[test]
+fn a_recording_over_an_existing_one_lost_it_on_a_crash() {
+    let dir = scratch("record-over");
+    let rec = recording(&dir);
+    let old = std::fs::read(&rec).unwrap();
+    let mut child = Command::new(exe())
+        .args(["record", "--seconds", "60", "--demo", "-o", "rec.mcap"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let beside = dir.join("rec.mcap.recording");
+    let started = std::time::Instant::now();
+    while std::fs::metadata(&beside).map_or(0, |m| m.len()) < 20_000 {
+        assert!(started.elapsed() < LIMIT, "the recording did not start beside the old one");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.kill().unwrap(); // SIGKILL: a crash
+    child.wait().unwrap();
+    assert_eq!(std::fs::read(&rec).unwrap(), old, "the old recording is whole");
+    let r = run_in(&dir, &["mcap", "info", "rec.mcap.recording"], LIMIT);
+    assert_eq!(r.code(), Some(0), "the new one is readable: {r:?}");
+    // finished normally, the new recording replaces the old one and nothing is left beside it
+    std::fs::remove_file(&beside).unwrap();
+    let r = run_in(&dir, &["record", "--seconds", "0.5", "--demo", "-o", "rec.mcap"], LIMIT);
+    assert_eq!(r.code(), Some(0), "{r:?}");
+    assert_ne!(std::fs::read(&rec).unwrap(), old);
+    assert_eq!(names(&dir), ["rec.mcap"]);
+    // a FIFO or a device node is refused at once (exit 2) and left as it was
+    mkfifo(&dir.join("fifo.mcap"));
+    assert!(Command::new("mknod").arg(dir.join("full.mcap")).args(["c", "1", "7"]).status().unwrap().success());
+    for (out, kind) in [("fifo.mcap", "a FIFO"), ("full.mcap", "a character device")] {
+        let r = run_in(&dir, &["record", "--seconds", "0.5", "--demo", "-o", out], LIMIT);
+        r.assert_refused(out, &format!("{out}: refused, it is {kind}, not a regular file"));
+    }
+    assert!(std::fs::metadata(dir.join("fifo.mcap")).unwrap().file_type().is_fifo());
+    assert!(std::fs::metadata(dir.join("full.mcap")).unwrap().file_type().is_char_device());
+    let _ = std::fs::remove_dir_all(&dir);
+}

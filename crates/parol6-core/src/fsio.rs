@@ -1,13 +1,16 @@
 //! Files in and out, safely: the one atomic writer and the bounded regular-file reader.
 //!
 //! Every file the program writes (programs, G-code, CSV, reports, PNG, SVG, settings, bench
-//! output; not the streamed MCAP recordings) goes through [`write_atomic`] /
+//! output) goes through [`write_atomic`] /
 //! [`write_atomic_bytes`]: the bytes go to a temporary file beside the target, which is
 //! fsynced and then renamed over the target. A failed save (full disk, I/O error, an error
 //! of the caller's encoder, a failed rename) removes the temporary file and leaves the old
 //! file exactly as it was; a target that exists and is not a regular file (a directory, a
 //! FIFO, a device node such as `/dev/full`) is refused, never replaced. A symbolic link to a
-//! regular file is followed: the file it points to is replaced and the link stays.
+//! regular file is followed: the file it points to is replaced and the link stays. MCAP
+//! recordings are streamed as they are made, so they cannot be written whole at the end: a new
+//! one is written in place, and one over an existing file goes beside it and replaces it when
+//! finished (`telemetry::writer::McapSink::create_file`, with the same refusal by file type).
 //!
 //! Every file the program reads from outside goes through [`open_regular`] /
 //! [`read_regular_bounded`]: FIFOs, devices, sockets and directories are refused by file type

@@ -16,7 +16,7 @@ use std::time::{Duration, Instant};
 use parol6_core::motion::{MotionCommand, RobotBackend, RobotState, home_position};
 use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{SimConfig, SimHandle};
-use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo};
+use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo, TelemetryError};
 use parol6_core::{RobotModel, Tool};
 use serde_json::json;
 
@@ -94,7 +94,10 @@ impl Telemetry {
         if self.started.get().is_some() {
             return Ok(());
         }
-        self.recorder.start_recording(&self.path, &self.info).map_err(CliError::runtime)?;
+        self.recorder.start_recording(&self.path, &self.info).map_err(|e| match e {
+            TelemetryError::File(f) => CliError::from(f),
+            e => CliError::runtime(e),
+        })?;
         self.started.get_or_init(Instant::now);
         Ok(())
     }

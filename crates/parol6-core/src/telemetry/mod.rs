@@ -51,6 +51,9 @@ pub enum TelemetryError {
         /// What went wrong.
         reason: String,
     },
+    /// The recording's path was refused (not a regular file) or could not be checked.
+    #[error(transparent)]
+    File(#[from] crate::fsio::FsioError),
     /// The MCAP library refused a record.
     #[error("MCAP: {0}")]
     Mcap(String),

@@ -68,8 +68,9 @@ impl Seek for SmallDisk {
 #[test]
 fn a_full_disk_names_enospc_and_the_bytes_kept() {
     let model = RobotModel::parol6();
-    // /dev/full: every write fails with ENOSPC
-    let e = match McapSink::create_file(Path::new("/dev/full"), &model, &info()) {
+    // a disk that is full from the start
+    let full = SmallDisk { data: Vec::new(), pos: 0, room: 0 };
+    let e = match McapSink::new(KeptBytes::new(full), &model, &info()) {
         Ok(sink) => write_until_error(sink),
         Err(e) => e,
     };
@@ -86,4 +87,63 @@ fn a_full_disk_names_enospc_and_the_bytes_kept() {
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("{msg}"));
     assert!(kept > 100_000 && kept <= 200_000, "{msg}");
+}
+
+fn scratch_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("parol6-writer-{name}-{}", std::process::id()));
+    let _ignored_if_absent = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// Issue 29 item 1: a recording started over an existing one truncated it at once, so a crash
+/// or a full disk lost the old recording. Now the old file stays whole until the new one is
+/// finished, and the new one is readable beside it up to its last closed chunk.
+#[test]
+fn a_recording_over_an_existing_one_keeps_it_until_finished() {
+    let model = RobotModel::parol6();
+    let dir = scratch_dir("replace");
+    let path = dir.join("run.mcap");
+    std::fs::write(&path, b"the old recording").expect("old file");
+    let mut sink = McapSink::create_file(&path, &model, &info()).expect("sink");
+    let beside = dir.join("run.mcap.recording");
+    assert!(beside.exists());
+    for k in 1..=500 {
+        sink.write_sample(&sample(k, 1e-3)).expect("sample");
+    }
+    sink.flush_if_due(1e9).expect("flush");
+    // a crash now (the sink is never finished) keeps the old file and a readable new one
+    assert_eq!(std::fs::read(&path).expect("old"), b"the old recording");
+    let partial = crate::telemetry::read_recording(&std::fs::read(&beside).expect("read")).expect("partial recording");
+    assert!(partial.measured.len() > 400, "{}", partial.measured.len());
+    sink.finish_file().expect("finish");
+    assert!(!beside.exists());
+    let whole = crate::telemetry::read_recording(&std::fs::read(&path).expect("read")).expect("new recording");
+    assert_eq!(whole.measured.len(), 500);
+    // a second recording beside a stale `.recording` left by a crash does not touch it
+    std::fs::write(&beside, b"left by a crash").expect("stale");
+    let sink = McapSink::create_file(&path, &model, &info()).expect("sink");
+    assert!(dir.join("run.mcap.recording-1").exists());
+    sink.finish_file().expect("finish");
+    assert_eq!(std::fs::read(&beside).expect("stale"), b"left by a crash");
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+/// Issue 29 item 1: a FIFO or a device as the recording was opened and written (a FIFO blocked
+/// the start until a reader came); now it is refused before anything is opened.
+#[test]
+fn a_recording_onto_a_device_fifo_or_directory_is_refused() {
+    let model = RobotModel::parol6();
+    let dir = scratch_dir("refuse");
+    let fifo = dir.join("pipe.mcap");
+    let c = std::ffi::CString::new(fifo.as_os_str().as_encoded_bytes()).expect("path");
+    // SAFETY: mkfifo reads a NUL-terminated path that outlives the call.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    for p in [Path::new("/dev/full"), fifo.as_path(), dir.as_path()] {
+        match McapSink::create_file(p, &model, &info()) {
+            Err(TelemetryError::File(e)) => assert!(e.is_refusal(), "{p:?}: {e}"),
+            other => panic!("{p:?}: {other:?}"),
+        }
+    }
+    std::fs::remove_dir_all(&dir).expect("cleanup");
 }

@@ -18,8 +18,12 @@ use parol6_hw::units::{FW_MAX_SPEED_STEPS_S, STANDBY_STEPS};
 use parol6_hw::{ControllerModel, EmulatorConfig};
 
 mod formats;
+mod fsio;
+mod mcap_cut;
 
 pub use formats::{commander, commander_compile, csv_table, csv_table_compile, time_function, time_function_compile};
+pub use fsio::atomic_writer;
+pub use mcap_cut::mcap_cut;
 
 /// A fuzz target body: arbitrary bytes in, a panic on a broken invariant.
 pub type FuzzBody = fn(&[u8]);
@@ -41,7 +45,7 @@ const fn target(name: &'static str, body: FuzzBody) -> FuzzTarget {
 }
 
 /// The fuzz targets whose bodies live here.
-pub const TARGETS: [FuzzTarget; 12] = [
+pub const TARGETS: [FuzzTarget; 14] = [
     target("status_parser", status_parser),
     target("command_emulator", command_emulator),
     target("urdf_loader", urdf_loader),
@@ -54,6 +58,8 @@ pub const TARGETS: [FuzzTarget; 12] = [
     FuzzTarget { name: "time_function_compile", corpus: "time_function", body: time_function_compile },
     target("commander", commander),
     FuzzTarget { name: "commander_compile", corpus: "commander", body: commander_compile },
+    target("atomic_writer", atomic_writer),
+    target("mcap_cut", mcap_cut),
 ];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser

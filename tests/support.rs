@@ -1,7 +1,8 @@
 //! Helpers shared by the cross-crate integration tests: locating the reference pack
 //! `../shared/parol6` beside the repository, the bodies of the fuzz targets ([`fuzz_bodies`]),
 //! shared by `fuzz/` and the stable corpus replay test, a fault-injecting serial peer
-//! ([`fault_peer`]) for the adversarial session tests, and a watch on the hypervisor's steal
+//! ([`fault_peer`]) with its hostile-board modes ([`hostile_board`]) for the adversarial session
+//! and CLI tests, and a watch on the hypervisor's steal
 //! time ([`steal_watch`]) for the timing tests.
 
 pub mod fuzz_bodies;
@@ -11,6 +12,9 @@ use std::path::PathBuf;
 #[cfg(unix)]
 #[path = "support/fault_peer.rs"]
 pub mod fault_peer;
+
+#[path = "support/hostile_board.rs"]
+pub mod hostile_board;
 
 #[path = "support/steal_watch.rs"]
 pub mod steal_watch;

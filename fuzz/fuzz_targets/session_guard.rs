@@ -1,6 +1,6 @@
 //! Drives the session's last-line guard and measurement plausibility filter (pure functions)
 //! with arbitrary targets, references, periods and measured streams: nothing may panic, every
-//! guarded MOVE target lies within the step limits (or no further out than its reference) and
+//! guarded MOVE target lies within the step limits (a target outside them is refused) and
 //! within the speed limit × elapsed periods (+1) of the reference, and an accepted measurement
 //! never jumps further than the filter's own bound.
 //! Run with `cargo +nightly fuzz run session_guard` from the repository root.

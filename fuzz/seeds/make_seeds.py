@@ -109,3 +109,20 @@ write("urdf_loader", "broken_limits_axis.urdf", f'<robot name="l">{link("a")}{li
 write("urdf_loader", "broken_truncated.urdf", one[: len(one) // 2])
 write("urdf_loader", "nested_too_deep.urdf", '<robot name="d">' + "<a>" * 70 + "</a>" * 70 + "</robot>")
 write("urdf_loader", "not_xml.txt", "this is not a robot < > & \x00")
+
+# --- atomic_writer: flags, ENOSPC byte (u16 BE), longest write, encoder write size, repeat, split, old + new ---
+def atomic(flags, enospc=0, max_write=0, chunk=64, repeat=0, old=b"old program\n", new=b"G21 G90\nG1 X0 Y250 Z300\n"):
+    return bytes([flags]) + enospc.to_bytes(2, "big") + bytes([max_write, chunk, repeat, len(old)]) + old + new
+
+
+write("atomic_writer", "plain_replace", atomic(0x01))
+write("atomic_writer", "new_file", atomic(0x00))
+write("atomic_writer", "full_disk_at_byte_5", atomic(0x11, enospc=5))
+write("atomic_writer", "full_disk_past_the_buffer", atomic(0x11, enospc=9000, repeat=7, new=bytes(range(256)) * 8))
+write("atomic_writer", "short_writes", atomic(0x21, max_write=3, repeat=3))
+write("atomic_writer", "short_writes_then_full", atomic(0x31, enospc=40, max_write=7))
+write("atomic_writer", "fsync_fails", atomic(0x03))
+write("atomic_writer", "rename_fails", atomic(0x05))
+write("atomic_writer", "encoder_fails", atomic(0x09, chunk=1))
+write("atomic_writer", "everything_fails_no_old", atomic(0x3E, enospc=1, max_write=1))
+write("atomic_writer", "empty_new_content", atomic(0x11, enospc=0, new=b""))

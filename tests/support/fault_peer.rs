@@ -8,6 +8,10 @@
 //! delivered late in one burst). Host → controller it can drop a byte or put a stray `0xFF`
 //! before a frame (the firmware's receiver weakness, PROTOCOL.md §6).
 //!
+//! Before those faults, a [`BoardMode`] can make the controller itself lie: positions far
+//! outside the limits, stale frames, a jump to impossible positions, silence after N frames
+//! ([`crate::hostile_board`]).
+//!
 //! It records every host → controller command frame (decoded with the firmware's own receiver,
 //! [`CommandParser`], from the clean stream before any fault), each with the controller's true
 //! joint positions at that moment (the last uncorrupted status), and every stall it made, so a
@@ -24,6 +28,8 @@ use parol6_hw::{CommandParser, StatusParser};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use serialport::{SerialPort, TTYPort};
+
+use crate::hostile_board::{BoardMode, BoardRewriter};
 
 /// Joints of the arm.
 const JOINTS: usize = 6;
@@ -60,6 +66,8 @@ pub struct FaultConfig {
     pub command_drop_byte: f64,
     /// Host → controller: a stray `0xFF` before the chunk.
     pub command_stray_ff: f64,
+    /// What the controller reports about its joints (applied before the faults above).
+    pub board: BoardMode,
 }
 
 impl FaultConfig {
@@ -77,6 +85,7 @@ impl FaultConfig {
             stall_late_share: 0.0,
             command_drop_byte: 0.0,
             command_stray_ff: 0.0,
+            board: BoardMode::Honest,
         }
     }
 
@@ -95,7 +104,13 @@ impl FaultConfig {
             stall_late_share: 0.3,
             command_drop_byte: 0.002,
             command_stray_ff: 0.002,
+            board: BoardMode::Honest,
         }
+    }
+
+    /// The same faults with the controller lying as `board` says.
+    pub fn with_board(self, board: BoardMode) -> Self {
+        Self { board, ..self }
     }
 }
 
@@ -379,6 +394,7 @@ struct StatusForwarder {
     host: TTYPort,
     sh: Arc<Shared>,
     parser: StatusParser,
+    board: BoardRewriter,
     stall: Option<Stall>,
     swap_held: Option<(Vec<u8>, Instant)>,
     last_forward: Option<Instant>,
@@ -387,6 +403,7 @@ struct StatusForwarder {
 impl StatusForwarder {
     fn new(cfg: FaultConfig, controller: TTYPort, host: TTYPort, sh: Arc<Shared>) -> Self {
         let rng = StdRng::seed_from_u64(cfg.seed);
+        let board = BoardRewriter::new(cfg.board);
         Self {
             cfg,
             rng,
@@ -394,6 +411,7 @@ impl StatusForwarder {
             host,
             sh,
             parser: StatusParser::new(),
+            board,
             stall: None,
             swap_held: None,
             last_forward: None,
@@ -408,7 +426,9 @@ impl StatusForwarder {
             while let Some(frame) = self.parser.next_frame() {
                 *lock(&self.sh.true_steps) = Some(frame.positions_steps);
                 bump(&self.sh.counters.status_frames);
-                self.on_frame(frame.encode().to_vec());
+                if let Some(said) = self.board.rewrite(frame) {
+                    self.on_frame(said.encode().to_vec());
+                }
             }
             self.end_stall_if_due();
             if let Some((held, since)) = self.swap_held.take() {

@@ -49,7 +49,10 @@ fn fk_bad_input_is_one_line_exit_2() {
     assert_usage_error(&parol6(&["fk", "--joints", "1,2,abc,4,5,6"]), "value 3");
     assert_usage_error(&parol6(&["fk", "--joints", "1,2,3"]), "expected 6");
     assert_usage_error(&parol6(&["fk", "--joints", "1,2,3,4,5,6", "--tool", "hammer"]), "unknown tool");
-    assert_usage_error(&parol6(&["fk", "--joints", "1", "--urdf", "/nonexistent/robot.urdf"]), "cannot read URDF");
+    // a file that cannot be read is an I/O failure (exit 1), as for every command (issue 29 item 14)
+    let missing = parol6(&["fk", "--joints", "1", "--urdf", "/nonexistent/robot.urdf"]);
+    assert_eq!(missing.status.code(), Some(1), "{missing:?}");
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("cannot read URDF"), "{missing:?}");
     assert_usage_error(&parol6(&["fk", "--joints", "1,2,3,4,5,6", "--tip", "L9"]), "L9");
 }
 

@@ -13,7 +13,8 @@
 //! cube, pose and path figures, the measurement CSV, the test driver on any backend), the keep-out shapes of the robot's
 //! surroundings ([`scene`]), the PAROL6 facts of the reference pack ([`parol6`]), the size /
 //! nesting bounds every URDF text passes before parsing ([`urdf_input`]), sample statistics
-//! with one percentile rule ([`stats`]), handing freed memory back ([`process`]), and telemetry ([`telemetry`]: the recorder thread with
+//! with one percentile rule ([`stats`]), handing freed memory back ([`process`]), the one atomic
+//! file writer and bounded regular-file reader ([`fsio`]), and telemetry ([`telemetry`]: the recorder thread with
 //! its live ring buffer, MCAP files for Foxglove / Lichtblick, and the reader of our own
 //! recordings).
 //!
@@ -24,6 +25,7 @@ pub use nalgebra as na;
 
 pub mod angles;
 pub mod frames;
+pub mod fsio;
 pub mod ik;
 pub mod kinematics;
 pub mod limits;

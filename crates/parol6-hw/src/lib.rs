@@ -77,6 +77,11 @@ pub enum HwError {
     /// Homing did not complete.
     #[error("homing failed: {0}")]
     Homing(String),
+    /// The controller or the link failed or reported something impossible (link lost, E-stop
+    /// pressed during motion, impossible positions, an arm that does not follow): a device
+    /// event, not the user's request.
+    #[error("{0}")]
+    Device(String),
     /// Waiting for something timed out.
     #[error("timed out: {0}")]
     Timeout(String),

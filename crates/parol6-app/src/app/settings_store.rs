@@ -18,12 +18,15 @@ pub fn settings_path() -> Option<PathBuf> {
     Some(base.join("parol6-studio").join("settings.json"))
 }
 
+/// The largest settings file read, bytes (a real one is about 2 KiB).
+const MAX_SETTINGS_BYTES: u64 = 1 << 20;
+
 /// Loads settings; defaults when the file is missing or unreadable (reported on stderr).
 pub fn load_settings(path: Option<&Path>) -> Settings {
     let Some(path) = path else {
         return Settings::default();
     };
-    match std::fs::read_to_string(path) {
+    match parol6_core::fsio::read_regular_bounded_string(path, MAX_SETTINGS_BYTES) {
         Ok(text) => serde_json::from_str(&text).unwrap_or_else(|e| {
             tracing::warn!("ignoring settings file {}: {e}", path.display());
             Settings::default()
@@ -37,5 +40,5 @@ pub(super) fn save_settings(path: &Path, settings: &Settings) -> anyhow::Result<
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
     let text = serde_json::to_string_pretty(settings)?;
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+    Ok(parol6_core::fsio::write_atomic_bytes(path, text.as_bytes())?)
 }

@@ -77,7 +77,7 @@ pub enum BenchTarget {
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
         repeats: u64,
         /// Keep the synthetic recording at this path (to open it in the window, `parol6 replay`).
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         keep: Option<std::path::PathBuf>,
     },
     /// Command → applied latency with the 1 kHz thread running while another thread sends

@@ -44,22 +44,26 @@ pub fn synthetic_recording(model: &RobotModel, minutes: f64, rate_hz: f64) -> Re
 }
 
 /// Writes the synthetic recording to `path` as it is made (a ten-minute one is ~60 MB: not
-/// held in memory, so a benchmark's peak memory is the app's). A file left half written is
-/// removed.
+/// held in memory, so a benchmark's peak memory is the app's), atomically: a failed write
+/// leaves no file, and a target that is not a regular file is refused.
 pub fn write_synthetic_recording_file(
     path: &std::path::Path,
     model: &RobotModel,
     minutes: f64,
     rate_hz: f64,
 ) -> Result<(), CliError> {
-    let io = |e: std::io::Error| CliError::runtime(format!("cannot write {}: {e}", path.display()));
-    let file = std::fs::File::create(path).map_err(io)?;
-    let written = write_synthetic_recording(std::io::BufWriter::new(file), model, minutes, rate_hz)
-        .and_then(|writer| writer.into_inner().map(drop).map_err(|e| io(e.into_error())));
-    if written.is_err() {
-        let _ = std::fs::remove_file(path);
+    let mut failed: Option<CliError> = None;
+    let written = parol6_core::fsio::write_atomic_seekable(path, |w| {
+        write_synthetic_recording(&mut *w, model, minutes, rate_hz).map(drop).map_err(|e| {
+            let message = e.message.clone();
+            failed = Some(e);
+            std::io::Error::other(message)
+        })
+    });
+    match (failed, written) {
+        (Some(e), _) => Err(e),
+        (None, written) => Ok(written?),
     }
-    written
 }
 
 /// [`synthetic_recording`] into any writer; gives the writer back.

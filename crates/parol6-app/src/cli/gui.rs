@@ -105,11 +105,16 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
             }
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
+            // Ctrl-C / SIGTERM close the window as its close button does (recording closed)
+            super::interrupt::close_window_on_signal(&cc.egui_ctx);
             Ok(Box::new(app))
         }),
     );
     if let Err(e) = result {
         return Err(CliError::runtime(format!("cannot open the window: {e}")));
+    }
+    if super::interrupt::requested() {
+        return Err(super::interrupt::error("the window closed"));
     }
     let code = exit_code.load(Ordering::SeqCst);
     if code != 0 {

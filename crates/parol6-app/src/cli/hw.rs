@@ -5,8 +5,12 @@
 //! pseudo-terminal path (then one JSON line per stdin command). The subcommands that talk to a
 //! controller take the global `--port P` or `--fake-robot` (the built-in emulator, powered up
 //! homed at standby, started in-process for the one command).
+//!
+//! `jog` and `move` check their request and open the controller before `--record` creates its
+//! file. On SIGINT / SIGTERM ([`super::interrupt`]) they stop the arm the normal way: the
+//! session holds (MOVE frames at a fixed target, [`super::hw_stop`]), then closes with IDLE
+//! frames as on link loss; the recording is closed and the command exits 130.
 
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -20,14 +24,17 @@ use parol6_core::profile::ProfileKind;
 use parol6_hw::HwError;
 use parol6_hw::emulator::{EmulatorConfig, EmulatorHandle};
 use parol6_hw::frame::CommandCode;
-use parol6_hw::session::{HomingState, LinkState, Session, SessionConfig, Snapshot};
+use parol6_hw::session::{HomingState, Session, SessionConfig, Snapshot};
 use serde_json::json;
 
+use super::hw_checks::{
+    JogEnd, jog_back_inside, jog_outcome, new_fault, not_connected, read_command_line, ready_to_move,
+};
 use super::kin::parse_list;
 use super::options::{ConnectArgs, f64_above, f64_within};
 use super::output::print_line;
 use super::record::{Telemetry, link_health};
-use super::{CliError, CliResult, print_json};
+use super::{CliError, CliResult, interrupt, print_json};
 
 /// How long to wait for the first status frame.
 pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
@@ -97,8 +104,13 @@ pub enum HwCommand {
         #[arg(long, value_parser = f64_above(0.0, 60.0))]
         seconds: f64,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
+        /// The operator's confirmation for a joint measured a little beyond one of its limits
+        /// (after a crash): jog it back inside (JOG speed frames at a quarter of the jog speed,
+        /// inward only) until it is within its limits. Without it such a jog is refused.
+        #[arg(long)]
+        beyond_limit: bool,
     },
     /// Move to a joint pose along the synchronised profile.
     Move {
@@ -119,7 +131,7 @@ pub enum HwCommand {
         #[arg(long)]
         smooth: bool,
         /// Record the session to this MCAP file.
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
     },
     /// Run the controller emulator on a pseudo-terminal; prints its path first.
@@ -196,20 +208,7 @@ pub(crate) fn open(
     }
     .map_err(hw_err)?;
     if session.wait_connected(CONNECT_TIMEOUT).is_err() {
-        let s = session.snapshot();
-        let secs = CONNECT_TIMEOUT.as_secs_f64();
-        return Err(CliError::runtime(if s.status_frames == 0 {
-            format!(
-                "no PAROL6 answered on {} within {secs:.0} s (is the controller powered and is this its port?)",
-                s.port
-            )
-        } else {
-            format!(
-                "the controller on {} stopped answering within {secs:.0} s ({})",
-                s.port,
-                s.fault.clone().unwrap_or_else(|| "link lost".into())
-            )
-        }));
+        return Err(CliError::runtime(not_connected(&session.snapshot(), CONNECT_TIMEOUT.as_secs_f64())));
     }
     Ok(Link { session, emulator })
 }
@@ -283,32 +282,46 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
                 "command": "home", "ok": true, "seconds": t0.elapsed().as_secs_f64(), "state": summary(&s)
             }))
         }
-        HwCommand::Jog { rate, joint, speed, seconds, record } => {
-            recorded(record.as_deref(), |tap, t| jog(connect, rate, *joint, *speed, *seconds, tap, t))
+        HwCommand::Jog { rate, joint, speed, seconds, record, beyond_limit } => {
+            let request = JogRequest { joint: *joint, speed: *speed, seconds: *seconds, beyond_limit: *beyond_limit };
+            recorded(record.as_deref(), |tap, t| jog(connect, rate, &request, tap, t))
         }
         HwCommand::Move { rate, joints, deg, speed, smooth, record } => {
             let target = MoveTarget { joints, deg: *deg, speed: *speed, smooth: *smooth };
             recorded(record.as_deref(), |tap, t| move_to(connect, rate, &target, tap, t))
         }
-        HwCommand::Emulate { homed, home_seconds } => emulate(*homed, *home_seconds),
+        HwCommand::Emulate { homed, home_seconds } => super::hw_stop::emulate_until_signal(*homed, *home_seconds),
     }
 }
 
 /// Runs `body` with a recorder when `record` names a file, and prints its JSON with the
-/// recording's summary added.
+/// recording's summary added. The recorder's file is created by the body ([`Telemetry::begin`])
+/// once the request is checked and the controller answers: a refused request or a port that
+/// cannot be opened leaves an existing file alone. A body stopped by a signal returns its JSON
+/// with `"interrupted"` set; the command then exits 130.
 fn recorded(
     record: Option<&Path>,
     body: impl FnOnce(Option<Sender<MotionSample>>, Option<&Telemetry>) -> Result<serde_json::Value, CliError>,
 ) -> CliResult {
     let telemetry = match record {
-        Some(p) => Some(Telemetry::start(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p)?),
+        Some(p) => Some(Telemetry::prepare(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p, "")?),
         None => None,
     };
     let mut out = body(telemetry.as_ref().map(Telemetry::tap), telemetry.as_ref())?;
     if let Some(t) = telemetry {
         out["recording"] = t.finish()?;
     }
-    print_json(&out)
+    if out["interrupted"].is_null() {
+        return print_json(&out);
+    }
+    let what = match out["recording"]["file"].as_str() {
+        Some(f) => {
+            format!("the arm held, then IDLE; recording {f} closed with {} samples", out["recording"]["samples"])
+        }
+        None => "the arm held, then IDLE".to_string(),
+    };
+    print_json(&out)?;
+    Err(interrupt::error(what))
 }
 
 /// Runs `body`, feeding the session's state and link health to the recorder meanwhile.
@@ -322,15 +335,22 @@ fn fed<R>(telemetry: Option<&Telemetry>, session: &Session, body: impl FnOnce() 
     }
 }
 
-fn jog(
-    connect: &ConnectArgs,
-    rate: &RateArgs,
+/// The arguments of `hw jog`.
+struct JogRequest {
     joint: u64,
     speed: f64,
     seconds: f64,
+    beyond_limit: bool,
+}
+
+fn jog(
+    connect: &ConnectArgs,
+    rate: &RateArgs,
+    request: &JogRequest,
     tap: Option<Sender<MotionSample>>,
     telemetry: Option<&Telemetry>,
 ) -> Result<serde_json::Value, CliError> {
+    let JogRequest { joint, speed, seconds, beyond_limit } = *request;
     let joint_index = match joint {
         1..=6 => (joint - 1) as usize,
         _ => return Err(CliError::usage(format!("--joint must be 1–6 (got {joint})"))),
@@ -343,13 +363,34 @@ fn jog(
         return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
     }
     let link = open(connect, rate, tap)?;
+    if let Some(t) = telemetry {
+        t.begin()?;
+    }
     let session = &link.session;
     let start = session.snapshot();
-    let stopped_at_limit = fed(telemetry, session, || jog_for(session, joint_index, speed, duration))?;
-    let s = session.snapshot();
-    if s.link != LinkState::Connected {
-        return Err(CliError::runtime(format!("link lost during the jog: {}", s.fault.clone().unwrap_or_default())));
+    ready_to_move(&start)?;
+    if beyond_limit {
+        let inside = fed(telemetry, session, || jog_back_inside(session, joint_index, speed, duration))?;
+        let s = session.snapshot();
+        return Ok(json!({
+            "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "beyond_limit": true,
+            "back_inside": inside, "start_steps": start.joint_steps, "end_steps": s.joint_steps, "state": summary(&s),
+        }));
     }
+    let end = fed(telemetry, session, || jog_for(session, joint_index, speed, duration))?;
+    let s = session.snapshot();
+    if interrupt::requested() {
+        let out = json!({
+            "command": "jog", "joint": joint, "speed": speed, "seconds": seconds,
+            "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+            "end_deg": s.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        });
+        return Ok(super::hw_stop::hold_before_closing(link, out));
+    }
+    let commanded = parol6_core::motion::RobotBackend::state(session).commanded.q.get(joint_index).copied();
+    let commanded_steps = commanded.and_then(|q| parol6_hw::units::rad_to_steps(joint_index, q).ok());
+    jog_outcome(joint_index, &start, &s, commanded_steps, &end)?;
+    let stopped_at_limit = end.stopped_at_limit;
     Ok(json!({
         "command": "jog", "joint": joint, "speed": speed, "seconds": seconds, "stopped_at_limit": stopped_at_limit,
         "start_deg": start.joint_rad.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
@@ -358,13 +399,24 @@ fn jog(
     }))
 }
 
-/// Jogs for `duration` (or until the joint reaches its limit: returns true), then releases.
-fn jog_for(session: &Session, joint_index: usize, speed: f64, duration: Duration) -> Result<bool, CliError> {
+/// Jogs for `duration` (or until the joint reaches its limit, or the session reports a fault:
+/// the jog ends there), then releases.
+fn jog_for(session: &Session, joint_index: usize, speed: f64, duration: Duration) -> Result<JogEnd, CliError> {
     let end = Instant::now() + duration;
     let mut stopped_at_limit = false;
+    let before = session.snapshot();
     session.jog(joint_index, speed).map_err(hw_err)?;
     while Instant::now() < end {
-        std::thread::sleep(Duration::from_millis(50));
+        if interrupt::sleep(Duration::from_millis(50)) {
+            // the caller holds, then closes
+            return Ok(JogEnd { stopped_at_limit: false, fault: None });
+        }
+        if let Some(fault) = new_fault(&before, &session.snapshot()) {
+            // The session stopped motion (an arm that does not follow, E-stop, impossible
+            // positions …): no new jog from here.
+            session.jog_release().map_err(hw_err)?;
+            return Ok(JogEnd { stopped_at_limit: false, fault: Some(fault) });
+        }
         if let Err(e) = session.jog(joint_index, speed) {
             // The session refuses to go on once the joint reaches its limit: the jog ends there.
             let limit = session.config().limits.iter().nth(joint_index).map(|l| (l.min, l.max));
@@ -382,7 +434,7 @@ fn jog_for(session: &Session, joint_index: usize, speed: f64, duration: Duration
     }
     session.jog_release().map_err(hw_err)?;
     std::thread::sleep(Duration::from_millis(300));
-    Ok(stopped_at_limit)
+    Ok(JogEnd { stopped_at_limit, fault: None })
 }
 
 /// The arguments of `hw move`.
@@ -415,12 +467,25 @@ fn move_to(
     let link = open(connect, rate, tap)?;
     let session = &link.session;
     let start = session.snapshot();
+    // Before planning from the measured position: it may be impossible (issue 29 item 9).
+    ready_to_move(&start)?;
     let plan =
         parol6_core::profile::JointMove::parol6(&start.joint_rad, &goal, speed, kind).map_err(CliError::usage)?;
     let timeout = Duration::try_from_secs_f64(plan.duration_s() + 10.0)
         .map_err(|_| CliError::usage(format!("the move would take {} s", plan.duration_s())))?;
+    if let Some(t) = telemetry {
+        t.begin()?;
+    }
     let t0 = Instant::now();
-    let s = fed(telemetry, session, || session.move_to_blocking(&goal, speed, kind, timeout)).map_err(hw_err)?;
+    let s = fed(telemetry, session, || session.move_to_blocking_or(&goal, speed, kind, timeout, &interrupt::requested))
+        .map_err(hw_err)?;
+    if interrupt::requested() {
+        let out = json!({
+            "command": "move", "ok": false, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
+            "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
+        });
+        return Ok(super::hw_stop::hold_before_closing(link, out));
+    }
     Ok(json!({
         "command": "move", "ok": true, "planned_s": plan.duration_s(), "seconds": t0.elapsed().as_secs_f64(),
         "goal_deg": goal.iter().map(|r| r.to_degrees()).collect::<Vec<_>>(),
@@ -444,7 +509,7 @@ fn send_latch(
     print_json(&json!({"command": name, "ok": true, "state": summary(&link.session.snapshot())}))
 }
 
-fn emulate(homed: bool, home_seconds: f64) -> CliResult {
+pub(super) fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     if !(home_seconds.is_finite() && home_seconds > 0.0 && home_seconds <= 60.0) {
         return Err(CliError::usage("--home-seconds must be > 0 and ≤ 60"));
     }
@@ -453,9 +518,21 @@ fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     let emu = EmulatorHandle::spawn(config).map_err(hw_err)?;
     print_line(emu.path())?;
     let stdin = std::io::stdin();
+    let mut input = stdin.lock();
     let mut inputs = (false, false);
-    for line in stdin.lock().lines() {
-        let Ok(line) = line else { break };
+    let mut buf = Vec::new();
+    let mut line_no = 0u64;
+    loop {
+        line_no += 1;
+        let line = match read_command_line(&mut input, line_no, &mut buf) {
+            Ok(None) => break,
+            Ok(Some(Ok(line))) => line,
+            Ok(Some(Err(msg))) => {
+                print_json(&json!({ "error": msg }))?;
+                continue;
+            }
+            Err(e) => return Err(CliError::runtime(format!("cannot read stdin: {e}"))),
+        };
         let words: Vec<&str> = line.split_whitespace().collect();
         let on = |w: Option<&&str>| matches!(w.copied(), Some("on" | "1" | "pressed" | "true"));
         let reply = match words.first().copied() {

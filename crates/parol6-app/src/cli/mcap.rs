@@ -1,12 +1,13 @@
 //! `parol6 mcap info FILE` and `parol6 mcap csv FILE -o OUT.csv`: our MCAP recordings from the
 //! command line. A truncated file is read as far as its complete chunks (with a warning on
 //! stderr); an empty, garbage or foreign file is refused with exit status 2; a file that
-//! cannot be read or written is status 1.
+//! cannot be read or written is status 1. `mcap csv` reads and checks the whole recording
+//! before the CSV replaces anything (written atomically), and refuses to write over its input.
 
 use std::collections::VecDeque;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use parol6_core::fsio;
 use parol6_core::telemetry::reader::{Recording, scan_recording};
 use parol6_core::telemetry::schema::JointStateMsg;
 use serde_json::json;
@@ -34,7 +35,7 @@ pub enum McapCommand {
         /// The recording (.mcap).
         file: PathBuf,
         /// Output CSV file.
-        #[arg(short = 'o', long = "output", value_name = "OUT.csv")]
+        #[arg(short = 'o', long = "output", value_name = "OUT.csv", value_parser = super::options::output_file)]
         output: PathBuf,
     },
 }
@@ -57,13 +58,22 @@ pub fn run(args: &McapArgs) -> CliResult {
     }
 }
 
-fn read_file(file: &Path) -> Result<Vec<u8>, CliError> {
-    std::fs::read(file).map_err(|e| CliError::runtime(format!("cannot read {}: {e}", file.display())))
+/// The largest recording the CLI reads whole, bytes (16 GiB: a one-hour recording is far
+/// smaller). The bound matters for what is not a regular recording file.
+pub const MAX_RECORDING_BYTES: u64 = 16 << 30;
+
+/// Reads the recording `file` whole: a regular file only (a FIFO or a device is refused with
+/// exit 2), at most [`MAX_RECORDING_BYTES`].
+pub fn read_recording_file(file: &Path) -> Result<Vec<u8>, CliError> {
+    Ok(fsio::read_regular_bounded(file, MAX_RECORDING_BYTES)?)
 }
 
 fn scan(file: &Path, visit: &mut dyn FnMut(&str, JointStateMsg)) -> Result<Recording, CliError> {
-    let bytes = read_file(file)?;
-    let rec = scan_recording(&bytes, visit).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
+    scan_bytes(file, &read_recording_file(file)?, visit)
+}
+
+fn scan_bytes(file: &Path, bytes: &[u8], visit: &mut dyn FnMut(&str, JointStateMsg)) -> Result<Recording, CliError> {
+    let rec = scan_recording(bytes, visit).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
     for w in &rec.warnings {
         warn(format!("{}: {w}", file.display()));
     }
@@ -140,54 +150,80 @@ pub fn csv_row(meas: &JointStateMsg, cmd: &JointStateMsg, t0_s: f64, n: usize) -
     line
 }
 
+/// Refuses an output that is the input itself (the same file under any name).
+fn refuse_same_file(input: &Path, output: &Path) -> CliResult {
+    use std::os::unix::fs::MetadataExt;
+    if let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output))
+        && (a.dev(), a.ino()) == (b.dev(), b.ino())
+    {
+        return Err(CliError::usage(format!(
+            "-o {}: that is the recording being read ({}); name another output file",
+            output.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
+/// `mcap csv`: the recording is read whole and checked before anything is written, and the CSV
+/// is written atomically, so a refused recording or a failed write leaves `output` as it was.
 fn csv(file: &Path, output: &Path) -> CliResult {
-    let out_err = |e: std::io::Error| CliError::runtime(format!("cannot write {}: {e}", output.display()));
-    let out = std::fs::File::create(output).map_err(out_err)?;
-    let mut out = std::io::BufWriter::new(out);
+    refuse_same_file(file, output)?;
+    let bytes = read_recording_file(file)?;
     let mut pending: VecDeque<JointStateMsg> = VecDeque::new();
     let mut rows = 0u64;
     let mut unpaired = 0u64;
-    let mut t0_s: Option<f64> = None;
-    let mut n: Option<usize> = None;
-    let mut write_error: Option<std::io::Error> = None;
-    let mut visit = |topic: &str, m: JointStateMsg| {
-        if write_error.is_some() {
-            return;
-        }
-        if topic == "/joint_states" {
-            pending.push_back(m);
-            // measured and commanded of a tick are written together; keep a few, never many
-            while pending.len() > 16 {
-                pending.pop_front();
+    let mut scanned: Option<Result<Recording, CliError>> = None;
+    let written = fsio::write_atomic(output, |out| {
+        let mut t0_s: Option<f64> = None;
+        let mut n: Option<usize> = None;
+        let mut write_error: Option<std::io::Error> = None;
+        let mut visit = |topic: &str, m: JointStateMsg| {
+            if write_error.is_some() {
+                return;
+            }
+            if topic == "/joint_states" {
+                pending.push_back(m);
+                // measured and commanded of a tick are written together; keep a few, never many
+                while pending.len() > 16 {
+                    pending.pop_front();
+                    unpaired += 1;
+                }
+                return;
+            }
+            let Some(i) = pending.iter().position(|p| p.seq == m.seq) else {
                 unpaired += 1;
+                return;
+            };
+            unpaired += i as u64;
+            let meas = pending.drain(..=i).next_back();
+            let Some(meas) = meas else { return };
+            let joints = *n.get_or_insert(meas.name.len());
+            let result = (|| {
+                if rows == 0 {
+                    writeln!(out, "{}", csv_header(joints))?;
+                }
+                writeln!(out, "{}", csv_row(&meas, &m, *t0_s.get_or_insert(meas.time_s), joints))
+            })();
+            match result {
+                Ok(()) => rows += 1,
+                Err(e) => write_error = Some(e),
             }
-            return;
-        }
-        let Some(i) = pending.iter().position(|p| p.seq == m.seq) else {
-            unpaired += 1;
-            return;
         };
-        unpaired += i as u64;
-        let meas = pending.drain(..=i).next_back();
-        let Some(meas) = meas else { return };
-        let joints = *n.get_or_insert(meas.name.len());
-        let result = (|| {
-            if rows == 0 {
-                writeln!(out, "{}", csv_header(joints))?;
-            }
-            writeln!(out, "{}", csv_row(&meas, &m, *t0_s.get_or_insert(meas.time_s), joints))
-        })();
-        match result {
-            Ok(()) => rows += 1,
-            Err(e) => write_error = Some(e),
+        let rec = scan_bytes(file, &bytes, &mut visit);
+        if let Some(e) = write_error {
+            return Err(e);
         }
+        let refused = rec.is_err();
+        scanned = Some(rec);
+        if refused { Err(std::io::Error::other("the recording was refused")) } else { Ok(()) }
+    });
+    let rec = match (scanned, written) {
+        (Some(Err(e)), _) => return Err(e),
+        (_, Err(e)) => return Err(e.into()),
+        (Some(Ok(rec)), Ok(())) => rec,
+        (None, Ok(())) => return Err(CliError::runtime(format!("{}: the recording was not read", file.display()))),
     };
-    let rec = scan(file, &mut visit);
-    if let Some(e) = write_error {
-        return Err(out_err(e));
-    }
-    let rec = rec?;
-    out.flush().map_err(out_err)?;
     if rows == 0 {
         warn(format!("{}: no joint-state samples; {} holds no rows", file.display(), output.display()));
     }

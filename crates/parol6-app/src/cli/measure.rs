@@ -85,10 +85,10 @@ pub struct Iso9283Args {
     #[arg(long, default_value_t = 0.3, value_parser = f64_within(0.0, 10.0))]
     pub settle_s: f64,
     /// Write the attained poses to this CSV (the --measurements format).
-    #[arg(long, value_name = "OUT.csv")]
+    #[arg(long, value_name = "OUT.csv", value_parser = super::options::output_file)]
     pub raw: Option<PathBuf>,
     /// Write the HTML report here.
-    #[arg(long, value_name = "OUT.html")]
+    #[arg(long, value_name = "OUT.html", value_parser = super::options::output_file)]
     pub report: Option<PathBuf>,
     /// Print the figures as JSON.
     #[arg(long)]
@@ -134,10 +134,10 @@ pub struct PathTestArgs {
     #[arg(long, default_value_t = 50, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=1000))]
     pub points: usize,
     /// Write the recorded paths to this CSV (path,cycle,t_s,cmd_x_mm,…,x_mm,…).
-    #[arg(long, value_name = "OUT.csv")]
+    #[arg(long, value_name = "OUT.csv", value_parser = super::options::output_file)]
     pub raw: Option<PathBuf>,
     /// Write the HTML report here.
-    #[arg(long, value_name = "OUT.html")]
+    #[arg(long, value_name = "OUT.html", value_parser = super::options::output_file)]
     pub report: Option<PathBuf>,
     /// Print the figures as JSON.
     #[arg(long)]
@@ -152,7 +152,7 @@ fn uses_robot(connect: &ConnectArgs) -> bool {
 }
 
 fn write_file(path: &Path, text: &str) -> CliResult {
-    std::fs::write(path, text).map_err(|e| CliError::runtime(format!("{}: {e}", path.display())))
+    Ok(parol6_core::fsio::write_atomic_bytes(path, text.as_bytes())?)
 }
 
 fn setup(model: &RobotModel, robot: &RobotArgs, source: &str, speed: f64, cycles: usize, cube: TestCube) -> Setup {
@@ -215,15 +215,18 @@ pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs)
 }
 
 fn read_measurements(file: &Path) -> Result<Vec<PoseSample>, CliError> {
-    let meta = std::fs::metadata(file).map_err(|e| CliError::runtime(format!("{}: {e}", file.display())))?;
-    if meta.len() > measurements::MAX_FILE_BYTES as u64 {
-        return Err(CliError::usage(format!(
-            "{}: {}",
-            file.display(),
-            measurements::CsvError::TooLarge(meta.len() as usize)
-        )));
-    }
-    let bytes = std::fs::read(file).map_err(|e| CliError::runtime(format!("{}: {e}", file.display())))?;
+    let bytes = match parol6_core::fsio::read_regular_bounded(file, measurements::MAX_FILE_BYTES as u64) {
+        Ok(bytes) => bytes,
+        Err(parol6_core::fsio::FsioError::TooLarge { .. }) => {
+            let len = std::fs::metadata(file).map_or(measurements::MAX_FILE_BYTES as u64 + 1, |m| m.len());
+            return Err(CliError::usage(format!(
+                "{}: {}",
+                file.display(),
+                measurements::CsvError::TooLarge(len as usize)
+            )));
+        }
+        Err(e) => return Err(e.into()),
+    };
     let text = String::from_utf8(bytes).map_err(|e| {
         CliError::usage(format!("{}: not UTF-8 text (byte {})", file.display(), e.utf8_error().valid_up_to()))
     })?;

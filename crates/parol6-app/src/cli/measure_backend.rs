@@ -78,7 +78,8 @@ fn tap(tapped: bool) -> (Option<Sender<MotionSample>>, Option<Receiver<MotionSam
 }
 
 /// Waits for `run` with a progress bar on a terminal (quiet when stderr is not one), then
-/// returns its result as a command-line error: a refusal before moving exits 2, the rest 1.
+/// returns its result as a command-line error: a refusal before moving exits 2, the rest 1;
+/// SIGINT / SIGTERM abort the run (the arm stops) and exit 130.
 pub fn wait<T: Send + 'static>(run: MeasureRun<T>, label: &str) -> Result<T, CliError> {
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = indicatif::ProgressBar::new(1000);
@@ -91,7 +92,11 @@ pub fn wait<T: Send + 'static>(run: MeasureRun<T>, label: &str) -> Result<T, Cli
         bar
     });
     while !run.is_finished() {
-        std::thread::sleep(Duration::from_millis(50));
+        if super::interrupt::sleep(Duration::from_millis(50)) {
+            // stops the arm; the backend closes when the caller drops it (the robot: IDLE)
+            run.abort();
+            break;
+        }
         if let Some(b) = &bar {
             let p = run.progress();
             b.set_position((p.fraction * 1000.0).round() as u64);
@@ -102,6 +107,7 @@ pub fn wait<T: Send + 'static>(run: MeasureRun<T>, label: &str) -> Result<T, Cli
         b.finish_and_clear();
     }
     run.join().map_err(|e| match e {
+        _ if super::interrupt::requested() => super::interrupt::error(format!("{label}: the arm stopped")),
         MeasureError::Plan(p) => CliError::usage(format!("{label}: {p}")),
         other => CliError::runtime(format!("{label}: {other}")),
     })

@@ -1,9 +1,11 @@
 //! The `parol6` command line (clap). Every subcommand prints JSON on stdout; errors are one
 //! line on stderr, never a panic. Exit status: 0 success, 2 bad input or a refused request
-//! ([`EXIT_USAGE`]), 1 device or I/O failure. A closed stdout (`parol6 … | head`) ends the
-//! command quietly with status 0.
+//! ([`EXIT_USAGE`]), 1 device or I/O failure, 130 interrupted by SIGINT or SIGTERM
+//! ([`interrupt`]: motion stopped, recording closed, the JSON printed with `"interrupted"`).
+//! A closed stdout (`parol6 … | head`) ends the command quietly with status 0.
 //!
-//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller),
+//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller;
+//! [`hw_stop`]: how it ends on a signal),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
 //! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
@@ -20,6 +22,9 @@ pub mod bench_seed;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;
+pub mod hw_checks;
+pub mod hw_stop;
+pub mod interrupt;
 pub mod kin;
 pub mod mcap;
 pub mod measure;
@@ -69,13 +74,23 @@ impl From<anyhow::Error> for CliError {
     }
 }
 
+/// A file refused by type or size (a FIFO, a device, a directory, over its bound) is the
+/// user's input (exit 2); a file that cannot be read or saved is an I/O failure (exit 1).
+impl From<parol6_core::fsio::FsioError> for CliError {
+    fn from(e: parol6_core::fsio::FsioError) -> Self {
+        if e.is_refusal() { Self::usage(e) } else { Self::runtime(e) }
+    }
+}
+
 /// Result of a subcommand.
 pub type CliResult = Result<(), CliError>;
 
 #[derive(Debug, Parser)]
 #[command(name = "parol6", version, about = "PAROL6 Studio: simulate, visualise and jog the PAROL6 arm")]
 #[command(after_help = "Without a subcommand, opens the window. Options marked global may be given before or \
-                        after the subcommand. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure.")]
+                        after the subcommand. Exit status: 0 ok, 2 bad input or refused, 1 device or I/O failure, \
+                        130 interrupted (Ctrl-C or SIGTERM: motion stopped, recording closed; a second one \
+                        exits at once).")]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -87,7 +102,7 @@ pub struct Cli {
     pub connect: options::ConnectArgs,
     /// The window only: record the backend it opens on (the simulation, or the robot with
     /// --port / --fake-robot) to this MCAP file until the window closes.
-    #[arg(long, value_name = "OUT.mcap")]
+    #[arg(long, value_name = "OUT.mcap", value_parser = options::output_file)]
     pub record: Option<std::path::PathBuf>,
 }
 
@@ -138,6 +153,23 @@ impl Cli {
             Some(Command::Replay(_)) => "replay".into(),
             Some(Command::Iso9283(_)) => "iso9283".into(),
             Some(Command::PathTest(_)) => "path-test".into(),
+        }
+    }
+
+    /// True for the commands that run until they end or are stopped, and stop cleanly on
+    /// SIGINT / SIGTERM ([`interrupt`]); the others keep the default action (the process ends).
+    pub fn stops_on_signal(&self) -> bool {
+        match &self.command {
+            None | Some(Command::Replay(_) | Command::Record(_) | Command::PathTest(_)) => true,
+            Some(Command::Hw(h)) => {
+                matches!(
+                    h.command,
+                    hw::HwCommand::Jog { .. } | hw::HwCommand::Move { .. } | hw::HwCommand::Emulate { .. }
+                )
+            }
+            Some(Command::Program(p)) => matches!(p.command, program::ProgramCommand::Run { .. }),
+            Some(Command::Iso9283(a)) => a.measurements.is_none(),
+            Some(_) => false,
         }
     }
 
@@ -197,7 +229,10 @@ pub fn main() -> ExitCode {
     );
     // Before any thread exists (it sets an environment variable).
     let _runtime_dir = if headless_gpu { output::PrivateRuntimeDir::ensure() } else { None };
-    let result = cli.check_global_options().and_then(|()| run(&cli));
+    let result = cli
+        .check_global_options()
+        .and_then(|()| if cli.stops_on_signal() { interrupt::install() } else { Ok(()) })
+        .and_then(|()| run(&cli));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -98,6 +98,28 @@ impl ConnectArgs {
     }
 }
 
+/// Why `text` is not the name of a file to write, if it is not: `-` (stdout carries the JSON
+/// report, so output never goes there) and the empty name. Used by every output-file
+/// argument: `screenshot OUT.png`, `record -o`, and each `--record`.
+pub fn output_file_refusal(text: &std::ffi::OsStr) -> Option<String> {
+    if text == "-" {
+        Some("\"-\" is refused: stdout carries the JSON report; give a file name".to_string())
+    } else if text.is_empty() {
+        Some("\"\" is not a file name".to_string())
+    } else {
+        None
+    }
+}
+
+/// A clap value parser for an output file ([`output_file_refusal`]): `--record -` is a usage
+/// error (exit 2), never a file named `-`.
+pub fn output_file(text: &str) -> Result<PathBuf, String> {
+    match output_file_refusal(std::ffi::OsStr::new(text)) {
+        Some(why) => Err(why),
+        None => Ok(PathBuf::from(text)),
+    }
+}
+
 /// A clap value parser: a finite number within `min…max` (both included).
 pub fn f64_within(min: f64, max: f64) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
     move |text: &str| {

@@ -20,7 +20,7 @@ use parol6_core::telemetry::LinkHealth;
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
 use super::record::{Telemetry, link_health, tool_of, urdf_text};
-use super::{CliError, CliResult, print_json};
+use super::{CliError, CliResult, interrupt, print_json};
 
 /// Simulated seconds per wall second of a headless run without `--realtime`; the simulation
 /// thread runs behind when the machine cannot keep up.
@@ -62,7 +62,10 @@ pub enum ProgramCommand {
     },
     /// Run a program: on the headless simulation (as fast as it can unless --realtime), or
     /// with --fake-robot / --port on the controller. Prints a JSON summary (`schedule_slip_s`:
-    /// how much later than planned the steps ran where they were handed over late).
+    /// how much later than planned the steps ran where they were handed over late). A pause
+    /// step (G-code M0) waits for an operator, and a headless run has none: it is refused
+    /// before anything moves (naming its line) unless --skip-pauses. Ctrl-C or SIGTERM stops
+    /// the arm (the robot holds, then IDLE), closes the recording and exits 130.
     Run {
         /// Program file: .json (native), .gcode/.nc, .csv point table, .txt commander program.
         file: PathBuf,
@@ -80,13 +83,18 @@ pub enum ProgramCommand {
         #[arg(long)]
         realtime: bool,
         /// Record the run to this MCAP file (Foxglove / Lichtblick; `parol6 mcap info|csv`).
-        #[arg(long, value_name = "OUT.mcap")]
+        #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         record: Option<PathBuf>,
         /// G-code A B C: commander (R = Rx(C)·Ry(B)·Rz(A), the default) or xyz
         /// (R = Rx(A)·Ry(B)·Rz(C)). A file's `; parol6: abc=…` header wins over the default; an
         /// --abc that contradicts the header is an error naming its line.
         #[arg(long, value_name = "commander|xyz")]
         abc: Option<AbcConvention>,
+        /// Run through pause steps (G-code M0) instead of refusing the program: nobody can
+        /// resume a headless run. The JSON lists them as `skipped_pauses` (step, line).
+        /// Optional pauses (M1) never pause a headless run.
+        #[arg(long)]
+        skip_pauses: bool,
 
         /// Session settings (robot only).
         #[command(flatten)]
@@ -163,13 +171,14 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             if report.ok { Ok(()) } else { Err(CliError { status: super::EXIT_USAGE, message: String::new() }) }
         }
-        ProgramCommand::Run { file, start_deg, speed, realtime, rate, record, abc } => {
+        ProgramCommand::Run { file, start_deg, speed, realtime, rate, record, abc, skip_pauses } => {
             let model = robot.load()?;
             let start = start_pose(start_deg.as_deref(), &model)?;
             if let Err(e) = model.limits.check(&start) {
                 return Err(CliError::usage(format!("--start-deg: the start pose is outside the limits: {e}")));
             }
-            let program = load_with_abc(file, &model, &start, *abc)?;
+            let mut program = load_with_abc(file, &model, &start, *abc)?;
+            let skipped_pauses = headless_pauses(file, &mut program, *skip_pauses)?;
             // --tracking, else the program's own, else the default
             let tracking = rate.tracking.or(program.tracking).unwrap_or_default();
             let rate = &RateArgs { tracking: Some(tracking), ..rate.clone() };
@@ -180,13 +189,15 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                     "--realtime applies to the simulation; the robot always runs in real time",
                 ));
             }
+            // the file is created once the backend is open and at the start pose
             let telemetry = match record {
                 Some(path) => {
-                    Some(Telemetry::start_for_program(&model, tool_of(robot), &urdf_text(robot)?, path, &program.name)?)
+                    Some(Telemetry::prepare(&model, tool_of(robot), &urdf_text(robot)?, path, &program.name)?)
                 }
                 None => None,
             };
             let tap = telemetry.as_ref().map(Telemetry::tap);
+            let begin = || telemetry.as_ref().map_or(Ok(()), Telemetry::begin);
             let mut summary = if robot_link {
                 // the session is dropped before the emulator behind it
                 let link = open(connect, rate, tap)?;
@@ -195,6 +206,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 if start_deg.is_some() {
                     arm_at(&session.robot_state(), &start)?;
                 }
+                begin()?;
                 let poll = || (session.robot_state(), Some(link_health(&session.snapshot())));
                 run_on(Arc::clone(&session) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             } else {
@@ -204,12 +216,31 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 if start_deg.is_some() {
                     place_sim(&sim, &start)?;
                 }
+                begin()?;
                 let poll = || (sim.state(), None);
                 run_on(Arc::clone(&sim) as Arc<dyn RobotBackend>, model, program, opts, telemetry.as_ref(), &poll)
             };
             summary.json["tracking"] = serde_json::json!(tracking.name());
             if let Some(t) = telemetry {
                 summary.json["recording"] = t.finish()?;
+            }
+            if !summary.json.is_null() {
+                summary.json["skipped_pauses"] = serde_json::json!(
+                    skipped_pauses
+                        .iter()
+                        .filter(|p| p.step <= summary.steps_done)
+                        .map(|p| serde_json::json!({"step": p.step, "line": p.line}))
+                        .collect::<Vec<_>>()
+                );
+            }
+            if interrupt::requested() {
+                summary.json["interrupted"] = interrupt::json();
+                let what = match summary.json["recording"]["file"].as_str() {
+                    Some(f) => format!("the run stopped; recording {f} closed"),
+                    None => "the run stopped".to_string(),
+                };
+                print_json(&summary.json)?;
+                return Err(interrupt::error(what));
             }
             print_json(&summary.json)?;
             summary.outcome
@@ -254,11 +285,11 @@ fn recording_to_gcode_file(input: &Path, output: &Path, abc: AbcConvention) -> C
             output.display()
         )));
     }
-    let bytes = std::fs::read(input).map_err(|e| CliError::runtime(format!("{}: {e}", input.display())))?;
+    let bytes = super::mcap::read_recording_file(input)?;
     let text = recording_to_gcode(&bytes, &PathTolerance::default(), abc)
         .map_err(|e| CliError::usage(format!("{}: {e}", input.display())))?;
     let lines = text.lines().filter(|l| l.starts_with("G1")).count();
-    std::fs::write(output, &text).map_err(|e| CliError::runtime(format!("{}: {e}", output.display())))?;
+    parol6_core::fsio::write_atomic_bytes(output, text.as_bytes())?;
     print_json(&serde_json::json!({
         "input": input.display().to_string(),
         "output": output.display().to_string(),
@@ -316,6 +347,7 @@ fn place_sim(sim: &SimHandle, start: &[f64]) -> Result<(), CliError> {
 fn cli_error(e: ProgramIoError) -> CliError {
     match e {
         ProgramIoError::Io { .. } => CliError::runtime(e.to_string()),
+        ProgramIoError::File(f) => f.into(),
         _ => CliError::usage(e.to_string()),
     }
 }
@@ -323,7 +355,52 @@ fn cli_error(e: ProgramIoError) -> CliError {
 /// The summary of a run and how the command ends.
 struct RunSummary {
     json: serde_json::Value,
+    /// Program steps completed.
+    steps_done: usize,
     outcome: CliResult,
+}
+
+/// A pause step run through with `--skip-pauses`.
+struct SkippedPause {
+    /// 1-based step.
+    step: usize,
+    /// 1-based line of the file (0: unknown).
+    line: usize,
+}
+
+/// Pause steps (G-code `M0`) wait for an operator to resume, and a headless run has none: they
+/// are refused, naming the first one's line, unless `skip`, where they are made optional (an
+/// optional pause does not pause a run without optional pauses) and returned.
+fn headless_pauses(file: &Path, program: &mut Program, skip: bool) -> Result<Vec<SkippedPause>, CliError> {
+    use parol6_core::program::Step;
+    let pauses: Vec<usize> = program
+        .steps
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.step == Step::Pause { optional: false })
+        .map(|(i, _)| i)
+        .collect();
+    let Some(&first) = pauses.first() else { return Ok(Vec::new()) };
+    if !skip {
+        let more = match pauses.len() {
+            1 => String::new(),
+            n => format!(" (and {} more)", n - 1),
+        };
+        return Err(CliError::usage(format!(
+            "{}:{}: step {}: a pause step (G-code M0) waits for the operator to resume, and a headless run has \
+             no operator{more}: run it in the window, or pass --skip-pauses to run through the pauses",
+            file.display(),
+            program.steps[first].line,
+            first + 1
+        )));
+    }
+    Ok(pauses
+        .into_iter()
+        .map(|i| {
+            program.steps[i].step = Step::Pause { optional: true };
+            SkippedPause { step: i + 1, line: program.steps[i].line }
+        })
+        .collect())
 }
 
 type StatePoll<'a> = dyn Fn() -> (Arc<RobotState>, Option<LinkHealth>) + Sync + 'a;
@@ -342,7 +419,7 @@ fn run_on(
         Ok(r) => r,
         Err(e) => {
             let outcome = Err(CliError::runtime(format!("cannot start the program thread: {e}")));
-            return RunSummary { json: serde_json::Value::Null, outcome };
+            return RunSummary { json: serde_json::Value::Null, steps_done: 0, outcome };
         }
     };
     // a progress line on stderr while it runs; the program step goes into the recording
@@ -350,7 +427,10 @@ fn run_on(
         let mut last = Instant::now();
         let mut step = None;
         while !runner.progress().state.is_finished() {
-            std::thread::sleep(Duration::from_millis(20));
+            if interrupt::sleep(Duration::from_millis(20)) {
+                stop_on_signal(&runner, backend.as_ref());
+                return;
+            }
             let p = runner.progress();
             if let Some(t) = telemetry
                 && step != Some(p.step)
@@ -369,7 +449,12 @@ fn run_on(
         None => wait(),
     }
     let p = runner.join();
+    if interrupt::requested() {
+        // the robot holds a moment before its session closes with IDLE frames
+        wait_at_rest(backend.as_ref());
+    }
     let (state, failure) = match &p.state {
+        _ if interrupt::requested() => ("interrupted", None),
         RunState::Done => ("done", None),
         RunState::Stopped => ("stopped", None),
         RunState::Failed(why) => ("failed", Some(why.clone())),
@@ -399,7 +484,24 @@ fn run_on(
             Err(if refused { CliError::usage(why) } else { CliError::runtime(why) })
         }
     };
-    RunSummary { json, outcome }
+    RunSummary { json, steps_done: p.steps_done, outcome }
+}
+
+/// A signal during a run: the runner schedules nothing more and the backend gets STOP (it
+/// holds the commanded position of this instant), as the window's STOP button does.
+fn stop_on_signal(runner: &ProgramRunner, backend: &dyn RobotBackend) {
+    runner.abort();
+    if let Err(e) = backend.send(parol6_core::motion::MotionCommand::Stop) {
+        super::warn(format!("STOP after the signal: {e}"));
+    }
+}
+
+/// Waits (at most 0.4 s) until the backend holds still after STOP.
+fn wait_at_rest(backend: &dyn RobotBackend) {
+    let t0 = Instant::now();
+    while backend.state().moving && t0.elapsed() < Duration::from_millis(400) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
 }
 
 /// Reads a program file of any format (by extension), starting from `start_q` where the format

@@ -4,22 +4,25 @@
 //!
 //! The backend's sample tap feeds a [`Recorder`]; a feeder thread passes the backend's state
 //! (refusals, blocked) and, for the robot, the link health (E-stop, link loss) every 20 ms.
+//! The file is created once the backend is open ([`Telemetry::prepare`], then
+//! [`Telemetry::begin`]). SIGINT / SIGTERM end the recording early: the simulation gets STOP,
+//! the file is closed with its summary, exit 130 ([`super::interrupt`]).
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
 use parol6_core::motion::{MotionCommand, RobotBackend, RobotState, home_position};
 use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{SimConfig, SimHandle};
-use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo};
+use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo, TelemetryError};
 use parol6_core::{RobotModel, Tool};
 use serde_json::json;
 
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_above};
-use super::{CliError, CliResult, print_json};
+use super::{CliError, CliResult, interrupt, print_json};
 
 /// Arguments of `parol6 record`.
 #[derive(Debug, clap::Args)]
@@ -28,7 +31,7 @@ pub struct RecordArgs {
     #[arg(long, value_parser = f64_above(0.0, 3600.0))]
     pub seconds: f64,
     /// Output MCAP file.
-    #[arg(short = 'o', long = "output", value_name = "OUT.mcap")]
+    #[arg(short = 'o', long = "output", value_name = "OUT.mcap", value_parser = super::options::output_file)]
     pub output: PathBuf,
     /// Simulation only: move gently back and forth (10 % of the way toward each joint's
     /// mid-range) instead of holding still.
@@ -42,7 +45,9 @@ pub use crate::app::link_health;
 pub struct Telemetry {
     recorder: Recorder,
     path: PathBuf,
-    started: Instant,
+    info: RecordingInfo,
+    /// When the file was created ([`Telemetry::begin`]).
+    started: OnceLock<Instant>,
 }
 
 impl Telemetry {
@@ -59,6 +64,21 @@ impl Telemetry {
         path: &Path,
         program: &str,
     ) -> Result<Self, CliError> {
+        let telemetry = Self::prepare(model, tool, urdf_text, path, program)?;
+        telemetry.begin()?;
+        Ok(telemetry)
+    }
+
+    /// A recorder whose [`Telemetry::tap`] can be given to a backend before the file exists:
+    /// `path` is created (and an existing file replaced) only by [`Telemetry::begin`], once the
+    /// command has checked its request and opened its controller.
+    pub fn prepare(
+        model: &RobotModel,
+        tool: Tool,
+        urdf_text: &str,
+        path: &Path,
+        program: &str,
+    ) -> Result<Self, CliError> {
         let recorder = Recorder::start(model.clone(), RecorderConfig::default()).map_err(CliError::runtime)?;
         let info = RecordingInfo {
             app_version: env!("CARGO_PKG_VERSION").to_string(),
@@ -66,8 +86,20 @@ impl Telemetry {
             program: program.to_string(),
             urdf_text: urdf_text.to_string(),
         };
-        recorder.start_recording(path, &info).map_err(CliError::runtime)?;
-        Ok(Self { recorder, path: path.to_path_buf(), started: Instant::now() })
+        Ok(Self { recorder, path: path.to_path_buf(), info, started: OnceLock::new() })
+    }
+
+    /// Creates the file and starts recording into it (once; later calls do nothing).
+    pub fn begin(&self) -> Result<(), CliError> {
+        if self.started.get().is_some() {
+            return Ok(());
+        }
+        self.recorder.start_recording(&self.path, &self.info).map_err(|e| match e {
+            TelemetryError::File(f) => CliError::from(f),
+            e => CliError::runtime(e),
+        })?;
+        self.started.get_or_init(Instant::now);
+        Ok(())
     }
 
     /// The program step under way (written with every sample until changed).
@@ -106,7 +138,7 @@ impl Telemetry {
 
     /// Closes the file; returns what it holds as JSON.
     pub fn finish(self) -> Result<serde_json::Value, CliError> {
-        let wall_s = self.started.elapsed().as_secs_f64();
+        let wall_s = self.started.get().map_or(0.0, |t| t.elapsed().as_secs_f64());
         let stats_before = self.recorder.stats();
         let error = self.recorder.last_error();
         let summary = self.recorder.finish().map_err(CliError::runtime)?;
@@ -133,9 +165,8 @@ impl Telemetry {
 pub fn urdf_text(robot: &RobotArgs) -> Result<String, CliError> {
     match &robot.urdf {
         None => Ok(parol6_core::model::PAROL6_URDF.to_string()),
-        Some(p) => {
-            std::fs::read_to_string(p).map_err(|e| CliError::runtime(format!("cannot read {}: {e}", p.display())))
-        }
+        Some(p) => parol6_core::fsio::read_regular_bounded_string(p, parol6_core::urdf_input::MAX_URDF_BYTES as u64)
+            .map_err(CliError::from),
     }
 }
 
@@ -159,25 +190,40 @@ pub fn run(args: &RecordArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRe
     }
     let model = robot.load()?;
     let text = urdf_text(robot)?;
-    let telemetry = Telemetry::start(&model, tool_of(robot), &text, &args.output)?;
+    // the file is created once the controller answers: a port that cannot be opened leaves it alone
+    let telemetry = Telemetry::prepare(&model, tool_of(robot), &text, &args.output, "")?;
     let source;
     if on_robot {
         let link = open(connect, &RateArgs::defaults(), Some(telemetry.tap()))?;
+        telemetry.begin()?;
         source = link.session.snapshot().port.clone();
         let poll = || (link.session.robot_state(), Some(link_health(&link.session.snapshot())));
-        telemetry.feed_while(&poll, || std::thread::sleep(duration));
+        // it only listens: the session closes with IDLE frames when `link` is dropped
+        telemetry.feed_while(&poll, || interrupt::sleep(duration));
     } else {
         let sim = SimHandle::spawn_with_tap(model.clone(), SimConfig::default(), Some(telemetry.tap()))
             .map_err(CliError::usage)?;
+        telemetry.begin()?;
         source = "simulation".to_string();
         let poll = || (sim.state(), None);
-        telemetry.feed_while(&poll, || demo_or_hold(&sim, &model, args.demo, duration))?;
+        let demo = telemetry.feed_while(&poll, || demo_or_hold(&sim, &model, args.demo, duration));
+        if interrupt::requested() {
+            RobotBackend::send(&sim, MotionCommand::Stop)
+                .map_err(|e| CliError::runtime(format!("the simulation refused STOP: {e}")))?;
+        }
         sim.shutdown();
+        demo?;
     }
     let mut out = telemetry.finish()?;
     out["command"] = json!("record");
     out["source"] = json!(source);
     out["seconds"] = json!(args.seconds);
+    if interrupt::requested() {
+        out["interrupted"] = interrupt::json();
+        let what = format!("recording {} closed with {} samples", args.output.display(), out["samples"]);
+        print_json(&out)?;
+        return Err(interrupt::error(what));
+    }
     print_json(&out)
 }
 
@@ -186,7 +232,7 @@ pub fn run(args: &RecordArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRe
 fn demo_or_hold(sim: &SimHandle, model: &RobotModel, demo: bool, duration: Duration) -> CliResult {
     let end = Instant::now() + duration;
     if !demo {
-        std::thread::sleep(duration);
+        interrupt::sleep(duration);
         return Ok(());
     }
     let home = home_position(model);
@@ -196,14 +242,14 @@ fn demo_or_hold(sim: &SimHandle, model: &RobotModel, demo: bool, duration: Durat
         .map(|(&h, l)| if l.is_bounded() { h + 0.1 * (0.5 * (l.min + l.max) - h) } else { h + 0.1 })
         .collect();
     let mut toward_away = true;
-    while Instant::now() < end {
+    while Instant::now() < end && !interrupt::requested() {
         let goal = if toward_away { away.clone() } else { home.clone() };
         toward_away = !toward_away;
         let cmd = MotionCommand::MoveJoints { goal_rad: goal, speed_fraction: 0.3, profile: ProfileKind::JerkLimited };
         RobotBackend::send(sim, cmd)
             .map_err(|e| CliError::runtime(format!("the simulation refused the demo move: {e}")))?;
         let step_end = (Instant::now() + Duration::from_secs(2)).min(end);
-        std::thread::sleep(step_end.saturating_duration_since(Instant::now()));
+        interrupt::sleep(step_end.saturating_duration_since(Instant::now()));
     }
     Ok(())
 }

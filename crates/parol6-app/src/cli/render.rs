@@ -43,11 +43,10 @@ impl ScreenshotArgs {
 
     /// The output path, refused when it is not a file name.
     pub fn out_path(&self) -> Result<&Path, CliError> {
-        let text = self.out.as_os_str();
-        if text == "-" {
-            return Err(CliError::usage("OUT.png: \"-\" is refused: stdout carries the JSON report; give a file name"));
+        if let Some(why) = super::options::output_file_refusal(self.out.as_os_str()) {
+            return Err(CliError::usage(format!("OUT.png: {why}")));
         }
-        if text.is_empty() || self.out.is_dir() {
+        if self.out.is_dir() {
             return Err(CliError::usage(format!("OUT.png: \"{}\" is not a file name", self.out.display())));
         }
         Ok(&self.out)

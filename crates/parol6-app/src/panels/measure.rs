@@ -149,10 +149,12 @@ impl MeasurePanel {
             pose: Some(PoseReport { figures, samples: last.samples.clone(), simulation }),
             paths: Vec::new(),
         });
-        self.message = Some(match std::fs::write(&self.report_path, html) {
-            Ok(()) => (format!("report saved to {}", self.report_path), false),
-            Err(e) => (format!("cannot write {}: {e}", self.report_path), true),
-        });
+        self.message = Some(
+            match parol6_core::fsio::write_atomic_bytes(std::path::Path::new(&self.report_path), html.as_bytes()) {
+                Ok(()) => (format!("report saved to {}", self.report_path), false),
+                Err(e) => (e.to_string(), true),
+            },
+        );
     }
 }
 

@@ -2,7 +2,6 @@
 //! SI units in the column names) and the shown plots as SVG (the decimated lines as drawn).
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 
 use eframe::egui;
@@ -48,32 +47,33 @@ pub fn csv_column(store: &SeriesStore, col: usize) -> String {
     }
 }
 
-/// Writes every kept sample between `t0_s` and `t1_s` to `path` as CSV; returns the rows.
+/// Writes every kept sample between `t0_s` and `t1_s` to `path` as CSV (atomically: a failed
+/// write leaves the old file); returns the rows.
 pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Result<usize, String> {
-    let err = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
-    let file = std::fs::File::create(path).map_err(err)?;
-    let mut out = std::io::BufWriter::new(file);
-    let mut header = String::from("t_s");
-    for c in 0..store.ids().len() {
-        header.push(',');
-        header.push_str(&csv_column(store, c));
-    }
-    writeln!(out, "{header}").map_err(err)?;
     let mut rows = 0;
-    let mut line = String::new();
-    for (t, values) in store.raw_window(t0_s, t1_s) {
-        line.clear();
-        let _ = write!(line, "{t}");
-        for v in values {
-            line.push(',');
-            if v.is_finite() {
-                let _ = write!(line, "{v}");
-            }
+    parol6_core::fsio::write_atomic(path, |out| {
+        let mut header = String::from("t_s");
+        for c in 0..store.ids().len() {
+            header.push(',');
+            header.push_str(&csv_column(store, c));
         }
-        writeln!(out, "{line}").map_err(err)?;
-        rows += 1;
-    }
-    out.flush().map_err(err)?;
+        writeln!(out, "{header}")?;
+        let mut line = String::new();
+        for (t, values) in store.raw_window(t0_s, t1_s) {
+            line.clear();
+            let _ = write!(line, "{t}");
+            for v in values {
+                line.push(',');
+                if v.is_finite() {
+                    let _ = write!(line, "{v}");
+                }
+            }
+            writeln!(out, "{line}")?;
+            rows += 1;
+        }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
     Ok(rows)
 }
 
@@ -162,7 +162,7 @@ pub fn write_svg(path: &Path, groups: &[DrawnGroup], t0_s: f64, t1_s: f64) -> Re
     if groups.is_empty() {
         return Err("no plot is shown: nothing to write".into());
     }
-    std::fs::write(path, svg_text(groups, t0_s, t1_s)).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    parol6_core::fsio::write_atomic_bytes(path, svg_text(groups, t0_s, t1_s).as_bytes()).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -456,20 +456,22 @@ pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), ViewportError> {
     if img.pixels.len() != img.width as usize * img.height as usize * 4 {
         return Err(err(format!("{} bytes do not make a {}x{} RGBA image", img.pixels.len(), img.width, img.height)));
     }
-    let file = std::fs::File::create(path).map_err(|e| err(e.to_string()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
-    enc.set_color(png::ColorType::Rgba);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.set_compression(png::Compression::Fast);
-    let mut writer = enc.write_header().map_err(|e| err(e.to_string()))?;
-    writer.write_image_data(&img.pixels).map_err(|e| err(e.to_string()))?;
-    writer.finish().map_err(|e| err(e.to_string()))
+    parol6_core::fsio::write_atomic(path, |out| {
+        let mut enc = png::Encoder::new(out, img.width, img.height);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_compression(png::Compression::Fast);
+        let mut writer = enc.write_header().map_err(std::io::Error::other)?;
+        writer.write_image_data(&img.pixels).map_err(std::io::Error::other)?;
+        writer.finish().map_err(std::io::Error::other)
+    })
+    .map_err(|e| err(e.to_string()))
 }
 
 /// Reads an 8-bit RGB or RGBA PNG.
 pub fn read_png(path: &Path) -> Result<RgbaImage, ViewportError> {
     let err = |m: String| ViewportError::Png { path: path.display().to_string(), message: m };
-    let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+    let file = parol6_core::fsio::open_regular(path).map_err(|e| err(e.to_string()))?;
     let dec = png::Decoder::new(std::io::BufReader::new(file));
     let mut reader = dec.read_info().map_err(|e| err(e.to_string()))?;
     let size = reader.output_buffer_size().ok_or_else(|| err("image too large".into()))?;

@@ -14,6 +14,14 @@ pub enum ModelError {
         /// The OS error.
         reason: String,
     },
+    /// The path is not a regular file (a FIFO, a device, a directory): refused before reading.
+    #[error("cannot read URDF file {path}: {reason}")]
+    NotRegularFile {
+        /// The file.
+        path: PathBuf,
+        /// What it is instead.
+        reason: String,
+    },
     /// The text is not XML, or not a `<robot>` description.
     #[error("not a URDF robot description: {0}")]
     NotUrdf(String),
@@ -106,5 +114,17 @@ pub enum ModelError {
         uri: String,
         /// Where it was looked for.
         resolved: PathBuf,
+    },
+    /// A mesh file exists but is not read: it is not a regular file (a FIFO, a device) or is
+    /// larger than [`super::MAX_MESH_FILE_BYTES`]. Reported in [`super::RobotModel::warnings`]; the
+    /// link is drawn as a placeholder and has no collision shape from it.
+    #[error("link \"{link}\": mesh \"{uri}\" not read: {reason}")]
+    MeshRefused {
+        /// The link.
+        link: String,
+        /// The filename as written in the URDF.
+        uri: String,
+        /// Why (names the resolved path).
+        reason: String,
     },
 }

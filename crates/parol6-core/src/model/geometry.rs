@@ -8,7 +8,7 @@ use nalgebra::{Isometry3, Matrix3, Point3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
 use super::error::ModelError;
-use super::mesh_path::resolve_mesh;
+use super::mesh_path::{mesh_file_refusal, resolve_mesh};
 use super::{LoadOptions, iso_from_pose};
 
 /// A shape of a link's visual or collision geometry.
@@ -142,6 +142,8 @@ fn convert_shape(g: &urdf_rs::Geometry, link: &str, opts: &LoadOptions, warnings
                     uri: filename.clone(),
                     resolved: path.clone(),
                 });
+            } else if let Some(reason) = mesh_file_refusal(&path) {
+                warnings.push(ModelError::MeshRefused { link: link.to_string(), uri: filename.clone(), reason });
             }
             Shape::Mesh { path, uri: filename.clone(), scale: scale.as_ref().map_or([1.0; 3], |s| s.0) }
         }

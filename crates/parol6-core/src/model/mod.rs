@@ -30,7 +30,7 @@ mod urdf;
 
 pub use error::ModelError;
 pub use geometry::{Geometry, Inertial, Shape};
-pub use mesh_path::resolve_mesh;
+pub use mesh_path::{MAX_MESH_FILE_BYTES, mesh_reader, read_mesh_file, resolve_mesh};
 pub use parol6_chain::is_parol6_chain;
 
 /// The embedded PAROL6 URDF (our own; kinematics per ROBOT.md §6.1, joint values = the
@@ -154,10 +154,24 @@ impl RobotModel {
         m
     }
 
-    /// Loads a URDF file; meshes are resolved relative to its folder.
+    /// Loads a URDF file (a regular file only, read through the
+    /// [`crate::urdf_input::MAX_URDF_BYTES`] bound); meshes are resolved relative to its folder.
     pub fn from_urdf_file(path: &Path, tip: Option<&str>) -> Result<Self, ModelError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ModelError::Io { path: path.to_path_buf(), reason: e.to_string() })?;
+        let limit_bytes = crate::urdf_input::MAX_URDF_BYTES;
+        let text = crate::fsio::read_regular_bounded_string(path, limit_bytes as u64).map_err(|e| match e {
+            crate::fsio::FsioError::TooLarge { .. } => {
+                let size_bytes = std::fs::metadata(path).map_or(limit_bytes + 1, |m| m.len() as usize);
+                ModelError::InputRefused(crate::urdf_input::UrdfInputError::TooLarge { size_bytes, limit_bytes })
+            }
+            crate::fsio::FsioError::NotRegular { kind, .. } => ModelError::NotRegularFile {
+                path: path.to_path_buf(),
+                reason: format!("refused, it is {kind}, not a regular file"),
+            },
+            e => ModelError::Io {
+                path: path.to_path_buf(),
+                reason: e.io_error().map_or_else(|| e.to_string(), ToString::to_string),
+            },
+        })?;
         let opts = LoadOptions {
             tip: tip.map(str::to_string),
             base_dir: path.parent().map(Path::to_path_buf),

@@ -171,3 +171,35 @@ fn urdf_syntax_errors_name_the_line_and_column() {
     let e = load(xml).expect_err("bad vector").to_string();
     assert!(e.contains("line 5:") && e.contains("0 0 abc"), "{e}");
 }
+
+#[test]
+fn a_fifo_mesh_blocked_forever_and_was_called_not_found() {
+    let dir = std::env::temp_dir().join(format!("parol6-fifo-mesh-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let fifo = dir.join("mesh.stl");
+    let c = std::ffi::CString::new(fifo.to_string_lossy().as_bytes()).expect("path");
+    // SAFETY: `c` is a valid NUL-terminated path that outlives the call.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    let x = format!(
+        r#"<robot name="r"><link name="a"><collision><geometry><mesh filename="mesh.stl"/></geometry></collision><visual><geometry><mesh filename="/dev/zero"/></geometry></visual></link>{}{}</robot>"#,
+        links(&["b"]),
+        rev("j", "a", "b")
+    );
+    let opts = LoadOptions { base_dir: Some(dir.clone()), ..Default::default() };
+    let t0 = std::time::Instant::now();
+    let m = RobotModel::from_urdf_str(&x, &opts).expect("kinematics still load");
+    let text: Vec<String> = m.warnings.iter().map(ToString::to_string).collect();
+    assert!(
+        matches!(m.warnings.as_slice(), [ModelError::MeshRefused { .. }, ModelError::MeshRefused { .. }]),
+        "{text:?}"
+    );
+    assert!(text[1].contains("mesh.stl: refused, it is a FIFO, not a regular file"), "{text:?}");
+    assert!(text[0].contains("/dev/zero: refused, it is a character device"), "{text:?}");
+    // Building the collision shapes reads the mesh files: refused at once, not blocked on.
+    let guard = crate::sim::CollisionGuard::new(&m);
+    drop(guard);
+    assert!(read_mesh_file(&fifo).is_err());
+    assert!(t0.elapsed() < std::time::Duration::from_secs(2), "took {:?}", t0.elapsed());
+    let _ = std::fs::remove_dir_all(&dir);
+}

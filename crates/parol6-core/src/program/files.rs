@@ -105,6 +105,10 @@ pub enum ProgramIoError {
         /// The OS error.
         source: std::io::Error,
     },
+    /// The file is not a regular file, or could not be read or saved (saving replaces nothing
+    /// then and leaves no temporary file).
+    #[error(transparent)]
+    File(#[from] crate::fsio::FsioError),
     /// Too big to be a program.
     #[error("{path}: {bytes} bytes is more than a program file may have ({max} bytes)")]
     TooBig {
@@ -160,11 +164,16 @@ pub fn read_program(path: &Path, ctx: &FormatContext<'_>) -> Result<Program, Pro
     let format = ProgramFormat::from_path(path)?;
     let shown = path.display().to_string();
     let io = |source| ProgramIoError::Io { path: shown.clone(), source };
-    let bytes = std::fs::metadata(path).map_err(io)?.len();
-    if bytes > MAX_PROGRAM_FILE_BYTES {
-        return Err(ProgramIoError::TooBig { path: shown, bytes, max: MAX_PROGRAM_FILE_BYTES });
-    }
-    let raw = std::fs::read(path).map_err(io)?;
+    // A regular file only, read through the bound: a FIFO or a device (which says it holds 0
+    // bytes) is refused by its type, not read.
+    let raw = match crate::fsio::read_regular_bounded(path, MAX_PROGRAM_FILE_BYTES) {
+        Ok(raw) => raw,
+        Err(crate::fsio::FsioError::TooLarge { .. }) => {
+            let bytes = std::fs::metadata(path).map_err(io)?.len();
+            return Err(ProgramIoError::TooBig { path: shown, bytes, max: MAX_PROGRAM_FILE_BYTES });
+        }
+        Err(e) => return Err(e.into()),
+    };
     let text = String::from_utf8(raw)
         .map_err(|e| ProgramIoError::NotText { path: shown.clone(), at: e.utf8_error().valid_up_to() })?;
     let mut program = parse_program(&text, format, ctx, &shown)?;
@@ -196,21 +205,14 @@ pub fn format_program(
     }
 }
 
-/// Writes `program` to `path` in the format of its extension. The text is written to a
-/// temporary file beside it and renamed over it, so a failed save never leaves half a file.
+/// Writes `program` to `path` in the format of its extension, atomically
+/// ([`crate::fsio::write_atomic`]): a failed save leaves the old file as it was and no
+/// temporary file, and a target that is not a regular file (a FIFO, a device) is refused.
 pub fn write_program(program: &Program, path: &Path, ctx: &FormatContext<'_>) -> Result<(), ProgramIoError> {
     let format = ProgramFormat::from_path(path)?;
     let shown = path.display().to_string();
     let text = format_program(program, format, ctx, &shown)?;
-    let io = |source| ProgramIoError::Io { path: shown.clone(), source };
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".saving");
-    let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, text).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    Ok(crate::fsio::write_atomic_bytes(path, text.as_bytes())?)
 }
 
 #[cfg(test)]

@@ -77,7 +77,7 @@ pub(crate) fn convex_shape(shape: &Shape) -> Option<(SharedShape, Isometry3<f64>
             ok(*radius_m).then(|| (SharedShape::ball(*radius_m as f32), Isometry3::identity()))
         }
         Shape::Mesh { path, scale, .. } => {
-            let scene = mesh_loader::Loader::default().load(path).ok()?;
+            let scene = mesh_loader::Loader::default().custom_reader(crate::model::mesh_reader).load(path).ok()?;
             let points: Vec<Vector> = scene
                 .meshes
                 .iter()

@@ -11,8 +11,8 @@
 //! - [`schema`]: the JSON messages and JSON schemas of the MCAP channels (Foxglove's
 //!   well-known schemas where one exists);
 //! - [`frames`]: the `/tf` transforms (one per URDF joint, parent link → child link);
-//! - [`writer`]: the MCAP writer (zstd chunks closed at least every second, summary + index);
-//! - [`reader`]: the reader of our own files, tolerant of truncation;
+//! - [`writer`]: the MCAP writer (zstd chunks closed at least every 0.25 s, summary + index);
+//! - [`reader`]: the reader of our own files, tolerant of truncation and damage ([`walk`]);
 //! - [`chunked`]: the parallel decoder of whole files' chunks, the fast path of [`replay`];
 //! - [`replay`]: a recording loaded into the plots' series for the timeline.
 
@@ -28,6 +28,7 @@ pub mod ring;
 pub mod sample;
 pub mod schema;
 pub mod series;
+pub mod walk;
 pub mod writer;
 
 pub use event::{EventDetector, EventKind, TelemetryEvent};
@@ -50,9 +51,15 @@ pub enum TelemetryError {
         /// What went wrong.
         reason: String,
     },
+    /// The recording's path was refused (not a regular file) or could not be checked.
+    #[error(transparent)]
+    File(#[from] crate::fsio::FsioError),
     /// The MCAP library refused a record.
     #[error("MCAP: {0}")]
     Mcap(String),
+    /// Writing the recording failed (a full disk is named ENOSPC, with the bytes the file keeps).
+    #[error("{0}")]
+    Write(String),
     /// The recorder is not in a state to do this (already recording, not recording, stopped).
     #[error("{0}")]
     State(String),
@@ -63,7 +70,10 @@ pub enum TelemetryError {
 
 impl From<mcap::McapError> for TelemetryError {
     fn from(e: mcap::McapError) -> Self {
-        TelemetryError::Mcap(e.to_string())
+        match e {
+            mcap::McapError::Io(io) => TelemetryError::Write(writer::describe_io(&io)),
+            e => TelemetryError::Mcap(e.to_string()),
+        }
     }
 }
 

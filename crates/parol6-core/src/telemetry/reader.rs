@@ -1,26 +1,26 @@
 //! Reads our own MCAP recordings: [`read_recording`] → [`Recording`].
 //!
-//! One linear pass over the file (no index needed): chunk CRCs are checked before any message
-//! of a chunk is used, so a file cut short (a crash, a full disk) yields the messages of its
-//! complete chunks and a warning naming where it ends. Empty files, files that are not MCAP,
-//! MCAP files that are not ours and recordings of another robot get an error naming the
-//! problem; nothing here panics on any input.
+//! One linear pass over the file (no index needed), through [`super::walk`]: chunk CRCs are
+//! checked before any message of a chunk is used; a file cut short (a crash, a full disk)
+//! yields the messages of its complete chunks and those its cut chunk holds up to the cut, and
+//! a damaged chunk is skipped; each with a warning naming its byte. Empty files, files that are
+//! not MCAP, MCAP files that are not ours and recordings of another robot get an error naming
+//! the problem; nothing here panics on any input.
 
 use std::collections::{BTreeMap, HashMap};
 
 use mcap::records::{Record, op};
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::model::RobotModel;
 
 use super::schema::{self, JointStateMsg, LogMsg, PoseInFrame};
+use super::walk::walk_recording;
 
-/// Largest record (a decompressed chunk included) read from a file smaller than this: our
-/// chunks close at 8 MiB; a damaged length field must not make the reader allocate more.
-const MAX_RECORD_BYTES: usize = 64 << 20;
+/// The records the reader parses: schema, channel, message, metadata.
+const READ_OPCODES: [u8; 4] = [op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
 
-/// The records the reader parses: footer, schema, channel, message, metadata.
-const READ_OPCODES: [u8; 5] = [op::FOOTER, op::SCHEMA, op::CHANNEL, op::MESSAGE, op::METADATA];
+/// Most warnings kept about messages and records that did not parse.
+const MAX_WARNINGS: usize = 20;
 
 /// Why a file is not a recording we can read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -177,75 +177,30 @@ pub fn scan_recording_filtered(
     if !bytes.starts_with(mcap::MAGIC) {
         return Err(RecordingError::NotMcap);
     }
-    let mut reader = LinearReader::new_with_options(
-        LinearReaderOptions::default()
-            .with_skip_end_magic(true)
-            .with_prevalidate_chunk_crcs(true)
-            .with_validate_data_section_crc(true)
-            .with_validate_summary_section_crc(true)
-            .with_record_length_limit(bytes.len().max(MAX_RECORD_BYTES)),
-    );
     let mut rec = Recording::default();
-    // the mcap reader mishandles an uncompressed chunk whose records overrun it (found by the
-    // fuzzer: an integer overflow); we only ever write zstd chunks, so stop before any other
-    let bytes = match first_foreign_chunk(bytes) {
-        Some((at, why)) => {
-            rec.warnings.push(format!("{why} at byte {at}; reading stopped there"));
-            &bytes[..at]
-        }
-        None => bytes,
-    };
     let mut ids = Channels { filter, ..Channels::default() };
-    let mut pos = 0usize;
-    let mut any_record = false;
-    let mut saw_footer = false;
-    while let Some(event) = reader.next_event() {
-        let event = match event {
-            Ok(e) => e,
-            Err(e) => {
-                if !any_record {
-                    return Err(RecordingError::Damaged { offset: pos, reason: e.to_string() });
-                }
-                rec.truncated = true;
-                rec.warnings.push(format!(
-                    "the file is cut short or damaged near byte {pos} of {} ({e}); read the {} samples of its complete chunks",
-                    bytes.len(),
-                    samples(&rec)
-                ));
-                break;
-            }
-        };
-        match event {
-            LinearReadEvent::ReadRequest(n) => {
-                let end = pos.saturating_add(n).min(bytes.len());
-                let chunk = &bytes[pos..end];
-                reader.insert(chunk.len()).copy_from_slice(chunk);
-                reader.notify_read(chunk.len());
-                pos = end;
-            }
-            LinearReadEvent::Record { opcode, data } => {
-                any_record = true;
-                // only the records we use are parsed: the mcap crate's attachment parser panics
-                // on a short attachment record (found by the fuzzer)
-                if !READ_OPCODES.contains(&opcode) {
-                    continue;
-                }
-                match mcap::parse_record(opcode, data) {
-                    Ok(Record::Footer(_)) => saw_footer = true,
-                    Ok(r) => take_record(r, &mut ids, &mut rec, visit),
-                    Err(e) => rec.warnings.push(format!("a record (opcode {opcode:#04x}) did not parse: {e}")),
+    let walked = walk_recording(bytes, &mut |opcode, data| {
+        // only the records we use are parsed: the mcap crate's attachment parser panics on a
+        // short attachment record (found by the fuzzer)
+        if READ_OPCODES.contains(&opcode) {
+            match mcap::parse_record(opcode, data) {
+                Ok(r) => take_record(r, &mut ids, &mut rec, visit),
+                Err(e) => {
+                    if rec.warnings.len() < MAX_WARNINGS {
+                        rec.warnings.push(format!("a record (opcode {opcode:#04x}) did not parse: {e}"));
+                    }
                 }
             }
         }
+    });
+    if let Some((offset, reason)) = walked.damaged_at_start {
+        return Err(RecordingError::Damaged { offset, reason });
     }
-    if !saw_footer && !rec.truncated {
-        rec.truncated = true;
-        rec.warnings.push(format!(
-            "the file has no footer (cut short at a record boundary after {} bytes); read the {} samples of its complete chunks",
-            bytes.len(),
-            samples(&rec)
-        ));
+    if !walked.warnings.is_empty() {
+        rec.warnings.extend(walked.warnings);
+        rec.warnings.push(format!("read {} samples", samples(&rec)));
     }
+    rec.truncated = walked.truncated || !walked.saw_footer;
     if !rec.topics.contains_key("/joint_states") && rec.metadata.is_empty() {
         let topics: Vec<&str> = rec.topics.keys().map(String::as_str).collect();
         return Err(RecordingError::NotOurs(if topics.is_empty() {
@@ -262,44 +217,6 @@ pub fn scan_recording_filtered(
             .unwrap_or_default();
     }
     Ok(rec)
-}
-
-/// The offset of the first top-level chunk record that is not a well-formed zstd chunk (its
-/// fields must add up to the record's length), with the reason. Walks the record headers only.
-fn first_foreign_chunk(bytes: &[u8]) -> Option<(usize, String)> {
-    const CHUNK: u8 = 0x06;
-    const FOOTER: u8 = 0x02;
-    const DATA_END: u8 = 0x0f;
-    let u64_at = |at: usize| -> Option<u64> { Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?)) };
-    let u32_at = |at: usize| -> Option<u32> { Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?)) };
-    let mut pos = mcap::MAGIC.len();
-    while let (Some(&op), Some(len)) = (bytes.get(pos), u64_at(pos + 1)) {
-        if op == FOOTER || op == DATA_END {
-            return None;
-        }
-        let body = pos + 9;
-        let end = usize::try_from(len).ok().and_then(|l| body.checked_add(l))?;
-        if end > bytes.len() {
-            // cut short; a chunk cut short is never read (the mcap reader would start on it)
-            return (op == CHUNK).then(|| (pos, "the file is cut short inside a chunk".to_string()));
-        }
-        if op == CHUNK {
-            // start and end time, uncompressed size and CRC, then the compression name
-            let name_len = u32_at(body + 28).and_then(|n| usize::try_from(n).ok())?;
-            let name_end = (body + 32).checked_add(name_len).filter(|&e| e <= end)?;
-            let name = &bytes[body + 32..name_end];
-            let compressed = u64_at(name_end).and_then(|c| usize::try_from(c).ok());
-            if name != b"zstd" {
-                let shown = String::from_utf8_lossy(name).chars().take(16).collect::<String>();
-                return Some((pos, format!("a chunk compressed with \"{shown}\" (PAROL6 Studio writes zstd only)")));
-            }
-            if compressed.and_then(|c| (name_end + 8).checked_add(c)) != Some(end) {
-                return Some((pos, "a chunk whose sizes do not add up".to_string()));
-            }
-        }
-        pos = end;
-    }
-    None
 }
 
 fn samples(rec: &Recording) -> u64 {
@@ -331,7 +248,7 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
                 stats.schema = ids.schemas.get(schema_id).cloned().unwrap_or_default();
             }
             let warn = |rec: &mut Recording, e: serde_json::Error| {
-                if rec.warnings.len() < 20 {
+                if rec.warnings.len() < MAX_WARNINGS {
                     rec.warnings.push(format!("a {topic} message (sequence {}) is not valid: {e}", header.sequence));
                 }
             };
@@ -370,5 +287,7 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
     }
 }
 
+#[cfg(test)]
+mod recovery_tests;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -448,7 +448,7 @@ impl Worker {
     }
 
     fn stop(&mut self) -> Result<Option<RecordingSummary>, TelemetryError> {
-        self.sink.take().map(McapSink::finish).transpose()
+        self.sink.take().map(McapSink::finish_file).transpose()
     }
 
     /// A write failed: the recording ends here (what was flushed stays readable).

@@ -9,13 +9,19 @@
 //! time, whichever comes first ([`McapSink::flush_if_due`]), so a crash loses at most that;
 //! [`McapSink::finish`] writes the summary and index.
 //!
+//! [`McapSink::create_file`] records a new file in place (a crash leaves every closed chunk
+//! readable there). An existing recording is never truncated: the new one is written beside it
+//! as `NAME.recording` and renamed over it only by [`McapSink::finish_file`], so a crash or a
+//! full disk keeps the old file whole and the new one readable up to its last chunk. A target
+//! that is not a regular file (a FIFO, a device, a directory) is refused.
+//!
 //! Message log times are Unix nanoseconds: the wall-clock time of the recording's first sample
 //! plus the backend's motion time since it.
 
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use mcap::records::{MessageHeader, Metadata};
@@ -29,8 +35,10 @@ use super::frames::TfFrames;
 use super::sample::{DriveKind, LinkHealth, TelemetrySample};
 use super::schema::{self, Header, JointStateMsg, LogMsg, Pose, PoseInFrame, Quaternion, Time, Vector3, WorstZone};
 
-/// Chunks are closed at least this often, s.
-pub const FLUSH_INTERVAL_S: f64 = 1.0;
+/// Chunks are closed at least this often (of motion time and of wall time), s: a crash
+/// (SIGKILL, a power loss) loses at most the open chunk. The reader also gives back what a
+/// chunk cut short holds up to the cut, a zstd block of up to 128 KiB of records at a time.
+pub const FLUSH_INTERVAL_S: f64 = 0.25;
 
 /// A chunk is closed once its uncompressed records pass this size (8 MiB: about 6 s of a 1 kHz
 /// simulation), so at the rates we record the time-based flush closes them.
@@ -67,21 +75,97 @@ pub struct RecordingSummary {
 /// A file that reaches the disk on every flush (`sync_data`), so a power loss loses at most
 /// the chunk being written.
 #[derive(Debug)]
-pub struct SyncedFile(BufWriter<File>);
+pub struct SyncedFile {
+    out: BufWriter<KeptBytes<File>>,
+    /// Where the recording goes when it is finished, if it is written beside an existing file.
+    replaces: Option<(PathBuf, PathBuf)>,
+}
+
+impl SyncedFile {
+    /// Renames a recording written beside an existing file over it (nothing to do otherwise).
+    fn commit(self) -> Result<(), TelemetryError> {
+        if let Some((tmp, target)) = self.replaces {
+            std::fs::rename(&tmp, &target).map_err(|e| TelemetryError::Io {
+                path: target.display().to_string(),
+                reason: format!("the finished recording {} could not replace it: {e}", tmp.display()),
+            })?;
+        }
+        Ok(())
+    }
+}
 
 impl Write for SyncedFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.write(buf)
+        self.out.write(buf)
     }
     fn flush(&mut self) -> std::io::Result<()> {
-        self.0.flush()?;
-        self.0.get_ref().sync_data()
+        self.out.flush()?;
+        let file = self.out.get_ref();
+        file.inner.sync_data().map_err(|e| file.explain(e))
+    }
+}
+
+/// A writer that counts the bytes its file keeps (the furthest byte written) and names them,
+/// and a full disk, in its errors: "no space left on device (ENOSPC); the file keeps its first
+/// N bytes …".
+#[derive(Debug)]
+pub struct KeptBytes<W> {
+    inner: W,
+    pos: u64,
+    kept_bytes: u64,
+}
+
+impl<W> KeptBytes<W> {
+    /// Counts what `inner` (an empty file) keeps.
+    pub fn new(inner: W) -> Self {
+        Self { inner, pos: 0, kept_bytes: 0 }
+    }
+
+    /// Bytes the file holds so far.
+    pub fn kept_bytes(&self) -> u64 {
+        self.kept_bytes
+    }
+
+    fn explain(&self, e: std::io::Error) -> std::io::Error {
+        let kept = self.kept_bytes;
+        std::io::Error::new(
+            e.kind(),
+            format!("{}; the file keeps its first {kept} bytes, readable up to its last whole chunk", describe_io(&e)),
+        )
+    }
+}
+
+impl<W: Write> Write for KeptBytes<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf).map_err(|e| self.explain(e))?;
+        self.pos += n as u64;
+        self.kept_bytes = self.kept_bytes.max(self.pos);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush().map_err(|e| self.explain(e))
+    }
+}
+
+impl<W: Seek> Seek for KeptBytes<W> {
+    fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
+        self.pos = self.inner.seek(pos).map_err(|e| self.explain(e))?;
+        Ok(self.pos)
+    }
+}
+
+/// What an I/O error says, a full disk named as such (ENOSPC).
+pub fn describe_io(e: &std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::StorageFull && e.get_ref().is_none() {
+        "no space left on device (ENOSPC)".to_string()
+    } else {
+        e.to_string()
     }
 }
 
 impl Seek for SyncedFile {
     fn seek(&mut self, pos: SeekFrom) -> std::io::Result<u64> {
-        self.0.seek(pos)
+        self.out.seek(pos)
     }
 }
 
@@ -122,12 +206,58 @@ impl<W: Write + Seek> std::fmt::Debug for McapSink<W> {
 }
 
 impl McapSink<SyncedFile> {
-    /// Creates (or truncates) `path` and starts a recording there.
+    /// Starts a recording at `path`: a new file is written in place; over an existing regular
+    /// file the recording goes to `NAME.recording` beside it until [`McapSink::finish_file`]
+    /// renames it over the old one. A `path` that is not a regular file is refused.
     pub fn create_file(path: &Path, model: &RobotModel, info: &RecordingInfo) -> Result<Self, TelemetryError> {
-        let io = |e: std::io::Error| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() };
-        let file = File::create(path).map_err(io)?;
-        Self::new(SyncedFile(BufWriter::with_capacity(1 << 16, file)), model, info)
+        let exists = std::fs::symlink_metadata(path).is_ok();
+        let (file, replaces) = if exists {
+            crate::fsio::check_regular(path)?;
+            let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+            let (tmp, file) = create_beside(&target)
+                .map_err(|e| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() })?;
+            (file, Some((tmp, target)))
+        } else {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(path)
+                .map_err(|e| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() })?;
+            (file, None)
+        };
+        let out = SyncedFile { out: BufWriter::with_capacity(1 << 16, KeptBytes::new(file)), replaces };
+        Self::new(out, model, info)
     }
+
+    /// [`McapSink::finish`], then a recording written beside an existing file replaces it.
+    pub fn finish_file(self) -> Result<RecordingSummary, TelemetryError> {
+        let (summary, file) = self.finish_into_inner()?;
+        file.commit()?;
+        Ok(summary)
+    }
+}
+
+/// Creates `TARGET.recording` (or `TARGET.recording-N` if that exists) beside `target`.
+fn create_beside(target: &Path) -> std::io::Result<(PathBuf, File)> {
+    let mut name = target.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(".recording");
+    let first = target.with_file_name(&name);
+    let mut last = std::io::Error::from(std::io::ErrorKind::AlreadyExists);
+    for n in 0..100 {
+        let candidate = if n == 0 {
+            first.clone()
+        } else {
+            let mut numbered = name.clone();
+            numbered.push(format!("-{n}"));
+            target.with_file_name(numbered)
+        };
+        match std::fs::OpenOptions::new().write(true).create_new(true).open(&candidate) {
+            Ok(f) => return Ok((candidate, f)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = e,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last)
 }
 
 /// Nanoseconds since the Unix epoch now.
@@ -344,7 +474,10 @@ impl<W: Write + Seek> McapSink<W> {
     pub fn finish_into_inner(mut self) -> Result<(RecordingSummary, W), TelemetryError> {
         self.writer.finish()?;
         let mut w = self.writer.into_inner();
-        w.flush().map_err(|e| TelemetryError::Io { path: "recording".into(), reason: e.to_string() })?;
+        w.flush().map_err(|e| TelemetryError::Write(describe_io(&e)))?;
         Ok((self.summary, w))
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,8 +1,10 @@
 //! The last line of defence, as pure functions (a fuzz target drives them):
 //! - [`guard_frame`]: right before encoding, every position field must lie within the step
-//!   limits and no MOVE target may move further from the previous frame's target than the
-//!   joint's API speed limit allows in the elapsed periods (+1 step of rounding); violations
-//!   are clamped and counted, never passed on;
+//!   limits (a frame with one outside is refused, never sent: the session holds with IDLE), and
+//!   no MOVE target may move further from the previous frame's target than the joint's API
+//!   speed limit allows in the elapsed periods (+1 step of rounding; clamped and counted);
+//! - [`limit_breach`]: a measured position outside the step limits, a little (an arm pushed
+//!   there: only a confirmed jog back inside may move it) or impossibly far;
 //! - [`PlausibilityFilter`]: measured positions that jump further than the joint can move in
 //!   the elapsed time are rejected and counted, never used;
 //! - [`DisagreementMonitor`]: commanded and measured positions apart by more than a tolerance
@@ -48,6 +50,18 @@ pub enum GuardViolation {
         /// Max speed.
         max: i32,
     },
+    /// A MOVE target is outside the joint's step limits (whatever the previous target was).
+    #[error("joint {joint} MOVE target {steps} steps is outside {min}..{max}")]
+    Target {
+        /// 1-based joint.
+        joint: usize,
+        /// Target, steps.
+        steps: i32,
+        /// Lower limit.
+        min: i32,
+        /// Upper limit.
+        max: i32,
+    },
     /// MOVE without a previous target to bound its step.
     #[error("MOVE without a previous target")]
     NoReference,
@@ -62,22 +76,21 @@ pub fn max_target_step(joint: usize, period_s: f64, periods: u32) -> i32 {
 }
 
 /// The range a MOVE target of `joint` may take after `reference` (the previous frame's
-/// target, `periods` frames ago): within the step limits, or — when the reference itself lies
-/// beyond a limit (an arm moved there by hand) — no further out than the reference; and within
-/// [`max_target_step`] of the reference.
+/// target, `periods` frames ago): within the step limits and within [`max_target_step`] of the
+/// reference. Empty (`lo > hi`) when the reference lies further outside the limits than one
+/// step can bring back: no MOVE target is possible then.
 pub fn allowed_target_range(joint: usize, reference: i32, period_s: f64, periods: u32) -> (i32, i32) {
     let (lo, hi) = limits_steps()[joint];
     let reach = max_target_step(joint, period_s, periods);
-    let lo = lo.min(reference).max(reference.saturating_sub(reach));
-    let hi = hi.max(reference).min(reference.saturating_add(reach));
-    (lo, hi)
+    (lo.max(reference.saturating_sub(reach)), hi.min(reference.saturating_add(reach)))
 }
 
 /// Last line of defence, right before encoding. Speed fields must not exceed the API max
-/// speeds (the session sends zero). For MOVE every target is clamped into
-/// [`allowed_target_range`] of `reference` (`(previous target, frames since)`); for other
-/// frames every position field must lie within the step limits. Returns the number of joints
-/// it had to clamp (guard trips).
+/// speeds (the session sends zero). Every position field must lie within the step limits: a
+/// frame with one outside is refused (for MOVE: [`GuardViolation::Target`], also when no
+/// target within the limits is reachable from `reference`). A MOVE target within the limits is
+/// clamped into [`allowed_target_range`] of `reference` (`(previous target, frames since)`).
+/// Returns the number of joints it had to clamp (guard trips).
 pub fn guard_frame(
     frame: &mut CommandFrame,
     reference: Option<(&[i32; JOINT_COUNT], u32)>,
@@ -94,7 +107,11 @@ pub fn guard_frame(
     if frame.command == CommandCode::Move {
         let (prev, periods) = reference.ok_or(GuardViolation::NoReference)?;
         for (i, (t, &r)) in frame.fields.positions_steps.iter_mut().zip(prev).enumerate() {
+            let (min, max) = lim[i];
             let (lo, hi) = allowed_target_range(i, r, period_s, periods);
+            if !(min..=max).contains(t) || lo > hi {
+                return Err(GuardViolation::Target { joint: i + 1, steps: *t, min, max });
+            }
             let c = (*t).clamp(lo, hi);
             if c != *t {
                 *t = c;
@@ -109,6 +126,67 @@ pub fn guard_frame(
         }
     }
     Ok(trips)
+}
+
+/// A measured joint up to this far beyond one of its limits, degrees of joint angle, is
+/// physically possible (an arm pushed there by a crash or by hand); further out, the board's
+/// answer is impossible.
+pub const PLAUSIBLE_BEYOND_LIMIT_DEG: f64 = 10.0;
+
+/// A measured position outside a joint's step limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct LimitBreach {
+    /// 1-based joint.
+    pub joint: usize,
+    /// Measured position, steps.
+    pub steps: i32,
+    /// Lower limit, steps.
+    pub min: i32,
+    /// Upper limit, steps.
+    pub max: i32,
+    /// Further beyond than [`PLAUSIBLE_BEYOND_LIMIT_DEG`]: no PAROL6 can be there.
+    pub impossible: bool,
+}
+
+impl LimitBreach {
+    /// How far beyond the nearer limit, steps (> 0).
+    pub fn beyond_steps(&self) -> i64 {
+        (i64::from(self.min) - i64::from(self.steps)).max(i64::from(self.steps) - i64::from(self.max))
+    }
+
+    /// True when the joint is beyond its upper limit (else its lower one).
+    pub fn above(&self) -> bool {
+        self.steps > self.max
+    }
+}
+
+impl std::fmt::Display for LimitBreach {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let beyond = self.beyond_steps();
+        let deg = crate::units::steps_to_deg(self.joint.saturating_sub(1), beyond.clamp(0, i64::from(i32::MAX)) as i32);
+        let (side, limit) = if self.above() { ("upper", self.max) } else { ("lower", self.min) };
+        write!(
+            f,
+            "J{} reads {} steps, {beyond} steps ({deg:.1}°) beyond its {side} limit {limit}",
+            self.joint, self.steps
+        )
+    }
+}
+
+/// The measured joint furthest beyond its step limits (an impossible one first), or `None`
+/// when every joint is within them.
+pub fn limit_breach(measured: &[i32; JOINT_COUNT]) -> Option<LimitBreach> {
+    let lim = limits_steps();
+    (0..JOINT_COUNT)
+        .filter(|&i| !(lim[i].0..=lim[i].1).contains(&measured[i]))
+        .map(|i| {
+            let (min, max) = lim[i];
+            let plausible = crate::units::deg_to_steps(i, PLAUSIBLE_BEYOND_LIMIT_DEG).unwrap_or(0).abs();
+            let mut b = LimitBreach { joint: i + 1, steps: measured[i], min, max, impossible: false };
+            b.impossible = b.beyond_steps() > i64::from(plausible);
+            b
+        })
+        .max_by_key(|b| (b.impossible, b.beyond_steps()))
 }
 
 /// Position fields for frames that carry no target: the measured position clamped into the

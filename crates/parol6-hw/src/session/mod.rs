@@ -6,12 +6,15 @@
 //! simulation's: [`RobotBackend::submit`](parol6_core::motion::RobotBackend::submit) queues a
 //! [`MotionCommand`]; the thread samples the planner on its motion clock
 //! (`t = tick × period`) and streams the setpoint as MOVE targets with zero feed-forward
-//! (never JOG), so a lost host leaves the arm holding still.
+//! (never JOG, except for the operator's confirmed [`Session::jog_back_inside`] of a joint
+//! beyond its limit), so a lost host leaves the arm holding still.
 //!
 //! The firmware has no CRC, no timeout and no limit checks, so this thread is the safety layer:
 //! - limits are enforced by the planner, and a last-line guard ([`guard`]) right before
-//!   encoding keeps every position field within the step limits and every MOVE target within
-//!   the joint's API speed limit × period of the previous target;
+//!   encoding refuses any frame with a position field outside the step limits (the session
+//!   holds with IDLE instead) and keeps every MOVE target within the joint's API speed limit ×
+//!   period of the previous target; motion never starts from a measured position outside the
+//!   limits, and impossible positions (far outside) hold the arm with IDLE and a fault;
 //! - measured positions that jump impossibly are rejected and counted, never used; five in a
 //!   row, or commanded and measured apart by more than 2000 steps for 0.5 s, stop motion;
 //! - no valid status for 80 ms (`SessionConfig::status_timeout`) → link loss: motion is stopped (IDLE) and the port re-opened
@@ -43,8 +46,9 @@ mod snapshot;
 mod worker;
 
 pub use config::SessionConfig;
+pub use snapshot::impossible_answers;
 pub use snapshot::{HomingState, LinkState, MotionState, Snapshot};
-pub use worker::{GRIPPER_ACTIVATE, GRIPPER_ENABLE, GRIPPER_ESTOP, GRIPPER_MOVE, TIMING_WINDOW};
+pub use worker::{GRIPPER_ACTIVATE, GRIPPER_ENABLE, GRIPPER_ESTOP, GRIPPER_MOVE, RECOVERY_SPEED_SHARE, TIMING_WINDOW};
 
 use worker::{Request, Shared, Worker};
 
@@ -95,7 +99,8 @@ impl Session {
             config.period_s(),
             config.tracking,
         )
-        .with_kinematics(kinematics);
+        .with_kinematics(kinematics)
+        .with_start_tolerance(config.disagreement_steps);
         let (tx, rx) = crossbeam_channel::bounded(REQUEST_QUEUE);
         let (write_tx, write_times) = if config.write_log_capacity > 0 {
             let (t, r) = crossbeam_channel::bounded(config.write_log_capacity);
@@ -250,7 +255,36 @@ impl Session {
     /// [`Session::jog_release`] is called or no new `jog` call arrives within the dead-man
     /// time (200 ms of motion clock): call it again at least every ~100 ms while held.
     pub fn jog(&self, joint: usize, fraction: f64) -> Result<(), HwError> {
+        self.device_ready()?;
         self.submit_motion(MotionCommand::JogJoint { joint, fraction }, None).map_err(HwError::from)
+    }
+
+    /// The operator's confirmed jog back inside: joint `joint` (0-based), measured a little
+    /// beyond one of its limits (after a crash), steps back toward the inside with JOG (speed)
+    /// frames at [`RECOVERY_SPEED_SHARE`] × `fraction` of its jog speed, until it is within its
+    /// limits (MOVE cannot move it: its first target would lie outside them). Only inward:
+    /// `fraction` < 0 beyond the upper limit, > 0 beyond the lower one. The same dead-man as
+    /// [`Session::jog`]: call it again at least every ~100 ms. Refused for a joint within its
+    /// limits and for impossible positions ([`HwError::Device`]).
+    pub fn jog_back_inside(&self, joint: usize, fraction: f64) -> Result<(), HwError> {
+        let s = self.snapshot();
+        if let Some(b) = s.limit_breach.filter(|b| b.impossible) {
+            return Err(HwError::Device(impossible_answers(&b)));
+        }
+        if s.link != LinkState::Connected {
+            return Err(HwError::Device(format!("link is {:?}", s.link)));
+        }
+        if joint >= parol6_core::parol6::JOINT_COUNT || !fraction.is_finite() || fraction.abs() > 1.0 {
+            return Err(HwError::Refused(format!("jog back inside: joint {joint} / speed {fraction} out of range")));
+        }
+        match s.limit_breach {
+            Some(b) if b.joint == joint + 1 && (fraction < 0.0) == b.above() && fraction != 0.0 => {}
+            Some(b) if b.joint == joint + 1 => {
+                return Err(HwError::Refused(format!("{b}: only a jog back inside is allowed")));
+            }
+            _ => return Err(HwError::Refused(format!("J{} is within its limits: jog it as usual", joint + 1))),
+        }
+        self.send(Request::JogBackInside { joint, fraction })
     }
 
     /// Releases the jog: the arm holds where the jog is.
@@ -261,12 +295,24 @@ impl Session {
     /// Moves to `goal_rad` along the synchronised speed- and acceleration-limited profile.
     /// The goal must lie within the joint limits (it is rejected, not clamped).
     pub fn move_to(&self, goal_rad: &[f64], speed_fraction: f64, kind: ProfileKind) -> Result<(), HwError> {
+        self.device_ready()?;
         let cmd = MotionCommand::MoveJoints { goal_rad: goal_rad.to_vec(), speed_fraction, profile: kind };
         self.submit_motion(cmd, None).map_err(HwError::from)
     }
 
+    /// [`HwError::Device`] when the link is down or the board's positions are impossible.
+    fn device_ready(&self) -> Result<(), HwError> {
+        match self.snapshot().motion_allowed() {
+            Err(HwError::Device(why)) => Err(HwError::Device(why)),
+            _ => Ok(()),
+        }
+    }
+
     /// [`Session::move_to`] and wait until the move has been streamed and the arm is within
-    /// 3 steps of the goal on every joint.
+    /// 3 steps of the goal on every joint. Ends at once, naming the cause, when the move is
+    /// refused or stops before the goal ([`HwError::Device`] for a device or link event: link
+    /// lost, E-stop, impossible positions, an arm that does not follow); after `timeout`
+    /// [`HwError::Timeout`] says where each joint is against the goal.
     pub fn move_to_blocking(
         &self,
         goal_rad: &[f64],
@@ -274,24 +320,82 @@ impl Session {
         kind: ProfileKind,
         timeout: Duration,
     ) -> Result<Arc<Snapshot>, HwError> {
+        self.move_to_blocking_or(goal_rad, speed_fraction, kind, timeout, &|| false)
+    }
+
+    /// [`Session::move_to_blocking`] that also returns as soon as `give_up()` is true (polled
+    /// every 2 ms; a Ctrl-C): `Ok` with the snapshot of that instant, the move still under way
+    /// (the caller stops it, e.g. with [`Session::stop`]).
+    pub fn move_to_blocking_or(
+        &self,
+        goal_rad: &[f64],
+        speed_fraction: f64,
+        kind: ProfileKind,
+        timeout: Duration,
+        give_up: &dyn Fn() -> bool,
+    ) -> Result<Arc<Snapshot>, HwError> {
         let goal_steps = joints_rad_to_steps(goal_rad)?;
+        let refusal_before = self.robot_state().last_refusal.as_ref().map(|r| r.0);
+        let implausible_before = self.snapshot().implausible_frames;
         let sent_at = Instant::now();
         self.move_to(goal_rad, speed_fraction, kind)?;
         let tol = 3;
-        let s = self.wait_until(timeout, |s| {
-            let started = s.published_at > sent_at && s.frames_sent > 0;
+        let end = sent_at + timeout;
+        let mut moving_seen = false;
+        loop {
+            let s = self.snapshot();
+            let after = s.published_at > sent_at && s.frames_sent > 0;
             let settled = s.motion == MotionState::Holding
                 && s.target_steps == Some(goal_steps)
                 && s.joint_steps.iter().zip(goal_steps).all(|(a, b)| (a - b).abs() <= tol);
-            (started && settled) || s.link != LinkState::Connected || s.estop_pressed
-        })?;
-        if s.link != LinkState::Connected {
-            return Err(HwError::Refused(format!("link is {:?} ({})", s.link, s.fault.clone().unwrap_or_default())));
+            if (after && settled) || give_up() {
+                return Ok(s);
+            }
+            if s.link == LinkState::Closed {
+                return Err(HwError::Closed);
+            }
+            if s.link != LinkState::Connected {
+                let why = s.fault.clone().unwrap_or_else(|| format!("link is {:?}", s.link));
+                return Err(HwError::Device(format!("link lost during the move: {why}")));
+            }
+            if s.estop_pressed {
+                return Err(HwError::Device("E-stop pressed during the move: motion stopped".into()));
+            }
+            if let Some(b) = s.limit_breach.filter(|b| b.impossible) {
+                return Err(HwError::Device(impossible_answers(&b)));
+            }
+            let refusal = self.robot_state().last_refusal.clone();
+            if let Some((_, why)) = refusal.filter(|r| Some(r.0) != refusal_before) {
+                let implausible = s.implausible_frames.saturating_sub(implausible_before);
+                return Err(if implausible > 0 {
+                    HwError::Device(format!(
+                        "{why}: the controller's answers are impossible ({implausible} status frames with positions \
+                         no arm can reach since the move was sent)"
+                    ))
+                } else {
+                    HwError::Refused(why)
+                });
+            }
+            moving_seen |= after && s.motion != MotionState::Idle;
+            if moving_seen && s.motion == MotionState::Idle {
+                let why = s.fault.clone().unwrap_or_else(|| "motion was stopped".into());
+                return Err(HwError::Device(format!(
+                    "the move stopped before the goal: {why} (joints at {:?} steps, goal {goal_steps:?})",
+                    s.joint_steps
+                )));
+            }
+            if Instant::now() >= end {
+                let why = s.fault.clone().map(|f| format!("; {f}")).unwrap_or_default();
+                return Err(HwError::Timeout(format!(
+                    "the arm did not reach the goal within {:.1} s (joints at {:?} steps, goal {goal_steps:?}, \
+                     motion {:?}){why}",
+                    timeout.as_secs_f64(),
+                    s.joint_steps,
+                    s.motion
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(2));
         }
-        if s.estop_pressed {
-            return Err(HwError::Refused("E-stop pressed during the move".into()));
-        }
-        Ok(s)
     }
 
     /// Stops any motion (the arm holds the commanded position of this instant) or homing.

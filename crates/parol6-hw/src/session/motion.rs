@@ -15,11 +15,16 @@ use parol6_core::motion::tracking::{Tracker, TrackingMode};
 use parol6_core::motion::{JogKinematics, MotionCaps, MotionCommand, MotionPlanner, PlannerMode, Setpoint};
 use parol6_core::parol6::JOINT_COUNT;
 
+use super::guard::limit_breach;
 use super::snapshot::MotionState;
 use crate::units::joints_rad_to_steps;
 
 /// A MOVE frame's target and feed-forward, steps and steps/s.
 pub(super) type MoveFields = ([i32; JOINT_COUNT], [i32; JOINT_COUNT]);
+
+/// A MOVE target sent this recently (s) must agree with the measured position before a new
+/// motion starts from it.
+pub(super) const RECENT_TARGET_S: f64 = 1.0;
 
 /// Progress of the controller's homing routine.
 #[derive(Debug, Clone)]
@@ -44,6 +49,11 @@ pub(super) struct Streamer {
     tracker: Tracker,
     /// The previous MOVE target sent and how many frames ago (the guard's reference).
     reference: Option<([i32; JOINT_COUNT], u32)>,
+    /// The last MOVE target sent and its tick, kept across stops.
+    last_sent: Option<([i32; JOINT_COUNT], u64)>,
+    /// A new motion may not start from a measured position further than this from a MOVE
+    /// target sent within [`RECENT_TARGET_S`] (the disagreement tolerance).
+    start_tolerance_steps: i32,
     pub(super) homing: Homing,
     refusal_seq: u64,
     last_refusal: Option<(u64, String)>,
@@ -69,11 +79,20 @@ impl Streamer {
             jog: None,
             setpoint: None,
             reference: None,
+            last_sent: None,
+            start_tolerance_steps: i32::MAX,
             homing: Homing::None,
             refusal_seq: 0,
             last_refusal: None,
             planner_refusal_seen: 0,
         }
+    }
+
+    /// Refuses a new motion from a measured position further than `steps` from a recent MOVE
+    /// target.
+    pub(super) fn with_start_tolerance(mut self, steps: i32) -> Self {
+        self.start_tolerance_steps = steps;
+        self
     }
 
     /// Gives the planner the kinematics of Cartesian jogs and steps.
@@ -164,6 +183,11 @@ impl Streamer {
             let (q, steps) = measured.ok_or_else(|| {
                 format!("{} refused: no steady status from the board yet (the arm is settling): try again", cmd.name())
             })?;
+            // The first MOVE target is the measured position: never one outside the limits.
+            if let Some(b) = limit_breach(&steps) {
+                return Err(format!("{} refused: {b}: a MOVE target there would lie outside the limits", cmd.name()));
+            }
+            self.check_recent_target(&steps).map_err(|why| format!("{} refused: {why}", cmd.name()))?;
             self.start(&q, &steps);
         }
         let res = match at_s {
@@ -231,8 +255,34 @@ impl Streamer {
         self.reference.as_ref().map(|(r, n)| (r, *n))
     }
 
+    /// A MOVE target sent within [`RECENT_TARGET_S`] far from `measured` means the board's
+    /// answers do not follow its motion (stale status) or the arm was stopped by force: a first
+    /// target at the measured position would make the arm jump back at full speed.
+    fn check_recent_target(&self, measured: &[i32; JOINT_COUNT]) -> Result<(), String> {
+        let Some((last, tick)) = self.last_sent else { return Ok(()) };
+        let ago_s = self.tick.saturating_sub(tick) as f64 * self.period_s;
+        if ago_s > RECENT_TARGET_S {
+            return Ok(());
+        }
+        let far = (0..JOINT_COUNT)
+            .map(|i| (i, (i64::from(measured[i]) - i64::from(last[i])).abs()))
+            .find(|(_, d)| *d > i64::from(self.start_tolerance_steps));
+        match far {
+            Some((i, d)) => Err(format!(
+                "J{} measured {d} steps from the target sent {:.0} ms ago: the board's position does not follow \
+                 its motion (stale answers, or the arm was stopped); try again in {RECENT_TARGET_S:.0} s",
+                i + 1,
+                ago_s * 1e3
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Ends the tick: `sent_target` is the MOVE target actually written (after the guard).
     pub(super) fn end_tick(&mut self, sent_target: Option<[i32; JOINT_COUNT]>) {
+        if let Some(t) = sent_target {
+            self.last_sent = Some((t, self.tick));
+        }
         match (sent_target, self.reference.as_mut()) {
             (Some(t), _) => self.reference = Some((t, 1)),
             (None, Some((_, n))) => *n = n.saturating_add(1),
@@ -303,18 +353,22 @@ mod tests {
         assert_eq!(s.motion_state(), MotionState::Idle);
     }
 
+    /// Issue 29 item 11: streaming started from the measured position, so a board reporting
+    /// J1 = 100 000 got MOVE targets there. From beyond a limit no MOVE starts (only a confirmed
+    /// JOG back inside does, see `Session::jog_back_inside`).
     #[test]
-    fn motion_back_inside_from_beyond_a_limit_is_allowed() {
+    fn motion_never_starts_from_beyond_a_limit() {
         let mut s = streamer();
-        let mut steps = crate::units::STANDBY_STEPS;
-        steps[0] = 14_050; // pushed beyond J1's upper limit by hand
-        let q = crate::units::joints_steps_to_rad(&steps);
-        let out = s.apply(MotionCommand::JogJoint { joint: 0, fraction: 0.5 }, None, Some((q, steps)), None);
-        assert!(out.is_err(), "further out is refused");
-        s.apply(MotionCommand::JogJoint { joint: 0, fraction: -0.5 }, None, Some((q, steps)), None).unwrap();
-        s.sample_target().map(|t| t.map(|(p, _)| p)).unwrap();
-        s.end_tick(Some(steps));
-        let t = s.sample_target().map(|t| t.map(|(p, _)| p)).unwrap().unwrap();
-        assert!(t[0] < 14_050);
+        for (joint, at) in [(0, 14_050), (0, 100_000), (2, -200_000)] {
+            let mut steps = crate::units::STANDBY_STEPS;
+            steps[joint] = at;
+            let q = crate::units::joints_steps_to_rad(&steps);
+            for fraction in [0.5, -0.5] {
+                let out = s.apply(MotionCommand::JogJoint { joint, fraction }, None, Some((q, steps)), None);
+                assert!(out.unwrap_err().contains("beyond its"), "J{} at {at}", joint + 1);
+                assert!(!s.is_streaming());
+                assert_eq!(s.sample_target(), Ok(None));
+            }
+        }
     }
 }

@@ -5,8 +5,18 @@ use std::time::{Duration, Instant};
 
 use parol6_core::parol6::JOINT_COUNT;
 
+use super::guard::LimitBreach;
 use crate::HwError;
 use crate::frame::{CommandCode, StatusFrame};
+
+/// The message of impossible measured positions: the board answers, but no arm can be there.
+pub fn impossible_answers(b: &LimitBreach) -> String {
+    format!(
+        "the controller's answers are impossible: {b} (more than {:.0}° beyond is no arm's position): \
+         motion held (IDLE); check the board, its firmware and the cable",
+        super::guard::PLAUSIBLE_BEYOND_LIMIT_DEG
+    )
+}
 
 /// State of the serial link.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -82,6 +92,10 @@ pub struct Snapshot {
     pub joint_speed_rad_s: [f64; JOINT_COUNT],
     /// Homed flags.
     pub homed: [bool; JOINT_COUNT],
+    /// The measured joint furthest outside the step limits while all joints are homed (before
+    /// homing the counters mean nothing): a little beyond (an arm pushed there; only a confirmed
+    /// jog back inside may move it) or impossibly far (the board's answers are impossible).
+    pub limit_breach: Option<LimitBreach>,
     /// E-stop input pressed.
     pub estop_pressed: bool,
     /// INPUT1, INPUT2, OUTPUT1, OUTPUT2 levels as reported.
@@ -158,6 +172,7 @@ impl Snapshot {
             joint_speed_steps_s: [0; JOINT_COUNT],
             joint_speed_rad_s: [0.0; JOINT_COUNT],
             homed: [false; JOINT_COUNT],
+            limit_breach: None,
             estop_pressed: false,
             io: [false; 4],
             gripper_position: 0,
@@ -200,12 +215,17 @@ impl Snapshot {
     }
 
     /// Ok when motion commands would be accepted now (link up, no E-stop, enabled, homed, not
-    /// homing); else why not.
+    /// homing, every joint within its limits); else why not: [`HwError::Device`] for a link
+    /// that is down and for impossible positions, [`HwError::Refused`] otherwise.
     pub fn motion_allowed(&self) -> Result<(), HwError> {
         if self.link != LinkState::Connected {
-            return Err(HwError::Refused(match self.link {
+            let why = match self.link {
                 LinkState::NoAnswer => format!("no PAROL6 answers on {}", self.port),
                 other => format!("link is {other:?}"),
+            };
+            return Err(HwError::Device(match &self.fault {
+                Some(f) => format!("{why} ({f})"),
+                None => why,
             }));
         }
         if self.estop_pressed {
@@ -228,7 +248,16 @@ impl Snapshot {
                 unhomed.join(" ")
             )));
         }
-        Ok(())
+        match self.limit_breach {
+            Some(b) if b.impossible => Err(HwError::Device(impossible_answers(&b))),
+            Some(b) => Err(HwError::Refused(format!(
+                "{b}: a MOVE target there would lie outside the limits; move it back inside with a \
+                 confirmed jog (parol6 hw jog --joint {} --speed {} --beyond-limit)",
+                b.joint,
+                if b.above() { "-0.2" } else { "0.2" }
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// The snapshot as JSON (what `parol6 hw status` prints).

@@ -40,6 +40,7 @@ const CLOSING_FRAMES: u32 = 3;
 #[derive(Debug, Clone)]
 pub(super) enum Request {
     Motion { cmd: MotionCommand, at_s: Option<f64> },
+    JogBackInside { joint: usize, fraction: f64 },
     OneShot(CommandCode),
     Home,
     Gripper { position: i16, speed: i16, current_ma: i16 },
@@ -55,7 +56,10 @@ pub(super) struct Shared {
 }
 
 mod publish;
+mod recovery;
 mod status;
+
+pub use recovery::RECOVERY_SPEED_SHARE;
 
 pub(super) struct Worker {
     port_name: String,
@@ -92,6 +96,8 @@ pub(super) struct Worker {
     /// A motion command that arrived while the arm was still settling after IDLE: applied as
     /// soon as the status is steady, refused after [`SETTLE_WAIT`].
     deferred: Option<(MotionCommand, Option<f64>, Instant)>,
+    /// A confirmed jog back inside of a joint beyond its limit (JOG frames).
+    recovery: Option<recovery::Recovery>,
 }
 
 impl Worker {
@@ -136,6 +142,7 @@ impl Worker {
             write_log: None,
             tap: None,
             deferred: None,
+            recovery: None,
         }
     }
 
@@ -161,6 +168,7 @@ impl Worker {
     /// Stops streaming and homing: IDLE from the next frame, the planner reset.
     fn stop_all(&mut self, homing_reason: &str) {
         self.streamer.stop_streaming();
+        self.recovery = None;
         self.disagreement.reset();
         self.fail_homing(homing_reason);
     }
@@ -337,7 +345,14 @@ impl Worker {
                         Homing::Sending { left: self.cfg.home_frames, started: now, seen_unhomed: false };
                     self.snap.homing = HomingState::Sending;
                 }
+                Request::JogBackInside { joint, fraction } => {
+                    if let Err(msg) = self.start_recovery(joint, fraction, now) {
+                        self.recovery = None;
+                        self.streamer.refuse(msg);
+                    }
+                }
                 Request::Motion { cmd, at_s } => {
+                    self.recovery = None;
                     if matches!(cmd, MotionCommand::Stop) && !matches!(self.streamer.homing, Homing::None) {
                         self.one_shots.push(CommandCode::ClearError);
                         self.fail_homing("homing stopped");
@@ -454,6 +469,9 @@ impl Worker {
             return self.frame(code);
         }
         if let Some(f) = self.homing_frame(now) {
+            return f;
+        }
+        if let Some(f) = self.recovery_frame(now) {
             return f;
         }
         match target {

@@ -8,9 +8,10 @@ use parol6_core::na::Vector3;
 use super::{CpuMesh, rgba_to_linear};
 
 /// Loads a mesh file (STL, OBJ or DAE; chosen by content and extension) scaled per axis by
-/// `scale`, coloured `rgba` (linear) where the file has no colours.
+/// `scale`, coloured `rgba` (linear) where the file has no colours. Files are read through
+/// [`parol6_core::model::read_mesh_file`]: regular files of at most 64 MiB only.
 pub fn load_mesh_file(path: &Path, scale: [f64; 3], rgba: [f32; 4]) -> Result<CpuMesh, String> {
-    let loader = mesh_loader::Loader::default().merge_meshes(true);
+    let loader = mesh_loader::Loader::default().custom_reader(parol6_core::model::mesh_reader).merge_meshes(true);
     let scene = loader.load(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut out = CpuMesh::default();
     let flip = scale[0] * scale[1] * scale[2] < 0.0;

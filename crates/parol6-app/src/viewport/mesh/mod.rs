@@ -97,8 +97,12 @@ pub fn geometry_mesh(g: &Geometry, default_rgba: [f32; 4]) -> Result<CpuMesh, St
             if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
                 return Err(format!("mesh {uri}: invalid scale {scale:?}"));
             }
-            if !path.is_file() {
+            if !path.exists() {
                 return Err(format!("mesh {uri} not found (looked at {})", path.display()));
+            }
+            // A FIFO or a device is refused by its type, before any read.
+            if let Err(e) = parol6_core::fsio::check_regular(path) {
+                return Err(format!("mesh {uri} not read: {e}"));
             }
             load_mesh_file(path, *scale, rgba)
         }

@@ -11,7 +11,7 @@ use crate::telemetry::event::{EventKind, TelemetryEvent};
 use crate::telemetry::sample::{DriveKind, JointTelemetry, TelemetrySample};
 use crate::telemetry::writer::{McapSink, RecordingInfo};
 
-fn sample(seq: u64, dt_s: f64) -> TelemetrySample {
+pub(crate) fn sample(seq: u64, dt_s: f64) -> TelemetrySample {
     let joints = (0..6)
         .map(|i| JointTelemetry {
             cmd_q_rad: 0.1 * i as f64,
@@ -36,8 +36,13 @@ fn sample(seq: u64, dt_s: f64) -> TelemetrySample {
     }
 }
 
-/// A recording of `n` samples at 1 kHz (flushed every simulated second) in memory.
+/// A recording of `n` samples at 1 kHz in memory.
 pub(crate) fn recording_bytes(n: u64) -> Vec<u8> {
+    recording_bytes_at(n, 1e-3)
+}
+
+/// A recording of `n` samples `dt_s` apart in memory.
+pub(crate) fn recording_bytes_at(n: u64, dt_s: f64) -> Vec<u8> {
     let model = RobotModel::parol6();
     let info = RecordingInfo {
         app_version: "test".into(),
@@ -47,7 +52,7 @@ pub(crate) fn recording_bytes(n: u64) -> Vec<u8> {
     };
     let mut sink = McapSink::new(Cursor::new(Vec::new()), &model, &info).expect("sink");
     for k in 1..=n {
-        sink.write_sample(&sample(k, 1e-3)).expect("sample");
+        sink.write_sample(&sample(k, dt_s)).expect("sample");
     }
     sink.write_event(&TelemetryEvent { time_s: 0.5, kind: EventKind::Note, message: "hello".into() }).expect("event");
     let (summary, cursor) = sink.finish_into_inner().expect("finish");
@@ -82,14 +87,13 @@ fn a_truncated_recording_gives_its_complete_chunks_and_a_warning() {
     assert!(rec.warnings.iter().any(|w| w.contains("cut short")), "{:?}", rec.warnings);
     let n = rec.measured.len();
     assert!(n > 0 && n < 2500, "{n} samples");
-    assert_eq!(n % 1000, 0, "whole chunks only (a chunk per simulated second): {n}");
     assert!(rec.measured.iter().zip(1..).all(|(m, k)| m.seq == k));
-    // cut anywhere: never a panic, and never a partial chunk
+    // cut anywhere: never a panic, and never fewer samples for a longer file
+    let mut last = 0;
     for len in (0..bytes.len()).step_by(997) {
-        if let Ok(r) = read_recording(&bytes[..len]) {
-            // chunks end after samples 1000, 2000 and 2500 (the last one closed by `finish`)
-            assert!([0, 1000, 2000, 2500].contains(&r.measured.len()), "cut at {len}: {}", r.measured.len());
-        }
+        let n = read_recording(&bytes[..len]).map_or(0, |r| r.measured.len());
+        assert!(n >= last, "cut at {len}: {n} samples, {last} before");
+        last = n;
     }
 }
 
@@ -128,9 +132,10 @@ fn another_robot_is_refused_by_name() {
 }
 
 /// Found by the fuzzer: an uncompressed chunk whose inner record overruns the chunk made the
-/// mcap crate's reader subtract with overflow. Such chunks are refused by name now.
+/// mcap crate's reader subtract with overflow. Such chunks are refused by name now, and since
+/// issue 29 skipped: the other chunks are read.
 #[test]
-fn a_chunk_we_never_write_stops_reading_with_a_warning() {
+fn a_chunk_we_never_write_is_skipped_with_a_warning() {
     let mut bytes = recording_bytes(1500);
     // rename the first chunk's compression "zstd" to "none" (same length: sizes still add up)
     let at = bytes.windows(4).position(|w| w == b"zstd").expect("a zstd chunk");
@@ -138,7 +143,8 @@ fn a_chunk_we_never_write_stops_reading_with_a_warning() {
     match read_recording(&bytes) {
         Ok(rec) => {
             assert!(rec.warnings.iter().any(|w| w.contains("compressed with \"none\"")), "{:?}", rec.warnings);
-            assert!(rec.measured.is_empty());
+            // the first chunk holds the schemas and channels only; the summary repeats them
+            assert_eq!(rec.measured.len(), 1500);
         }
         Err(e) => assert!(matches!(e, RecordingError::NotOurs(_) | RecordingError::Damaged { .. }), "{e}"),
     }

@@ -177,7 +177,10 @@ fn decoding_threads() -> usize {
 /// linear reader.
 pub fn read_replay_file(path: &Path, model: &RobotModel) -> Result<ReplayData, ReplayError> {
     let io = |e: std::io::Error| ReplayError::Io { path: path.display().to_string(), reason: e.to_string() };
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = crate::fsio::open_regular(path).map_err(|e| ReplayError::Io {
+        path: path.display().to_string(),
+        reason: e.io_error().map_or_else(|| e.to_string(), ToString::to_string),
+    })?;
     let len = file.metadata().map_err(io)?.len();
     let data = match load_whole_replay(std::io::BufReader::with_capacity(1 << 16, file), len, model) {
         Some(data) => data,

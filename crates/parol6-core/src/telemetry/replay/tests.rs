@@ -83,8 +83,9 @@ fn a_damaged_chunk_is_left_to_the_linear_reader_which_names_it() {
     );
     let data = load_replay(&bytes, &model).expect("what can be read");
     assert_eq!(data.read_path, ReadPath::Linear);
-    assert!(data.truncated && data.warnings.iter().any(|w| w.contains("damaged")), "{:?}", data.warnings);
-    assert!(!data.store.is_empty() && data.store.len() < 620, "{}", data.store.len());
+    // the damaged chunk is skipped, the others are read (issue 29 item 6)
+    assert!(!data.truncated && data.warnings.iter().any(|w| w.contains("damaged")), "{:?}", data.warnings);
+    assert!(data.store.len() >= 550 && data.store.len() < 625, "{}", data.store.len());
 }
 
 #[test]

@@ -21,40 +21,69 @@ fn guard_refuses_out_of_limit_placeholders_and_speeds() {
 fn guard_clamps_the_step_to_the_speed_limit_from_the_previous_target() {
     let mut f = CommandFrame::new(CommandCode::Move);
     f.fields.positions_steps = STANDBY_STEPS;
-    f.fields.positions_steps[0] += 5000;
+    f.fields.positions_steps[0] -= 5000;
     f.fields.positions_steps[3] -= 5000;
     assert_eq!(guard_frame(&mut f, Some((&STANDBY_STEPS, 1)), PERIOD_S), Ok(2));
     // J1 15 000 steps/s × 10 ms + 1 = 151 steps; J4 10 000 → 101.
-    assert_eq!(f.fields.positions_steps[0], STANDBY_STEPS[0] + 151);
+    assert_eq!(f.fields.positions_steps[0], STANDBY_STEPS[0] - 151);
     assert_eq!(f.fields.positions_steps[3], STANDBY_STEPS[3] - 101);
     // Two periods since the last MOVE target: twice the reach.
     let mut f = CommandFrame::new(CommandCode::Move);
     f.fields.positions_steps = STANDBY_STEPS;
-    f.fields.positions_steps[0] += 5000;
+    f.fields.positions_steps[0] -= 5000;
     guard_frame(&mut f, Some((&STANDBY_STEPS, 2)), PERIOD_S).unwrap();
-    assert_eq!(f.fields.positions_steps[0], STANDBY_STEPS[0] + 301);
+    assert_eq!(f.fields.positions_steps[0], STANDBY_STEPS[0] - 301);
     let mut f = CommandFrame::new(CommandCode::Move);
     assert_eq!(guard_frame(&mut f, None, PERIOD_S), Err(GuardViolation::NoReference));
 }
 
+/// Issue 29 item 11: a board reporting positions outside the step limits got MOVE targets
+/// outside them ("hold where you are", J1 = 100 000). The guard, the last line, refuses every
+/// target outside the limits, whatever the previous target was; one beyond a limit cannot be
+/// followed by a MOVE at all.
 #[test]
-fn guard_keeps_targets_in_the_step_limits_but_lets_an_arm_beyond_come_back() {
+fn guard_refuses_every_target_outside_the_step_limits() {
     let mut f = CommandFrame::new(CommandCode::Move);
     let mut prev = STANDBY_STEPS;
     prev[0] = 13_990;
     f.fields.positions_steps = prev;
+    f.fields.positions_steps[0] = 14_000;
+    assert_eq!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Ok(0));
     f.fields.positions_steps[0] = 14_100;
-    assert_eq!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Ok(1));
-    assert_eq!(f.fields.positions_steps[0], 14_000);
-    // Beyond the limit (moved there by hand): holding or moving back is allowed, further is not.
+    assert!(matches!(
+        guard_frame(&mut f, Some((&prev, 1)), PERIOD_S),
+        Err(GuardViolation::Target { joint: 1, steps: 14_100, .. })
+    ));
+    // Holding where a lying board says the arm is: refused.
+    prev[0] = 100_000;
+    prev[2] = -200_000;
+    f.fields.positions_steps = prev;
+    assert!(matches!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Err(GuardViolation::Target { joint: 1, .. })));
+    // A little beyond (moved there by hand): holding there is refused too, and so is a jump
+    // back inside faster than the speed limit.
+    let mut prev = STANDBY_STEPS;
     prev[0] = 14_050;
     f.fields.positions_steps = prev;
-    assert_eq!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Ok(0));
-    f.fields.positions_steps[0] = 14_020;
-    assert_eq!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Ok(0));
-    f.fields.positions_steps[0] = 14_060;
-    assert_eq!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S), Ok(1));
-    assert_eq!(f.fields.positions_steps[0], 14_050);
+    assert!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S).is_err());
+    prev[0] = 14_500;
+    f.fields.positions_steps = STANDBY_STEPS;
+    f.fields.positions_steps[0] = 13_999;
+    assert!(guard_frame(&mut f, Some((&prev, 1)), PERIOD_S).is_err(), "no target within reach");
+    assert_eq!(allowed_target_range(0, 14_500, PERIOD_S, 1), (14_349, 14_000));
+}
+
+#[test]
+fn limit_breaches_tell_a_pushed_arm_from_an_impossible_answer() {
+    assert_eq!(limit_breach(&STANDBY_STEPS), None);
+    let mut m = STANDBY_STEPS;
+    m[0] = 14_050;
+    let b = limit_breach(&m).unwrap();
+    assert_eq!((b.joint, b.beyond_steps(), b.impossible, b.above()), (1, 50, false, true));
+    assert!(b.to_string().contains("50 steps (0.4°) beyond its upper limit 14000"), "{b}");
+    m[2] = -200_000;
+    let b = limit_breach(&m).unwrap();
+    assert_eq!((b.joint, b.impossible), (3, true), "the impossible one first");
+    assert!(b.to_string().contains("J3 reads -200000 steps"), "{b}");
 }
 
 #[test]
@@ -134,9 +163,9 @@ fn disagreement_needs_both_size_and_time() {
 }
 
 proptest! {
-    /// Whatever targets the planner (or a bug) produces: every MOVE target after the guard lies
-    /// within the step limits (or no further out than the previous target) and within the
-    /// speed limit × elapsed periods (+1) of the previous target.
+    /// Whatever targets the planner (or a bug) produces: a frame with a target outside the step
+    /// limits is refused; every MOVE target the guard passes lies within the step limits and
+    /// within the speed limit × elapsed periods (+1) of the previous target.
     #[test]
     fn guarded_targets_never_exceed_limits_or_speed(
         start in proptest::array::uniform6(-100_000i32..100_000),
@@ -149,7 +178,12 @@ proptest! {
             let periods = gaps[k];
             let mut f = CommandFrame::new(CommandCode::Move);
             f.fields.positions_steps = *t;
-            guard_frame(&mut f, Some((&prev, periods)), PERIOD_S).unwrap();
+            let outside = (0..JOINT_COUNT).any(|i| !(lim[i].0..=lim[i].1).contains(&t[i]));
+            let guarded = guard_frame(&mut f, Some((&prev, periods)), PERIOD_S);
+            prop_assert_eq!(guarded.is_err(), outside);
+            if outside {
+                continue;
+            }
             for i in 0..JOINT_COUNT {
                 let p = f.fields.positions_steps[i];
                 prop_assert!((lim[i].0..=lim[i].1).contains(&p), "J{} {p}", i + 1);

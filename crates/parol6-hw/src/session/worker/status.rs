@@ -3,9 +3,9 @@
 
 use std::time::Instant;
 
-use super::super::guard::Plausibility;
+use super::super::guard::{Plausibility, limit_breach};
 use super::super::motion::Homing;
-use super::super::snapshot::{HomingState, LinkState};
+use super::super::snapshot::{HomingState, LinkState, impossible_answers};
 use super::Worker;
 use crate::frame::{CommandCode, StatusFrame};
 use crate::units::{joints_steps_to_rad, steps_to_rad};
@@ -74,6 +74,14 @@ impl Worker {
         self.snap.joint_speed_steps_s = s.speeds_steps_s;
         self.snap.joint_speed_rad_s = std::array::from_fn(|i| steps_to_rad(i, s.speeds_steps_s[i]));
         self.snap.homed = s.homed_joints();
+        // Before homing the counters mean nothing (the board boots at 0 steps).
+        self.snap.limit_breach = if s.all_homed() { limit_breach(&s.positions_steps) } else { None };
+        if let Some(b) = self.snap.limit_breach.filter(|b| b.impossible) {
+            // No arm can be there: hold with IDLE, start nothing, say so.
+            self.stop_all("impossible positions during homing");
+            self.deferred = None;
+            self.set_fault(impossible_answers(&b));
+        }
         self.snap.estop_pressed = s.estop_pressed();
         self.snap.io = [s.in1(), s.in2(), s.out1(), s.out2()];
         self.snap.gripper_position = s.gripper_position;

@@ -34,6 +34,7 @@ fn info() -> RecordingInfo {
         tool: "none".into(),
         program: "integration".into(),
         urdf_text: PAROL6_URDF.into(),
+        tracking: String::new(),
     }
 }
 

@@ -136,3 +136,34 @@ fn the_report_is_self_contained_and_renders_in_headless_chromium() {
     assert!(std::fs::metadata(&png).map(|m| m.len() > 10_000).unwrap_or(false), "a rendered page");
     let _ = (std::fs::remove_file(report), std::fs::remove_file(png));
 }
+
+/// Issue 31 item 3: the path test compares the tracking modes, robot beside simulation, as the
+/// LabVIEW GUI compared its control methods (JSON per mode, the report's side-by-side table).
+#[test]
+fn path_test_compares_the_tracking_modes_on_the_robot_and_in_the_simulation() {
+    let report = temp("modes.html");
+    let raw = temp("modes.csv");
+    let tail = ["--path", "line", "--cycles", "2", "--points", "20", "--compare-tracking", "--json"];
+    let mut all = vec!["--fake-robot"];
+    all.extend(args(&["path-test"], &tail));
+    all.extend(["--report", report.to_str().unwrap(), "--raw", raw.to_str().unwrap()]);
+    let out = run(&all).json("path-test --compare-tracking");
+    let paths = out["paths"].as_array().unwrap();
+    let modes: Vec<&str> = paths.iter().map(|p| p["tracking"].as_str().unwrap()).collect();
+    assert_eq!(modes, ["official", "lead", "feedforward"]);
+    for p in paths {
+        let robot = p["max_deviation_mm"].as_f64().unwrap();
+        let sim = p["simulation"]["max_deviation_mm"].as_f64().unwrap();
+        println!("{}: max deviation robot {robot:.4} mm, simulation {sim:.4} mm", p["tracking"]);
+        // the simulation runs the firmware's servo law: it predicts the robot's path
+        assert!((robot - sim).abs() < 0.5 + 0.25 * robot, "{p}");
+        assert!(p["robot_minus_simulation"].is_object(), "{p}");
+    }
+    let html = std::fs::read_to_string(&report).unwrap();
+    assert!(html.contains("id=\"tracking-modes\"") && html.contains("Path: line, tracking lead"), "report");
+    let csv = std::fs::read_to_string(&raw).unwrap();
+    assert!(csv.starts_with("path,tracking,cycle,") && csv.contains("line,feedforward,2,"), "raw CSV");
+    run(&["path-test", "--compare-tracking", "--tracking", "lead"]).assert_refused("both", "--tracking");
+    let _ = std::fs::remove_file(report);
+    let _ = std::fs::remove_file(raw);
+}

@@ -32,7 +32,13 @@ fn program_run_takes_the_program_files_tracking_mode_unless_told() {
     std::fs::write(&path, with).expect("write");
     let p = path.display().to_string();
     assert_eq!(run(&["program", "run", &p]).json("file's mode")["tracking"], "official");
-    assert_eq!(run(&["program", "run", &p, "--tracking", "feedforward"]).json("told")["tracking"], "feedforward");
+    // the recording carries the mode (issue 31 item 4)
+    let rec = std::env::temp_dir().join(format!("parol6-cli-tracking-{}.mcap", std::process::id()));
+    let r = rec.display().to_string();
+    let out = run(&["program", "run", &p, "--tracking", "feedforward", "--record", &r]).json("told");
+    assert_eq!(out["tracking"], "feedforward");
+    assert_eq!(run(&["mcap", "info", &r]).json("mcap info")["tracking"], "feedforward");
+    let _ = std::fs::remove_file(&rec);
     std::fs::remove_file(&path).expect("remove");
 }
 

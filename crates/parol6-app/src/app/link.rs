@@ -26,6 +26,8 @@ pub(super) struct HwLink {
     pub(super) told: Option<parol6_hw::LinkState>,
     /// Telemetry of the link (fed by the session's sample tap).
     pub(super) recorder: Option<parol6_core::telemetry::Recorder>,
+    /// The tracking mode the session streams in (chosen at connection).
+    pub(super) tracking: parol6_core::motion::tracking::TrackingMode,
 }
 
 impl HwLink {
@@ -48,12 +50,14 @@ impl HwLink {
             ConnectTarget::Emulator => Self::connect_emulator(config, tap)?,
         };
         link.recorder = recorder;
+        link.tracking = tracking;
         Ok(link)
     }
 
     fn new(session: parol6_hw::Session, emulator: Option<parol6_hw::EmulatorHandle>) -> Self {
         Self {
             recorder: None,
+            tracking: parol6_core::motion::tracking::TrackingMode::default(),
             session: Arc::new(session),
             emulated: emulator.is_some(),
             _emulator: emulator,

@@ -99,6 +99,7 @@ impl Parol6App {
         let info = RecordingInfo {
             app_version: env!("CARGO_PKG_VERSION").to_string(),
             program: self.program_progress.as_ref().map(|p| p.name.clone()).unwrap_or_default(),
+            tracking: self.hw.as_ref().map_or(self.sim_tracking, |h| h.tracking).name().to_string(),
             ..self.recording_info.clone()
         };
         match rec.start_recording(path, &info) {

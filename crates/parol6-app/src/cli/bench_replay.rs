@@ -78,6 +78,7 @@ fn write_synthetic_recording<W: std::io::Write + std::io::Seek>(
         tool: "none".into(),
         program: "synthetic".into(),
         urdf_text: PAROL6_URDF.into(),
+        tracking: String::new(),
     };
     let mut sink = McapSink::new(writer, model, &info).map_err(CliError::runtime)?;
     let mut builder = SampleBuilder::new(model.clone(), ZoneThresholds::default());

@@ -56,6 +56,7 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         tool: super::record::tool_of(robot).name().to_string(),
         program: String::new(),
         urdf_text: super::record::urdf_text(robot)?,
+        tracking: String::new(),
     };
     let test_script = TestScript::from_env().map_err(|e| CliError::usage(format!("{e:#}")))?;
     let connect = match (&connection.port, connection.fake_robot) {

@@ -284,11 +284,15 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
         }
         HwCommand::Jog { rate, joint, speed, seconds, record, beyond_limit } => {
             let request = JogRequest { joint: *joint, speed: *speed, seconds: *seconds, beyond_limit: *beyond_limit };
-            recorded(record.as_deref(), |tap, t| jog(connect, rate, &request, tap, t))
+            recorded(record.as_deref(), rate.tracking.unwrap_or_default(), |tap, t| {
+                jog(connect, rate, &request, tap, t)
+            })
         }
         HwCommand::Move { rate, joints, deg, speed, smooth, record } => {
             let target = MoveTarget { joints, deg: *deg, speed: *speed, smooth: *smooth };
-            recorded(record.as_deref(), |tap, t| move_to(connect, rate, &target, tap, t))
+            recorded(record.as_deref(), rate.tracking.unwrap_or_default(), |tap, t| {
+                move_to(connect, rate, &target, tap, t)
+            })
         }
         HwCommand::Emulate { homed, home_seconds } => super::hw_stop::emulate_until_signal(*homed, *home_seconds),
     }
@@ -301,10 +305,13 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
 /// with `"interrupted"` set; the command then exits 130.
 fn recorded(
     record: Option<&Path>,
+    tracking: TrackingMode,
     body: impl FnOnce(Option<Sender<MotionSample>>, Option<&Telemetry>) -> Result<serde_json::Value, CliError>,
 ) -> CliResult {
     let telemetry = match record {
-        Some(p) => Some(Telemetry::prepare(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p, "")?),
+        Some(p) => {
+            Some(Telemetry::prepare(&RobotModel::parol6(), Tool::None, PAROL6_URDF, p, "")?.with_tracking(tracking))
+        }
         None => None,
     };
     let mut out = body(telemetry.as_ref().map(Telemetry::tap), telemetry.as_ref())?;

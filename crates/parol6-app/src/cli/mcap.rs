@@ -92,6 +92,7 @@ fn info(file: &Path) -> CliResult {
         "app_version": rec.metadata.get("app_version"),
         "tool": rec.metadata.get("tool"),
         "program": rec.metadata.get("program"),
+        "tracking": rec.metadata.get("tracking"),
         "topics": topics,
         "samples": rec.topics.get("/joint_states").map_or(0, |t| t.messages),
         "duration_s": rec.duration_s(),

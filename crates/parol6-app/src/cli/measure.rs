@@ -11,6 +11,7 @@ use parol6_core::measure::driver::{PathRecording, start_path_test, start_pose_te
 use parol6_core::measure::plan::{DEFAULT_CYCLES, DEFAULT_PATH_CYCLES, MAX_CYCLES};
 use parol6_core::measure::pose_figures::{self, PoseSample, PoseTestFigures};
 use parol6_core::measure::{PathKind, PathTestPlan, PoseTestPlan, TestCube, compare, measurements};
+use parol6_core::motion::tracking::TrackingMode;
 use serde_json::json;
 
 use super::hw::RateArgs;
@@ -133,7 +134,7 @@ pub struct PathTestArgs {
     /// Points along the path for AT_p / RT_p, 2–1000.
     #[arg(long, default_value_t = 50, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=1000))]
     pub points: usize,
-    /// Write the recorded paths to this CSV (path,cycle,t_s,cmd_x_mm,…,x_mm,…).
+    /// Write the recorded paths to this CSV (path,tracking,cycle,t_s,cmd_x_mm,…,x_mm,…).
     #[arg(long, value_name = "OUT.csv", value_parser = super::options::output_file)]
     pub raw: Option<PathBuf>,
     /// Write the HTML report here.
@@ -145,6 +146,11 @@ pub struct PathTestArgs {
     /// Session settings (robot only).
     #[command(flatten)]
     pub rate: RateArgs,
+    /// Run the test once in each tracking mode (official, lead, feedforward) and compare them side
+    /// by side: the JSON, the printed lines and the report's table (on a controller, each mode
+    /// beside the simulation in the same mode).
+    #[arg(long, conflicts_with = "tracking")]
+    pub compare_tracking: bool,
 }
 
 fn uses_robot(connect: &ConnectArgs) -> bool {
@@ -295,7 +301,6 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
         .iter()
         .map(|&kind| PathTestPlan { cube, kind, cycles: args.cycles, speed_fraction: args.speed, points: args.points })
         .collect();
-    let opened = Opened::from_args(&model, connect, &args.rate, true)?;
     let run_all = |o: &Opened| -> Result<Vec<PathRecording>, CliError> {
         plans
             .iter()
@@ -306,31 +311,42 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
             })
             .collect()
     };
-    let recordings = run_all(&opened)?;
-    let simulation = if uses_robot(connect) {
-        Some(run_all(&Opened::simulation(&model, true, args.rate.tracking.unwrap_or_default())?)?)
-    } else {
-        None
-    };
+    let modes =
+        if args.compare_tracking { TrackingMode::ALL.to_vec() } else { vec![args.rate.tracking.unwrap_or_default()] };
     let mut paths_json = Vec::new();
     let mut reports = Vec::new();
-    for (i, rec) in recordings.iter().enumerate() {
-        let sim = simulation.as_ref().and_then(|s| s.get(i));
-        let r = PathReport::new(&model, rec, sim)
-            .map_err(|e| CliError::runtime(format!("{}: {e}", rec.plan.kind.name())))?;
-        let mut v = serde_json::to_value(&r.figures).map_err(|e| CliError::runtime(e.to_string()))?;
-        v["path"] = json!(rec.plan.kind.name());
-        if let Some((_, _, diff)) = &r.simulation {
-            v["robot_minus_simulation"] = serde_json::to_value(compare::summarize(diff)).unwrap_or_default();
+    let mut recordings = Vec::new();
+    let mut source = String::new();
+    for mode in modes {
+        let rate = RateArgs { tracking: Some(mode), ..args.rate.clone() };
+        let opened = Opened::from_args(&model, connect, &rate, true)?;
+        source.clone_from(&opened.name);
+        let runs = run_all(&opened)?;
+        drop(opened);
+        let simulation =
+            if uses_robot(connect) { Some(run_all(&Opened::simulation(&model, true, mode)?)?) } else { None };
+        for (i, rec) in runs.iter().enumerate() {
+            let sim = simulation.as_ref().and_then(|s| s.get(i));
+            let r = PathReport::new(&model, rec, sim)
+                .map_err(|e| CliError::runtime(format!("{}: {e}", rec.plan.kind.name())))?
+                .with_tracking(mode);
+            let mut v = serde_json::to_value(&r.figures).map_err(|e| CliError::runtime(e.to_string()))?;
+            v["path"] = json!(rec.plan.kind.name());
+            v["tracking"] = json!(mode.name());
+            if let Some((sim_figures, _, diff)) = &r.simulation {
+                v["simulation"] = serde_json::to_value(sim_figures).unwrap_or_default();
+                v["robot_minus_simulation"] = serde_json::to_value(compare::summarize(diff)).unwrap_or_default();
+            }
+            paths_json.push(v);
+            reports.push(r);
         }
-        paths_json.push(v);
-        reports.push(r);
+        recordings.extend(runs.into_iter().map(|r| (mode, r)));
     }
     if let Some(path) = &args.raw {
         write_file(path, &path_csv(&model, &recordings))?;
     }
     if let Some(path) = &args.report {
-        let setup = setup(&model, robot, &opened.name, args.speed, args.cycles, cube);
+        let setup = setup(&model, robot, &source, args.speed, args.cycles, cube);
         write_file(path, &report::html(&Report { setup, pose: None, paths: reports }))?;
     }
     let out = json!({ "paths": paths_json });
@@ -341,8 +357,9 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
             .iter()
             .map(|p| {
                 format!(
-                    "{:<8} AT_p {:.4} mm  RT_p {:.4} mm  max deviation {:.4} mm  RMS {:.4} mm",
+                    "{:<8} {:<11} AT_p {:.4} mm  RT_p {:.4} mm  max deviation {:.4} mm  RMS {:.4} mm",
                     p["path"].as_str().unwrap_or(""),
+                    p["tracking"].as_str().unwrap_or(""),
                     p["AT_p_mm"].as_f64().unwrap_or(f64::NAN),
                     p["RT_p_mm"].as_f64().unwrap_or(f64::NAN),
                     p["max_deviation_mm"].as_f64().unwrap_or(f64::NAN),
@@ -355,18 +372,19 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
 }
 
 /// The recorded paths as CSV: one row per sample.
-fn path_csv(model: &RobotModel, recordings: &[PathRecording]) -> String {
+fn path_csv(model: &RobotModel, recordings: &[(TrackingMode, PathRecording)]) -> String {
     use std::fmt::Write as _;
-    let mut out = String::from("path,cycle,t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,x_mm,y_mm,z_mm\n");
-    for rec in recordings {
+    let mut out = String::from("path,tracking,cycle,t_s,cmd_x_mm,cmd_y_mm,cmd_z_mm,x_mm,y_mm,z_mm\n");
+    for (mode, rec) in recordings {
         for (k, cycle) in rec.cycles.iter().enumerate() {
             for s in cycle {
                 let c = model.tcp_isometry(&s.commanded_q).translation.vector * 1000.0;
                 let a = model.tcp_isometry(&s.measured_q).translation.vector * 1000.0;
                 let _ = writeln!(
                     out,
-                    "{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
+                    "{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
                     rec.plan.kind.name(),
+                    mode.name(),
                     k + 1,
                     s.t_s,
                     c.x,

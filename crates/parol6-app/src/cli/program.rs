@@ -191,9 +191,10 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             }
             // the file is created once the backend is open and at the start pose
             let telemetry = match record {
-                Some(path) => {
-                    Some(Telemetry::prepare(&model, tool_of(robot), &urdf_text(robot)?, path, &program.name)?)
-                }
+                Some(path) => Some(
+                    Telemetry::prepare(&model, tool_of(robot), &urdf_text(robot)?, path, &program.name)?
+                        .with_tracking(tracking),
+                ),
                 None => None,
             };
             let tap = telemetry.as_ref().map(Telemetry::tap);

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
+use parol6_core::motion::tracking::TrackingMode;
 use parol6_core::motion::{MotionCommand, RobotBackend, RobotState, home_position};
 use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{SimConfig, SimHandle};
@@ -85,8 +86,15 @@ impl Telemetry {
             tool: tool.name().to_string(),
             program: program.to_string(),
             urdf_text: urdf_text.to_string(),
+            tracking: String::new(),
         };
         Ok(Self { recorder, path: path.to_path_buf(), info, started: OnceLock::new() })
+    }
+
+    /// Names the tracking mode of the motion recorded (in the file's metadata).
+    pub fn with_tracking(mut self, mode: TrackingMode) -> Self {
+        self.info.tracking = mode.name().to_string();
+        self
     }
 
     /// Creates the file and starts recording into it (once; later calls do nothing).
@@ -191,7 +199,8 @@ pub fn run(args: &RecordArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRe
     let model = robot.load()?;
     let text = urdf_text(robot)?;
     // the file is created once the controller answers: a port that cannot be opened leaves it alone
-    let telemetry = Telemetry::prepare(&model, tool_of(robot), &text, &args.output, "")?;
+    let telemetry =
+        Telemetry::prepare(&model, tool_of(robot), &text, &args.output, "")?.with_tracking(TrackingMode::default());
     let source;
     if on_robot {
         let link = open(connect, &RateArgs::defaults(), Some(telemetry.tap()))?;

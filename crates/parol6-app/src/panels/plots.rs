@@ -248,7 +248,8 @@ impl Panel for PlotsPanel {
         let stats = if self.quantities[4] { self.tracking_stats(ctx.settings.unit) } else { Vec::new() };
         if !stats.is_empty() {
             ui.horizontal_wrapped(|ui| {
-                ui.label("cmd - meas over the visible window:");
+                // the mode the simulation streams in now (the robot's: chosen at connection)
+                ui.label(format!("cmd - meas over the visible window (tracking {}):", ctx.settings.tracking.name()));
                 for (name, rms, max, unit) in &stats {
                     ui.label(format!("{name} RMS {rms:.3} {unit}, max {max:.3} {unit}"));
                 }

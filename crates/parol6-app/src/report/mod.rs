@@ -5,6 +5,7 @@
 //! `parol6 iso9283|path-test --report` and the measurement panel.
 
 pub mod svg;
+mod tracking;
 
 use std::fmt::Write as _;
 
@@ -15,6 +16,7 @@ use parol6_core::measure::driver::PathRecording;
 use parol6_core::measure::path_figures::{PathFigureError, PathFigures, nearest_on};
 use parol6_core::measure::pose_figures::{PoseSample, PoseTestFigures};
 use parol6_core::measure::{PathKind, TestCube};
+use parol6_core::motion::tracking::TrackingMode;
 use parol6_core::na::Vector3;
 use parol6_core::{RobotModel, Tool};
 
@@ -72,9 +74,25 @@ pub struct PathReport {
     /// The simulation beside the robot: its figures, its first attained cycle, and the
     /// robot − simulation difference over time.
     pub simulation: Option<(PathFigures, Vec<[f64; 3]>, Vec<DiffSample>)>,
+    /// The tracking mode the path ran in (`path-test --compare-tracking` runs every one).
+    pub tracking: Option<TrackingMode>,
 }
 
 impl PathReport {
+    /// Names the tracking mode the path ran in.
+    pub fn with_tracking(mut self, mode: TrackingMode) -> Self {
+        self.tracking = Some(mode);
+        self
+    }
+
+    /// The path's name, with its tracking mode when it has one ("line, lead").
+    fn title(&self) -> String {
+        match self.tracking {
+            Some(m) => format!("{}, tracking {}", self.kind.name(), m.name()),
+            None => self.kind.name().to_string(),
+        }
+    }
+
     /// The report part of a recording (and of the simulation's recording of the same test).
     pub fn new(
         model: &RobotModel,
@@ -98,7 +116,16 @@ impl PathReport {
             }
             None => None,
         };
-        Ok(Self { kind: run.plan.kind, cube: run.plan.cube, figures, commanded, attained, deviation, simulation })
+        Ok(Self {
+            kind: run.plan.kind,
+            cube: run.plan.cube,
+            figures,
+            commanded,
+            attained,
+            deviation,
+            simulation,
+            tracking: None,
+        })
     }
 }
 
@@ -195,6 +222,7 @@ pub fn html(report: &Report) -> String {
     h.push_str("<h2>Cube and test poses</h2><div class=\"plots\">");
     h.push_str(&scene_3d("Cube, diagonal plane and test poses (mm)", &cube_items(c, &report.paths)));
     h.push_str("</div>");
+    tracking::comparison_table(&mut h, &report.paths);
     for path in &report.paths {
         path_section(&mut h, path);
     }
@@ -323,10 +351,14 @@ fn in_plane(c: &TestCube, p: &[f64; 3]) -> [f64; 2] {
 
 fn path_section(h: &mut String, p: &PathReport) {
     let f = &p.figures;
-    let name = p.kind.name();
+    let name = p.title();
+    let id = match p.tracking {
+        Some(m) => format!("{}-{}", p.kind.name(), m.name()),
+        None => p.kind.name().to_string(),
+    };
     let _ = write!(
         h,
-        "<h2>Path: {name}</h2><table class=\"path-figures\" id=\"path-{name}\"><tr><th>Run</th><th>AT<sub>p</sub> mm</th><th>RT<sub>p</sub> mm</th>\
+        "<h2>Path: {name}</h2><table class=\"path-figures\" id=\"path-{id}\"><tr><th>Run</th><th>AT<sub>p</sub> mm</th><th>RT<sub>p</sub> mm</th>\
          <th>max deviation mm</th><th>RMS deviation mm</th><th>points</th><th>cycles</th></tr>"
     );
     let row = |h: &mut String, label: &str, f: &PathFigures| {

@@ -4,7 +4,7 @@
 //! (every sample), `/tf` and `/tcp_pose` (at most [`McapSink::pose_rate_hz`], 100 Hz),
 //! `/events`, `/link` (when the link state, E-stop or loss count changes, else once a
 //! second), and a metadata record
-//! ([`super::schema::METADATA_NAME`]: app version, robot, tool, program, joints). Chunks are
+//! ([`super::schema::METADATA_NAME`]: app version, robot, tool, program, tracking mode, joints). Chunks are
 //! zstd-compressed and closed at least every [`FLUSH_INTERVAL_S`] of motion time or wall
 //! time, whichever comes first ([`McapSink::flush_if_due`]), so a crash loses at most that;
 //! [`McapSink::finish`] writes the summary and index.
@@ -55,6 +55,8 @@ pub struct RecordingInfo {
     pub program: String,
     /// The robot's URDF text, written to `/robot_description`.
     pub urdf_text: String,
+    /// Tracking mode of the motion recorded (`official`, `lead`, `feedforward`; empty: not known).
+    pub tracking: String,
 }
 
 /// What a finished recording holds.
@@ -299,6 +301,7 @@ impl<W: Write + Seek> McapSink<W> {
             ("robot".to_string(), model.name.clone()),
             ("tool".to_string(), info.tool.clone()),
             ("program".to_string(), info.program.clone()),
+            ("tracking".to_string(), info.tracking.clone()),
             ("joints".to_string(), joint_names.join(",")),
             ("root_link".to_string(), model.root_link.clone()),
             ("started_unix_ns".to_string(), start_unix_ns.to_string()),

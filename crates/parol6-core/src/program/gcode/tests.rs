@@ -401,8 +401,13 @@ fn a_recording_exports_its_tcp_path() {
     use crate::telemetry::sample::{DriveKind, JointTelemetry, TelemetrySample};
     use crate::telemetry::writer::{McapSink, RecordingInfo};
     let model = RobotModel::parol6();
-    let info =
-        RecordingInfo { app_version: "t".into(), tool: "none".into(), program: "p".into(), urdf_text: String::new() };
+    let info = RecordingInfo {
+        app_version: "t".into(),
+        tool: "none".into(),
+        program: "p".into(),
+        urdf_text: String::new(),
+        tracking: String::new(),
+    };
     let mut sink = McapSink::new(std::io::Cursor::new(Vec::new()), &model, &info).expect("sink");
     // a straight 40 mm line in 2 s at 1 kHz
     for k in 0..=2000u64 {

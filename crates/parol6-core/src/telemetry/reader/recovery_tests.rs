@@ -115,6 +115,7 @@ fn a_crash_loses_at_most_a_quarter_second() {
             tool: "none".into(),
             program: String::new(),
             urdf_text: PAROL6_URDF.into(),
+            tracking: String::new(),
         };
         let file = Shared::default();
         let mut sink = McapSink::new(file.clone(), &model, &info).expect("sink");

@@ -49,6 +49,7 @@ pub(crate) fn recording_bytes_at(n: u64, dt_s: f64) -> Vec<u8> {
         tool: "none".into(),
         program: "demo".into(),
         urdf_text: PAROL6_URDF.into(),
+        tracking: String::new(),
     };
     let mut sink = McapSink::new(Cursor::new(Vec::new()), &model, &info).expect("sink");
     for k in 1..=n {

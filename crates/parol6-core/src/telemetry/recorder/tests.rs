@@ -30,6 +30,7 @@ fn info() -> RecordingInfo {
         tool: "none".into(),
         program: String::new(),
         urdf_text: PAROL6_URDF.into(),
+        tracking: String::new(),
     }
 }
 

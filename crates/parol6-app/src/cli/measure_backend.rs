@@ -1,6 +1,6 @@
 //! The backends a measurement runs on, opened the way `parol6 program run` opens them: the
 //! headless simulation (dynamic, [`HEADLESS_TIME_SCALE`]) or the controller (`--port`, or the
-//! emulator with `--fake-robot`) through [`open`]; a progress bar on a terminal while a
+//! emulator with `--fake-robot`) through `open`; a progress bar on a terminal while a
 //! measurement runs (nothing when stderr is piped).
 
 use std::io::IsTerminal;

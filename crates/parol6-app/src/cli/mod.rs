@@ -4,7 +4,7 @@
 //! ([`interrupt`]: motion stopped, recording closed, the JSON printed with `"interrupted"`).
 //! A closed stdout (`parol6 … | head`) ends the command quietly with status 0.
 //!
-//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller;
+//! One file per area: [`kin`] (fk, ik), [`bench`](mod@bench) (benchmarks), [`hw`] (serial controller;
 //! [`hw_stop`]: how it ends on a signal),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options

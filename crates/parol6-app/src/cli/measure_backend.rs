@@ -104,6 +104,13 @@ pub fn wait<T: Send + 'static>(run: MeasureRun<T>, label: &str) -> Result<T, Cli
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    // after an abort the thread sends STOP and ends within a few milliseconds
+    while !run.is_finished() {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    if let Some(failure) = &run.progress().stop_failed {
+        super::warn(format!("{label}: {failure}"));
+    }
     run.join().map_err(|e| match e {
         _ if super::interrupt::requested() => super::interrupt::error(format!("{label}: the arm stopped")),
         MeasureError::Plan(p) => CliError::usage(format!("{label}: {p}")),

@@ -468,7 +468,11 @@ fn run_on(
         "wall_s": wall.elapsed().as_secs_f64(),
         "max_tracking_error_deg": p.max_tracking_error_rad.to_degrees(),
         "schedule_slip_s": p.schedule_slip_s,
+        "stop_failed": p.stop_failed,
     });
+    if let Some(failure) = &p.stop_failed {
+        super::warn(failure);
+    }
     let outcome = match failure {
         None => Ok(()),
         Some(why) => {

@@ -422,5 +422,4 @@ impl Ctx {
 }
 
 #[cfg(test)]
-#[path = "driver_tests.rs"]
 mod tests;

@@ -541,5 +541,4 @@ impl SeriesStore {
 }
 
 #[cfg(test)]
-#[path = "series_tests.rs"]
 mod tests;

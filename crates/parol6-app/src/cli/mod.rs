@@ -9,7 +9,8 @@
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
 //! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
-//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]).
+//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]), [`common`] (helpers
+//! several subcommands share).
 
 use std::process::ExitCode;
 
@@ -19,6 +20,7 @@ pub mod bench;
 pub mod bench_motion;
 pub mod bench_replay;
 pub mod bench_seed;
+pub mod common;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;

@@ -17,9 +17,10 @@ use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 
+use super::common::tool_of;
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
-use super::record::{Telemetry, link_health, tool_of, urdf_text};
+use super::record::{Telemetry, link_health, urdf_text};
 use super::{CliError, CliResult, interrupt, print_json};
 
 /// Simulated seconds per wall second of a headless run without `--realtime`; the simulation

@@ -172,7 +172,7 @@ pub fn commander(data: &[u8]) {
 }
 
 /// Commander programs, planned: a program of up to 3 steps that reads is compiled (split from
-/// [`commander`] for the same reason as [`csv_table_compile`]).
+/// [`commander`](fn@commander) for the same reason as [`csv_table_compile`]).
 pub fn commander_compile(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let Ok(program) = commander::parse_commander(&text) else { return };

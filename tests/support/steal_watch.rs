@@ -3,7 +3,7 @@
 //! On a virtual machine the host can take a vCPU away for tens of milliseconds (seen here:
 //! about 100 ms at a time, when both vCPUs are busy, like a host CPU quota). Every thread on
 //! that vCPU freezes, real-time ones included, so an emulated board running there stops
-//! answering. A timing test asks [`StealWatch::stolen_near`] whether such a freeze happened
+//! answering. A timing test asks [`StealLog::stolen_near`] whether such a freeze happened
 //! around an event before it counts the event against the code under test. On bare metal
 //! (no steal) or without `/proc/stat` it reports nothing stolen, so nothing is excused.
 

@@ -118,7 +118,7 @@ impl HeadlessApp {
     }
 
     /// Frames drawn in full and reused so far (none without frame reuse, see
-    /// [`crate::app::frame_reuse`]).
+    /// `app::frame_reuse`).
     pub fn reuse_stats(&self) -> Option<crate::app::frame_reuse::ReuseStats> {
         crate::app::frame_reuse::FrameReuse::find(&self.ctx).map(|r| r.stats())
     }

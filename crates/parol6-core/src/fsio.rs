@@ -351,5 +351,4 @@ where
 }
 
 #[cfg(test)]
-#[path = "fsio_tests.rs"]
 mod tests;

@@ -185,5 +185,4 @@ fn line_and_column(text: &str, offset: usize) -> (usize, usize) {
 }
 
 #[cfg(test)]
-#[path = "urdf_input_tests.rs"]
 mod tests;

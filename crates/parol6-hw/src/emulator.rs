@@ -568,5 +568,4 @@ fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Share
 }
 
 #[cfg(test)]
-#[path = "emulator_tests.rs"]
 mod tests;

@@ -387,5 +387,4 @@ fn splice(kept: &[ClippedShape], regions: &[Rect], fresh: Vec<ClippedShape>) -> 
 }
 
 #[cfg(test)]
-#[path = "frame_reuse_tests.rs"]
 mod tests;

@@ -405,6 +405,11 @@ impl Parol6App {
             {
                 self.notice(format!("{} stopped: {why}", p.name), true);
             }
+            if let Some(failure) = &p.stop_failed
+                && self.program_progress.as_ref().and_then(|q| q.stop_failed.as_ref()) != Some(failure)
+            {
+                self.notice(format!("{}: {failure}", p.name), true);
+            }
             self.program_progress = Some(p);
         }
         self.sweep_step(&ctx, t0, robot.moving);

@@ -132,35 +132,3 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         }
     }
 }
-
-/// Latency statistics over a set of samples, nanoseconds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NsStats {
-    /// Median.
-    pub median_ns: f64,
-    /// 99th percentile.
-    pub p99_ns: f64,
-    /// Mean.
-    pub mean_ns: f64,
-    /// Samples.
-    pub n: usize,
-}
-
-impl NsStats {
-    /// Statistics of `samples` (sorted in place). All zero when empty.
-    pub fn from_samples(samples: &mut [f64]) -> Self {
-        if samples.is_empty() {
-            return Self { median_ns: 0.0, p99_ns: 0.0, mean_ns: 0.0, n: 0 };
-        }
-        samples.sort_by(f64::total_cmp);
-        match parol6_core::stats::Summary::from_sorted(samples) {
-            Some(s) => Self { median_ns: s.p50, p99_ns: s.p99, mean_ns: s.mean, n: s.n },
-            None => Self { median_ns: 0.0, p99_ns: 0.0, mean_ns: 0.0, n: 0 },
-        }
-    }
-
-    /// As a JSON object with `median_ns`, `p99_ns`, `mean_ns`, `n`.
-    pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({"median_ns": self.median_ns, "p99_ns": self.p99_ns, "mean_ns": self.mean_ns, "n": self.n})
-    }
-}

@@ -53,7 +53,7 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
     };
     let recording_info = parol6_core::telemetry::RecordingInfo {
         app_version: env!("CARGO_PKG_VERSION").to_string(),
-        tool: super::record::tool_of(robot).name().to_string(),
+        tool: super::common::tool_of(robot).name().to_string(),
         program: String::new(),
         urdf_text: super::record::urdf_text(robot)?,
         tracking: String::new(),

@@ -27,10 +27,10 @@ use parol6_hw::frame::CommandCode;
 use parol6_hw::session::{HomingState, Session, SessionConfig, Snapshot};
 use serde_json::json;
 
+use super::common::parse_list;
 use super::hw_checks::{
     JogEnd, jog_back_inside, jog_outcome, new_fault, not_connected, read_command_line, ready_to_move,
 };
-use super::kin::parse_list;
 use super::options::{ConnectArgs, f64_above, f64_within};
 use super::output::print_line;
 use super::record::{Telemetry, link_health};

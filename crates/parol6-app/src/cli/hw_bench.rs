@@ -8,7 +8,7 @@ use parol6_hw::session::{Session, SessionConfig};
 use parol6_hw::units;
 use serde_json::json;
 
-use super::bench::NsStats;
+use super::common::NsStats;
 use super::hw::{CONNECT_TIMEOUT, hw_err};
 use super::{CliError, CliResult, print_json};
 

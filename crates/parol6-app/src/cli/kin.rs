@@ -8,7 +8,7 @@ use parol6_core::{RobotModel, TcpPose};
 use rand::{Rng, SeedableRng};
 use serde_json::json;
 
-use super::bench::NsStats;
+use super::common::{NsStats, parse_list};
 use super::options::RobotArgs;
 use super::{CliError, CliResult, print_json, warn};
 
@@ -43,27 +43,6 @@ pub struct IkArgs {
     /// Print every solution (every closed-form branch within the limits), best first.
     #[arg(long)]
     pub all: bool,
-}
-
-/// Parses a comma-separated list of numbers, naming the offending field on error.
-pub fn parse_list(what: &str, text: &str, expected: Option<usize>) -> Result<Vec<f64>, CliError> {
-    let values: Vec<f64> = text
-        .split(',')
-        .enumerate()
-        .map(|(i, s)| {
-            let s = s.trim();
-            match s.parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
-                _ => Err(CliError::usage(format!("{what}: value {} (\"{s}\") is not a finite number", i + 1))),
-            }
-        })
-        .collect::<Result<_, _>>()?;
-    if let Some(n) = expected
-        && values.len() != n
-    {
-        return Err(CliError::usage(format!("{what}: expected {n} comma-separated values, got {}", values.len())));
-    }
-    Ok(values)
 }
 
 /// Refuses a typed value beyond a plausibility bound of [`parol6_core::limits::plausible`]

@@ -14,11 +14,11 @@ use parol6_core::measure::{PathKind, PathTestPlan, PoseTestPlan, TestCube, compa
 use parol6_core::motion::tracking::TrackingMode;
 use serde_json::json;
 
+use super::common::tool_of;
 use super::hw::RateArgs;
 use super::measure_backend::{Opened, wait};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
 use super::output::print_line;
-use super::record::tool_of;
 use super::{CliError, CliResult, print_json};
 use crate::report::{self, PathReport, PoseReport, Report, Setup};
 

@@ -1,6 +1,6 @@
 //! The backends a measurement runs on, opened the way `parol6 program run` opens them: the
 //! headless simulation (dynamic, [`HEADLESS_TIME_SCALE`]) or the controller (`--port`, or the
-//! emulator with `--fake-robot`) through [`open`]; a progress bar on a terminal while a
+//! emulator with `--fake-robot`) through `open`; a progress bar on a terminal while a
 //! measurement runs (nothing when stderr is piped).
 
 use std::io::IsTerminal;
@@ -105,6 +105,13 @@ pub fn wait<T: Send + 'static>(run: MeasureRun<T>, label: &str) -> Result<T, Cli
     }
     if let Some(b) = bar {
         b.finish_and_clear();
+    }
+    // after an abort the thread sends STOP and ends within a few milliseconds
+    while !run.is_finished() {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    if let Some(failure) = &run.progress().stop_failed {
+        super::warn(format!("{label}: {failure}"));
     }
     run.join().map_err(|e| match e {
         _ if super::interrupt::requested() => super::interrupt::error(format!("{label}: the arm stopped")),

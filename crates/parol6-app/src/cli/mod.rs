@@ -4,12 +4,13 @@
 //! ([`interrupt`]: motion stopped, recording closed, the JSON printed with `"interrupted"`).
 //! A closed stdout (`parol6 … | head`) ends the command quietly with status 0.
 //!
-//! One file per area: [`kin`] (fk, ik), [`bench`] (benchmarks), [`hw`] (serial controller;
+//! One file per area: [`kin`] (fk, ik), [`bench`](mod@bench) (benchmarks), [`hw`] (serial controller;
 //! [`hw_stop`]: how it ends on a signal),
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
 //! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
-//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]).
+//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]), [`common`] (helpers
+//! several subcommands share).
 
 use std::process::ExitCode;
 
@@ -19,6 +20,7 @@ pub mod bench;
 pub mod bench_motion;
 pub mod bench_replay;
 pub mod bench_seed;
+pub mod common;
 pub mod gui;
 pub mod hw;
 pub mod hw_bench;

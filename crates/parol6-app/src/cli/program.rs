@@ -17,9 +17,10 @@ use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 
+use super::common::tool_of;
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
-use super::record::{Telemetry, link_health, tool_of, urdf_text};
+use super::record::{Telemetry, link_health, urdf_text};
 use super::{CliError, CliResult, interrupt, print_json};
 
 /// Simulated seconds per wall second of a headless run without `--realtime`; the simulation
@@ -473,7 +474,11 @@ fn run_on(
         "wall_s": wall.elapsed().as_secs_f64(),
         "max_tracking_error_deg": p.max_tracking_error_rad.to_degrees(),
         "schedule_slip_s": p.schedule_slip_s,
+        "stop_failed": p.stop_failed,
     });
+    if let Some(failure) = &p.stop_failed {
+        super::warn(failure);
+    }
     let outcome = match failure {
         None => Ok(()),
         Some(why) => {

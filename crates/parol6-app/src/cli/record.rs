@@ -21,6 +21,7 @@ use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig, RecordingInfo
 use parol6_core::{RobotModel, Tool};
 use serde_json::json;
 
+use super::common::tool_of;
 use super::hw::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_above};
 use super::{CliError, CliResult, interrupt, print_json};
@@ -176,11 +177,6 @@ pub fn urdf_text(robot: &RobotArgs) -> Result<String, CliError> {
         Some(p) => parol6_core::fsio::read_regular_bounded_string(p, parol6_core::urdf_input::MAX_URDF_BYTES as u64)
             .map_err(CliError::from),
     }
-}
-
-/// The tool selected with `--tool` (none when not given).
-pub fn tool_of(robot: &RobotArgs) -> Tool {
-    robot.tool.as_deref().and_then(Tool::from_name).unwrap_or(Tool::None)
 }
 
 /// Runs `parol6 record`.

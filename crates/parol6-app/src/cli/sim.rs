@@ -8,8 +8,8 @@ use parol6_core::profile::ProfileKind;
 use parol6_core::sim::{InverseDynamics, SimCommand, SimConfig, SimError, SimHandle, SimMode, Simulation};
 use serde_json::json;
 
-use super::bench::NsStats;
-use super::kin::{check_plausible, parse_joint_positions, parse_list};
+use super::common::{NsStats, parse_list};
+use super::kin::{check_plausible, parse_joint_positions};
 use super::options::RobotArgs;
 use super::{CliError, CliResult, print_json, warn};
 use parol6_core::limits::plausible;

@@ -91,7 +91,7 @@ const WRIST_SINGULAR_SIN: f64 = 1e-3;
 /// * At J5 ≈ 0 only J4 + J6 is defined by the pose; the solver's split follows rounding noise
 ///   in the target and can twist J4 and J6 by tens of degrees (or fall outside J4's limits so
 ///   that only the flipped branch is left). Each such solution is re-split to keep J4 at the
-///   seed, kept only if it still reaches the target within [`SAME_POSE_TOL`].
+///   seed, kept only if it still reaches the target within `SAME_POSE_TOL`.
 /// * When the seed itself reaches the target (the target was loaded from the TCP), it is the
 ///   nearest solution: it replaces the solution nearest to it (keeping that branch's name).
 ///

@@ -104,6 +104,7 @@ impl MeasurePanel {
             return;
         }
         let Some((run, source, backend)) = self.run.take() else { return };
+        let stop_failed = run.progress().stop_failed.clone();
         match run.join() {
             Ok(samples) => {
                 self.finished.retain(|f| f.source != source);
@@ -112,6 +113,13 @@ impl MeasurePanel {
             }
             Err(MeasureError::Aborted) => self.message = Some(("measurement aborted".into(), true)),
             Err(e) => self.message = Some((format!("measurement failed: {e}"), true)),
+        }
+        if let Some(failure) = stop_failed {
+            let text = match self.message.take() {
+                Some((text, _)) => format!("{text}; {failure}"),
+                None => failure,
+            };
+            self.message = Some((text, true));
         }
     }
 

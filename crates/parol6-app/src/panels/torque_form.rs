@@ -42,7 +42,7 @@ impl ProfileShape {
     }
 }
 
-/// One joint's row: its shape and three numbers (see [`ProfileShape::extra_fields`]).
+/// One joint's row: its shape and three numbers (see `ProfileShape::extra_fields`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointRow {
     /// Shape.

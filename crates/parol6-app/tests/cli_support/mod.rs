@@ -58,10 +58,16 @@ pub fn workspace_root() -> &'static Path {
 
 /// Runs `parol6 args…` in `dir` with "quit" on stdin, killing it after `limit`.
 pub fn run_in<S: AsRef<std::ffi::OsStr>>(dir: &Path, args: &[S], limit: Duration) -> Run {
+    let mut command = Command::new(exe());
+    command.args(args).current_dir(dir);
+    run_command(command, limit)
+}
+
+/// Runs a prepared command (program, arguments, directory, environment) with "quit" on stdin,
+/// killing it after `limit`.
+pub fn run_command(mut command: Command, limit: Duration) -> Run {
     let started = Instant::now();
-    let mut child = Command::new(exe())
-        .args(args)
-        .current_dir(dir)
+    let mut child = command
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -11,7 +11,7 @@
 //! Both return solutions sorted by joint-space distance to the seed, and typed [`IkError`]s.
 
 //!
-//! Jobs: [`closed_form`] (PAROL6), [`numeric`] (any chain); this file holds the shared types.
+//! Jobs: `closed_form` (PAROL6), `numeric` (any chain); this file holds the shared types.
 
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};

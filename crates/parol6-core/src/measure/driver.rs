@@ -22,7 +22,7 @@ use super::path_figures::{self, PathFigureError, PathFigures};
 use super::plan::{PathTestPlan, PlanError, PoseTestPlan};
 use super::pose_figures::PoseSample;
 use crate::model::RobotModel;
-use crate::motion::{MotionCommand, MotionSample, PlannerMode, RobotBackend};
+use crate::motion::{MotionSample, PlannerMode, RobotBackend, stop_best_effort};
 use crate::program::runner::{ProgramRunner, RunOptions, RunProgress, RunState};
 use crate::program::{PoseMm, Program};
 
@@ -67,6 +67,9 @@ pub struct MeasureProgress {
     pub fraction: f64,
     /// Attained poses so far (pose test).
     pub attained: Vec<PoseSample>,
+    /// A STOP the measurement (or its program run) sent that the backend refused (what it
+    /// stopped, and why it failed); `None` when every STOP was taken. The arm may not have stopped.
+    pub stop_failed: Option<String>,
 }
 
 impl MeasureProgress {
@@ -168,6 +171,7 @@ impl<T: Send + 'static> MeasureRun<T> {
             pose: None,
             fraction: 0.0,
             attained: Vec::new(),
+            stop_failed: None,
         }));
         let abort = Arc::new(AtomicBool::new(false));
         let ctx = Ctx { backend, model, abort: Arc::clone(&abort), progress: Arc::clone(&progress) };
@@ -259,9 +263,17 @@ impl Ctx {
         self.abort.load(Ordering::SeqCst)
     }
 
+    /// Sends STOP ([`stop_best_effort`]; a refused one is recorded in the progress) and
+    /// returns the abort.
     fn stop_arm(&self) -> MeasureError {
-        let _ = self.backend.send(MotionCommand::Stop);
+        self.record_stop_failure(stop_best_effort(self.backend.as_ref(), "the measurement was aborted"));
         MeasureError::Aborted
+    }
+
+    fn record_stop_failure(&self, failure: Option<String>) {
+        if let Some(failure) = failure {
+            self.publish(|p| p.stop_failed = Some(failure));
+        }
     }
 
     /// Runs `program`, calling `tick` every [`TICK`] while it runs.
@@ -272,13 +284,14 @@ impl Ctx {
         while !runner.is_finished() {
             if self.aborted() {
                 runner.abort();
-                let _ = runner.join();
+                self.record_stop_failure(runner.join().stop_failed);
                 return Err(self.stop_arm());
             }
             std::thread::sleep(TICK);
             tick();
         }
         let done = runner.join();
+        self.record_stop_failure(done.stop_failed.clone());
         match &done.state {
             RunState::Done => Ok(done),
             RunState::Failed(why) => Err(MeasureError::Failed(format!("{}: {why}", done.name))),
@@ -409,5 +422,4 @@ impl Ctx {
 }
 
 #[cfg(test)]
-#[path = "driver_tests.rs"]
 mod tests;

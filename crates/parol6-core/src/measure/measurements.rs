@@ -160,5 +160,4 @@ pub fn write(samples: &[PoseSample]) -> String {
 }
 
 #[cfg(test)]
-#[path = "measurements_tests.rs"]
 mod tests;

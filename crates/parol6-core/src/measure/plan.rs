@@ -297,7 +297,6 @@ impl PathTestPlan {
 }
 
 #[cfg(test)]
-#[path = "plan_tests.rs"]
 mod tests;
 
 /// Sample rate of the triangle's time function, Hz.

@@ -207,5 +207,4 @@ fn distance_figures(samples: &[PoseSample]) -> Option<(f64, f64)> {
 }
 
 #[cfg(test)]
-#[path = "pose_figures_tests.rs"]
 mod tests;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-/// Errors of loading a URDF into a [`RobotModel`]. Each has its own message.
+/// Errors of loading a URDF into a [`RobotModel`](crate::RobotModel). Each has its own message.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     /// The file could not be read.
@@ -105,7 +105,7 @@ pub enum ModelError {
     /// The text is too large or nests too deep to parse safely (checked before parsing).
     #[error(transparent)]
     InputRefused(#[from] crate::urdf_input::UrdfInputError),
-    /// A mesh file could not be found. Reported in [`RobotModel::warnings`]; kinematics still load.
+    /// A mesh file could not be found. Reported in [`RobotModel::warnings`](crate::RobotModel::warnings); kinematics still load.
     #[error("link \"{link}\": mesh \"{uri}\" not found (resolved to {})", .resolved.display())]
     MeshNotFound {
         /// The link.

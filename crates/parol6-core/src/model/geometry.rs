@@ -40,7 +40,7 @@ pub enum Shape {
     },
     /// Triangle mesh from a file.
     Mesh {
-        /// Resolved path of the file (it may not exist; see [`RobotModel::warnings`]).
+        /// Resolved path of the file (it may not exist; see [`RobotModel::warnings`](crate::RobotModel::warnings)).
         path: PathBuf,
         /// Filename as written in the URDF.
         uri: String,

@@ -7,10 +7,10 @@
 //! metres for prismatic ones.
 
 //!
-//! Jobs: [`urdf`] (URDF text → chain and links; the entry point is
-//! [`RobotModel::from_urdf_str`] below), [`geometry`] (shapes, inertials), [`mesh_path`]
-//! (mesh filename → file), `numbers` (every number finite and plausible), [`error`] ([`ModelError`]), [`parol6_chain`] (is this the PAROL6?),
-//! [`srdf`] (collision pairs to skip).
+//! Jobs: `urdf` (URDF text → chain and links; the entry point is
+//! [`RobotModel::from_urdf_str`] below), `geometry` (shapes, inertials), `mesh_path`
+//! (mesh filename → file), `numbers` (every number finite and plausible), `error` ([`ModelError`]), `parol6_chain` (is this the PAROL6?),
+//! `srdf` (collision pairs to skip).
 
 use std::path::{Path, PathBuf};
 

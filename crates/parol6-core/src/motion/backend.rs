@@ -201,3 +201,10 @@ pub trait RobotBackend: Send + Sync {
         self.submit(cmd, None)
     }
 }
+
+/// Sends [`MotionCommand::Stop`] now, for a caller that goes on whatever happens (a program
+/// run or a measurement that is ending). A STOP the backend refuses is not dropped: the line
+/// to record and show comes back ("STOP (`during`) failed: …"); `None` when the backend took it.
+pub fn stop_best_effort(backend: &dyn RobotBackend, during: &str) -> Option<String> {
+    backend.send(MotionCommand::Stop).err().map(|e| format!("STOP ({during}) failed: {e}"))
+}

@@ -544,5 +544,4 @@ impl CartesianJogPlan {
 }
 
 #[cfg(test)]
-#[path = "cartesian_jog_tests.rs"]
 mod tests;

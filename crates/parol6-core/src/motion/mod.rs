@@ -51,7 +51,9 @@ pub mod tracking;
 mod validate;
 mod warp;
 
-pub use backend::{BackendError, JointDrive, MotionSample, RobotBackend, RobotState, ScheduleState, StateSource};
+pub use backend::{
+    BackendError, JointDrive, MotionSample, RobotBackend, RobotState, ScheduleState, StateSource, stop_best_effort,
+};
 pub use cartesian_jog::{CartesianAxis, JogFrame, JogKinematics, JogStop};
 pub use io::{DIGITAL_PORTS, IoCommand, IoState};
 pub use planner::{MotionPlanner, PlannerMode};

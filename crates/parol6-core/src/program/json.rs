@@ -19,7 +19,7 @@
 //! }
 //! ```
 //!
-//! Every step type is [`Step`](super::Step) in `snake_case` with a `type` tag. A file of another
+//! Every step type is [`Step`] in `snake_case` with a `type` tag. A file of another
 //! format or a newer version, and any malformed field, is refused with an error naming the
 //! field (`steps[3].pose.position_mm`), the line and the column; loading never touches the
 //! program already in memory (it returns a new one or an error).

@@ -118,6 +118,7 @@ impl ProgramRunner {
             passes: 0,
             runner_cpu_s: None,
             schedule_slip_s: 0.0,
+            stop_failed: None,
         }));
         let (tx, rx) = crossbeam_channel::bounded(16);
         let p = Arc::clone(&progress);
@@ -247,7 +248,7 @@ impl Run<'_> {
             Err(Halt::Refused(why)) => RunState::Failed(why),
             Err(Halt::Failed(why)) => {
                 // hold whatever moves (the backend holds on its own when it blocks motion)
-                let _ = self.backend.send(MotionCommand::Stop);
+                self.stop_arm("the run failed");
                 RunState::Failed(why)
             }
         };
@@ -287,7 +288,7 @@ impl Run<'_> {
             }
             match self.poll_control() {
                 Some(RunnerControl::Stop) => {
-                    let _ = self.backend.send(MotionCommand::Stop);
+                    self.stop_arm("stopped between passes");
                     return Err(Halt::Stopped);
                 }
                 Some(RunnerControl::Pause) => self.idle_until_control()?,
@@ -383,7 +384,7 @@ impl Run<'_> {
                     self.submitted += 1;
                     if self.abort.load(Ordering::SeqCst) {
                         // submitted while the operator pressed STOP: stop it too
-                        let _ = self.backend.send(MotionCommand::Stop);
+                        self.stop_arm("a step submitted while STOP was pressed");
                         return Err(Halt::Aborted);
                     }
                 }
@@ -419,7 +420,7 @@ impl Run<'_> {
                 // pause, stop and step all bring the arm to a stop on its path first
                 let resume_at = self.pause_now(compiled, &mut slots, next)?;
                 if ctrl == RunnerControl::Stop {
-                    let _ = self.backend.send(MotionCommand::Stop);
+                    self.stop_arm("stopped while running");
                     return Err(Halt::Stopped);
                 }
                 if ctrl == RunnerControl::Pause {
@@ -574,4 +575,4 @@ mod types;
 #[cfg(test)]
 mod late_tests;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -192,5 +192,4 @@ fn find_warnings(out: &mut ProgramTorques, origins: &[Origin]) {
 }
 
 #[cfg(test)]
-#[path = "torques_tests.rs"]
 mod tests;

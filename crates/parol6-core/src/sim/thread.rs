@@ -200,7 +200,7 @@ impl SimHandle {
     }
 
     /// Creation → applied latencies (ns) of the commands applied since the last call, oldest
-    /// first (at most [`LATENCY_LOG`] are kept).
+    /// first (at most `LATENCY_LOG` are kept).
     pub fn drain_latencies_ns(&self) -> Vec<u64> {
         self.latency_rx.try_iter().collect()
     }

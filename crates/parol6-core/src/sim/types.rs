@@ -38,7 +38,7 @@ pub enum ServoModel {
     Ideal,
 }
 
-/// Settings of a [`Simulation`].
+/// Settings of a [`Simulation`](super::Simulation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SimConfig {
     /// What to do with a target outside the joint limits.
@@ -184,7 +184,7 @@ pub struct SimSnapshot {
     pub commands_applied: u64,
     /// The scheduled commands: how many arrived and how late the schedule runs.
     pub schedule: crate::motion::ScheduleState,
-    /// World pose of every link (order of [`RobotModel::links`]).
+    /// World pose of every link (order of [`RobotModel::links`](crate::RobotModel::links)).
     pub link_poses: Vec<Isometry3<f64>>,
     /// TCP pose.
     pub tcp: TcpPose,

@@ -5,7 +5,7 @@
 //! Every column keeps a min/max pyramid (level `k` holds the minimum and maximum of aligned
 //! blocks of `2^k` samples), so [`SeriesStore::decimated`] returns about two points per pixel
 //! column of any time window in `O(columns · log n)`, never walking the raw samples; the
-//! tracking-error columns also keep running sums of squares (one every [`SQUARES_BLOCK`]
+//! tracking-error columns also keep running sums of squares (one every `SQUARES_BLOCK`
 //! samples) for the RMS over a window ([`SeriesStore::window_stats`]). Samples older than the store's span are dropped
 //! ([`SeriesStore::new`]), so the same store serves the live view (10 minutes, appended to)
 //! and a replay (everything, built once).
@@ -541,5 +541,4 @@ impl SeriesStore {
 }
 
 #[cfg(test)]
-#[path = "series_tests.rs"]
 mod tests;

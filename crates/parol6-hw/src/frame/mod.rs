@@ -6,8 +6,8 @@
 //! endless test routine), so no API of this crate can put 69 on the wire.
 
 //!
-//! Jobs: [`command`] (host → controller frame and the command codes), [`status`] (controller →
-//! host frame), [`codec`] (i24 / i16 fields and joint bit bytes), [`error`] ([`FrameError`]).
+//! Jobs: `command` (host → controller frame and the command codes), `status` (controller →
+//! host frame), `codec` (i24 / i16 fields and joint bit bytes), `error` ([`FrameError`]).
 
 use parol6_core::parol6::JOINT_COUNT;
 

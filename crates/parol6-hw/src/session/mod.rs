@@ -1,6 +1,6 @@
 //! The controller session: a dedicated thread that sends one command frame per period
 //! (default 100 Hz), parses the status replies and publishes a [`Snapshot`] and a
-//! [`RobotState`](parol6_core::motion::RobotState) lock-free.
+//! [`RobotState`] lock-free.
 //!
 //! Motion is the core [`MotionPlanner`](parol6_core::motion::MotionPlanner), the same as the
 //! simulation's: [`RobotBackend::submit`](parol6_core::motion::RobotBackend::submit) queues a

@@ -5,9 +5,9 @@
 //! red), run it on the active backend with pause, resume, single step and stop, and follow its
 //! progress (step n of m, time left).
 //!
-//! - [`edit`]: the step list with selection, the edit toolbar, the step editor, shortcuts;
-//! - [`files`]: open / save / save as, the file dialog, recent files;
-//! - [`table`]: the point-table window (every step's numbers in a grid).
+//! - `edit`: the step list with selection, the edit toolbar, the step editor, shortcuts;
+//! - `files`: open / save / save as, the file dialog, recent files;
+//! - `table`: the point-table window (every step's numbers in a grid).
 //!
 //! The runner is the core's `ProgramRunner` on its own thread (the app owns it); this panel
 //! only reads its progress and queues commands.

@@ -2,7 +2,7 @@
 //! the per-link merge that the renderer uploads once into one static vertex and index buffer.
 
 //!
-//! Jobs: [`primitives`] (boxes, cylinders, capsules, spheres, cones, the axes triad), [`file`]
+//! Jobs: `primitives` (boxes, cylinders, capsules, spheres, cones, the axes triad), [`file`]
 //! (mesh files); this file holds the mesh types, one geometry → mesh, and the per-link merge.
 
 use parol6_core::RobotModel;

@@ -88,7 +88,7 @@ pub struct FrameData {
     pub(super) encode_srgb: bool,
 }
 
-/// Frame data shared between the [`super::Viewport`] and its paint callback.
+/// Frame data shared between the [`crate::viewport::Viewport`] and its paint callback.
 pub type SharedFrame = Arc<Mutex<FrameData>>;
 
 impl FrameData {

@@ -1,7 +1,7 @@
 //! The wgpu side of the viewport: a scene's GPU resources ([`SceneGpu`]) and the egui-wgpu
-//! paint callback. Jobs: [`pipelines`] (shader and pipelines; the WGSL is in
-//! `viewport.wgsl`), [`buffers`] (static mesh / grid buffers, preallocated per-frame buffers),
-//! [`frame_data`] (per-frame uniforms, instances and trail, and their upload).
+//! paint callback. Jobs: `pipelines` (shader and pipelines; the WGSL is in
+//! `viewport.wgsl`), `buffers` (static mesh / grid buffers, preallocated per-frame buffers),
+//! `frame_data` (per-frame uniforms, instances and trail, and their upload).
 //!
 //! Draw order in one render pass: opaque links (one draw per link, instance = its pose and
 //! tint), translucent ghost and collision overlays, grid and trail lines (depth-tested, not

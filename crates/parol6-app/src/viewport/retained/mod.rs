@@ -5,7 +5,7 @@
 //! text hardly ever changes while the arm moves. [`install`] adds an egui plugin that, after
 //! every UI pass, takes the frame's shapes out of egui's output and replaces them with one
 //! paint callback. That callback compares the shapes with the last drawn frame
-//! ([`damage`]), redraws the changed rectangles (background, every mesh and paint callback
+//! (`damage`), redraws the changed rectangles (background, every mesh and paint callback
 //! reaching into them, in paint order) into a window-sized texture, and copies the texture
 //! into egui's render pass. The window and `bench render` / `screenshot --ui` take the same
 //! path. On GPUs it is off: there the whole frame costs well under a millisecond. A paint

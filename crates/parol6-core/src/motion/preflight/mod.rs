@@ -17,7 +17,7 @@
 //!   [`IssueKind::Discontinuity`];
 //! - **singularity** ([`singularity`]): every [`SINGULARITY_STEP_RAD`] of joint travel, at
 //!   the ends of each move, and at every sample of a TCP-path move inside the warning band;
-//! - **collision** (self-collision, floor, keep-out shapes; [`clearance`]): at the start of
+//! - **collision** (self-collision, floor, keep-out shapes; `clearance`): at the start of
 //!   each move and then only when needed. Between checkpoints the trajectory is the straight
 //!   joint-space line between samples (what the controller interpolates); the walk adds up
 //!   each joint's travel since the last checkpoint and the bound on how far each collision

@@ -250,6 +250,6 @@ pub(crate) fn format_number(v: f64) -> String {
 }
 
 #[cfg(test)]
-mod tests;
+mod abc_tests;
 #[cfg(test)]
-mod tests_abc;
+mod tests;

@@ -6,10 +6,19 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use super::{Halt, POLL, Run, RunState, RunnerControl, Slot};
-use crate::motion::{MotionCommand, PlannerMode};
+use crate::motion::{MotionCommand, PlannerMode, stop_best_effort};
 use crate::program::compile::{CompiledStep, StepAction};
 
 impl Run<'_> {
+    /// Sends STOP ([`stop_best_effort`]); a refused one is recorded in the progress
+    /// ([`RunProgress::stop_failed`](super::RunProgress::stop_failed)), where the window and
+    /// `parol6 program run` show it.
+    pub(super) fn stop_arm(&self, during: &str) {
+        if let Some(failure) = stop_best_effort(self.backend, during) {
+            self.publish(|p| p.stop_failed = Some(failure));
+        }
+    }
+
     /// Pauses on the path (the backend drops the steps scheduled after the one under way) and
     /// waits until the arm has stopped. Returns the first step not finished: the one paused
     /// mid-way, or the next one.
@@ -64,7 +73,7 @@ impl Run<'_> {
                     break;
                 }
                 Ok(RunnerControl::Stop) => {
-                    let _ = self.backend.send(MotionCommand::Stop);
+                    self.stop_arm("stopped while paused");
                     return Err(Halt::Stopped);
                 }
                 Ok(RunnerControl::Pause) | Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
@@ -95,7 +104,7 @@ impl Run<'_> {
                 return Err(Halt::Failed(format!("halted: {b}")));
             }
             if let Some(RunnerControl::Stop) = self.poll_control() {
-                let _ = self.backend.send(MotionCommand::Stop);
+                self.stop_arm("stopped while resuming");
                 return Err(Halt::Stopped);
             }
             if s.mode == PlannerMode::Hold && !s.moving {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::motion::IoCommand;
+use crate::motion::{BackendError, IoCommand};
 use crate::program::{PoseMm, Step};
 use crate::sim::{SimConfig, SimHandle, SimMode};
 use std::time::Instant;
@@ -201,4 +201,39 @@ fn a_pause_step_waits_for_resume_and_an_optional_one_only_when_asked() {
     wait_for(&runner, "the optional pause", |p| p.state == RunState::Paused && p.steps_done == 4);
     runner.control(RunnerControl::Resume);
     assert_eq!(runner.join().state, RunState::Done);
+}
+
+/// The simulation, except that it refuses STOP (as a robot whose link went down just then).
+pub(crate) struct RefusesStop(pub(crate) Arc<SimHandle>);
+
+impl RobotBackend for RefusesStop {
+    fn submit(&self, cmd: MotionCommand, at_s: Option<f64>) -> Result<(), BackendError> {
+        match cmd {
+            MotionCommand::Stop => Err(BackendError::Refused("the link is down".into())),
+            other => self.0.submit(other, at_s),
+        }
+    }
+
+    fn state(&self) -> Arc<RobotState> {
+        self.0.state()
+    }
+
+    fn io(&self, cmd: IoCommand) -> Result<(), BackendError> {
+        self.0.io(cmd)
+    }
+}
+
+#[test]
+fn stop_best_effort_records_a_refused_stop_in_the_progress() {
+    let (model, sim) = sim(1.0);
+    let (_, steps) = square(&model);
+    let backend = Arc::new(RefusesStop(sim.clone()));
+    let runner = ProgramRunner::start(backend, model, Program::from_steps("square", steps), RunOptions::default())
+        .expect("thread");
+    let p = wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
+    assert_eq!(p.stop_failed, None);
+    runner.control(RunnerControl::Stop);
+    let done = runner.join();
+    assert_eq!(done.state, RunState::Stopped, "{done:?}");
+    assert_eq!(done.stop_failed.as_deref(), Some("STOP (stopped while running) failed: the link is down"), "{done:?}");
 }

@@ -69,6 +69,9 @@ pub struct RunProgress {
     /// their time (a busy machine, a fast headless simulation) make the schedule slip rather
     /// than fail; 0 when every step was on time.
     pub schedule_slip_s: f64,
+    /// A STOP this run sent that the backend refused (what it stopped, and why it failed);
+    /// `None` when every STOP was taken. The arm may not have stopped.
+    pub stop_failed: Option<String>,
 }
 
 /// How to run.

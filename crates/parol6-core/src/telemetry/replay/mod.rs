@@ -6,7 +6,7 @@
 //! [`REPLAY_BUCKET_NS`] of log time, the first sample is kept and the others are skipped
 //! before their JSON is parsed. A whole file is decoded chunk by chunk on several threads
 //! while it is read ([`super::chunked`]; the rows, forward kinematics included, are made there
-//! too, [`rows`]), so a ten-minute 1 kHz recording opens in under a second on two cores. Any
+//! too, `rows`), so a ten-minute 1 kHz recording opens in under a second on two cores. Any
 //! other file goes
 //! through the linear reader ([`super::reader`]), which gives the same series: a truncated file
 //! gives what its complete chunks hold (with the reader's warning); an empty, foreign or

@@ -2,6 +2,7 @@ use super::*;
 use crate::measure::plan::PathKind;
 use crate::measure::pose_figures;
 use crate::measure::{PathTestPlan, TestCube};
+use crate::motion::MotionCommand;
 use crate::sim::{SimConfig, SimHandle, SimMode};
 
 fn cube() -> TestCube {
@@ -97,4 +98,28 @@ fn a_path_test_records_every_cycle_from_the_tap_or_by_polling() {
         let first = nalgebra::Vector3::from(commanded[0]);
         assert!((first - nalgebra::Vector3::from(p[1])).norm() < 0.5, "starts at P2: {first:?}");
     }
+}
+
+#[test]
+fn an_abort_whose_stop_is_refused_records_it_in_the_progress() {
+    let (model, sim) = sim(None);
+    let plan = PoseTestPlan { cycles: 30, ..PoseTestPlan::new(cube()) };
+    let backend = Arc::new(crate::program::runner::tests::RefusesStop(sim.clone()));
+    let run = start_pose_test(backend, model, plan).unwrap();
+    let t0 = Instant::now();
+    while run.progress().attained.is_empty() {
+        assert!(t0.elapsed() < Duration::from_secs(30), "{:?}", run.progress());
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert_eq!(run.progress().stop_failed, None);
+    run.abort();
+    while !run.is_finished() {
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let p = run.progress();
+    assert_eq!(p.phase, Phase::Aborted);
+    assert_eq!(p.stop_failed.as_deref(), Some("STOP (the measurement was aborted) failed: the link is down"), "{p:?}");
+    assert_eq!(run.join().unwrap_err(), MeasureError::Aborted);
+    // the simulation itself still takes a STOP
+    RobotBackend::send(sim.as_ref(), MotionCommand::Stop).unwrap();
 }

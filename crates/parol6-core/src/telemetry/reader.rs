@@ -3,7 +3,10 @@
 //! One linear pass over the file (no index needed), through [`super::walk`]: chunk CRCs are
 //! checked before any message of a chunk is used; a file cut short (a crash, a full disk)
 //! yields the messages of its complete chunks and those its cut chunk holds up to the cut, and
-//! a damaged chunk is skipped; each with a warning naming its byte. Empty files, files that are
+//! a damaged chunk is skipped; each with a warning naming its byte. The first schema or channel
+//! record of an id is kept (the summary's, when the file has a whole one): a later one that
+//! differs is a damaged record (a chunk header read as a channel) and is ignored with a
+//! warning, so that it cannot hide the channel's messages. Empty files, files that are
 //! not MCAP, MCAP files that are not ours and recordings of another robot get an error naming
 //! the problem; nothing here panics on any input.
 
@@ -219,18 +222,45 @@ pub fn scan_recording_filtered(
     Ok(rec)
 }
 
+/// Warns of a schema or channel record that redefines `id` (`was` → `now`): it is ignored.
+fn redefined(rec: &mut Recording, what: &str, id: u16, was: &str, now: &str) {
+    if rec.warnings.len() < MAX_WARNINGS {
+        let now = now.chars().take(60).collect::<String>();
+        rec.warnings.push(format!(
+            "a {what} record redefines {what} {id} ({was:?}) as {now:?}: a damaged record, ignored (the first {what} {id} is kept)"
+        ));
+    }
+}
+
 fn samples(rec: &Recording) -> u64 {
     rec.topics.get("/joint_states").map_or(0, |t| t.messages)
 }
 
 fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &mut dyn FnMut(&str, JointStateMsg)) {
     match r {
-        Record::Schema { header, .. } => {
-            ids.schemas.insert(header.id, header.name);
-        }
-        Record::Channel(c) => {
-            ids.channels.insert(c.id, (c.topic, c.schema_id));
-        }
+        // the first record of an id is kept (the summary's, when the file has one): the MCAP
+        // spec has every record of an id the same, so one that differs is damaged (a chunk
+        // header read as a channel, found by the fuzzer) and must not hide the channel's messages
+        Record::Schema { header, .. } => match ids.schemas.get(&header.id) {
+            Some(known) if *known != header.name => {
+                redefined(rec, "schema", header.id, known, &header.name);
+            }
+            Some(_) => {}
+            None => {
+                ids.schemas.insert(header.id, header.name);
+            }
+        },
+        Record::Channel(c) => match ids.channels.get(&c.id) {
+            Some((topic, schema_id)) if (topic, *schema_id) != (&c.topic, c.schema_id) => {
+                let (was, now) =
+                    (format!("{topic} (schema {schema_id})"), format!("{} (schema {})", c.topic, c.schema_id));
+                redefined(rec, "channel", c.id, &was, &now);
+            }
+            Some(_) => {}
+            None => {
+                ids.channels.insert(c.id, (c.topic, c.schema_id));
+            }
+        },
         Record::Metadata(m) if m.name == schema::METADATA_NAME => rec.metadata = m.metadata,
         Record::Message { header, data } => {
             let Some((topic, schema_id)) = ids.channels.get(&header.channel_id) else {

@@ -3,8 +3,9 @@
 //!
 //! [`walk_recording`] hands every record of the data section to a visitor, the records inside
 //! each chunk included, in file order, after the schemas and channels of the summary (when the
-//! file has its footer, so that a damaged first chunk does not lose the channels). What it
-//! does with a file that is not whole:
+//! file has its footer and the summary matches its CRC, so that a damaged first chunk does not
+//! lose the channels; the reader keeps the first record of each id, so a damaged record later
+//! cannot replace them either). What it does with a file that is not whole:
 //!
 //! - a chunk whose CRC matches is read whole, even when a size field of its header is wrong
 //!   (the CRC covers its records; the warning names the field);
@@ -169,22 +170,27 @@ fn visit_records(records: &[u8], visit: &mut dyn FnMut(u8, &[u8])) -> (usize, us
     (count, messages, pos)
 }
 
-/// The schema and channel records of the summary, when the file ends with its footer.
-fn summary_records(bytes: &[u8], visit: &mut dyn FnMut(u8, &[u8])) {
+/// The schema and channel records of the summary, when the file ends with its footer and the
+/// summary matches the footer's CRC; returns a warning when it does not (then it is not used).
+fn summary_records(bytes: &[u8], visit: &mut dyn FnMut(u8, &[u8])) -> Option<String> {
     let magic = mcap::MAGIC.len();
-    let Some(footer) = bytes.len().checked_sub(magic + 29) else { return };
+    let footer = bytes.len().checked_sub(magic + 29)?;
     if footer < magic
         || !bytes.ends_with(mcap::MAGIC)
         || bytes[footer] != op::FOOTER
         || u64_at(bytes, footer + 1) != Some(20)
     {
-        return;
+        return None;
     }
-    let Some(start) =
-        u64_at(bytes, footer + 9).and_then(|s| usize::try_from(s).ok()).filter(|&s| s >= magic && s < footer)
-    else {
-        return;
-    };
+    let start =
+        u64_at(bytes, footer + 9).and_then(|s| usize::try_from(s).ok()).filter(|&s| s >= magic && s < footer)?;
+    // the CRC covers the summary and the footer up to the CRC itself
+    let crc = u32_at(bytes, footer + 25)?;
+    if crc != 0 && crc32fast::hash(&bytes[start..footer + 25]) != crc {
+        return Some(format!(
+            "the summary (at byte {start}) does not match its CRC: its schemas and channels were not used"
+        ));
+    }
     let summary = &bytes[start..footer];
     let mut pos = 0;
     while let Some(end) = record_end(summary, pos) {
@@ -193,12 +199,13 @@ fn summary_records(bytes: &[u8], visit: &mut dyn FnMut(u8, &[u8])) {
         }
         pos = end;
     }
+    None
 }
 
 /// Walks `bytes` (a file that starts with the MCAP magic). See the module docs.
 pub fn walk_recording(bytes: &[u8], visit: &mut dyn FnMut(u8, &[u8])) -> Walked {
     let mut w = Walked::default();
-    summary_records(bytes, visit);
+    w.warnings.extend(summary_records(bytes, visit));
     let mut zstd = Decoder::new().ok();
     let mut records = Vec::new();
     let mut pos = mcap::MAGIC.len();

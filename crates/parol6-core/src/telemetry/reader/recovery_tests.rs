@@ -160,3 +160,47 @@ fn a_damaged_chunk_header_keeps_the_metadata_and_the_other_chunks() {
         }
     }
 }
+
+/// Found by the `mcap_cut` libFuzzer run (issue 29): the first chunk's opcode damaged into a
+/// channel record's (0x04) made its header read as a channel with the `/joint_states` id (from
+/// its start time) and a garbage topic, which replaced the summary's channel: every sample of
+/// the intact chunks after it was lost. The first definition of an id is kept (the MCAP spec:
+/// records sharing an id are identical), and the redefinition is named in a warning.
+#[test]
+fn a_damaged_chunk_read_as_a_channel_does_not_replace_the_summarys_channel() {
+    let bytes = recording_bytes_at(80, 1e-2);
+    let chunks = chunk_spans(&bytes);
+    let summary = mcap::read::Summary::read(&bytes).expect("summary").expect("a summary");
+    let joint_states = summary.channels.values().find(|c| c.topic == "/joint_states").expect("channel").id;
+    let first = chunks.iter().map(|c| c.start).min().expect("chunks");
+    let mut damaged = bytes.clone();
+    damaged[first] = mcap::records::op::CHANNEL;
+    // the chunk's start time: the channel's id, schema id 0 and an empty topic length
+    damaged[first + 9..first + 17].copy_from_slice(&u64::from(joint_states).to_le_bytes());
+    let len = u64::from_le_bytes(damaged[first + 1..first + 9].try_into().expect("8 bytes")) as usize;
+    let parsed = mcap::parse_record(mcap::records::op::CHANNEL, &damaged[first + 9..first + 9 + len]);
+    assert!(
+        matches!(&parsed, Ok(mcap::records::Record::Channel(c)) if c.id == joint_states && c.topic != "/joint_states"),
+        "the damaged chunk reads as a bogus channel: {parsed:?}"
+    );
+    let rec = read_recording(&damaged).expect("readable");
+    let in_first = chunks.iter().find(|c| c.start == first).map_or(0, |c| c.samples);
+    assert_eq!(rec.measured.len(), 80 - in_first, "{:?}", rec.warnings);
+    assert!(rec.warnings.iter().any(|w| w.contains(&format!("channel {joint_states}"))), "{:?}", rec.warnings);
+}
+
+/// The summary's schemas and channels come first and are kept over later records of the same
+/// id, so a summary that does not match the footer's CRC is not used: a damaged `/joint_states`
+/// channel there loses nothing (the first chunk's is read instead).
+#[test]
+fn a_damaged_summary_channel_is_not_used() {
+    let bytes = recording_bytes_at(80, 1e-2);
+    let footer = bytes.len() - 8 - 29;
+    let start = u64::from_le_bytes(bytes[footer + 9..footer + 17].try_into().expect("8 bytes")) as usize;
+    let at = start + bytes[start..].windows(13).position(|w| w == b"/joint_states").expect("in the summary");
+    let mut damaged = bytes.clone();
+    damaged[at + 1] = b'J';
+    let rec = read_recording(&damaged).expect("readable");
+    assert_eq!(rec.measured.len(), 80, "{:?}", rec.warnings);
+    assert!(rec.warnings.iter().any(|w| w.contains(&format!("summary (at byte {start})"))), "{:?}", rec.warnings);
+}

@@ -6,8 +6,9 @@
 //! edge, a singularity, a collision in the simulation), which the panel names. Step mode: each
 //! click moves exactly the typed increment (mm, or degrees for rotations).
 //!
-//! Keys (while no field is being typed in, without Ctrl / Alt): A / D = −X / +X, S / W =
-//! −Y / +Y, Q / E = −Z / +Z; with Shift the same keys turn about the axis (−Rx / +Rx …).
+//! Keys (the table in [`super::shortcuts`]; never while a field, menu or popup has the keyboard,
+//! nor with Ctrl / Alt / Cmd): A / D = −X / +X, S / W = −Y / +Y, Q / E = −Z / +Z; with Shift
+//! the same keys turn about the axis (−Rx / +Rx …).
 
 use std::sync::Arc;
 
@@ -17,16 +18,9 @@ use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, Mo
 use parol6_core::sim::collision::CollisionGuard;
 
 use super::entry::{self, EntryEvent};
+use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
-
-/// The jog keys: (axis of the translation, key for −, key for +); Shift turns them into the
-/// rotation about the same axis.
-pub const JOG_KEYS: [(CartesianAxis, egui::Key, egui::Key); 3] = [
-    (CartesianAxis::X, egui::Key::A, egui::Key::D),
-    (CartesianAxis::Y, egui::Key::S, egui::Key::W),
-    (CartesianAxis::Z, egui::Key::Q, egui::Key::E),
-];
 
 /// What the panel knows about the jog being held, or the last one.
 #[derive(Debug)]
@@ -160,27 +154,13 @@ impl CartesianJogPanel {
         });
     }
 
-    /// The held key, if any (not while typing, not with Ctrl / Alt / Cmd).
+    /// The held key, if any (see [`super::shortcuts`]: not while typing or a menu is open, not
+    /// with Ctrl / Alt / Cmd, not a key that went down with one of them).
     fn key_held(ui: &egui::Ui) -> Option<(CartesianAxis, i8)> {
-        if ui.ctx().memory(|m| m.focused().is_some()) {
-            return None;
-        }
-        ui.input(|inp| {
-            let m = inp.modifiers;
-            if m.ctrl || m.alt || m.command || m.mac_cmd {
-                return None;
-            }
-            for (axis, minus, plus) in JOG_KEYS {
-                let axis = if m.shift { CartesianAxis::ALL[axis_index(axis) + 3] } else { axis };
-                if inp.key_down(minus) {
-                    return Some((axis, -1));
-                }
-                if inp.key_down(plus) {
-                    return Some((axis, 1));
-                }
-            }
-            None
-        })
+        CartesianAxis::ALL
+            .into_iter()
+            .flat_map(|axis| [(axis, -1i8), (axis, 1i8)])
+            .find(|&(axis, dir)| shortcuts::held(ui.ctx(), Action::JogCartesian(axis, dir)))
     }
 
     fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
@@ -215,10 +195,6 @@ impl CartesianJogPanel {
             }
         }
     }
-}
-
-fn axis_index(axis: CartesianAxis) -> usize {
-    CartesianAxis::ALL.iter().position(|a| *a == axis).unwrap_or(0)
 }
 
 impl Panel for CartesianJogPanel {

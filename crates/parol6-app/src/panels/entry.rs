@@ -3,7 +3,7 @@
 //! An entry shows the value with a fixed number of decimals while it is not focused. Clicking
 //! it selects the text; what the operator types is kept as typed (never re-parsed or rounded
 //! while typing) and committed once, on Enter or when the focus leaves the field (Tab, a
-//! click elsewhere). Nothing is sent while typing.
+//! click elsewhere); Esc, or leaving the shown text as it was, commits nothing. Nothing is sent while typing.
 
 use eframe::egui;
 
@@ -90,8 +90,17 @@ pub fn numeric_entry(
     } else if response.has_focus() {
         ui.data_mut(|d| d.insert_temp(buffer_id, text));
     } else if editing {
-        // Focus left the field (Enter, Tab, click elsewhere): commit what was typed.
+        // Focus left the field (Enter, Tab, click elsewhere): commit what was typed; Esc (which
+        // is STOP as well) drops it, so nothing moves after the STOP. Esc is looked for in the
+        // raw input: the STOP shortcut consumed it already.
         ui.data_mut(|d| d.remove::<String>(buffer_id));
+        let esc = ui.input(|i| {
+            i.raw.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. }))
+        });
+        // text left as shown: nothing was typed, nothing moves (not even by the rounding)
+        if esc || text == fmt_fixed(value, decimals) {
+            return (response, None);
+        }
         event = Some(match parse_number(&text) {
             Ok(v) => EntryEvent::Committed(v),
             Err(e) => EntryEvent::Invalid(e),

@@ -81,7 +81,9 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     ui.label(
         "Angles in degrees or radians (the deg / rad switch of the Joints panel, or the Units \
          menu), shown with 2 decimals in degrees and 4 in radians; positions in millimetres \
-         with 2 decimals. Typed values may use a comma as decimal mark and may end with the unit.",
+         with 2 decimals. Typed values may use a comma as decimal mark and may end with a unit, which is \
+         converted: rad, deg or ° in an angle field, mm, m or in in a millimetre field (a unit that does \
+         not fit the field is refused).",
     );
     ui.add_space(6.0);
     ui.heading("Mouse and keys");

@@ -34,6 +34,7 @@ mod icon;
 mod layout;
 mod link;
 mod panel_groups;
+mod quit;
 mod replay;
 mod settings_store;
 mod soak;
@@ -165,6 +166,12 @@ pub struct Parol6App {
     kept_preview: Option<Vec<f64>>,
     /// The last commands that set the arm moving, oldest first (see [`Parol6App::moves_sent`]).
     moves_sent: VecDeque<String>,
+    /// The "unsaved changes: save before quitting?" question is shown (see `quit`).
+    quit_prompt: bool,
+    /// Ctrl+Q with nothing to ask: the window closes at the end of this frame.
+    close_now: bool,
+    /// The operator chose to quit (saved or discarded): the window closes without asking.
+    quit_closing: bool,
 }
 
 impl Parol6App {
@@ -242,6 +249,9 @@ impl Parol6App {
             input_at: Instant::now(),
             kept_preview: None,
             moves_sent: VecDeque::new(),
+            quit_prompt: false,
+            close_now: false,
+            quit_closing: false,
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -364,9 +374,7 @@ impl Parol6App {
             let (speed_fraction, profile) = (self.settings.speed_fraction, self.settings.profile.kind());
             self.commands.push(AppCommand::Motion(MotionCommand::Home { speed_fraction, profile }));
         }
-        if quit {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-        }
+        self.quit_requests(ctx, quit);
         if help {
             self.show_help = !self.show_help;
         }
@@ -496,6 +504,7 @@ impl Parol6App {
             }
         };
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
+        self.quit_prompt_ui(&ctx);
 
         for c in &commands {
             self.execute(c.clone());

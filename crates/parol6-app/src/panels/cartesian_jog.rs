@@ -22,6 +22,21 @@ use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
 
+/// The step increments an operator may type, mm and degrees (a step is a jog: small, and
+/// positive; the button says which way).
+pub const STEP_MM_RANGE: (f64, f64) = (0.01, 100.0);
+/// See [`STEP_MM_RANGE`].
+pub const STEP_DEG_RANGE: (f64, f64) = (0.01, 90.0);
+
+/// A typed increment inside `range`, or why not.
+fn step_in_range(ev: EntryEvent, (lo, hi): (f64, f64), unit: &str) -> Result<f64, String> {
+    match ev {
+        EntryEvent::Committed(v) if (lo..=hi).contains(&v) => Ok(v),
+        EntryEvent::Committed(v) => Err(format!("{v} is outside {lo}–{hi} {unit}")),
+        EntryEvent::Invalid(e) => Err(e),
+    }
+}
+
 /// What the panel knows about the jog being held, or the last one.
 #[derive(Debug)]
 struct JogView {
@@ -236,15 +251,15 @@ impl Panel for CartesianJogPanel {
         ui.horizontal(|ui| {
             ui.label("Increment");
             if let (_, Some(ev)) = entry::numeric_entry(ui, "Step mm", self.step_mm, 2, 56.0, "mm") {
-                match ev {
-                    EntryEvent::Committed(v) => self.step_mm = v,
-                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                match step_in_range(ev, STEP_MM_RANGE, "mm") {
+                    Ok(v) => self.step_mm = v,
+                    Err(e) => ctx.error(format!("Step mm: {e}; the increment stays {:.2} mm", self.step_mm)),
                 }
             }
             if let (_, Some(ev)) = entry::numeric_entry(ui, "Step deg", self.step_deg, 2, 56.0, "°") {
-                match ev {
-                    EntryEvent::Committed(v) => self.step_deg = v,
-                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                match step_in_range(ev, STEP_DEG_RANGE, "°") {
+                    Ok(v) => self.step_deg = v,
+                    Err(e) => ctx.error(format!("Step deg: {e}; the increment stays {:.2}°", self.step_deg)),
                 }
             }
         });

@@ -14,8 +14,27 @@ use crate::panels::{AppCommand, LinkCommand, RobotState};
 /// A port that has not answered within this long is reported as "no controller answers".
 const ANSWER_TIMEOUT_S: f64 = 3.0;
 
+/// True for a command that sets the arm moving (not STOP, a pause or a jog release).
+fn sets_arm_moving(cmd: &AppCommand) -> bool {
+    use parol6_core::program::runner::RunnerControl;
+    match cmd {
+        AppCommand::Motion(m) => !matches!(m, MotionCommand::Stop | MotionCommand::JogRelease),
+        AppCommand::Jog(held) => held.is_some(),
+        AppCommand::CartesianJog(held) => held.is_some(),
+        AppCommand::RunProgram { .. } | AppCommand::StartMeasurement(_) | AppCommand::RunTorques(_) => true,
+        AppCommand::Program(c) => matches!(c, RunnerControl::Resume | RunnerControl::Step),
+        _ => false,
+    }
+}
+
 impl Parol6App {
     pub(super) fn execute(&mut self, cmd: AppCommand) {
+        if sets_arm_moving(&cmd) {
+            if self.moves_sent.len() >= 256 {
+                self.moves_sent.pop_front();
+            }
+            self.moves_sent.push_back(format!("{cmd:?}"));
+        }
         match cmd {
             AppCommand::ClearTrail => {
                 if let Some(v) = &mut self.viewport {

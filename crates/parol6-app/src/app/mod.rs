@@ -34,6 +34,7 @@ mod icon;
 mod layout;
 mod link;
 mod panel_groups;
+mod quit;
 mod replay;
 mod settings_store;
 mod soak;
@@ -165,6 +166,14 @@ pub struct Parol6App {
     input_at: Instant,
     /// The ghost the panels asked for in the last full frame (kept while frames are reused).
     kept_preview: Option<Vec<f64>>,
+    /// The last commands that set the arm moving, oldest first (see [`Parol6App::moves_sent`]).
+    moves_sent: VecDeque<String>,
+    /// The "unsaved changes: save before quitting?" question is shown (see `quit`).
+    quit_prompt: bool,
+    /// Ctrl+Q with nothing to ask: the window closes at the end of this frame.
+    close_now: bool,
+    /// The operator chose to quit (saved or discarded): the window closes without asking.
+    quit_closing: bool,
 }
 
 impl Parol6App {
@@ -242,6 +251,10 @@ impl Parol6App {
             frame_reuse: None,
             input_at: Instant::now(),
             kept_preview: None,
+            moves_sent: VecDeque::new(),
+            quit_prompt: false,
+            close_now: false,
+            quit_closing: false,
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -350,26 +363,21 @@ impl Parol6App {
     }
 
     fn keyboard(&mut self, ctx: &egui::Context) {
-        let typing = ctx.memory(|m| m.focused().is_some());
-        let (esc, home, ctrl_home, quit, help) = ctx.input_mut(|i| {
-            (
-                i.consume_key(egui::Modifiers::NONE, egui::Key::Escape),
-                !typing && i.consume_key(egui::Modifiers::NONE, egui::Key::H),
-                i.consume_key(egui::Modifiers::COMMAND, egui::Key::H),
-                i.consume_key(egui::Modifiers::COMMAND, egui::Key::Q),
-                i.consume_key(egui::Modifiers::NONE, egui::Key::F1),
-            )
-        });
+        use crate::panels::shortcuts::{self, Action};
+        // the held jog keys see this frame's key presses before any panel consumes one
+        shortcuts::update_held(ctx);
+        let esc = shortcuts::pressed(ctx, Action::Stop);
+        let home = shortcuts::pressed(ctx, Action::Home);
+        let quit = shortcuts::pressed(ctx, Action::Quit);
+        let help = shortcuts::pressed(ctx, Action::ToggleHelp);
         if esc {
             self.commands.push(AppCommand::Motion(MotionCommand::Stop));
         }
-        if home || ctrl_home {
+        if home {
             let (speed_fraction, profile) = (self.settings.speed_fraction, self.settings.profile.kind());
             self.commands.push(AppCommand::Motion(MotionCommand::Home { speed_fraction, profile }));
         }
-        if quit {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-        }
+        self.quit_requests(ctx, quit);
         if help {
             self.show_help = !self.show_help;
         }
@@ -511,6 +519,7 @@ impl Parol6App {
             }
         };
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
+        self.quit_prompt_ui(&ctx);
 
         for c in &commands {
             self.execute(c.clone());
@@ -539,6 +548,13 @@ impl Parol6App {
             ctx.request_repaint_after(IDLE_REPAINT);
         }
         self.perf.ui_cpu_ms = t0.elapsed().as_secs_f64() * 1000.0;
+    }
+
+    /// The last commands (at most 256, oldest first, as `Debug` text) that set the arm moving
+    /// (jogs, moves, HOME, program runs and steps, measurements, torque runs; not STOP or a jog
+    /// release): what the keyboard tests watch.
+    pub fn moves_sent(&self) -> impl Iterator<Item = &str> {
+        self.moves_sent.iter().map(String::as_str)
     }
 
     /// Saves the settings (also done on exit).

@@ -66,6 +66,7 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
     };
     let title = if model.is_parol6 { WINDOW_TITLE.to_string() } else { format!("{WINDOW_TITLE} — {}", model.name) };
 
+    no_display_check()?;
     let mut native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(&title)
@@ -122,6 +123,22 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
         return Err(CliError { status: code.clamp(1, 255) as u8, message: "test script failed".into() });
     }
     Ok(())
+}
+
+/// On Linux and the BSDs the window needs an X11 or Wayland display: without one, one plain
+/// message (exit 1) instead of winit's error and the Wayland library's complaints.
+fn no_display_check() -> Result<(), CliError> {
+    if cfg!(any(target_os = "windows", target_os = "macos")) {
+        return Ok(());
+    }
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
+        return Ok(());
+    }
+    Err(CliError::runtime(
+        "no display was found (DISPLAY and WAYLAND_DISPLAY are not set), so the window cannot open: start it in a \
+         desktop session, over SSH with `ssh -X`, or use the command line: `parol6 --help`, `parol6 screenshot`",
+    ))
 }
 
 /// Arguments of `parol6 bench render`.

@@ -6,8 +6,9 @@
 //! edge, a singularity, a collision in the simulation), which the panel names. Step mode: each
 //! click moves exactly the typed increment (mm, or degrees for rotations).
 //!
-//! Keys (while no field is being typed in, without Ctrl / Alt): A / D = −X / +X, S / W =
-//! −Y / +Y, Q / E = −Z / +Z; with Shift the same keys turn about the axis (−Rx / +Rx …).
+//! Keys (the table in [`super::shortcuts`]; never while a field, menu or popup has the keyboard,
+//! nor with Ctrl / Alt / Cmd): A / D = −X / +X, S / W = −Y / +Y, Q / E = −Z / +Z; with Shift
+//! the same keys turn about the axis (−Rx / +Rx …).
 
 use std::sync::Arc;
 
@@ -17,16 +18,24 @@ use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, Mo
 use parol6_core::sim::collision::CollisionGuard;
 
 use super::entry::{self, EntryEvent};
+use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
 
-/// The jog keys: (axis of the translation, key for −, key for +); Shift turns them into the
-/// rotation about the same axis.
-pub const JOG_KEYS: [(CartesianAxis, egui::Key, egui::Key); 3] = [
-    (CartesianAxis::X, egui::Key::A, egui::Key::D),
-    (CartesianAxis::Y, egui::Key::S, egui::Key::W),
-    (CartesianAxis::Z, egui::Key::Q, egui::Key::E),
-];
+/// The step increments an operator may type, mm and degrees (a step is a jog: small, and
+/// positive; the button says which way).
+pub const STEP_MM_RANGE: (f64, f64) = (0.01, 100.0);
+/// See [`STEP_MM_RANGE`].
+pub const STEP_DEG_RANGE: (f64, f64) = (0.01, 90.0);
+
+/// A typed increment inside `range`, or why not.
+fn step_in_range(ev: EntryEvent, (lo, hi): (f64, f64), unit: &str) -> Result<f64, String> {
+    match ev {
+        EntryEvent::Committed(v) if (lo..=hi).contains(&v) => Ok(v),
+        EntryEvent::Committed(v) => Err(format!("{v} is outside {lo}–{hi} {unit}")),
+        EntryEvent::Invalid(e) => Err(e),
+    }
+}
 
 /// What the panel knows about the jog being held, or the last one.
 #[derive(Debug)]
@@ -160,27 +169,13 @@ impl CartesianJogPanel {
         });
     }
 
-    /// The held key, if any (not while typing, not with Ctrl / Alt / Cmd).
+    /// The held key, if any (see [`super::shortcuts`]: not while typing or a menu is open, not
+    /// with Ctrl / Alt / Cmd, not a key that went down with one of them).
     fn key_held(ui: &egui::Ui) -> Option<(CartesianAxis, i8)> {
-        if ui.ctx().memory(|m| m.focused().is_some()) {
-            return None;
-        }
-        ui.input(|inp| {
-            let m = inp.modifiers;
-            if m.ctrl || m.alt || m.command || m.mac_cmd {
-                return None;
-            }
-            for (axis, minus, plus) in JOG_KEYS {
-                let axis = if m.shift { CartesianAxis::ALL[axis_index(axis) + 3] } else { axis };
-                if inp.key_down(minus) {
-                    return Some((axis, -1));
-                }
-                if inp.key_down(plus) {
-                    return Some((axis, 1));
-                }
-            }
-            None
-        })
+        CartesianAxis::ALL
+            .into_iter()
+            .flat_map(|axis| [(axis, -1i8), (axis, 1i8)])
+            .find(|&(axis, dir)| shortcuts::held(ui.ctx(), Action::JogCartesian(axis, dir)))
     }
 
     fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
@@ -215,10 +210,6 @@ impl CartesianJogPanel {
             }
         }
     }
-}
-
-fn axis_index(axis: CartesianAxis) -> usize {
-    CartesianAxis::ALL.iter().position(|a| *a == axis).unwrap_or(0)
 }
 
 impl Panel for CartesianJogPanel {
@@ -260,15 +251,15 @@ impl Panel for CartesianJogPanel {
         ui.horizontal(|ui| {
             ui.label("Increment");
             if let (_, Some(ev)) = entry::numeric_entry(ui, "Step mm", self.step_mm, 2, 56.0, "mm") {
-                match ev {
-                    EntryEvent::Committed(v) => self.step_mm = v,
-                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                match step_in_range(ev, STEP_MM_RANGE, "mm") {
+                    Ok(v) => self.step_mm = v,
+                    Err(e) => ctx.error(format!("Step mm: {e}; the increment stays {:.2} mm", self.step_mm)),
                 }
             }
             if let (_, Some(ev)) = entry::numeric_entry(ui, "Step deg", self.step_deg, 2, 56.0, "°") {
-                match ev {
-                    EntryEvent::Committed(v) => self.step_deg = v,
-                    EntryEvent::Invalid(e) => ctx.error(format!("step: {e}")),
+                match step_in_range(ev, STEP_DEG_RANGE, "°") {
+                    Ok(v) => self.step_deg = v,
+                    Err(e) => ctx.error(format!("Step deg: {e}; the increment stays {:.2}°", self.step_deg)),
                 }
             }
         });

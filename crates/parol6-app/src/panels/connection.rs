@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use parol6_core::limits::LimitZone;
 
+use super::shortcuts::{self, Action};
 use super::{AppCommand, LinkCommand, Panel, PanelContext, on_off_led, zone_color};
 
 /// What the connection panel shows about an open serial session (built by the app from the
@@ -170,25 +171,18 @@ impl ConnectionPanel {
                 ctx.settings.jog_speed_fraction = (pct / 100.0).clamp(0.01, 1.0);
             }
         });
-        // Keyboard: 1–6 select, Page Up / Page Down held = jog (not while typing in a field).
-        let typing = ui.ctx().memory(|m| m.focused().is_some());
-        if !typing {
-            let keys =
-                [egui::Key::Num1, egui::Key::Num2, egui::Key::Num3, egui::Key::Num4, egui::Key::Num5, egui::Key::Num6];
-            ui.input(|inp| {
-                for (i, k) in keys.iter().enumerate().take(n) {
-                    if inp.key_pressed(*k) {
-                        self.key_joint = i;
-                    }
-                }
-                if held.is_none() && allowed {
-                    if inp.key_down(egui::Key::PageUp) {
-                        held = Some((self.key_joint, 1));
-                    } else if inp.key_down(egui::Key::PageDown) {
-                        held = Some((self.key_joint, -1));
-                    }
-                }
-            });
+        // Keyboard (the table in `shortcuts`): 1–6 select, Page Up / Page Down held = jog.
+        for i in 0..n {
+            if shortcuts::pressed(ui.ctx(), Action::SelectJoint(i)) {
+                self.key_joint = i;
+            }
+        }
+        if held.is_none() && allowed {
+            if shortcuts::held(ui.ctx(), Action::JogJoint(1)) {
+                held = Some((self.key_joint, 1));
+            } else if shortcuts::held(ui.ctx(), Action::JogJoint(-1)) {
+                held = Some((self.key_joint, -1));
+            }
         }
         if held != self.jog || held.is_some() {
             // Sent every frame while held: the session's dead-man needs a steady refresh.

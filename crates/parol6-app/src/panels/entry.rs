@@ -3,7 +3,7 @@
 //! An entry shows the value with a fixed number of decimals while it is not focused. Clicking
 //! it selects the text; what the operator types is kept as typed (never re-parsed or rounded
 //! while typing) and committed once, on Enter or when the focus leaves the field (Tab, a
-//! click elsewhere). Nothing is sent while typing.
+//! click elsewhere); Esc, or leaving the shown text as it was, commits nothing. Nothing is sent while typing.
 
 use eframe::egui;
 
@@ -16,15 +16,46 @@ pub fn fmt_fixed(v: f64, decimals: usize) -> String {
     }
 }
 
-/// Parses what the operator typed: a decimal number with `.` or `,` as the decimal mark,
-/// optionally followed by a unit (`°`, `deg`, `rad`, `mm`), surrounding blanks ignored.
-pub fn parse_number(text: &str) -> Result<f64, String> {
+/// Parses what the operator typed into a field that shows `field_unit` (its suffix: `°`,
+/// `rad`, `mm`, `s`, … or `""` for a plain number): a decimal number with `.` or `,` as the
+/// decimal mark, optionally followed by a unit, surrounding blanks ignored. A unit that fits the
+/// field is converted to the field's unit (`rad`, `deg`, `°` in an angle field; `mm`, `m`, `in`
+/// in a millimetre field; the field's own unit anywhere); one that does not is refused, saying
+/// which units the field takes.
+pub fn parse_in(text: &str, field_unit: &str) -> Result<f64, String> {
     let t = text.trim();
-    let t = ["°", "deg", "rad", "mm"].iter().fold(t, |t, unit| t.strip_suffix(unit).unwrap_or(t)).trim();
-    let t = t.replace(',', ".");
-    match t.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("\"{}\" is not a number", text.trim())),
+    let number_end = t.rfind(|c: char| c.is_ascii_digit() || c == '.' || c == ',').map_or(0, |i| i + 1);
+    let (number, unit) = (t[..number_end].trim(), t[number_end..].trim());
+    let v = match number.replace(',', ".").parse::<f64>() {
+        Ok(v) if v.is_finite() => v,
+        _ => return Err(format!("\"{t}\" is not a number")),
+    };
+    if unit.is_empty() {
+        return Ok(v);
+    }
+    let field = field_unit.trim();
+    let factor = match (field, unit) {
+        (f, u) if f == u && !f.is_empty() => Some(1.0),
+        ("°" | "deg", "°" | "deg") | ("rad", "rad") => Some(1.0),
+        ("°" | "deg", "rad") => Some(180.0 / std::f64::consts::PI),
+        ("rad", "°" | "deg") => Some(std::f64::consts::PI / 180.0),
+        ("mm", "m") => Some(1000.0),
+        ("mm", "in") => Some(25.4),
+        _ => None,
+    };
+    match factor {
+        Some(k) => Ok(v * k),
+        None => Err(format!("\"{t}\": {unit} does not fit this field; {}", accepts(field))),
+    }
+}
+
+/// What a field showing `unit` accepts, in words.
+fn accepts(unit: &str) -> String {
+    match unit {
+        "°" | "deg" | "rad" => format!("it takes an angle: a plain number (in {unit}) or one ending in °, deg or rad"),
+        "mm" => "it takes a length: a plain number (in mm) or one ending in mm, m or in".to_string(),
+        "" => "it takes a plain number".to_string(),
+        u => format!("it takes a plain number (in {u}) or one ending in {u}"),
     }
 }
 
@@ -48,6 +79,20 @@ pub fn numeric_entry(
     decimals: usize,
     width: f32,
     suffix: &str,
+) -> (egui::Response, Option<EntryEvent>) {
+    unit_entry(ui, name, value, decimals, width, suffix, suffix)
+}
+
+/// [`numeric_entry`] for a field in `unit` that shows `suffix` (e.g. none in a table whose
+/// header names the unit): typed units are converted to `unit` (see [`parse_in`]).
+pub fn unit_entry(
+    ui: &mut egui::Ui,
+    name: &str,
+    value: f64,
+    decimals: usize,
+    width: f32,
+    suffix: &str,
+    unit: &str,
 ) -> (egui::Response, Option<EntryEvent>) {
     let id = ui.make_persistent_id(name);
     let buffer_id = id.with("typed");
@@ -90,9 +135,18 @@ pub fn numeric_entry(
     } else if response.has_focus() {
         ui.data_mut(|d| d.insert_temp(buffer_id, text));
     } else if editing {
-        // Focus left the field (Enter, Tab, click elsewhere): commit what was typed.
+        // Focus left the field (Enter, Tab, click elsewhere): commit what was typed; Esc (which
+        // is STOP as well) drops it, so nothing moves after the STOP. Esc is looked for in the
+        // raw input: the STOP shortcut consumed it already.
         ui.data_mut(|d| d.remove::<String>(buffer_id));
-        event = Some(match parse_number(&text) {
+        let esc = ui.input(|i| {
+            i.raw.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. }))
+        });
+        // text left as shown: nothing was typed, nothing moves (not even by the rounding)
+        if esc || text == fmt_fixed(value, decimals) {
+            return (response, None);
+        }
+        event = Some(match parse_in(&text, unit) {
             Ok(v) => EntryEvent::Committed(v),
             Err(e) => EntryEvent::Invalid(e),
         });
@@ -115,14 +169,39 @@ mod tests {
 
     #[test]
     fn parses_decimals_signs_commas_and_units() {
-        assert_eq!(parse_number("12.34"), Ok(12.34));
-        assert_eq!(parse_number(" -32.73 "), Ok(-32.73));
-        assert_eq!(parse_number("0,5"), Ok(0.5));
-        assert_eq!(parse_number("45°"), Ok(45.0));
-        assert_eq!(parse_number("0.5 rad"), Ok(0.5));
-        assert_eq!(parse_number("-120 mm"), Ok(-120.0));
-        assert!(parse_number("abc").is_err());
-        assert!(parse_number("").is_err());
-        assert!(parse_number("inf").is_err());
+        assert_eq!(parse_in("12.34", "°"), Ok(12.34));
+        assert_eq!(parse_in(" -32.73 ", "mm"), Ok(-32.73));
+        assert_eq!(parse_in("0,5", ""), Ok(0.5));
+        assert_eq!(parse_in("45°", "°"), Ok(45.0));
+        assert_eq!(parse_in("0.5 rad", "rad"), Ok(0.5));
+        assert_eq!(parse_in("-120 mm", "mm"), Ok(-120.0));
+        assert_eq!(parse_in("1e3", ""), Ok(1000.0));
+        assert_eq!(parse_in("2,5 s", "s"), Ok(2.5));
+        assert_eq!(parse_in("0.2N·m", "N·m"), Ok(0.2));
+        assert!(parse_in("abc", "°").is_err());
+        assert!(parse_in("", "°").is_err());
+        assert!(parse_in("inf", "").is_err());
+        assert!(parse_in("-", "mm").is_err());
+    }
+
+    /// Issue 32 major 2: "0.5rad" in a degree field was 0.50°, "10mm" was accepted as an angle.
+    #[test]
+    fn a_typed_unit_is_converted_or_refused() {
+        let close = |a: Result<f64, String>, b: f64| a.as_ref().is_ok_and(|a| (a - b).abs() < 1e-9);
+        assert!(close(parse_in("0.5rad", "°"), 28.64788975654116));
+        assert!(close(parse_in("90 deg", "rad"), std::f64::consts::FRAC_PI_2));
+        assert!(close(parse_in("90°", "rad"), std::f64::consts::FRAC_PI_2));
+        assert!(close(parse_in("-1,5 deg", "°"), -1.5));
+        assert!(close(parse_in("0.25 m", "mm"), 250.0));
+        assert!(close(parse_in("2in", "mm"), 50.8));
+        assert!(close(parse_in("3 mm", "mm"), 3.0));
+        let e = parse_in("10mm", "°").unwrap_err();
+        assert!(e.contains("mm does not fit") && e.contains("°, deg or rad"), "{e}");
+        let e = parse_in("10 rad", "mm").unwrap_err();
+        assert!(e.contains("rad does not fit") && e.contains("mm, m or in"), "{e}");
+        let e = parse_in("3 mm", "s").unwrap_err();
+        assert!(e.contains("in s"), "{e}");
+        assert!(parse_in("5 xyz", "°").is_err());
+        assert!(parse_in("1 m", "").is_err());
     }
 }

@@ -57,20 +57,12 @@ const PANELS: [(&str, &str); 8] = [
     ),
 ];
 
-/// Mouse and keyboard.
-const KEYS: [(&str, &str); 12] = [
-    ("Esc", "STOP (also cancels a demo)"),
-    ("H, Ctrl+H", "HOME (profiled move to standby; H only while no field is being typed in)"),
+/// The mouse, and typing into fields (the keys are the table in [`super::shortcuts`]).
+const MOUSE: [(&str, &str); 4] = [
     ("Enter, Tab", "commit a typed value (clicking elsewhere does too)"),
-    ("1–6, PgUp / PgDn", "select a joint, jog it (robot connected)"),
-    ("A / D, S / W, Q / E", "Cartesian jog −X / +X, −Y / +Y, −Z / +Z while held (hold mode, no field typed in)"),
-    ("Shift + those", "Cartesian jog −Rx / +Rx, −Ry / +Ry, −Rz / +Rz"),
     ("left drag", "3D view: orbit"),
     ("right drag", "3D view: pan"),
     ("wheel", "3D view: zoom"),
-    ("R, arrows, + / −", "3D view: reset, orbit, zoom (pointer over the view)"),
-    ("F1", "this help"),
-    ("Ctrl+Q", "quit"),
 ];
 
 /// Draws the help into `ui`; `settings_path` is where the settings are saved (`None`: they
@@ -89,12 +81,28 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     ui.label(
         "Angles in degrees or radians (the deg / rad switch of the Joints panel, or the Units \
          menu), shown with 2 decimals in degrees and 4 in radians; positions in millimetres \
-         with 2 decimals. Typed values may use a comma as decimal mark and may end with the unit.",
+         with 2 decimals. Typed values may use a comma as decimal mark and may end with a unit, which is \
+         converted: rad, deg or ° in an angle field, mm, m or in in a millimetre field (a unit that does \
+         not fit the field is refused).",
     );
     ui.add_space(6.0);
     ui.heading("Mouse and keys");
-    egui::Grid::new("help_keys").num_columns(2).spacing([12.0, 2.0]).show(ui, |ui| {
-        for (k, what) in KEYS {
+    ui.label(
+        "Keys that move the arm act only while no text field, menu or popup has the keyboard, and never \
+         while Ctrl, Alt or Cmd is held unless the table names it (Ctrl+H). A jog key counts only when \
+         pressed on its own: let it go and press it again after using a modifier. Esc always stops.",
+    );
+    egui::Grid::new("help_keys").num_columns(3).spacing([12.0, 2.0]).striped(true).show(ui, |ui| {
+        for (keys, what, scope) in super::shortcuts::help_rows() {
+            ui.monospace(keys);
+            ui.label(what);
+            ui.weak(scope);
+            ui.end_row();
+        }
+    });
+    ui.add_space(4.0);
+    egui::Grid::new("help_mouse").num_columns(2).spacing([12.0, 2.0]).show(ui, |ui| {
+        for (k, what) in MOUSE {
             ui.monospace(k);
             ui.label(what);
             ui.end_row();

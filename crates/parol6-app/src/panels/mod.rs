@@ -29,6 +29,7 @@ pub mod plot_line;
 pub mod plots;
 pub mod program;
 pub mod registry;
+pub mod shortcuts;
 pub mod status_bar;
 pub mod step_fields;
 pub mod tcp;

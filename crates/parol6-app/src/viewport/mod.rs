@@ -409,27 +409,19 @@ impl Viewport {
             if pinch != 1.0 {
                 self.camera.zoom(1.0 / pinch);
             }
-            let typing = ui.ctx().memory(|m| m.focused().is_some());
-            if !typing {
-                self.handle_keys(ui);
-            }
+            // the keys' table (`panels::shortcuts`) keeps them off while a field has the keyboard
+            self.handle_keys(ui);
         }
     }
 
     fn handle_keys(&mut self, ui: &egui::Ui) {
-        use egui::Key;
-        let (dt, left, right, up, down, zin, zout, reset) = ui.input(|i| {
-            (
-                i.stable_dt.min(0.1),
-                i.key_down(Key::ArrowLeft),
-                i.key_down(Key::ArrowRight),
-                i.key_down(Key::ArrowUp),
-                i.key_down(Key::ArrowDown),
-                i.key_down(Key::Plus) || i.key_down(Key::Equals),
-                i.key_down(Key::Minus),
-                i.key_pressed(Key::R) || i.key_pressed(Key::Home),
-            )
-        });
+        use crate::panels::shortcuts::{Action, held, pressed};
+        let ctx = ui.ctx();
+        let dt = ui.input(|i| i.stable_dt.min(0.1));
+        let (left, right) = (held(ctx, Action::Orbit(-1, 0)), held(ctx, Action::Orbit(1, 0)));
+        let (up, down) = (held(ctx, Action::Orbit(0, 1)), held(ctx, Action::Orbit(0, -1)));
+        let (zin, zout) = (held(ctx, Action::Zoom(1)), held(ctx, Action::Zoom(-1)));
+        let reset = pressed(ctx, Action::ResetView);
         let step = KEY_ORBIT_RAD_S * dt;
         let mut active = false;
         let mut orbit = |yaw: f32, pitch: f32| {

@@ -267,20 +267,18 @@ impl ProgramPanel {
         }
     }
 
-    /// Editing shortcuts, unless a text field has the keyboard.
+    /// Editing shortcuts (see [`super::super::shortcuts`]: not while a text field has the keyboard).
     pub(super) fn shortcuts(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        if ui.ctx().egui_wants_keyboard_input() {
-            return;
-        }
-        use egui::{Key, KeyboardShortcut, Modifiers};
-        let pressed = |m: Modifiers, k: Key| ui.input_mut(|i| i.consume_shortcut(&KeyboardShortcut::new(m, k)));
-        let redo = pressed(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z) || pressed(Modifiers::COMMAND, Key::Y);
-        let undo = pressed(Modifiers::COMMAND, Key::Z);
-        let dup = pressed(Modifiers::COMMAND, Key::D);
-        let save = pressed(Modifiers::COMMAND, Key::S);
-        let del = pressed(Modifiers::NONE, Key::Delete);
-        let up = pressed(Modifiers::ALT, Key::ArrowUp);
-        let down = pressed(Modifiers::ALT, Key::ArrowDown);
+        use super::super::shortcuts::{Action, pressed};
+        let ctx_ui = ui.ctx().clone();
+        let pressed = |a: Action| pressed(&ctx_ui, a);
+        let redo = pressed(Action::Redo);
+        let undo = pressed(Action::Undo);
+        let dup = pressed(Action::DuplicateStep);
+        let save = pressed(Action::SaveProgram);
+        let del = pressed(Action::DeleteStep);
+        let up = pressed(Action::MoveStepUp);
+        let down = pressed(Action::MoveStepDown);
         if redo {
             self.redo();
         } else if undo {

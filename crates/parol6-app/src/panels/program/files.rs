@@ -145,16 +145,49 @@ impl ProgramPanel {
     /// from that file.
     pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
         let start_q = ctx.robot.commanded.q.clone();
-        let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
-        let fctx = FormatContext { abc, ..FormatContext::new(ctx.model, &start_q) };
+        self.save_with(path, ctx.model, &start_q, ctx.settings)
+    }
+
+    /// [`Self::save_to`] without a frame's context: G-code is written from `start_q`.
+    fn save_with(
+        &mut self,
+        path: &Path,
+        model: &parol6_core::RobotModel,
+        start_q: &[f64],
+        settings: &mut crate::panels::Settings,
+    ) -> Result<(), String> {
+        let abc = AbcChoice::default_to(settings.gcode_abc);
+        let fctx = FormatContext { abc, ..FormatContext::new(model, start_q) };
         write_program(self.editor.program(), path, &fctx).map_err(|e| e.to_string())?;
         self.editor.mark_saved();
         let shown = path.display().to_string();
         self.source = shown.clone();
         self.file = Some(path.to_path_buf());
         self.path_text = shown.clone();
-        ctx.settings.remember_program(&shown);
+        settings.remember_program(&shown);
         Ok(())
+    }
+
+    /// The file the program came from or was last saved to (`None`: built-in or new).
+    pub fn file(&self) -> Option<&Path> {
+        self.file.as_deref()
+    }
+
+    /// Saves before the window closes: `Ok(true)` saved to its file, `Ok(false)` it has no file
+    /// yet (the Save-as dialog is opened instead), `Err` the write failed (the message says why).
+    pub fn save_before_quit(
+        &mut self,
+        model: &parol6_core::RobotModel,
+        start_q: &[f64],
+        settings: &mut crate::panels::Settings,
+    ) -> Result<bool, String> {
+        match self.file.clone() {
+            Some(path) => self.save_with(&path, model, start_q, settings).map(|()| true),
+            None => {
+                self.show_dialog(DialogKind::SaveAs);
+                Ok(false)
+            }
+        }
     }
 
     /// "Save": to the file it came from, else "Save as".

@@ -29,6 +29,7 @@ use parol6_core::program::compile::{CompileOptions, StepAction, compile};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
 use parol6_core::program::{Program, builtin};
 
+use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
 use crate::viewport::{PathOverlay, PathPointStatus};
@@ -278,7 +279,7 @@ impl ProgramPanel {
             } else {
                 "the pre-flight must be clean"
             });
-            let f5 = ui.input(|i| i.key_pressed(egui::Key::F5));
+            let f5 = shortcuts::pressed(ui.ctx(), Action::RunProgram);
             if run.clicked() || (f5 && can_run) {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Resume));
@@ -287,12 +288,12 @@ impl ProgramPanel {
                 }
             }
             let pause = ui.add_enabled(running && !paused, egui::Button::new("Pause (F6)"));
-            if pause.clicked() || (running && !paused && ui.input(|i| i.key_pressed(egui::Key::F6))) {
+            if pause.clicked() || (running && !paused && shortcuts::pressed(ui.ctx(), Action::PauseProgram)) {
                 ctx.send(AppCommand::Program(RunnerControl::Pause));
             }
             let can_step = paused || (!running && clean);
             let step = ui.add_enabled(can_step, egui::Button::new("Step (F10)"));
-            if step.clicked() || (can_step && ui.input(|i| i.key_pressed(egui::Key::F10))) {
+            if step.clicked() || (can_step && shortcuts::pressed(ui.ctx(), Action::SingleStep)) {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Step));
                 } else {

@@ -59,7 +59,8 @@ impl ProgramPanel {
                             }
                             for f in &fields {
                                 let name = format!("table {} {}", i + 1, f.label);
-                                let (_, event) = entry::numeric_entry(ui, &name, f.value, f.decimals, CELL_WIDTH, "");
+                                let (_, event) =
+                                    entry::unit_entry(ui, &name, f.value, f.decimals, CELL_WIDTH, "", f.suffix);
                                 match event {
                                     Some(EntryEvent::Committed(v)) => change = Some((i, f.slot, v, f.label.clone())),
                                     Some(EntryEvent::Invalid(why)) => {

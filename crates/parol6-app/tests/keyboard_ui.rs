@@ -1,0 +1,188 @@
+//! The keyboard never moves the arm by accident (issue 32, major 1): every shortcut of the one
+//! table (`panels::shortcuts::SHORTCUTS`) is pressed with the 3D view focused and with a text
+//! field focused, and every key that moves the arm with Ctrl, Alt and Super (Cmd) added; the
+//! app's log of commands that set the arm moving must stay empty. Positive controls (a plain
+//! jog key, H, F5) show the log does see the keyboard.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui::{self, Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use parol6_app::app::Parol6App;
+use parol6_app::panels::shortcuts::{Action, Mods, SHORTCUTS, Trigger};
+
+/// The app with the built-in program opened from a file (so Ctrl+S saves it, no dialog).
+fn harness(tag: &str) -> Harness<'static, Parol6App> {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = std::env::temp_dir().join(format!("parol6-keyboard-ui-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("program.json");
+    std::fs::write(&path, parol6_core::program::json::to_string(h.state().program_panel().program())).unwrap();
+    h.get_by_label("Program file").click();
+    h.run_steps(1);
+    h.get_by_label("Program file").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    h.run_steps(3);
+    h
+}
+
+fn moves(h: &Harness<'_, Parol6App>) -> Vec<String> {
+    h.state().moves_sent().map(str::to_string).collect()
+}
+
+/// A key going down (held `frames` frames) and up with `modifiers` held throughout.
+fn press(h: &mut Harness<'_, Parol6App>, key: Key, modifiers: Modifiers, frames: usize) {
+    h.event(egui::Event::ModifiersChanged(modifiers));
+    h.event(egui::Event::Key { key, pressed: true, modifiers, repeat: false, physical_key: None });
+    h.run_steps(frames);
+    h.event(egui::Event::Key { key, pressed: false, modifiers, repeat: false, physical_key: None });
+    h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    h.run_steps(2);
+}
+
+/// Clicks the 3D view (the pointer stays over it; no widget has the keyboard).
+fn focus_view(h: &mut Harness<'_, Parol6App>) {
+    let at = h.get_by_label_contains("3D view unavailable").rect().center();
+    h.hover_at(at);
+    for pressed in [true, false] {
+        let modifiers = Modifiers::NONE;
+        h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed, modifiers });
+        h.run_steps(1);
+    }
+    h.run_steps(1);
+}
+
+/// Clicks the J1 target entry (it keeps the keyboard).
+fn focus_field(h: &mut Harness<'_, Parol6App>) {
+    h.get_by_label("J1 target").click();
+    h.run_steps(2);
+    assert!(h.ctx.memory(|m| m.focused().is_some()), "the J1 target field has the keyboard");
+}
+
+fn mods_of(m: Mods) -> Modifiers {
+    match m {
+        Mods::Exactly(m) => m,
+        Mods::Any => Modifiers::NONE,
+    }
+}
+
+/// Holds the arm and forgets what was sent.
+fn stop_and_clear(h: &mut Harness<'_, Parol6App>) {
+    press(h, Key::Escape, Modifiers::NONE, 1);
+    ui_support::until(h, "the arm at rest", 10.0, |h| !h.state().backend().state().moving);
+}
+
+#[test]
+fn no_shortcut_moves_the_arm_with_a_modifier_or_in_a_text_field() {
+    let mut h = harness("all");
+    // positive controls: the log sees a plain jog key, H and F5 with the view focused
+    for (key, what) in [(Key::D, "CartesianJog"), (Key::H, "Home"), (Key::F5, "RunProgram")] {
+        focus_view(&mut h);
+        let before = moves(&h).len();
+        press(&mut h, key, Modifiers::NONE, 3);
+        let sent = moves(&h);
+        assert!(sent[before..].iter().any(|m| m.contains(what)), "{key:?} sent {:?}", &sent[before..]);
+        stop_and_clear(&mut h);
+    }
+
+    let start = moves(&h).len();
+    let mut tried = 0;
+    for s in SHORTCUTS {
+        let own = mods_of(s.mods);
+        let frames = if s.trigger == Trigger::Hold { 4 } else { 1 };
+        // with the 3D view focused, a shortcut that does not move the arm sends no motion
+        if !s.action.moves_arm() && s.action != Action::Quit {
+            focus_view(&mut h);
+            press(&mut h, s.key, own, frames);
+            if s.action == Action::ToggleHelp {
+                press(&mut h, s.key, own, frames); // closed again: it covers the view
+            }
+            tried += 1;
+            assert_eq!(moves(&h)[start..], [] as [String; 0], "{:?} ({:?}) with the view focused", s.key, s.action);
+        }
+        // with a text field focused, no shortcut sends motion
+        if s.action != Action::Quit {
+            focus_field(&mut h);
+            press(&mut h, s.key, own, frames);
+            if s.action == Action::ToggleHelp {
+                press(&mut h, s.key, own, frames);
+            }
+            tried += 1;
+            assert_eq!(moves(&h)[start..], [] as [String; 0], "{:?} {own:?} typed into a field", s.key);
+        }
+        // a key that moves the arm, with Ctrl, Alt or Super added, sends no motion
+        if s.action.moves_arm() {
+            for extra in [Modifiers::CTRL | Modifiers::COMMAND, Modifiers::ALT, Modifiers::MAC_CMD] {
+                let m = own | extra;
+                let bound = SHORTCUTS.iter().any(|t| {
+                    t.key == s.key && t.action.moves_arm() && matches!(t.mods, Mods::Exactly(tm) if m.matches_exact(tm))
+                });
+                if bound {
+                    continue; // Ctrl+H is HOME on purpose
+                }
+                focus_view(&mut h);
+                press(&mut h, s.key, m, frames);
+                tried += 1;
+                assert_eq!(moves(&h)[start..], [] as [String; 0], "{:?} with {m:?}, view focused", s.key);
+            }
+        }
+    }
+    assert!(tried > 80, "pressed {tried} chords");
+}
+
+/// Ctrl+S saves; S held on after Ctrl is let go must not jog −Y (the defect: it did).
+#[test]
+fn a_jog_key_pressed_with_ctrl_does_not_jog_when_ctrl_is_let_go_first() {
+    let mut h = harness("ctrl");
+    focus_view(&mut h);
+    for key in [Key::S, Key::A, Key::D] {
+        h.event(egui::Event::ModifiersChanged(Modifiers::CTRL | Modifiers::COMMAND));
+        let ctrl = Modifiers::CTRL | Modifiers::COMMAND;
+        h.event(egui::Event::Key { key, pressed: true, modifiers: ctrl, repeat: false, physical_key: None });
+        h.run_steps(2);
+        h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+        h.run_steps(4);
+        h.event(egui::Event::Key { key, pressed: true, modifiers: Modifiers::NONE, repeat: true, physical_key: None });
+        h.run_steps(4);
+        h.event(egui::Event::Key {
+            key,
+            pressed: false,
+            modifiers: Modifiers::NONE,
+            repeat: false,
+            physical_key: None,
+        });
+        h.run_steps(2);
+        assert_eq!(moves(&h), [] as [String; 0], "Ctrl+{key:?}, Ctrl let go first");
+    }
+    // an open menu holds the jog keys too
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    press(&mut h, Key::D, Modifiers::NONE, 4);
+    assert_eq!(moves(&h), [] as [String; 0], "D with the View menu open");
+}
+
+/// F1 help is generated from the table: every chord is listed (Ctrl+S, Ctrl+Z, F5, F6, F10 were
+/// missing).
+#[test]
+fn f1_help_lists_every_shortcut_of_the_table() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    h.key_press(Key::F1);
+    h.run_steps(3);
+    let rows = parol6_app::panels::shortcuts::help_rows();
+    for (keys, what, _) in &rows {
+        assert!(h.query_by_label(keys).is_some(), "help does not list {keys} ({what})");
+    }
+    for s in SHORTCUTS {
+        let chord = parol6_app::panels::shortcuts::chord(s);
+        assert!(rows.iter().any(|r| r.0.split(", ").any(|c| c == chord)), "{chord} is not in the help");
+    }
+    for chord in ["Ctrl+S", "Ctrl+Z", "Ctrl+Shift+Z", "F5", "F6", "F10", "Esc", "Page Up, Page Down"] {
+        let chord = if cfg!(target_os = "macos") { chord.replace("Ctrl", "Cmd") } else { chord.to_string() };
+        assert!(h.query_all_by_label_contains(&chord).next().is_some(), "help does not list {chord}");
+    }
+}

@@ -1,0 +1,102 @@
+//! Ctrl+Q or closing the window with unsaved program edits asks first (issue 32, major 3):
+//! the question names the program and its file and offers Save, Discard and Cancel.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui::{self, Key, Modifiers, ViewportCommand, ViewportId};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use parol6_app::app::Parol6App;
+
+/// The app with the built-in program opened from `path`, then one step taught (unsaved).
+fn edited(path: &std::path::Path) -> Harness<'static, Parol6App> {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    std::fs::write(path, parol6_core::program::json::to_string(h.state().program_panel().program())).unwrap();
+    h.get_by_label("Program file").click();
+    h.run_steps(1);
+    h.get_by_label("Program file").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    h.run_steps(3);
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    assert!(h.state().program_panel().is_dirty());
+    h
+}
+
+/// True when the last frame told the window to close.
+fn closes(h: &Harness<'_, Parol6App>) -> bool {
+    h.output().viewport_output.get(&ViewportId::ROOT).is_some_and(|v| v.commands.contains(&ViewportCommand::Close))
+}
+
+fn ctrl_q(h: &mut Harness<'_, Parol6App>) {
+    let ctrl = Modifiers::CTRL | Modifiers::COMMAND;
+    h.event(egui::Event::ModifiersChanged(ctrl));
+    h.event(egui::Event::Key { key: Key::Q, pressed: true, modifiers: ctrl, repeat: false, physical_key: None });
+    h.event(egui::Event::Key { key: Key::Q, pressed: false, modifiers: ctrl, repeat: false, physical_key: None });
+    h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    h.run_steps(1);
+}
+
+#[test]
+fn quitting_with_unsaved_edits_asks_save_discard_or_cancel() {
+    let dir = std::env::temp_dir().join(format!("parol6-quit-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("edited.json");
+    let mut h = edited(&path);
+    let name = h.state().program_panel().program().name.clone();
+
+    // Ctrl+Q asks, naming the program and the file; nothing closes
+    ctrl_q(&mut h);
+    assert!(!closes(&h), "Ctrl+Q closed the window over unsaved edits");
+    h.run_steps(1);
+    assert!(h.state().quit_prompt_open(), "no question");
+    let question = format!("The program \"{name}\" (file {}) has unsaved edits", path.display());
+    assert!(h.query_by_label_contains(&question).is_some(), "the question names the program and file");
+    for b in ["Save and quit", "Discard and quit", "Cancel"] {
+        assert!(h.query_all_by_label(b).next().is_some(), "offers {b}");
+    }
+    // Cancel: keep working
+    h.get_by_label("Cancel").click();
+    h.run_steps(1);
+    assert!(!closes(&h) && !h.state().quit_prompt_open());
+    h.run_steps(1);
+
+    // the window's close button asks too (the close is cancelled)
+    h.input_mut().viewports.entry(ViewportId::ROOT).or_default().events.push(egui::ViewportEvent::Close);
+    h.run_steps(1);
+    let cancelled = h.output().viewport_output[&ViewportId::ROOT].commands.contains(&ViewportCommand::CancelClose);
+    assert!(cancelled, "the close went through");
+    h.run_steps(1);
+    assert!(h.state().quit_prompt_open());
+
+    // Save: written, then the window closes
+    let on_disk = std::fs::read_to_string(&path).unwrap();
+    h.get_by_label("Save and quit").click();
+    h.run_steps(1);
+    assert!(closes(&h), "Save then quit");
+    assert_ne!(std::fs::read_to_string(&path).unwrap(), on_disk, "the taught step was saved");
+    assert!(!h.state().program_panel().is_dirty());
+}
+
+#[test]
+fn discard_quits_without_saving_and_a_clean_program_is_not_asked_about() {
+    let dir = std::env::temp_dir().join(format!("parol6-quit-ui-d-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("edited.json");
+    let mut h = edited(&path);
+    let on_disk = std::fs::read_to_string(&path).unwrap();
+    ctrl_q(&mut h);
+    h.run_steps(1);
+    h.get_by_label("Discard and quit").click();
+    h.run_steps(1);
+    assert!(closes(&h), "Discard quits");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), on_disk, "nothing written");
+
+    let mut clean = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    ctrl_q(&mut clean);
+    assert!(!clean.state().quit_prompt_open(), "no edits: nothing to ask");
+}

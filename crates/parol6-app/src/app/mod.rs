@@ -1,7 +1,5 @@
-//! The eframe application (`layout`: menu, panels and the 3D view; `link`: the serial link;
-//! `settings_store`: settings on disk; `test_hooks`: the GUI smoke and sweep scripts;
-//! `frame_reuse`: the panels' last frame shown again while only the 3D view changes): owns the simulation, the optional serial session, the 3D viewport
-//! and the panels. Reads one snapshot per frame, lets the panels queue [`AppCommand`]s and
+//! The eframe application (`layout`, `link`, `settings_store`, `test_hooks`, `frame_reuse`: see
+//! ARCHITECTURE.md): owns the simulation, the optional serial session, the 3D viewport and the panels. Reads one snapshot per frame, lets the panels queue [`AppCommand`]s and
 //! executes them after the UI pass. Rendering never waits on physics (the snapshot is a
 //! lock-free `Arc`) and repaints are requested only while something moves or the link is live.
 //!
@@ -11,8 +9,7 @@
 use eframe::egui;
 use std::collections::VecDeque;
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::AtomicI32;
+use std::sync::{Arc, atomic::AtomicI32};
 use std::time::{Duration, Instant};
 
 use anyhow::Context as _;

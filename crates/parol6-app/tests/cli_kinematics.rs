@@ -35,6 +35,15 @@ fn fk_standby_in_degrees() {
     assert_eq!(v["within_limits"], true);
 }
 
+/// Issue 32: the README says positions are in metres unless `--mm`, but `fk --mm` was refused.
+#[test]
+fn fk_mm_was_refused() {
+    let v = json(&parol6(&["fk", "--joints", "90,-90,180,0,0,180", "--deg", "--mm"]));
+    let (m, mm) = (floats(&v["tcp"]["position_m"]), floats(&v["tcp"]["position_mm"]));
+    assert!((mm[1] - 236.770721).abs() < 1e-6 && (mm[2] - 334.0).abs() < 1e-6, "{mm:?}");
+    assert!(m.iter().zip(&mm).all(|(a, b)| (a * 1e3 - b).abs() < 1e-9));
+}
+
 #[test]
 fn fk_with_tool_moves_the_tcp() {
     let bare = json(&parol6(&["fk", "--joints", "90,-90,180,0,0,180", "--deg"]));

@@ -55,7 +55,6 @@ fn iso9283_on_the_simulation_writes_json_raw_csv_and_reads_it_back() {
 fn refusals_name_the_pose_or_the_row_and_column() {
     let far = ["iso9283", "--center-mm", "0,330,250", "--edge-mm", "300", "--orientation-deg", "90,0,0", "--json"];
     run(&far).assert_refused("unreachable", "pre-flight refuses P");
-    run(&["iso9283", "--center-mm", "0,250,220", "--json"]).assert_refused("no edge", "--edge-mm");
     run(&args(&["iso9283"], &["--cycles", "1"])).assert_refused("cycles", "2..=1000");
     run(&args(&["iso9283"], &["--speed", "3"])).assert_refused("speed", "0.01…1");
     let bad = temp("bad.csv");
@@ -67,6 +66,16 @@ fn refusals_name_the_pose_or_the_row_and_column() {
     std::fs::write(&bad, "").unwrap();
     run(&["iso9283", "--measurements", &s(&bad)]).assert_refused("empty", "empty");
     let _ = std::fs::remove_file(bad);
+}
+
+/// Issue 32: `parol6 iso9283` without `--center-mm/--edge-mm/--orientation-deg` failed although
+/// the window has a default cube; now it uses that cube, and `--help` shows it.
+#[test]
+fn iso9283_without_a_cube_failed_though_the_window_has_defaults() {
+    let out = run(&["iso9283", "--cycles", "2", "--json"]).json("iso9283 with the default cube");
+    assert_eq!(out["poses"].as_array().map(Vec::len), Some(5), "{out}");
+    let help = run(&["iso9283", "--help"]);
+    assert!(help.stdout.contains("default 0,250,220") && help.stdout.contains("default 60"), "{help:?}");
 }
 
 #[test]

@@ -22,6 +22,9 @@ pub struct FkArgs {
     /// Joint values are in degrees.
     #[arg(long)]
     pub deg: bool,
+    /// Also give the TCP position in millimetres (`tcp.position_mm`).
+    #[arg(long)]
+    pub mm: bool,
 }
 
 /// Arguments of `parol6 ik`.
@@ -102,7 +105,11 @@ pub fn run_fk(a: &FkArgs, robot: &RobotArgs) -> CliResult {
     if let Err(e) = &within {
         warn(e);
     }
-    print_json(&json!({"joints_rad": q, "within_limits": within.is_ok(), "tcp": tcp_json(&pose)}))
+    let mut tcp = tcp_json(&pose);
+    if a.mm {
+        tcp["position_mm"] = json!(pose.position_m.map(|m| m * 1e3));
+    }
+    print_json(&json!({"joints_rad": q, "within_limits": within.is_ok(), "tcp": tcp}))
 }
 
 /// Default IK seed: standby for the PAROL6, mid-range otherwise.

@@ -25,26 +25,27 @@ use crate::report::{self, PathReport, PoseReport, Report, Setup};
 /// The cube options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct CubeArgs {
-    /// Cube centre X,Y,Z in the base frame, mm (each within ±2000).
+    /// Cube centre X,Y,Z in the base frame, mm (each within ±2000; default 0,250,220, the window's).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = triple(2000.0))]
     pub center_mm: Option<[f64; 3]>,
-    /// Cube edge, mm, > 0 and ≤ 1000.
+    /// Cube edge, mm, > 0 and ≤ 1000 (default 60, the window's).
     #[arg(long, value_name = "L", value_parser = super::options::f64_above(0.0, MAX_EDGE_MM))]
     pub edge_mm: Option<f64>,
     /// Tool orientation at every pose: our URDF ROLL,PITCH,YAW, deg (R = Rz(yaw)·Ry(pitch)·Rx(roll);
-    /// each within ±360).
+    /// each within ±360; default 90,0,0, the window's).
     #[arg(long, value_name = "ROLL,PITCH,YAW", allow_hyphen_values = true, value_parser = triple(360.0))]
     pub orientation_deg: Option<[f64; 3]>,
 }
 
 impl CubeArgs {
     fn cube(&self) -> Result<TestCube, CliError> {
-        match (self.center_mm, self.edge_mm, self.orientation_deg) {
-            (Some(center_mm), Some(edge_mm), Some(orientation_rpy_deg)) => {
-                Ok(TestCube { center_mm, edge_mm, orientation_rpy_deg })
-            }
-            _ => Err(CliError::usage("the test needs --center-mm, --edge-mm and --orientation-deg")),
-        }
+        // what is not given is the window's default cube's
+        let d = TestCube::DEFAULT;
+        Ok(TestCube {
+            center_mm: self.center_mm.unwrap_or(d.center_mm),
+            edge_mm: self.edge_mm.unwrap_or(d.edge_mm),
+            orientation_rpy_deg: self.orientation_deg.unwrap_or(d.orientation_rpy_deg),
+        })
     }
 
     fn any_given(&self) -> bool {

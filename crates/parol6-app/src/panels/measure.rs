@@ -50,7 +50,7 @@ pub struct MeasurePanel {
 
 impl Default for MeasurePanel {
     fn default() -> Self {
-        let cube = TestCube { center_mm: [0.0, 250.0, 220.0], edge_mm: 60.0, orientation_rpy_deg: [90.0, 0.0, 0.0] };
+        let cube = TestCube::DEFAULT;
         Self {
             plan: PoseTestPlan { cycles: 10, ..PoseTestPlan::new(cube) },
             show_cube: true,

@@ -50,6 +50,11 @@ pub struct TestCube {
 }
 
 impl TestCube {
+    /// The default cube of the window's measurement panel and of `parol6 iso9283` / `path-test`:
+    /// centre (0, 250, 220) mm, edge 60 mm, tool roll/pitch/yaw (90, 0, 0)°.
+    pub const DEFAULT: TestCube =
+        TestCube { center_mm: [0.0, 250.0, 220.0], edge_mm: 60.0, orientation_rpy_deg: [90.0, 0.0, 0.0] };
+
     /// Checks that every value is finite and the edge is in range.
     pub fn validate(&self) -> Result<(), CubeError> {
         if !self.center_mm.iter().all(|v| v.is_finite()) {

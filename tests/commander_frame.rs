@@ -132,7 +132,15 @@ fn assert_reaches(q_deg: &[f64], within_limits: bool) -> Result<(), TestCaseErro
             if !within_limits {
                 continue;
             }
-            let solutions = ik::solve_parol6(&model, &target_pose, &q).expect("reachable");
+            let solutions = match ik::solve_parol6(&model, &target_pose, &q) {
+                Ok(s) => s,
+                // near a singular pose the readout's rounding (≤ 0.0005°) can swing the wrist's
+                // J4/J6 split past a limit: the pose as shown has no solution within the limits
+                Err(ik::IkError::NoSolutionWithinLimits { .. }) if sigma_min < 0.02 && pose == shown(q_deg) => {
+                    continue;
+                }
+                Err(e) => return Err(TestCaseError::fail(format!("{q_deg:?} {tool:?}: {pose:?} unreachable: {e}"))),
+            };
             let best = &solutions[0].joints_rad;
             let (dp, dr) = diff(&model.tcp_isometry(best), &want);
             prop_assert!(dp <= 0.01 && dr <= 0.01, "{q_deg:?} {tool:?}: IK {dp} mm {dr}°");
@@ -258,4 +266,25 @@ proptest! {
             prop_assert!(dp <= 0.005 && dr <= 1e-4, "{tool:?}: {dp} mm {dr}°");
         }
     }
+}
+
+/// A pose the proptest found (CI, 2026-11-26): J5 at −89.17°, where the wrist is near singular
+/// (σ_min < 0.02); the shown pose, rounded to 0.001°, then has no IK solution within the limits
+/// for any tool, while the pose at full precision is reached.
+#[test]
+fn a_shown_pose_near_a_singular_wrist_may_leave_the_limits() {
+    let q_deg = [
+        -120.02831783325023,
+        -141.4084384336969,
+        256.3913400708493,
+        19.101198051224056,
+        -89.16535244917392,
+        185.26011523549568,
+    ];
+    let model = model_with(Tool::Ssg48);
+    let q = rad(&q_deg);
+    assert!(model.jacobian(&q).svd(false, false).singular_values.min() < 0.02);
+    let exact = target(&read_program(&model, &q_deg, "MovePose", &unrounded(&q_deg)));
+    assert!(ik::solve_parol6(&model, &exact, &q).is_ok());
+    assert_reaches(&q_deg, true).unwrap();
 }

@@ -578,6 +578,8 @@ impl Simulation {
 }
 
 #[cfg(test)]
+mod dynamics_tests;
+#[cfg(test)]
 mod rest_tests;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

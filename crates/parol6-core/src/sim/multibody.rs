@@ -20,6 +20,14 @@ use crate::model::{JointKind, RobotModel, Shape};
 /// are taken back by the end stops ([`Physics::project_into_limits`]).
 pub const SOLVER_ITERATIONS: usize = 1;
 
+/// The robot's colliders touch only the ground: its self-collisions are the guard's
+/// ([`super::collision`]), so rapier's narrow phase never computes a link–link pair (they were
+/// 4.5 % of the step's instructions).
+const LINK_GROUPS: InteractionGroups = InteractionGroups::new(Group::GROUP_1, Group::GROUP_2, InteractionTestMode::And);
+/// The ground touches the robot's links.
+const GROUND_GROUPS: InteractionGroups =
+    InteractionGroups::new(Group::GROUP_2, Group::GROUP_1, InteractionTestMode::And);
+
 /// Position-motor gains (rapier's acceleration-based model: per unit of effective inertia).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotorGains {
@@ -132,7 +140,10 @@ impl Physics {
 
         // ground plane (fixed, its own body so the robot root never touches it in the solver)
         let ground = world.insert_body(RigidBodyBuilder::fixed());
-        world.insert_collider(ColliderBuilder::halfspace(nalgebra::Unit::new_unchecked(Vector::Z)), Some(ground));
+        world.insert_collider(
+            ColliderBuilder::halfspace(nalgebra::Unit::new_unchecked(Vector::Z)).collision_groups(GROUND_GROUPS),
+            Some(ground),
+        );
 
         let zeros = vec![0.0; n];
         let frames = model.chain_frames(&zeros);
@@ -169,7 +180,11 @@ impl Physics {
             for g in &link.collisions {
                 let Some((shape, local)) = convex_shape(&g.shape) else { continue };
                 let pose = link.offset * g.origin * local;
-                let collider = ColliderBuilder::new(shape).position(pose_from_iso(&pose)).density(0.0).friction(0.5);
+                let collider = ColliderBuilder::new(shape)
+                    .position(pose_from_iso(&pose))
+                    .density(0.0)
+                    .friction(0.5)
+                    .collision_groups(LINK_GROUPS);
                 world.insert_collider(collider, Some(body));
                 collider_count += 1;
             }
@@ -267,6 +282,24 @@ impl Physics {
     /// Number of robot colliders (the ground plane not counted).
     pub fn collider_count(&self) -> usize {
         self.collider_count
+    }
+
+    /// The pairs of colliders rapier's narrow phase keeps contact data for, as (robot–robot,
+    /// robot–ground) counts (the ground is the only collider without a chain body).
+    #[cfg(test)]
+    pub(crate) fn narrow_phase_pairs(&self) -> (usize, usize) {
+        let on_robot = |h: ColliderHandle| {
+            self.world.colliders.get(h).and_then(|c| c.parent()).is_some_and(|b| self.bodies.contains(&b))
+        };
+        let (mut robot, mut ground) = (0, 0);
+        for pair in self.world.narrow_phase.contact_pairs() {
+            match (on_robot(pair.collider1), on_robot(pair.collider2)) {
+                (true, true) => robot += 1,
+                (true, false) | (false, true) => ground += 1,
+                (false, false) => {}
+            }
+        }
+        (robot, ground)
     }
 
     /// Joint limits set on the multibody (rad or m), per joint.

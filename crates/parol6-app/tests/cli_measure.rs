@@ -87,6 +87,15 @@ fn path_test_reports_every_path() {
     for p in paths {
         assert!(p["AT_p_mm"].as_f64().unwrap() < 1.0 && p["RT_p_mm"].as_f64().unwrap() < 1.0, "{p}");
         assert_eq!((p["points"].as_u64(), p["cycles"].as_u64()), (Some(20), Some(2)));
+        // ISO 9283 cornering deviations: only the triangle has corners
+        let corners = (p["CR_mm"].as_f64(), p["CO_mm"].as_f64());
+        if p["path"] == "triangle" {
+            let (Some(cr), Some(co)) = corners else { panic!("the triangle has no CR / CO: {p}") };
+            println!("triangle: CR {cr:.4} mm, CO {co:.4} mm");
+            assert!((0.0..2.0).contains(&cr) && (0.0..2.0).contains(&co), "{p}");
+        } else {
+            assert_eq!(corners, (None, None), "{p}");
+        }
     }
 }
 

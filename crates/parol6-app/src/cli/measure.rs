@@ -357,8 +357,12 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
         let lines: Vec<String> = paths_json
             .iter()
             .map(|p| {
+                let corners = match (p["CR_mm"].as_f64(), p["CO_mm"].as_f64()) {
+                    (Some(cr), Some(co)) => format!("  CR {cr:.4} mm  CO {co:.4} mm"),
+                    _ => String::new(),
+                };
                 format!(
-                    "{:<8} {:<11} AT_p {:.4} mm  RT_p {:.4} mm  max deviation {:.4} mm  RMS {:.4} mm",
+                    "{:<8} {:<11} AT_p {:.4} mm  RT_p {:.4} mm  max deviation {:.4} mm  RMS {:.4} mm{corners}",
                     p["path"].as_str().unwrap_or(""),
                     p["tracking"].as_str().unwrap_or(""),
                     p["AT_p_mm"].as_f64().unwrap_or(f64::NAN),

@@ -349,6 +349,11 @@ fn in_plane(c: &TestCube, p: &[f64; 3]) -> [f64; 2] {
     [d.dot(&u), d.dot(&v)]
 }
 
+/// A cornering deviation, mm, or a dash for a path without corners.
+pub(crate) fn corner_cell(v: Option<f64>) -> String {
+    v.map_or_else(|| "—".to_string(), |v| format!("{v:.4}"))
+}
+
 fn path_section(h: &mut String, p: &PathReport) {
     let f = &p.figures;
     let name = p.title();
@@ -359,13 +364,20 @@ fn path_section(h: &mut String, p: &PathReport) {
     let _ = write!(
         h,
         "<h2>Path: {name}</h2><table class=\"path-figures\" id=\"path-{id}\"><tr><th>Run</th><th>AT<sub>p</sub> mm</th><th>RT<sub>p</sub> mm</th>\
-         <th>max deviation mm</th><th>RMS deviation mm</th><th>points</th><th>cycles</th></tr>"
+         <th>max deviation mm</th><th>RMS deviation mm</th><th>CR mm</th><th>CO mm</th><th>points</th><th>cycles</th></tr>"
     );
     let row = |h: &mut String, label: &str, f: &PathFigures| {
         let _ = write!(
             h,
-            "<tr><td>{label}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{}</td><td>{}</td></tr>",
-            f.at_p_mm, f.rt_p_mm, f.max_deviation_mm, f.rms_deviation_mm, f.points, f.cycles
+            "<tr><td>{label}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            f.at_p_mm,
+            f.rt_p_mm,
+            f.max_deviation_mm,
+            f.rms_deviation_mm,
+            corner_cell(f.cr_mm),
+            corner_cell(f.co_mm),
+            f.points,
+            f.cycles
         );
     };
     row(h, "measured", f);

@@ -17,12 +17,12 @@ pub(super) fn comparison_table(h: &mut String, paths: &[PathReport]) {
     }
     let with_sim = paths.iter().any(|p| p.simulation.is_some());
     h.push_str("<h2>Tracking modes compared</h2><table id=\"tracking-modes\"><tr><th rowspan=\"2\">Path</th><th rowspan=\"2\">Tracking</th>");
-    let _ = write!(h, "<th colspan=\"4\">measured</th>");
+    let _ = write!(h, "<th colspan=\"6\">measured</th>");
     if with_sim {
-        h.push_str("<th colspan=\"4\">simulation</th>");
+        h.push_str("<th colspan=\"6\">simulation</th>");
     }
     h.push_str("</tr><tr>");
-    let heads = "<th>AT<sub>p</sub> mm</th><th>RT<sub>p</sub> mm</th><th>max dev. mm</th><th>RMS dev. mm</th>";
+    let heads = "<th>AT<sub>p</sub> mm</th><th>RT<sub>p</sub> mm</th><th>max dev. mm</th><th>RMS dev. mm</th><th>CR mm</th><th>CO mm</th>";
     h.push_str(heads);
     if with_sim {
         h.push_str(heads);
@@ -31,8 +31,13 @@ pub(super) fn comparison_table(h: &mut String, paths: &[PathReport]) {
     let cells = |h: &mut String, f: &PathFigures| {
         let _ = write!(
             h,
-            "<td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td>",
-            f.at_p_mm, f.rt_p_mm, f.max_deviation_mm, f.rms_deviation_mm
+            "<td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{:.4}</td><td>{}</td><td>{}</td>",
+            f.at_p_mm,
+            f.rt_p_mm,
+            f.max_deviation_mm,
+            f.rms_deviation_mm,
+            super::corner_cell(f.cr_mm),
+            super::corner_cell(f.co_mm)
         );
     };
     for p in paths {
@@ -42,7 +47,7 @@ pub(super) fn comparison_table(h: &mut String, paths: &[PathReport]) {
         if with_sim {
             match &p.simulation {
                 Some((f, _, _)) => cells(h, f),
-                None => h.push_str("<td colspan=\"4\">not run</td>"),
+                None => h.push_str("<td colspan=\"6\">not run</td>"),
             }
         }
         h.push_str("</tr>");

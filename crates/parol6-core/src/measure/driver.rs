@@ -137,10 +137,11 @@ impl PathRecording {
         (commanded, attained)
     }
 
-    /// The path figures.
+    /// The path figures, with the cornering deviations of a path that has corners.
     pub fn figures(&self, model: &RobotModel) -> Result<PathFigures, PathFigureError> {
         let (commanded, attained) = self.tcp_paths_mm(model);
-        path_figures::compute(&commanded, &attained, self.plan.points)
+        let corners = path_figures::corner_deviations(&self.plan.legs_mm(), &attained);
+        Ok(path_figures::compute(&commanded, &attained, self.plan.points)?.with_corners(&corners))
     }
 }
 

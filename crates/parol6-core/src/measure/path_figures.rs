@@ -4,6 +4,13 @@
 //! and the barycentre of its attained points; path repeatability RT_p the largest l̄ + 3·S_l
 //! of the attained points about their barycentre (S with n − 1). Besides these, every
 //! attained sample's distance to the commanded path gives the max and RMS deviation.
+//!
+//! Cornering deviations ([`corner_deviations`], for a path with corners: the triangle) follow
+//! ISO 9283's cornering round-off error CR (how far the attained path stays from the corner
+//! point: the nearest attained sample) and cornering overshoot CO (how far the attained path
+//! goes beyond the outgoing leg, on the side the incoming leg came from the far side of,
+//! after passing the corner and within the first half of the outgoing leg); both the worst
+//! over the cycles.
 
 use nalgebra::Vector3;
 use serde::Serialize;
@@ -23,6 +30,13 @@ pub struct PathFigures {
     pub max_deviation_mm: f64,
     /// RMS distance of the attained samples from the commanded path, mm.
     pub rms_deviation_mm: f64,
+    /// Cornering round-off error CR, mm: the worst over the path's corners and the cycles
+    /// (none for a path without corners).
+    #[serde(rename = "CR_mm", skip_serializing_if = "Option::is_none")]
+    pub cr_mm: Option<f64>,
+    /// Cornering overshoot CO, mm: the worst over the path's corners and the cycles.
+    #[serde(rename = "CO_mm", skip_serializing_if = "Option::is_none")]
+    pub co_mm: Option<f64>,
     /// Number of points along the path.
     pub points: usize,
     /// Number of cycles.
@@ -158,9 +172,86 @@ pub fn compute(commanded: &[[f64; 3]], attained: &[Vec<[f64; 3]>], m: usize) -> 
         rt_p_mm: rt_p,
         max_deviation_mm: max_dev,
         rms_deviation_mm: (sum2 / count.max(1) as f64).sqrt(),
+        cr_mm: None,
+        co_mm: None,
         points: m,
         cycles: cycles.len(),
     })
+}
+
+/// ISO 9283 cornering deviations at one corner of the path, the worst over the cycles, mm.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CornerFigures {
+    /// Cornering round-off error CR: the attained path's nearest approach to the corner point.
+    #[serde(rename = "CR_mm")]
+    pub cr_mm: f64,
+    /// Cornering overshoot CO: the attained path's largest excursion beyond the outgoing leg.
+    #[serde(rename = "CO_mm")]
+    pub co_mm: f64,
+}
+
+/// The cornering deviations of the attained paths (one time-ordered polyline per cycle, mm) at
+/// each inner vertex of the commanded polyline `legs_mm` (vertices in order, e.g. the triangle
+/// A, B, C, A: corners B and C; the ends are where the arm starts and stops, not corners).
+/// Vertices where the path turns by less than 1° are not corners.
+pub fn corner_deviations(legs_mm: &[[f64; 3]], attained: &[Vec<[f64; 3]>]) -> Vec<CornerFigures> {
+    let v = to_vec(legs_mm);
+    let cycles: Vec<Vec<Vector3<f64>>> = attained.iter().filter(|c| !c.is_empty()).map(|c| to_vec(c)).collect();
+    let mut out = Vec::new();
+    for w in v.windows(3) {
+        let (a, c, b) = (w[0], w[1], w[2]);
+        let (Some(d_in), Some(d_out)) = ((c - a).try_normalize(1e-9), (b - c).try_normalize(1e-9)) else { continue };
+        if d_in.dot(&d_out) > 1f64.to_radians().cos() {
+            continue;
+        }
+        // the side of the outgoing leg the arm would overshoot to: the incoming direction's
+        // part across the outgoing leg
+        let Some(beyond) = (d_in - d_out * d_in.dot(&d_out)).try_normalize(1e-9) else { continue };
+        let half_leg = 0.5 * (b - c).norm();
+        let (mut cr, mut co) = (0.0f64, 0.0f64);
+        for cycle in &cycles {
+            // the attained polyline's nearest approach (not the nearest sample: at 100 Hz and
+            // 250 mm/s the samples are 2.5 mm apart), and the sample it is reached after
+            let (d_min, nearest) = nearest_segment(cycle, &c);
+            cr = cr.max(d_min);
+            for p in &cycle[nearest..] {
+                let along = (p - c).dot(&d_out);
+                if along > half_leg {
+                    break;
+                }
+                co = co.max((p - c).dot(&beyond));
+            }
+        }
+        out.push(CornerFigures { cr_mm: cr, co_mm: co });
+    }
+    out
+}
+
+/// Distance from `p` to the polyline `path`, and the index of the first sample of the nearest
+/// segment (0 for a single sample).
+fn nearest_segment(path: &[Vector3<f64>], p: &Vector3<f64>) -> (f64, usize) {
+    let mut best = (path.first().map_or(f64::INFINITY, |q| (p - q).norm()), 0);
+    for (i, w) in path.windows(2).enumerate() {
+        let d = w[1] - w[0];
+        let len2 = d.norm_squared();
+        let f = if len2 > 0.0 { ((p - w[0]).dot(&d) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let dist = (p - (w[0] + d * f)).norm();
+        if dist < best.0 {
+            best = (dist, i);
+        }
+    }
+    best
+}
+
+impl PathFigures {
+    /// Adds the worst cornering deviations of `corners` (none: the path has no corner).
+    pub fn with_corners(mut self, corners: &[CornerFigures]) -> Self {
+        if !corners.is_empty() {
+            self.cr_mm = Some(corners.iter().map(|c| c.cr_mm).fold(0.0, f64::max));
+            self.co_mm = Some(corners.iter().map(|c| c.co_mm).fold(0.0, f64::max));
+        }
+        self
+    }
 }
 
 #[cfg(test)]
@@ -212,6 +303,34 @@ mod tests {
         // no crossing (the plane lies beyond the path): the nearest point
         let far = PathPoint { position: Vector3::new(9.0, 1.0, 0.0), tangent: Vector3::x() };
         assert!((crossing(&sq, &far) - Vector3::new(4.0, 1.0, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn corner_deviations_of_a_cut_and_an_overshooting_corner() {
+        // commanded L: (0,0,0) → (10,0,0) → (10,10,0). Cycle 1 cuts the corner along the chord
+        // (8,0,0)–(10,2,0) (samples 2 mm apart along it would not matter): the chord's nearest
+        // point to the corner is (9,1,0), CR = √2, no overshoot. Cycle 2 runs 2 mm past the
+        // corner along x, to (12,0,0), then back up through (11,3,0): it passes through the
+        // corner (CR 0) and goes 2 mm beyond the outgoing leg x = 10: the worst over both
+        // cycles is CR = √2, CO = 2.
+        let legs = [[0.0; 3], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0]];
+        let cut = vec![[0.0; 3], [8.0, 0.0, 0.0], [10.0, 2.0, 0.0], [10.0, 10.0, 0.0]];
+        let over = vec![[0.0; 3], [11.0, 0.0, 0.0], [12.0, 0.0, 0.0], [11.0, 3.0, 0.0], [10.0, 10.0, 0.0]];
+        let c = corner_deviations(&legs, &[cut.clone()]);
+        assert_eq!(c.len(), 1);
+        assert!(close(c[0].cr_mm, 2f64.sqrt()) && close(c[0].co_mm, 0.0), "{c:?}");
+        let c = corner_deviations(&legs, &[cut, over]);
+        assert!(close(c[0].cr_mm, 2f64.sqrt()) && close(c[0].co_mm, 2.0), "{c:?}");
+        // a straight path has no corner; a path through its corner exactly has CR = CO = 0
+        assert!(corner_deviations(&[[0.0; 3], [5.0, 0.0, 0.0], [10.0, 0.0, 0.0]], &[cut_free()]).is_empty());
+        let exact = corner_deviations(&legs, &[legs.to_vec(), legs.to_vec()]);
+        assert!(close(exact[0].cr_mm, 0.0) && close(exact[0].co_mm, 0.0));
+        let f = compute(&legs, &[legs.to_vec(), legs.to_vec()], 4).unwrap().with_corners(&exact);
+        assert_eq!((f.cr_mm, f.co_mm), (Some(0.0), Some(0.0)));
+    }
+
+    fn cut_free() -> Vec<[f64; 3]> {
+        vec![[0.0; 3], [10.0, 0.0, 0.0]]
     }
 
     #[test]

@@ -208,6 +208,20 @@ impl PathTestPlan {
         }
     }
 
+    /// The commanded path's vertices in order, mm: the line's two ends, the triangle's three
+    /// vertices and back to the first (its corners are the inner ones); none for the circle.
+    pub fn legs_mm(&self) -> Vec<[f64; 3]> {
+        let mut c = self.corners_mm();
+        match self.kind {
+            PathKind::Line => c,
+            PathKind::Circle => Vec::new(),
+            PathKind::Triangle => {
+                c.push(c[0]);
+                c
+            }
+        }
+    }
+
     /// Where every cycle starts.
     pub fn start(&self) -> PoseMm {
         self.pose_at(self.corners_mm()[0])

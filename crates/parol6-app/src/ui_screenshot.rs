@@ -90,6 +90,26 @@ impl HeadlessApp {
     /// window paints them (retained painting on software rasterizers, whose egui pass then has
     /// no depth buffer); otherwise egui draws every frame in full.
     pub fn with_layers(model: RobotModel, width: u32, height: u32, layers: Layers) -> anyhow::Result<Self> {
+        Self::build(model, width, height, layers, None)
+    }
+
+    /// Like [`Self::new`], connected at start to `connect` (the robot or the built-in emulator).
+    pub fn connected(
+        model: RobotModel,
+        width: u32,
+        height: u32,
+        connect: Option<crate::app::ConnectTarget>,
+    ) -> anyhow::Result<Self> {
+        Self::build(model, width, height, Layers::default(), connect)
+    }
+
+    fn build(
+        model: RobotModel,
+        width: u32,
+        height: u32,
+        layers: Layers,
+        connect: Option<crate::app::ConnectTarget>,
+    ) -> anyhow::Result<Self> {
         let started = Instant::now();
         let mut renderer = OffscreenRenderer::new(&model, width, height).map_err(|e| anyhow::anyhow!("{e}"))?;
         let retained = layers == Layers::default()
@@ -97,7 +117,7 @@ impl HeadlessApp {
         let render_state = renderer.egui_render_state_with_depth(!retained);
         let opts = LaunchOptions {
             model,
-            connect: None,
+            connect,
             settings_path: None,
             test_script: None,
             started,

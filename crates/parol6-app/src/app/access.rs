@@ -48,6 +48,12 @@ impl Parol6App {
         &mut self.settings
     }
 
+    /// Shows the plots panel with `quantity` alone (as a click on its toggle does).
+    pub fn show_plot(&mut self, quantity: parol6_core::telemetry::Quantity) {
+        self.settings.show_plots = true;
+        self.panels.plots.quantities = std::array::from_fn(|i| parol6_core::telemetry::Quantity::ALL[i] == quantity);
+    }
+
     /// The program panel (its program, dirty state).
     pub fn program_panel(&self) -> &crate::panels::program::ProgramPanel {
         &self.panels.program
@@ -61,6 +67,16 @@ impl Parol6App {
     /// The notices shown over the 3D view now, oldest first.
     pub fn notices(&self) -> &[Notice] {
         &self.notices
+    }
+
+    /// True while a controller (the robot or the built-in emulator) is connected.
+    pub fn robot_connected(&self) -> bool {
+        self.hw.is_some()
+    }
+
+    /// The progress of the running or last program, as of the last frame.
+    pub fn program_progress(&self) -> Option<&parol6_core::program::runner::RunProgress> {
+        self.program_progress.as_ref()
     }
 
     /// True while a program runs (paused included).

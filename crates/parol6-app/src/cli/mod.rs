@@ -37,6 +37,7 @@ pub mod program;
 pub mod program_torques;
 pub mod record;
 pub mod render;
+pub mod render_run;
 pub mod sim;
 
 pub use output::{print_json, warn};
@@ -193,6 +194,7 @@ impl Cli {
             Some(Command::Program(p)) => p.command.talks_to_controller(),
             Some(Command::Iso9283(a)) => a.measurements.is_none(),
             Some(Command::PathTest(_)) => true,
+            Some(Command::Screenshot(s)) => s.run.is_some(),
             Some(_) => false,
         };
         let unused = [
@@ -254,7 +256,7 @@ fn run(cli: &Cli) -> CliResult {
         Some(Command::Ik(a)) => kin::run_ik(a, &cli.robot),
         Some(Command::Bench(a)) => bench::run(a, &cli.robot),
         Some(Command::Hw(a)) => hw::run(a, &cli.connect),
-        Some(Command::Screenshot(a)) => render::run_screenshot(a, &cli.robot),
+        Some(Command::Screenshot(a)) => render::run_screenshot(a, &cli.robot, &cli.connect),
         Some(Command::Dynamics(a)) => sim::run_dynamics(a, &cli.robot),
         Some(Command::Program(a)) => program::run(a, &cli.robot, &cli.connect),
         Some(Command::Record(a)) => record::run(a, &cli.robot, &cli.connect),

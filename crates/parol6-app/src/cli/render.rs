@@ -3,10 +3,11 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use parol6_core::telemetry::Quantity;
 use serde_json::json;
 
 use super::kin::{default_seed, parse_joint_positions};
-use super::options::RobotArgs;
+use super::options::{ConnectArgs, RobotArgs};
 use super::{CliError, CliResult, print_json, warn};
 use crate::ui_screenshot::HeadlessApp;
 use crate::viewport::{OffscreenRenderer, SceneFrame, ViewportOptions, write_png};
@@ -33,6 +34,28 @@ pub struct ScreenshotArgs {
     /// Render this many frames and report the median time per frame (a benchmark), 1–10 000.
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=10_000))]
     pub repeat: u64,
+    /// With --ui: run this built-in program (e.g. draw, "pick & place") on the simulation, or on
+    /// the controller with --fake-robot / --port, and take the picture when it has finished
+    /// (at most 120 s).
+    #[arg(long, value_name = "PROGRAM", requires = "ui", conflicts_with = "joints")]
+    pub run: Option<String>,
+    /// With --ui: show the plots panel with this quantity alone: position, velocity,
+    /// acceleration, drive, cmd-meas, tcp-position or tcp-orientation.
+    #[arg(long, value_name = "QUANTITY", requires = "ui", value_parser = parse_quantity)]
+    pub plot: Option<Quantity>,
+}
+
+/// The `--plot` names, in [`Quantity::ALL`] order.
+const PLOT_NAMES: [&str; 7] =
+    ["position", "velocity", "acceleration", "drive", "cmd-meas", "tcp-position", "tcp-orientation"];
+
+fn parse_quantity(text: &str) -> Result<Quantity, String> {
+    let name = text.trim().to_ascii_lowercase();
+    PLOT_NAMES
+        .iter()
+        .position(|n| *n == name)
+        .and_then(|i| Quantity::ALL.get(i).copied())
+        .ok_or_else(|| format!("\"{text}\" is not a quantity; use one of {}", PLOT_NAMES.join(", ")))
 }
 
 impl ScreenshotArgs {
@@ -77,8 +100,11 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), CliError> {
 }
 
 /// Runs `parol6 screenshot`: the 3D view alone, or with `--ui` the whole window layout.
-pub fn run_screenshot(a: &ScreenshotArgs, robot: &RobotArgs) -> CliResult {
+pub fn run_screenshot(a: &ScreenshotArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
     let out = a.out_path()?;
+    if a.ui && (a.run.is_some() || a.plot.is_some()) {
+        return super::render_run::run_ui_program_screenshot(a, out, robot, connect);
+    }
     if a.ui {
         return run_ui_screenshot(a, out, robot);
     }

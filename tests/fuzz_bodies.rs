@@ -5,10 +5,11 @@
 
 use std::time::{Duration, Instant};
 
+use parol6_core::collision::CollisionGuard;
 use parol6_core::ik::{self, pose_error};
 use parol6_core::model::{LoadOptions, ModelError, RobotModel, Shape};
 use parol6_core::parol6::JOINT_COUNT;
-use parol6_core::sim::{CollisionGuard, SimConfig, Simulation};
+use parol6_core::sim::{SimConfig, Simulation};
 use parol6_core::urdf_input::check_urdf_input;
 use parol6_hw::frame::{
     COMMAND_FRAME_SIZE, CommandCode, CommandFrame, I24_MAX, I24_MIN, ReceivedCommand, STATUS_FRAME_SIZE, StatusFrame,

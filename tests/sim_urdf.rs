@@ -4,8 +4,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
 use parol6_core::RobotModel;
+use parol6_core::collision::CollisionGuard;
 use parol6_core::motion::MotionCommand;
-use parol6_core::sim::{CollisionGuard, SimCommand, SimConfig, SimMode, Simulation};
+use parol6_core::sim::{SimCommand, SimConfig, SimMode, Simulation};
 
 #[test]
 fn mesh_robot_with_srdf_builds_and_steps() {

@@ -2,9 +2,11 @@
 //! dynamics, the collision guard at one configuration and along a move, and a snapshot.
 use criterion::{Criterion, criterion_group, criterion_main};
 use parol6_core::RobotModel;
+use parol6_core::collision::CollisionGuard;
+use parol6_core::dynamics::InverseDynamics;
 use parol6_core::motion::MotionCommand;
 use parol6_core::profile::{JointMove, ProfileKind};
-use parol6_core::sim::{CollisionGuard, InverseDynamics, SimCommand, SimConfig, SimMode, Simulation};
+use parol6_core::sim::{SimCommand, SimConfig, SimMode, Simulation};
 use std::hint::black_box;
 
 fn physics(c: &mut Criterion) {

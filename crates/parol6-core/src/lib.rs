@@ -24,6 +24,8 @@
 pub use nalgebra as na;
 
 pub mod angles;
+pub mod collision;
+pub mod dynamics;
 pub mod frames;
 pub mod fsio;
 pub mod ik;

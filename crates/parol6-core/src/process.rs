@@ -1,5 +1,5 @@
-//! The process's own resources: how many heaps the allocator keeps, and handing freed memory
-//! back to the system.
+//! The process's own resources: how many heaps the allocator keeps, handing freed memory back
+//! to the system, and the CPU time of a thread or of the whole process.
 
 /// Heaps (glibc "arenas") the allocator may keep; see [`limit_heap_arenas`].
 pub const HEAP_ARENAS_MAX: i32 = 2;
@@ -29,4 +29,36 @@ pub fn release_freed_memory() {
     unsafe {
         libc::malloc_trim(0);
     }
+}
+
+/// CPU time of the calling thread, ns.
+pub fn thread_cpu_time_ns() -> Option<u64> {
+    #[cfg(target_os = "linux")]
+    {
+        cpu_clock_ns(libc::CLOCK_THREAD_CPUTIME_ID)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}
+
+/// CPU time of the whole process (all its threads), ns.
+pub fn process_cpu_time_ns() -> Option<u64> {
+    #[cfg(target_os = "linux")]
+    {
+        cpu_clock_ns(libc::CLOCK_PROCESS_CPUTIME_ID)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        None
+    }
+}
+
+#[cfg(target_os = "linux")]
+fn cpu_clock_ns(clock: libc::clockid_t) -> Option<u64> {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the kernel knows.
+    let rc = unsafe { libc::clock_gettime(clock, &mut ts) };
+    (rc == 0).then(|| (ts.tv_sec as u64).saturating_mul(1_000_000_000).saturating_add(ts.tv_nsec as u64))
 }

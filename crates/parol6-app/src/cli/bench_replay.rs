@@ -118,10 +118,10 @@ pub fn bench_replay(minutes: f64, rate_hz: f64, repeats: usize, keep: Option<&st
     let mut last = None;
     for _ in 0..repeats.max(1) {
         let t = Instant::now();
-        let cpu0 = parol6_core::sim::process_cpu_time_ns();
+        let cpu0 = parol6_core::process::process_cpu_time_ns();
         let replay = read_replay_file(&path, &model).map_err(CliError::runtime);
         open_ms.push(t.elapsed().as_secs_f64() * 1e3);
-        if let (Some(a), Some(b)) = (cpu0, parol6_core::sim::process_cpu_time_ns()) {
+        if let (Some(a), Some(b)) = (cpu0, parol6_core::process::process_cpu_time_ns()) {
             open_cpu_ms.push(b.saturating_sub(a) as f64 * 1e-6);
         }
         last = Some(replay?);

@@ -4,8 +4,9 @@
 use parol6_core::motion::MotionCommand;
 use std::time::{Duration, Instant};
 
+use parol6_core::dynamics::InverseDynamics;
 use parol6_core::profile::ProfileKind;
-use parol6_core::sim::{InverseDynamics, SimCommand, SimConfig, SimError, SimHandle, SimMode, Simulation};
+use parol6_core::sim::{SimCommand, SimConfig, SimError, SimHandle, SimMode, Simulation};
 use serde_json::json;
 
 use super::common::{NsStats, parse_list};

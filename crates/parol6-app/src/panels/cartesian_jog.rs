@@ -13,9 +13,9 @@
 use std::sync::Arc;
 
 use eframe::egui;
+use parol6_core::collision::CollisionGuard;
 use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog_speed};
 use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
-use parol6_core::sim::collision::CollisionGuard;
 
 use super::entry::{self, EntryEvent};
 use super::shortcuts::{self, Action};

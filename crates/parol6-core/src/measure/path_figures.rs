@@ -316,7 +316,7 @@ mod tests {
         let legs = [[0.0; 3], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0]];
         let cut = vec![[0.0; 3], [8.0, 0.0, 0.0], [10.0, 2.0, 0.0], [10.0, 10.0, 0.0]];
         let over = vec![[0.0; 3], [11.0, 0.0, 0.0], [12.0, 0.0, 0.0], [11.0, 3.0, 0.0], [10.0, 10.0, 0.0]];
-        let c = corner_deviations(&legs, &[cut.clone()]);
+        let c = corner_deviations(&legs, std::slice::from_ref(&cut));
         assert_eq!(c.len(), 1);
         assert!(close(c[0].cr_mm, 2f64.sqrt()) && close(c[0].co_mm, 0.0), "{c:?}");
         let c = corner_deviations(&legs, &[cut, over]);

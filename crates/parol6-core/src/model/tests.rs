@@ -197,7 +197,7 @@ fn a_fifo_mesh_blocked_forever_and_was_called_not_found() {
     assert!(text[1].contains("mesh.stl: refused, it is a FIFO, not a regular file"), "{text:?}");
     assert!(text[0].contains("/dev/zero: refused, it is a character device"), "{text:?}");
     // Building the collision shapes reads the mesh files: refused at once, not blocked on.
-    let guard = crate::sim::CollisionGuard::new(&m);
+    let guard = crate::collision::CollisionGuard::new(&m);
     drop(guard);
     assert!(read_mesh_file(&fifo).is_err());
     assert!(t0.elapsed() < std::time::Duration::from_secs(2), "took {:?}", t0.elapsed());

@@ -50,7 +50,7 @@ pub fn plan_step(
     axis: CartesianAxis,
     distance: f64,
     speed_fraction: f64,
-) -> Result<Arc<super::cartesian::SampledTrajectory>, MotionError> {
+) -> Result<Arc<super::trajectory::SampledTrajectory>, MotionError> {
     use super::cartesian::{CartesianCaps, plan};
     use super::path::{ROTATION_LENGTH_M_PER_RAD, TcpPath};
     check_step(axis, distance, speed_fraction)?;

@@ -48,6 +48,7 @@ mod planner;
 pub mod preflight;
 pub mod stepper;
 pub mod tracking;
+pub mod trajectory;
 mod validate;
 mod warp;
 
@@ -137,7 +138,7 @@ pub enum MotionCommand {
     /// the control threads, see [`cartesian::plan`]). It must start where the commanded
     /// position is when it applies; every sample is checked against the limits and speed caps.
     #[serde(skip)]
-    Trajectory(std::sync::Arc<cartesian::SampledTrajectory>),
+    Trajectory(std::sync::Arc<trajectory::SampledTrajectory>),
 }
 
 impl MotionCommand {

@@ -6,8 +6,8 @@ use std::sync::Arc;
 use crate::limits::{JointLimits, LimitPolicy};
 use crate::profile::JointMove;
 
-use super::cartesian::SampledTrajectory;
 use super::cartesian_jog::{CartesianAxis, CartesianJogPlan, JogFrame, JogKinematics};
+use super::trajectory::SampledTrajectory;
 
 use super::validate::{validate, validate_trajectory};
 use super::warp::{TimeWarp, ramp_for};

@@ -5,7 +5,7 @@ use crate::limits::JointLimits;
 
 use super::MotionCommand;
 use super::MotionError;
-use super::cartesian::SampledTrajectory;
+use super::trajectory::SampledTrajectory;
 
 fn check_fraction(what: &str, f: f64) -> Result<(), MotionError> {
     if f.is_finite() && f > 0.0 && f <= 1.0 {

@@ -191,7 +191,7 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
 const HOLDS_STILL_RAD: f64 = 1e-4;
 
 /// True when no joint moves along the trajectory (beyond [`HOLDS_STILL_RAD`]).
-fn holds_still(t: &crate::motion::cartesian::SampledTrajectory) -> bool {
+fn holds_still(t: &crate::motion::trajectory::SampledTrajectory) -> bool {
     let samples = t.samples();
     samples
         .first()

@@ -15,8 +15,9 @@ use nalgebra::{Isometry3, Point3, Vector3};
 use super::{GripperAction, Program, SpeedSettings, Step};
 use crate::ik::{self, ConfigRule};
 use crate::model::RobotModel;
-use crate::motion::cartesian::{self, CartesianCaps, CartesianError, SampledTrajectory};
+use crate::motion::cartesian::{self, CartesianCaps, CartesianError};
 use crate::motion::path::TcpPath;
+use crate::motion::trajectory::SampledTrajectory;
 use crate::motion::{IoCommand, MotionCaps, home_position};
 use crate::profile::{JointMove, ProfileKind};
 

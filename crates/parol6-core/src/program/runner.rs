@@ -253,7 +253,7 @@ impl Run<'_> {
             }
         };
         let cpu =
-            self.exec_cpu_ns.zip(crate::sim::thread_cpu_time_ns()).map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
+            self.exec_cpu_ns.zip(crate::process::thread_cpu_time_ns()).map(|(a, b)| b.saturating_sub(a) as f64 * 1e-9);
         self.publish(|p| {
             p.state = state;
             p.runner_cpu_s = cpu;
@@ -340,7 +340,7 @@ impl Run<'_> {
 
     fn execute(&mut self, compiled: &[CompiledStep]) -> Result<(), Halt> {
         if self.exec_cpu_ns.is_none() {
-            self.exec_cpu_ns = crate::sim::thread_cpu_time_ns();
+            self.exec_cpu_ns = crate::process::thread_cpu_time_ns();
         }
         let mut next = 0; // first step not yet scheduled
         let mut slots: VecDeque<Slot> = VecDeque::new();

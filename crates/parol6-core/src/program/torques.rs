@@ -10,8 +10,8 @@
 use serde::Serialize;
 
 use super::compile::{CompiledStep, StepAction};
+use crate::dynamics::InverseDynamics;
 use crate::model::RobotModel;
-use crate::sim::InverseDynamics;
 
 /// The most warnings kept (the rest are counted in [`ProgramTorques::warnings_dropped`]).
 pub const MAX_TORQUE_WARNINGS: usize = 200;

@@ -4,9 +4,9 @@
 use nalgebra::{DMatrix, DVector, Matrix3};
 use rand::{Rng, SeedableRng};
 
-use super::dynamics::body_inertials;
 use super::tests::{max_abs_diff, parol6, random_free_config, run_s, sim};
 use super::*;
+use crate::dynamics::body_inertials;
 use crate::model::JointKind;
 use crate::motion::MotionCommand;
 use crate::parol6::standby_rad;

@@ -17,6 +17,8 @@ use std::time::Instant;
 
 use crossbeam_channel::Sender;
 
+use crate::collision::{CollisionGuard, CollisionReport};
+use crate::dynamics::InverseDynamics;
 use crate::limits::LimitPolicy;
 use crate::model::RobotModel;
 use crate::motion::{
@@ -24,8 +26,6 @@ use crate::motion::{
     cartesian_jog::JogObstacleCheck, home_position,
 };
 
-pub mod collision;
-pub mod dynamics;
 pub mod multibody;
 mod servo;
 mod step;
@@ -33,10 +33,8 @@ mod thread;
 pub mod torque_profile;
 mod types;
 
-pub use collision::{CollisionGuard, CollisionReport};
-pub use dynamics::{InverseDynamics, JointTorques};
 pub use multibody::{MotorGains, Physics};
-pub use thread::{SimHandle, SimStats, process_cpu_time_ns, thread_cpu_time_ns};
+pub use thread::{SimHandle, SimStats};
 pub use torque_profile::{TorqueProfile, TorqueRun};
 pub use types::{ServoModel, SimCommand, SimConfig, SimError, SimMode, SimSnapshot};
 

@@ -9,10 +9,11 @@
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
 use rapier3d::prelude::*;
 
-pub use super::dynamics::GRAVITY_M_S2;
-use super::dynamics::body_inertials;
 use super::types::SimError;
-use crate::model::{JointKind, RobotModel, Shape};
+use crate::collision::{convex_shape, pose_from_iso};
+pub use crate::dynamics::GRAVITY_M_S2;
+use crate::dynamics::body_inertials;
+use crate::model::{JointKind, RobotModel};
 
 /// Solver iterations per step. The multibody's own dynamics are exact in reduced coordinates;
 /// the iterations only resolve motors, limits and ground contacts. One keeps the step cheap
@@ -46,15 +47,6 @@ impl Default for MotorGains {
     }
 }
 
-pub(crate) fn pose_from_iso(iso: &Isometry3<f64>) -> Pose {
-    let t = iso.translation.vector;
-    let r = iso.rotation;
-    Pose::from_parts(
-        Vector::new(t.x as f32, t.y as f32, t.z as f32),
-        Rotation::from_xyzw(r.i as f32, r.j as f32, r.k as f32, r.w as f32).normalize(),
-    )
-}
-
 pub(crate) fn vec_from_na(v: &Vector3<f64>) -> Vector {
     Vector::new(v.x as f32, v.y as f32, v.z as f32)
 }
@@ -63,38 +55,6 @@ pub(crate) fn vec_from_na(v: &Vector3<f64>) -> Vector {
 fn x_to_axis(axis: &Vector3<f64>) -> UnitQuaternion<f64> {
     UnitQuaternion::rotation_between(&Vector3::x(), axis)
         .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI))
-}
-
-/// Convex parry shape of a model shape, in its geometry frame. `None` for a mesh that cannot
-/// be read or is degenerate. URDF cylinders and capsules run along z; parry's along y.
-pub(crate) fn convex_shape(shape: &Shape) -> Option<(SharedShape, Isometry3<f64>)> {
-    let y_to_z = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    match shape {
-        Shape::Box { size_m } => size_m.iter().all(|&s| ok(s)).then(|| {
-            (
-                SharedShape::cuboid(0.5 * size_m[0] as f32, 0.5 * size_m[1] as f32, 0.5 * size_m[2] as f32),
-                Isometry3::identity(),
-            )
-        }),
-        Shape::Cylinder { radius_m, length_m } => (ok(*radius_m) && ok(*length_m))
-            .then(|| (SharedShape::cylinder(0.5 * *length_m as f32, *radius_m as f32), y_to_z)),
-        Shape::Capsule { radius_m, length_m } => (ok(*radius_m) && length_m.is_finite() && *length_m >= 0.0)
-            .then(|| (SharedShape::capsule_z(0.5 * *length_m as f32, *radius_m as f32), Isometry3::identity())),
-        Shape::Sphere { radius_m } => {
-            ok(*radius_m).then(|| (SharedShape::ball(*radius_m as f32), Isometry3::identity()))
-        }
-        Shape::Mesh { path, scale, .. } => {
-            let scene = mesh_loader::Loader::default().custom_reader(crate::model::mesh_reader).load(path).ok()?;
-            let points: Vec<Vector> = scene
-                .meshes
-                .iter()
-                .flat_map(|m| m.vertices.iter())
-                .map(|v| Vector::new(v[0] * scale[0] as f32, v[1] * scale[1] as f32, v[2] * scale[2] as f32))
-                .collect();
-            SharedShape::convex_hull(&points).map(|s| (s, Isometry3::identity()))
-        }
-    }
 }
 
 /// A rapier world holding the robot.

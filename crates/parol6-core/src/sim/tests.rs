@@ -6,6 +6,7 @@ use crate::profile::{JointMove, ProfileKind};
 use rand::{Rng, SeedableRng};
 
 use super::*;
+use crate::collision;
 use crate::limits::LimitSide;
 use crate::parol6::standby_rad;
 

@@ -15,6 +15,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError, TrySendError};
 use super::{SimCommand, SimConfig, SimError, SimSnapshot, Simulation};
 use crate::model::RobotModel;
 use crate::motion::{BackendError, IoCommand, MotionCommand, MotionSample, RobotBackend, RobotState};
+use crate::process::thread_cpu_time_ns;
 
 /// Capacity of the command channel.
 pub const COMMAND_QUEUE: usize = 1024;
@@ -96,38 +97,6 @@ impl std::fmt::Debug for SimHandle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SimHandle").field("robot", &self.model.name).finish_non_exhaustive()
     }
-}
-
-/// CPU time of the calling thread, ns.
-pub fn thread_cpu_time_ns() -> Option<u64> {
-    #[cfg(target_os = "linux")]
-    {
-        cpu_clock_ns(libc::CLOCK_THREAD_CPUTIME_ID)
-    }
-    #[cfg(not(target_os = "linux"))]
-    {
-        None
-    }
-}
-
-/// CPU time of the whole process (all its threads), ns.
-pub fn process_cpu_time_ns() -> Option<u64> {
-    #[cfg(target_os = "linux")]
-    {
-        cpu_clock_ns(libc::CLOCK_PROCESS_CPUTIME_ID)
-    }
-    #[cfg(not(target_os = "linux"))]
-    {
-        None
-    }
-}
-
-#[cfg(target_os = "linux")]
-fn cpu_clock_ns(clock: libc::clockid_t) -> Option<u64> {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the kernel knows.
-    let rc = unsafe { libc::clock_gettime(clock, &mut ts) };
-    (rc == 0).then(|| (ts.tv_sec as u64).saturating_mul(1_000_000_000).saturating_add(ts.tv_nsec as u64))
 }
 
 impl SimHandle {

@@ -9,7 +9,7 @@ use crate::motion::tracking::TrackingMode;
 use crate::motion::{MotionCommand, MotionError, PlannerMode, Setpoint};
 use crate::profile::ProfileError;
 
-use super::CollisionReport;
+use crate::collision::CollisionReport;
 
 /// How the joints move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -230,6 +230,14 @@ impl SimSnapshot {
             homed: true,
             io: self.io,
             schedule: self.schedule,
+        }
+    }
+}
+
+impl From<crate::dynamics::DynamicsError> for SimError {
+    fn from(e: crate::dynamics::DynamicsError) -> Self {
+        match e {
+            crate::dynamics::DynamicsError::InvalidInput(why) => SimError::InvalidCommand(why),
         }
     }
 }

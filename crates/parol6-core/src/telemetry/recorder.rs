@@ -282,7 +282,7 @@ impl Worker {
     /// virtual machine, so waking per sample (or per burst of the simulation) would cost more
     /// than the work.
     fn run(mut self, tap: &Receiver<MotionSample>, control: &Receiver<Control>) {
-        let cpu_start = crate::sim::thread_cpu_time_ns();
+        let cpu_start = crate::process::thread_cpu_time_ns();
         let mut next_publish = Instant::now() + self.publish_every;
         'run: loop {
             let mut woken_by = None;
@@ -328,13 +328,13 @@ impl Worker {
                 next_publish =
                     now + if self.still { self.publish_every.max(STILL_PUBLISH) } else { self.publish_every };
                 self.publish();
-                if let (Some(a), Some(b)) = (cpu_start, crate::sim::thread_cpu_time_ns()) {
+                if let (Some(a), Some(b)) = (cpu_start, crate::process::thread_cpu_time_ns()) {
                     self.shared.counters.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);
                 }
             }
         }
         self.publish();
-        if let (Some(a), Some(b)) = (cpu_start, crate::sim::thread_cpu_time_ns()) {
+        if let (Some(a), Some(b)) = (cpu_start, crate::process::thread_cpu_time_ns()) {
             self.shared.counters.cpu_ns.store(b.saturating_sub(a), Ordering::Relaxed);
         }
     }

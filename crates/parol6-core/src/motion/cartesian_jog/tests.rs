@@ -311,7 +311,7 @@ proptest! {
 /// of the plan touches, and the reason names the pair.
 #[test]
 fn a_jog_stops_before_a_collision() {
-    let guard = crate::sim::collision::CollisionGuard::new(&kin().model);
+    let guard = crate::collision::CollisionGuard::new(&kin().model);
     let model = kin().model;
     let with_guard = JogKinematics { model: Arc::clone(&model), obstacles: Some(Arc::new(guard.clone())) };
     let mut found = 0;

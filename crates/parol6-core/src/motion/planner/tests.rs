@@ -134,7 +134,7 @@ fn a_refused_scheduled_command_is_reported() {
 /// `dx_m` along +X from there (the model, the planner, the line's start TCP, the trajectory).
 fn line_from_rest(
     dx_m: f64,
-) -> (RobotModel, MotionPlanner, nalgebra::Isometry3<f64>, Arc<crate::motion::cartesian::SampledTrajectory>) {
+) -> (RobotModel, MotionPlanner, nalgebra::Isometry3<f64>, Arc<crate::motion::trajectory::SampledTrajectory>) {
     use crate::motion::cartesian::{CartesianCaps, plan};
     use crate::motion::path::TcpPath;
     let model = RobotModel::parol6();
@@ -178,7 +178,7 @@ fn a_continuation_refused_because_the_running_trajectory_started_late_says_so() 
     let (_, mut p, _, traj) = line_from_rest(0.04);
     let d = traj.duration_s();
     let back: Vec<Vec<f64>> = traj.samples().iter().rev().cloned().collect();
-    let back = Arc::new(crate::motion::cartesian::SampledTrajectory::new(traj.dt_s(), back));
+    let back = Arc::new(crate::motion::trajectory::SampledTrajectory::new(traj.dt_s(), back));
     // planned to start at 10.00 s, applied at 10.037 s
     p.apply(&MotionCommand::Trajectory(traj), 10.037).expect("starts where the arm is");
     let e = p.apply(&MotionCommand::Trajectory(back.clone()), 10.0 + d).expect_err("too early");
@@ -302,7 +302,7 @@ fn a_late_step_slips_the_whole_schedule_and_the_continuation_starts_at_its_end()
     let (_, mut p, _, traj) = line_from_rest(0.04);
     let d = traj.duration_s();
     let back: Vec<Vec<f64>> = traj.samples().iter().rev().cloned().collect();
-    let back = Arc::new(crate::motion::cartesian::SampledTrajectory::new(traj.dt_s(), back));
+    let back = Arc::new(crate::motion::trajectory::SampledTrajectory::new(traj.dt_s(), back));
     let start = traj.samples()[0].clone();
     // planned 10.00 s, arrives at 10.037 s; the return is planned for 10 + d, then a hold 0.5 s
     // after it ends

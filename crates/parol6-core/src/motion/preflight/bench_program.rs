@@ -13,8 +13,9 @@ use nalgebra::Vector3;
 use super::{MoveKind, PlannedMove};
 use crate::model::RobotModel;
 use crate::motion::MotionCaps;
-use crate::motion::cartesian::{self, CartesianCaps, SampledTrajectory};
+use crate::motion::cartesian::{self, CartesianCaps};
 use crate::motion::path::TcpPath;
+use crate::motion::trajectory::SampledTrajectory;
 use crate::profile::{JointMove, ProfileKind};
 use crate::scene::{KeepOut, KeepOutShape};
 

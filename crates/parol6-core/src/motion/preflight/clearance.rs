@@ -21,10 +21,10 @@ use rapier3d::parry::query;
 use rapier3d::prelude::{Pose, SharedShape};
 
 use super::problem::Problem;
+use crate::collision::CollisionGuard;
+use crate::collision::pose_from_iso;
 use crate::model::{JointKind, RobotModel};
 use crate::scene::{KeepOut, KeepOutShape};
-use crate::sim::CollisionGuard;
-use crate::sim::multibody::pose_from_iso;
 
 /// Below this bounding-box distance a pair's clearance is measured exactly (parry), m. Above
 /// it the box distance is close enough and costs nothing.

@@ -1,7 +1,7 @@
 //! Pre-flight validation: every planned move of a program is checked before anything moves.
 //!
 //! A program compiles to [`PlannedMove`]s (joint trajectories sampled every `dt`, typically
-//! 10 ms, see [`super::cartesian::SampledTrajectory`]); [`Preflight::check`] walks them and
+//! 10 ms, see [`super::trajectory::SampledTrajectory`]); [`Preflight::check`] walks them and
 //! reports every problem with the move index, the source line, the joint / motor / link pair
 //! / keep-out shape, the time along the move and the TCP position there
 //! ([`PreflightReport`]). Consecutive samples with the same problem in one move make one issue
@@ -39,7 +39,7 @@ use crate::model::RobotModel;
 use crate::scene::{KeepOut, SceneError};
 
 use super::MotionCaps;
-use super::cartesian::SampledTrajectory;
+use super::trajectory::SampledTrajectory;
 
 pub mod bench_program;
 mod clearance;

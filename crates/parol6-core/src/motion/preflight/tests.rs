@@ -318,7 +318,7 @@ proptest! {
         let pf = Preflight::new(&model, &caps, &[]).expect("builds");
         let q2: Vec<f64> = q.iter().zip(&dq).map(|(a, d)| a + d).collect();
         let (pa, pb) = (model.link_poses(&q), model.link_poses(&q2));
-        let guard = crate::sim::CollisionGuard::new(&model);
+        let guard = crate::collision::CollisionGuard::new(&model);
         for (p, (link, local, shape)) in guard.pieces().enumerate() {
             let sphere = shape.compute_local_bounding_sphere();
             let c = sphere.center();

@@ -1,10 +1,10 @@
 use std::sync::Arc;
 
 use super::*;
+use crate::dynamics::GRAVITY_M_S2;
 use crate::model::LoadOptions;
-use crate::motion::cartesian::SampledTrajectory;
+use crate::motion::trajectory::SampledTrajectory;
 use crate::program::compile::{CompileOptions, compile};
-use crate::sim::dynamics::GRAVITY_M_S2;
 
 /// One revolute joint about `axis`, a 2 kg link whose COM is 0.3 m along x, inertia 0.01 about
 /// every axis at the COM.

@@ -6,13 +6,12 @@
 //! for the embedded PAROL6 (its own primitive geometry) the pairs [`PAROL6_NEVER_COLLIDE`] (derived by sampling, see the
 //! tests). Links on the root frame are not tested against the ground (they stand on it).
 
-use nalgebra::Isometry3;
+use nalgebra::{Isometry3, Vector3};
 use rapier3d::parry::bounding_volume::{Aabb, BoundingVolume};
 use rapier3d::parry::query;
-use rapier3d::prelude::{Pose, SharedShape};
+use rapier3d::prelude::{Pose, Rotation, SharedShape, Vector};
 
-use super::multibody::{convex_shape, pose_from_iso};
-use crate::model::RobotModel;
+use crate::model::{RobotModel, Shape};
 use crate::profile::JointMove;
 
 /// Name used for the ground plane in reports.
@@ -313,5 +312,47 @@ impl CollisionGuard {
 impl crate::motion::cartesian_jog::JogObstacleCheck for CollisionGuard {
     fn contact(&self, model: &RobotModel, q: &[f64]) -> Option<(String, String)> {
         self.check(model, q).map(|c| (c.link_a, c.link_b))
+    }
+}
+
+/// A rapier pose of an f64 isometry.
+pub(crate) fn pose_from_iso(iso: &Isometry3<f64>) -> Pose {
+    let t = iso.translation.vector;
+    let r = iso.rotation;
+    Pose::from_parts(
+        Vector::new(t.x as f32, t.y as f32, t.z as f32),
+        Rotation::from_xyzw(r.i as f32, r.j as f32, r.k as f32, r.w as f32).normalize(),
+    )
+}
+
+/// Convex parry shape of a model shape, in its geometry frame. `None` for a mesh that cannot
+/// be read or is degenerate. URDF cylinders and capsules run along z; parry's along y.
+pub(crate) fn convex_shape(shape: &Shape) -> Option<(SharedShape, Isometry3<f64>)> {
+    let y_to_z = Isometry3::rotation(Vector3::x() * std::f64::consts::FRAC_PI_2);
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    match shape {
+        Shape::Box { size_m } => size_m.iter().all(|&s| ok(s)).then(|| {
+            (
+                SharedShape::cuboid(0.5 * size_m[0] as f32, 0.5 * size_m[1] as f32, 0.5 * size_m[2] as f32),
+                Isometry3::identity(),
+            )
+        }),
+        Shape::Cylinder { radius_m, length_m } => (ok(*radius_m) && ok(*length_m))
+            .then(|| (SharedShape::cylinder(0.5 * *length_m as f32, *radius_m as f32), y_to_z)),
+        Shape::Capsule { radius_m, length_m } => (ok(*radius_m) && length_m.is_finite() && *length_m >= 0.0)
+            .then(|| (SharedShape::capsule_z(0.5 * *length_m as f32, *radius_m as f32), Isometry3::identity())),
+        Shape::Sphere { radius_m } => {
+            ok(*radius_m).then(|| (SharedShape::ball(*radius_m as f32), Isometry3::identity()))
+        }
+        Shape::Mesh { path, scale, .. } => {
+            let scene = mesh_loader::Loader::default().custom_reader(crate::model::mesh_reader).load(path).ok()?;
+            let points: Vec<Vector> = scene
+                .meshes
+                .iter()
+                .flat_map(|m| m.vertices.iter())
+                .map(|v| Vector::new(v[0] * scale[0] as f32, v[1] * scale[1] as f32, v[2] * scale[2] as f32))
+                .collect();
+            SharedShape::convex_hull(&points).map(|s| (s, Isometry3::identity()))
+        }
     }
 }

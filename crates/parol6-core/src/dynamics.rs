@@ -8,8 +8,15 @@
 use nalgebra::{Matrix3, Point3, Vector3};
 use serde::Serialize;
 
-use super::types::SimError;
 use crate::model::{Inertial, JointKind, RobotModel};
+
+/// Why inverse dynamics refused its input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DynamicsError {
+    /// A vector of the wrong length or a non-finite value.
+    #[error("{0}")]
+    InvalidInput(String),
+}
 
 /// Standard gravity, m/s² (along −z).
 pub const GRAVITY_M_S2: f64 = 9.81;
@@ -196,14 +203,14 @@ impl InverseDynamics {
         q: &[f64],
         qd: &[f64],
         qdd: &[f64],
-    ) -> Result<JointTorques, SimError> {
+    ) -> Result<JointTorques, DynamicsError> {
         let n = model.dof();
         for (what, v) in [("positions", q), ("velocities", qd), ("accelerations", qdd)] {
             if v.len() != n {
-                return Err(SimError::InvalidCommand(format!("expected {n} joint {what}, got {}", v.len())));
+                return Err(DynamicsError::InvalidInput(format!("expected {n} joint {what}, got {}", v.len())));
             }
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                return Err(SimError::InvalidCommand(format!("joint {} {what} value is not finite", i + 1)));
+                return Err(DynamicsError::InvalidInput(format!("joint {} {what} value is not finite", i + 1)));
             }
         }
         let mut total = vec![0.0; n];

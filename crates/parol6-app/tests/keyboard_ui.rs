@@ -20,14 +20,7 @@ fn harness(tag: &str) -> Harness<'static, Parol6App> {
     let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
     let dir = std::env::temp_dir().join(format!("parol6-keyboard-ui-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("program.json");
-    std::fs::write(&path, parol6_core::program::json::to_string(h.state().program_panel().program())).unwrap();
-    h.get_by_label("Program file").click();
-    h.run_steps(1);
-    h.get_by_label("Program file").type_text(&path.display().to_string());
-    h.run_steps(1);
-    h.get_by_label("Open").click();
-    h.run_steps(3);
+    ui_support::reopen_program_from(&mut h, &dir.join("program.json"));
     h
 }
 

@@ -11,7 +11,7 @@ mod ui_support;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::{app_harness, type_into};
+use ui_support::{app_harness, open_program_file as open_file, type_into};
 
 use parol6_app::app::Parol6App;
 use parol6_core::angles::{AngleConvention, rpy_to_abc_deg};
@@ -25,15 +25,6 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 
 fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
     h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
-}
-
-fn open_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
-    h.get_by_label("Program file").click();
-    h.run_steps(1);
-    h.get_by_label("Program file").type_text(&path.display().to_string());
-    h.run_steps(1);
-    h.get_by_label("Open").click();
-    h.run_steps(3);
 }
 
 #[test]

@@ -14,13 +14,7 @@ use parol6_app::app::Parol6App;
 /// The app with the built-in program opened from `path`, then one step taught (unsaved).
 fn edited(path: &std::path::Path) -> Harness<'static, Parol6App> {
     let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
-    std::fs::write(path, parol6_core::program::json::to_string(h.state().program_panel().program())).unwrap();
-    h.get_by_label("Program file").click();
-    h.run_steps(1);
-    h.get_by_label("Program file").type_text(&path.display().to_string());
-    h.run_steps(1);
-    h.get_by_label("Open").click();
-    h.run_steps(3);
+    ui_support::reopen_program_from(&mut h, path);
     h.get_by_label("Teach pose").click();
     h.run_steps(2);
     assert!(h.state().program_panel().is_dirty());

@@ -69,3 +69,21 @@ pub fn click_in_view_menu(h: &mut Harness<'_, Parol6App>, label: &str) {
     h.get_by_label(label).click();
     h.run_steps(2);
 }
+
+/// Types `path` into the program panel's file field and opens it.
+pub fn open_program_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    h.get_by_label("Program file").click();
+    h.run_steps(1);
+    h.get_by_label("Program file").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    h.run_steps(3);
+}
+
+/// Writes the loaded (built-in) program to `path` and opens it from there, so that Ctrl+S
+/// saves it without a dialog.
+pub fn reopen_program_from(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    std::fs::write(path, parol6_core::program::json::to_string(h.state().program_panel().program()))
+        .expect("write the program file");
+    open_program_file(h, path);
+}

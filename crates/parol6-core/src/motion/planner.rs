@@ -77,6 +77,26 @@ pub struct MotionPlanner {
     received: u64,
 }
 
+/// Why a jog of `joint` (0-based) in the direction of `fraction`'s sign from `here_rad` is
+/// refused: the joint is at or beyond the limit it would move toward (only a jog back inside
+/// is allowed). The one place of this rule: the planner applies it, and the serial session
+/// asks it before queueing a jog so that its refusal is immediate.
+pub fn jog_refusal(limits: &JointLimits, here_rad: &[f64], joint: usize, fraction: f64) -> Option<String> {
+    let (lim, q) = (limits.get(joint)?, *here_rad.get(joint)?);
+    let upper = fraction > 0.0;
+    let stop_at = if upper { lim.max } else { lim.min };
+    let blocked = if upper { q >= stop_at } else { fraction < 0.0 && q <= stop_at };
+    blocked.then(|| {
+        format!(
+            "joint {} ({}) is at its {} limit ({:.3}°): jog the other way",
+            joint + 1,
+            lim.name,
+            if upper { "upper" } else { "lower" },
+            stop_at.to_degrees()
+        )
+    })
+}
+
 impl MotionPlanner {
     /// A planner holding `q0`. `home` is the target of [`MotionCommand::Home`].
     pub fn new(limits: JointLimits, caps: MotionCaps, home: Vec<f64>, q0: &[f64]) -> Self {
@@ -396,15 +416,8 @@ impl MotionPlanner {
                 }
                 let lim = self.limits.get(joint).ok_or_else(|| MotionError::Invalid(format!("no joint {joint}")))?;
                 let stop_at = if vel > 0.0 { lim.max } else { lim.min };
-                let blocked = if vel > 0.0 { here[joint] >= stop_at } else { here[joint] <= stop_at };
-                if blocked {
-                    return Err(MotionError::Invalid(format!(
-                        "joint {} ({}) is at its {} limit ({:.3}°): jog the other way",
-                        joint + 1,
-                        lim.name,
-                        if vel > 0.0 { "upper" } else { "lower" },
-                        stop_at.to_degrees()
-                    )));
+                if let Some(why) = jog_refusal(&self.limits, &here, joint, fraction) {
+                    return Err(MotionError::Invalid(why));
                 }
                 let mut goal = here.clone();
                 goal[joint] = stop_at;

@@ -188,19 +188,10 @@ impl Session {
     /// From at or beyond a limit only a jog back inside is allowed.
     fn check_jog_direction(&self, joint: usize, fraction: f64) -> Result<(), BackendError> {
         let state = self.robot_state();
-        let (Some(q), Some(lim)) = (state.commanded.q.get(joint), self.config.limits.get(joint)) else {
-            return Ok(());
-        };
-        let out = (fraction > 0.0 && *q >= lim.max) || (fraction < 0.0 && *q <= lim.min);
-        if out {
-            return Err(BackendError::Refused(format!(
-                "joint {} ({}) is at its {} limit: jog the other way",
-                joint + 1,
-                lim.name,
-                if fraction > 0.0 { "upper" } else { "lower" }
-            )));
+        match parol6_core::motion::jog_refusal(&self.config.limits, &state.commanded.q, joint, fraction) {
+            Some(why) => Err(BackendError::Refused(why)),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     /// Sends ENABLE (101): clears the disabled latch (refused while the E-stop is pressed).

@@ -91,6 +91,25 @@ fn a_jog_stops_at_the_limit_and_after_the_deadman() {
     assert!(p.sample(30.1).q[0] < lim);
 }
 
+/// The jog-at-limit rule is one function (`jog_refusal`), which the planner applies and the
+/// serial session asks before queueing (it had its own copy, without the limit's angle).
+#[test]
+fn the_jog_at_a_limit_rule_refuses_outward_only() {
+    let limits = RobotModel::parol6().limits.clone();
+    let j2 = limits.get(1).expect("J2").clone();
+    let mut q = crate::parol6::standby_rad().to_vec();
+    assert_eq!(jog_refusal(&limits, &q, 1, 1.0), None, "inside: both ways");
+    assert_eq!(jog_refusal(&limits, &q, 1, -1.0), None);
+    for (at, outward) in [(j2.max, 1.0), (j2.max + 0.01, 1.0), (j2.min, -1.0), (j2.min - 0.01, -1.0)] {
+        q[1] = at;
+        let why = jog_refusal(&limits, &q, 1, outward).expect("outward from a limit is refused");
+        assert!(why.contains("joint 2") && why.contains("jog the other way") && why.contains('°'), "{why}");
+        assert_eq!(jog_refusal(&limits, &q, 1, -outward), None, "back inside is allowed");
+        assert_eq!(jog_refusal(&limits, &q, 1, 0.0), None, "no motion is no jog");
+    }
+    assert_eq!(jog_refusal(&limits, &q, 9, 1.0), None, "no such joint: the command's own check refuses it");
+}
+
 #[test]
 fn motion_from_beyond_a_limit_back_inside_is_allowed() {
     let mut p = planner();

@@ -38,6 +38,7 @@ pub mod program_torques;
 pub mod record;
 pub mod render;
 pub mod serve;
+pub mod serve_ros2;
 pub mod sim;
 
 pub use output::{print_json, warn};

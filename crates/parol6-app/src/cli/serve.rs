@@ -61,6 +61,9 @@ pub struct ServeArgs {
     /// Session settings (robot only).
     #[command(flatten)]
     pub rate: RateArgs,
+    /// Where the ROS 2 node connects (with --ros2).
+    #[command(flatten)]
+    pub ros2_options: super::serve_ros2::Ros2Args,
 }
 
 /// How often the main loop passes the backend's state and link health to the recorder.
@@ -308,6 +311,6 @@ fn start_foxglove(_source: &LiveSource<'_>, _addr: std::net::SocketAddr) -> Resu
 }
 
 /// Starts the ROS 2 (Zenoh) server.
-fn start_ros2(_args: &ServeArgs, _source: &LiveSource<'_>) -> Result<Box<dyn LiveServer>, CliError> {
-    Err(CliError::usage("--ros2: the ROS 2 server is not built yet"))
+fn start_ros2(args: &ServeArgs, source: &LiveSource<'_>) -> Result<Box<dyn LiveServer>, CliError> {
+    super::serve_ros2::start(&args.ros2_options, source)
 }

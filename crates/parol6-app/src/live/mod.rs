@@ -2,7 +2,8 @@
 //!
 //! - [`foxglove`] (cargo feature `foxglove`): the Foxglove WebSocket server (the official
 //!   `foxglove` crate) streaming our MCAP channels live;
-//! - ROS 2 over Zenoh (cargo feature `ros2`, its own module).
+//! - [`ros2`] (cargo feature `ros2`): ROS 2 over Zenoh in `rmw_zenoh`'s conventions (the `zenoh`
+//!   crate, its runtime inside `live::ros2`).
 //!
 //! The rules every server follows, kept here:
 //! - **Bind to localhost unless told otherwise** ([`bind_address`]): an address given without a
@@ -30,6 +31,8 @@ use parol6_core::telemetry::{EventKind, Recorder, RecorderEvents, TelemetryEvent
 
 #[cfg(feature = "foxglove")]
 pub mod foxglove;
+#[cfg(feature = "ros2")]
+pub mod ros2;
 
 /// Default port of the Foxglove WebSocket server (Foxglove's own default).
 pub const FOXGLOVE_DEFAULT_PORT: u16 = 8765;

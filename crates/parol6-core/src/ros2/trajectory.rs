@@ -80,6 +80,21 @@ pub fn plan_trajectory(
     traj: &JointTrajectory,
     current_q: &[f64],
 ) -> Result<TrajectoryPlan, TrajectoryError> {
+    let (program, duration_s) = to_program(model, traj, current_q)?;
+    let report = check_program(model, &program, current_q, CheckOptions::default());
+    if let Some(first) = report.first_error() {
+        return Err(TrajectoryError::Preflight(first));
+    }
+    Ok(TrajectoryPlan { program, report, points: traj.points.len(), duration_s })
+}
+
+/// The checks before the pre-flight and the conversion: the program and the trajectory's
+/// duration, s.
+pub fn to_program(
+    model: &RobotModel,
+    traj: &JointTrajectory,
+    current_q: &[f64],
+) -> Result<(Program, f64), TrajectoryError> {
     let order = joint_order(model, &traj.joint_names)?;
     if traj.points.is_empty() {
         return Err(TrajectoryError::Empty);
@@ -101,6 +116,8 @@ pub fn plan_trajectory(
         if let Err(e) = model.limits.check(&q) {
             return Err(err("positions", e.to_string()));
         }
+        // within the limits' rounding tolerance: onto the limit, so degrees and back stay inside
+        let q: Vec<f64> = q.iter().zip(model.limits.iter()).map(|(&v, l)| l.clamp(v)).collect();
         let t = point.time_from_start.as_secs_f64().ok_or_else(|| {
             err("time_from_start", format!("nanosec {} is not below 10⁹", point.time_from_start.nanosec))
         })?;
@@ -163,11 +180,7 @@ pub fn plan_trajectory(
     }
     let program =
         Program { name: format!("ROS 2 JointTrajectory ({} points)", traj.points.len()), steps, ..Program::default() };
-    let report = check_program(model, &program, current_q, CheckOptions::default());
-    if let Some(first) = report.first_error() {
-        return Err(TrajectoryError::Preflight(first));
-    }
-    Ok(TrajectoryPlan { program, report, points: traj.points.len(), duration_s: prev_t })
+    Ok((program, prev_t))
 }
 
 /// For each of the robot's joints, its index in `names`.

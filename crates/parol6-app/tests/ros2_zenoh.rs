@@ -68,3 +68,15 @@ fn ros2_trajectory_without_allow_remote_control_is_refused() {
     let r = peer(false);
     assert!(r["refusal"].as_str().unwrap().contains("--allow-remote-control"), "{r:#}");
 }
+
+#[test]
+fn ros2_endpoints_other_than_tcp_are_refused_with_exit_2() {
+    let root = cli_support::workspace_root();
+    let limit = std::time::Duration::from_secs(60);
+    for (flag, endpoint) in [("--ros2-connect", "udp/127.0.0.1:7447"), ("--ros2-listen", "tcp/127.0.0.1")] {
+        let run = cli_support::run_in(root, &["serve", "--ros2", "--seconds", "1", flag, endpoint], limit);
+        run.assert_no_panic(endpoint);
+        assert_eq!(run.code(), Some(2), "{flag} {endpoint}: {run:?}");
+        assert!(run.stderr.contains(flag) && run.stderr.contains("tcp/ADDRESS:PORT"), "{run:?}");
+    }
+}

@@ -81,16 +81,27 @@ pub fn run(t: Telemetry, outlet: LiveOutlet, stop: Arc<AtomicBool>, counters: Ar
                 }
             };
             let stamp = Time::from_unix_ns(now_unix_ns());
-            if s.time_s >= next_js || s.time_s + 1.0 < next_js {
-                next_js = s.time_s + JOINT_STATES_PERIOD_S;
+            if due(&mut next_js, s.time_s, JOINT_STATES_PERIOD_S) {
                 sent(publish_joint_state(&t, &names, &s, stamp), &counters.joint_states);
             }
-            if s.time_s >= next_tf || s.time_s + 1.0 < next_tf {
-                next_tf = s.time_s + TF_PERIOD_S;
+            if due(&mut next_tf, s.time_s, TF_PERIOD_S) {
                 sent(publish_tf(&t, &s, stamp), &counters.tf);
             }
         }
     }
+}
+
+/// True when the sample at `t_s` starts a period: `next` then moves on by one period (on a
+/// fixed grid, so 1 ms samples give exactly the rate), or past `t_s` after a gap or a clock jump.
+fn due(next: &mut f64, t_s: f64, period_s: f64) -> bool {
+    if t_s + 1e-6 < *next && t_s + 1.0 > *next {
+        return false;
+    }
+    *next += period_s;
+    if *next <= t_s || *next > t_s + 1.0 {
+        *next = t_s + period_s;
+    }
+    true
 }
 
 fn publish_joint_state(t: &Telemetry, names: &[String], s: &TelemetrySample, stamp: Time) -> Result<(), String> {
@@ -110,4 +121,16 @@ fn publish_tf(t: &Telemetry, s: &TelemetrySample, stamp: Time) -> Result<(), Str
     let frames = t.frames.transforms(&t.model, &q, parol6_core::telemetry::schema::Time::default());
     let msg = TfMessage::from_frames(&frames, stamp);
     t.tf.put(cdr::encode(&msg).map_err(|e| e.to_string())?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::due;
+
+    #[test]
+    fn thinning_1khz_samples_gives_exactly_100hz() {
+        let mut next = f64::NEG_INFINITY;
+        let sent = (0..10_000).filter(|k| due(&mut next, *k as f64 * 0.001 + 12.345, 0.01)).count();
+        assert_eq!(sent, 1000);
+    }
 }

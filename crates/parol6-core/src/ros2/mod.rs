@@ -16,9 +16,11 @@
 //!
 //! The type hashes are those of ROS 2 Jazzy's interfaces, computed per REP-2011 from the type
 //! descriptions (sorted referenced types, default values left out, JSON with `", "` and `": "`
-//! separators, SHA-256); `tests/ros2_zenoh.py` recomputes them independently, and the values
-//! agree with those that `ros2 topic info --verbose` prints for `sensor_msgs/msg/JointState`,
-//! `std_msgs/msg/String`, `tf2_msgs/msg/TFMessage` and `trajectory_msgs/msg/JointTrajectory`.
+//! separators, SHA-256); the Python peer of `crates/parol6-app/tests/ros2_zenoh.rs` recomputes
+//! them independently. Those of `sensor_msgs/msg/JointState` and
+//! `trajectory_msgs/msg/JointTrajectory` are what a real `ros2 topic info --verbose` prints; those
+//! of `std_msgs/msg/String` and `tf2_msgs/msg/TFMessage` what other rmw_zenoh-compatible projects
+//! use.
 //!
 //! [`Program`]: crate::program::Program
 

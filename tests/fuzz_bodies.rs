@@ -21,10 +21,12 @@ use parol6_hw::{ControllerModel, EmulatorConfig};
 mod formats;
 mod fsio;
 mod mcap_cut;
+mod ros2;
 
 pub use formats::{commander, commander_compile, csv_table, csv_table_compile, time_function, time_function_compile};
 pub use fsio::atomic_writer;
 pub use mcap_cut::mcap_cut;
+pub use ros2::ros2_cdr;
 
 /// A fuzz target body: arbitrary bytes in, a panic on a broken invariant.
 pub type FuzzBody = fn(&[u8]);
@@ -46,7 +48,7 @@ const fn target(name: &'static str, body: FuzzBody) -> FuzzTarget {
 }
 
 /// The fuzz targets whose bodies live here.
-pub const TARGETS: [FuzzTarget; 14] = [
+pub const TARGETS: [FuzzTarget; 15] = [
     target("status_parser", status_parser),
     target("command_emulator", command_emulator),
     target("urdf_loader", urdf_loader),
@@ -61,6 +63,7 @@ pub const TARGETS: [FuzzTarget; 14] = [
     FuzzTarget { name: "commander_compile", corpus: "commander", body: commander_compile },
     target("atomic_writer", atomic_writer),
     target("mcap_cut", mcap_cut),
+    target("ros2_cdr", ros2_cdr),
 ];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser

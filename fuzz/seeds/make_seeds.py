@@ -126,3 +126,82 @@ write("atomic_writer", "rename_fails", atomic(0x05))
 write("atomic_writer", "encoder_fails", atomic(0x09, chunk=1))
 write("atomic_writer", "everything_fails_no_old", atomic(0x3E, enospc=1, max_write=1))
 write("atomic_writer", "empty_new_content", atomic(0x11, enospc=0, new=b""))
+
+# --- ros2_cdr: ROS 2 CDR payloads (little-endian header 00 01 00 00, XCDR1 body) ---------------
+class Cdr:
+    def __init__(self, big=False):
+        self.e = ">" if big else "<"
+        self.b = bytearray()
+
+    def align(self, n):
+        while len(self.b) % n:
+            self.b.append(0)
+
+    def u32(self, v):
+        self.align(4)
+        self.b += struct.pack(self.e + "I", v)
+        return self
+
+    def i32(self, v):
+        self.align(4)
+        self.b += struct.pack(self.e + "i", v)
+        return self
+
+    def f64(self, v):
+        self.align(8)
+        self.b += struct.pack(self.e + "d", v)
+        return self
+
+    def string(self, s):
+        data = s.encode() + b"\0"
+        self.u32(len(data))
+        self.b += data
+        return self
+
+    def doubles(self, vs):
+        self.u32(len(vs))
+        for v in vs:
+            self.f64(v)
+        return self
+
+    def payload(self):
+        return (b"\x00\x00\x00\x00" if self.e == ">" else b"\x00\x01\x00\x00") + bytes(self.b)
+
+
+STANDBY_DEG = (90.0, -90.0, 180.0, 0.0, 0.0, 180.0)
+import math
+STANDBY_RAD = [math.radians(d) for d in STANDBY_DEG]
+
+
+def trajectory(points, names=("J1", "J2", "J3", "J4", "J5", "J6"), big=False):
+    c = Cdr(big).i32(0).u32(0).string("base_link").u32(len(names))
+    for n in names:
+        c.string(n)
+    c.u32(len(points))
+    for q, v, t in points:
+        c.doubles(q).doubles(v).doubles([]).doubles([])
+        c.i32(int(t)).u32(int(round((t - int(t)) * 1e9)))
+    return c.payload()
+
+
+moved = [STANDBY_RAD[0] + 0.2] + STANDBY_RAD[1:]
+write("ros2_cdr", "trajectory_valid", trajectory([(STANDBY_RAD, [], 0.0), (moved, [0.0] * 6, 1.0), (STANDBY_RAD, [], 2.0)]))
+write("ros2_cdr", "trajectory_big_endian", trajectory([(STANDBY_RAD, [], 0.0), (moved, [], 1.5)], big=True))
+write("ros2_cdr", "trajectory_reordered", trajectory([(list(reversed(moved)), [], 1.0)], names=("J6", "J5", "J4", "J3", "J2", "J1")))
+write("ros2_cdr", "trajectory_nan", trajectory([(STANDBY_RAD[:2] + [float("nan")] + STANDBY_RAD[3:], [], 1.0)]))
+write("ros2_cdr", "trajectory_out_of_limits", trajectory([([STANDBY_RAD[0], 3.0] + STANDBY_RAD[2:], [], 4.0)]))
+write("ros2_cdr", "trajectory_not_monotonic", trajectory([(moved, [], 1.0), (STANDBY_RAD, [], 1.0)]))
+write("ros2_cdr", "trajectory_wrong_names", trajectory([(moved, [], 1.0)], names=("a", "b", "c", "d", "e", "f")))
+write("ros2_cdr", "trajectory_cut", trajectory([(moved, [], 1.0)])[:-7])
+write("ros2_cdr", "trajectory_huge_count", Cdr().i32(0).u32(0).string("").u32(0xFFFFFFFF).payload())
+js = Cdr().i32(1).u32(2).string("").u32(6)
+for n in ("J1", "J2", "J3", "J4", "J5", "J6"):
+    js.string(n)
+js.doubles(STANDBY_RAD).doubles([0.0] * 6).doubles([])
+write("ros2_cdr", "joint_state", js.payload())
+tf = Cdr().u32(1).i32(1).u32(2).string("base_link").string("L1")
+for v in (0.0, 0.0, 0.11, 0.0, 0.0, 0.0, 1.0):
+    tf.f64(v)
+write("ros2_cdr", "tf_message", tf.payload())
+write("ros2_cdr", "string", Cdr().string("<robot name=\"parol6\"/>").payload())
+write("ros2_cdr", "not_cdr", b"\x00\x07\x00\x00hello")

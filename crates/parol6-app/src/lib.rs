@@ -7,6 +7,7 @@
 
 pub mod app;
 pub mod cli;
+pub mod live;
 pub mod palette;
 pub mod panels;
 pub mod report;

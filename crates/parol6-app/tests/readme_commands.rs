@@ -202,7 +202,12 @@ fn readme_commands_run_as_printed() {
                 assert!(stats["frames"].as_u64().is_some_and(|n| n > 0), "{command}: no frame drawn: {run:?}");
             }
             Kind::Prints { path, json: true } => {
-                run.json(command);
+                // one JSON value a line (`serve` prints one when listening and one at the end)
+                for line in run.stdout.lines().filter(|l| !l.trim().is_empty()) {
+                    serde_json::from_str::<serde_json::Value>(line)
+                        .unwrap_or_else(|e| panic!("{command}: a stdout line is not JSON ({e}): {run:?}"));
+                }
+                assert!(!run.stdout.trim().is_empty(), "{command}: prints JSON: {run:?}");
                 assert!(!path.is_empty());
             }
             Kind::Prints { path, json: false } if path == &["hw", "emulate"] => {

@@ -14,9 +14,10 @@
 //! surroundings ([`scene`]), the PAROL6 facts of the reference pack ([`parol6`]), the size /
 //! nesting bounds every URDF text passes before parsing ([`urdf_input`]), sample statistics
 //! with one percentile rule ([`stats`]), handing freed memory back ([`process`]), the one atomic
-//! file writer and bounded regular-file reader ([`fsio`]), and telemetry ([`telemetry`]: the recorder thread with
+//! file writer and bounded regular-file reader ([`fsio`]), telemetry ([`telemetry`]: the recorder thread with
 //! its live ring buffer, MCAP files for Foxglove / Lichtblick, and the reader of our own
-//! recordings).
+//! recordings), and the ROS 2 messages as `rmw_zenoh` carries them ([`ros2`]: CDR, key
+//! expressions, liveliness tokens, incoming trajectories → a pre-flighted program).
 //!
 //! Must not depend on any GUI, windowing, GPU or serial-port crate. `nalgebra` is re-exported
 //! as [`na`] so every crate uses the same version.
@@ -38,6 +39,7 @@ pub mod parol6;
 pub mod process;
 pub mod profile;
 pub mod program;
+pub mod ros2;
 pub mod scene;
 pub mod sim;
 pub mod stats;

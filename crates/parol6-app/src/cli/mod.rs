@@ -9,8 +9,8 @@
 //! [`render`] (screenshots), [`sim`] (dynamics, simulation benchmarks), [`gui`] (the window),
 //! [`record`] (recording to MCAP), [`mcap`] (reading recordings), [`options`] (shared options
 //! and range checks), [`output`] (stdout/stderr), [`program`] (program check and run),
-//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]), [`common`] (helpers
-//! several subcommands share).
+//! [`measure`] (ISO 9283 pose and path tests, on [`measure_backend`]), [`serve`] (live
+//! serving: Foxglove WebSocket, ROS 2), [`common`] (helpers several subcommands share).
 
 use std::process::ExitCode;
 
@@ -38,6 +38,8 @@ pub mod program_torques;
 pub mod record;
 pub mod render;
 pub mod render_run;
+pub mod serve;
+pub mod serve_ros2;
 pub mod sim;
 
 pub use output::{print_json, warn};
@@ -137,6 +139,9 @@ pub enum Command {
     /// ISO 9283 path accuracy / repeatability (line, circle, triangle in the cube's diagonal
     /// plane) on the simulation (default) or the robot.
     PathTest(measure::PathTestArgs),
+    /// Serve the simulation (default) or the controller live: Foxglove WebSocket (--foxglove),
+    /// ROS 2 over Zenoh (--ros2), until Ctrl-C / SIGTERM or --seconds.
+    Serve(serve::ServeArgs),
 }
 
 impl Cli {
@@ -156,6 +161,7 @@ impl Cli {
             Some(Command::Replay(_)) => "replay".into(),
             Some(Command::Iso9283(_)) => "iso9283".into(),
             Some(Command::PathTest(_)) => "path-test".into(),
+            Some(Command::Serve(_)) => "serve".into(),
         }
     }
 
@@ -163,7 +169,7 @@ impl Cli {
     /// SIGINT / SIGTERM ([`interrupt`]); the others keep the default action (the process ends).
     pub fn stops_on_signal(&self) -> bool {
         match &self.command {
-            None | Some(Command::Replay(_) | Command::Record(_) | Command::PathTest(_)) => true,
+            None | Some(Command::Replay(_) | Command::Record(_) | Command::PathTest(_) | Command::Serve(_)) => true,
             Some(Command::Hw(h)) => {
                 matches!(
                     h.command,
@@ -185,11 +191,11 @@ impl Cli {
             ) => true,
             Some(Command::Bench(b)) => matches!(b.target, bench::BenchTarget::Render(_)),
             Some(Command::Hw(_) | Command::Mcap(_)) => false,
-            Some(Command::Program(_) | Command::Iso9283(_) | Command::PathTest(_)) => true,
+            Some(Command::Program(_) | Command::Iso9283(_) | Command::PathTest(_) | Command::Serve(_)) => true,
             Some(Command::Replay(_)) => true,
         };
         let uses_connection = match &self.command {
-            None | Some(Command::Record(_)) => true,
+            None | Some(Command::Record(_) | Command::Serve(_)) => true,
             Some(Command::Hw(h)) => h.command.talks_to_controller(),
             Some(Command::Program(p)) => p.command.talks_to_controller(),
             Some(Command::Iso9283(a)) => a.measurements.is_none(),
@@ -263,5 +269,6 @@ fn run(cli: &Cli) -> CliResult {
         Some(Command::Mcap(a)) => mcap::run(a),
         Some(Command::Iso9283(a)) => measure::run_iso9283(a, &cli.robot, &cli.connect),
         Some(Command::PathTest(a)) => measure::run_path_test(a, &cli.robot, &cli.connect),
+        Some(Command::Serve(a)) => serve::run(a, &cli.robot, &cli.connect),
     }
 }

@@ -43,6 +43,12 @@ pub enum EventKind {
     },
     /// Anything else the caller reports (program start / end …).
     Note,
+    /// A command that came over the network (a live server): carried out or refused (the
+    /// message says who sent what, and why it was refused).
+    NetworkCommand {
+        /// True when it was carried out.
+        accepted: bool,
+    },
 }
 
 /// One event, stamped on the backend's motion clock.
@@ -62,7 +68,8 @@ impl TelemetryEvent {
         match &self.kind {
             EventKind::Note | EventKind::ProgramStep { .. } => 2,
             EventKind::Blocked { blocked: false } | EventKind::EStop { pressed: false } => 2,
-            EventKind::LinkLoss { lost: false } => 2,
+            EventKind::LinkLoss { lost: false } | EventKind::NetworkCommand { accepted: true } => 2,
+            EventKind::NetworkCommand { accepted: false } => 3,
             EventKind::LimitWarning { .. } | EventKind::Refusal | EventKind::Blocked { .. } => 3,
             EventKind::EStop { .. } | EventKind::LinkLoss { .. } => 4,
         }

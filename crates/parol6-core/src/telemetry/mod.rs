@@ -11,6 +11,8 @@
 //! - [`schema`]: the JSON messages and JSON schemas of the MCAP channels (Foxglove's
 //!   well-known schemas where one exists);
 //! - [`frames`]: the `/tf` transforms (one per URDF joint, parent link → child link);
+//! - [`encode`]: the one encoder of samples and events into our channels' JSON messages, used
+//!   by the MCAP writer and by the live servers (fed from the recorder's live outlets);
 //! - [`writer`]: the MCAP writer (zstd chunks closed at least every 0.25 s, summary + index);
 //! - [`reader`]: the reader of our own files, tolerant of truncation and damage ([`walk`]);
 //! - [`chunked`]: the parallel decoder of whole files' chunks, the fast path of [`replay`];
@@ -19,6 +21,7 @@
 use crate::limits::LimitZone;
 
 pub mod chunked;
+pub mod encode;
 pub mod event;
 pub mod frames;
 pub mod reader;
@@ -31,9 +34,10 @@ pub mod series;
 pub mod walk;
 pub mod writer;
 
+pub use encode::{Channel, EncodeError, TelemetryEncoder};
 pub use event::{EventDetector, EventKind, TelemetryEvent};
 pub use reader::{Recording, RecordingError, read_recording};
-pub use recorder::{Recorder, RecorderConfig, RecorderStats};
+pub use recorder::{LiveItem, LiveOutlet, Recorder, RecorderConfig, RecorderEvents, RecorderStats};
 pub use replay::{ReadPath, ReplayData, ReplayError, ReplayEvent, load_replay, load_whole_replay, read_replay_file};
 pub use ring::{LiveRing, LiveView};
 pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
@@ -66,6 +70,12 @@ pub enum TelemetryError {
     /// The recorder's thread has stopped or did not answer.
     #[error("the recorder thread has stopped")]
     Stopped,
+}
+
+impl From<encode::EncodeError> for TelemetryError {
+    fn from(e: encode::EncodeError) -> Self {
+        TelemetryError::Mcap(e.to_string())
+    }
 }
 
 impl From<mcap::McapError> for TelemetryError {

@@ -9,6 +9,12 @@
 //! [`RecorderConfig::live_span_s`] in a [`LiveRing`] published lock-free as a [`LiveView`]
 //! ([`Recorder::live`]), and while recording writes an MCAP file through [`McapSink`].
 //!
+//! Live servers take the samples and events from a [`LiveOutlet`] ([`Recorder::live_outlet`]):
+//! a bounded channel the thread `try_send`s every built sample and every event into (every
+//! sample while an outlet is open, not only the live view's 250 Hz). A full outlet drops the
+//! item and counts it ([`LiveOutlet::dropped`]); the recorder never waits on a live server, and
+//! an outlet whose receiver is gone is closed.
+//!
 //! One recorder serves one backend (one sequence of tick numbers).
 
 use std::path::Path;
@@ -25,8 +31,9 @@ use crate::model::RobotModel;
 use crate::motion::{MotionSample, RobotState};
 
 use super::TelemetryError;
-use super::event::{EventDetector, TelemetryEvent};
+use super::event::{EventDetector, EventKind, TelemetryEvent};
 use super::ring::{LiveRing, LiveView};
+use super::sample::TelemetrySample;
 use super::sample::{LinkHealth, SampleBuilder};
 use super::writer::{McapSink, RecordingInfo, RecordingSummary, SyncedFile};
 
@@ -86,6 +93,76 @@ enum Control {
     Start(Box<McapSink<SyncedFile>>, Sender<()>),
     Stop(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
     Finish(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
+    Outlet(Outlet),
+}
+
+/// What a [`LiveOutlet`] carries.
+#[derive(Debug, Clone)]
+pub enum LiveItem {
+    /// One control tick (every sample the backend delivered while the outlet is open).
+    Sample(Arc<TelemetrySample>),
+    /// An event (limit warning, refusal, E-stop, link loss, program step, network command …).
+    Event(TelemetryEvent),
+}
+
+/// The recorder's end of a live outlet.
+struct Outlet {
+    tx: Sender<LiveItem>,
+    dropped: Arc<AtomicU64>,
+}
+
+/// A live server's end of an outlet of the recorder: every sample and event from now on, through
+/// a bounded channel (see the module docs). Dropping it closes the outlet.
+#[derive(Debug)]
+pub struct LiveOutlet {
+    /// The samples and events, in order.
+    pub rx: Receiver<LiveItem>,
+    dropped: Arc<AtomicU64>,
+}
+
+impl LiveOutlet {
+    /// Items the recorder dropped because this outlet was full.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+}
+
+/// A cloneable handle that adds events to a recorder's `/events` (from any thread, never
+/// blocking: a full control channel drops the event and counts it).
+#[derive(Debug, Clone)]
+pub struct RecorderEvents {
+    control: Sender<Control>,
+    shared: Arc<Shared>,
+}
+
+impl RecorderEvents {
+    /// Records an event (a NaN time takes the latest sample's).
+    pub fn event(&self, event: TelemetryEvent) {
+        send_control(&self.control, &self.shared, Control::Event(event));
+    }
+
+    /// Records a note (`EventKind::Note`) with `message`, at the latest sample's time.
+    pub fn note(&self, message: impl Into<String>) {
+        self.event(TelemetryEvent { time_s: f64::NAN, kind: EventKind::Note, message: message.into() });
+    }
+}
+
+fn send_control(control: &Sender<Control>, shared: &Shared, c: Control) {
+    if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = control.try_send(c) {
+        shared.counters.control_dropped.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+impl std::fmt::Debug for Control {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Control")
+    }
+}
+
+impl std::fmt::Debug for Shared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Shared")
+    }
 }
 
 #[derive(Default)]
@@ -156,6 +233,7 @@ impl Recorder {
             publish_every: Duration::from_secs_f64(config.publish_interval_s.clamp(0.001, 10.0)),
             dirty: false,
             still: false,
+            outlets: Vec::new(),
         };
         let join = std::thread::Builder::new()
             .name("parol6-recorder".into())
@@ -170,9 +248,23 @@ impl Recorder {
     }
 
     fn send(&self, c: Control) {
-        if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = self.control.try_send(c) {
-            self.shared.counters.control_dropped.fetch_add(1, Ordering::Relaxed);
-        }
+        send_control(&self.control, &self.shared, c);
+    }
+
+    /// A handle that adds events from other threads (the live servers' network commands).
+    pub fn events(&self) -> RecorderEvents {
+        RecorderEvents { control: self.control.clone(), shared: Arc::clone(&self.shared) }
+    }
+
+    /// Opens a live outlet of `capacity` items (see the module docs). The thread takes it with
+    /// its next control messages (at once, or within 20 ms while the arm moves).
+    pub fn live_outlet(&self, capacity: usize) -> Result<LiveOutlet, TelemetryError> {
+        let (tx, rx) = bounded(capacity.max(1));
+        let dropped = Arc::new(AtomicU64::new(0));
+        self.control
+            .send_timeout(Control::Outlet(Outlet { tx, dropped: Arc::clone(&dropped) }), REPLY_TIMEOUT)
+            .map_err(|_| TelemetryError::Stopped)?;
+        Ok(LiveOutlet { rx, dropped })
     }
 
     /// The backend's latest state: refusals and blocked/allowed changes become events.
@@ -275,6 +367,8 @@ struct Worker {
     dirty: bool,
     /// The last sample showed the arm still: nothing commanded, nothing moving.
     still: bool,
+    /// Open live outlets.
+    outlets: Vec<Outlet>,
 }
 
 impl Worker {
@@ -360,7 +454,7 @@ impl Worker {
         self.last_seq = Some(m.seq);
         self.still = m.commanded.qd.iter().all(|v| *v == 0.0) && m.measured_qd.iter().all(|v| v.abs() < STILL_QD_RAD_S);
         c.samples.fetch_add(1, Ordering::Relaxed);
-        if self.sink.is_none() && !self.ring.keeps(m.time_s) {
+        if self.sink.is_none() && self.outlets.is_empty() && !self.ring.keeps(m.time_s) {
             // neither written nor kept by the live view (one sample per 4 ms): nothing to build
             // (the next built sample's acceleration spans the skipped ones)
             self.last_time_s = m.time_s;
@@ -382,8 +476,25 @@ impl Worker {
                 Err(e) => self.fail(e),
             }
         }
+        if !self.outlets.is_empty() {
+            let s = Arc::new(s);
+            self.to_outlets(|| LiveItem::Sample(Arc::clone(&s)));
+        }
         self.take_events();
         self.dirty = true;
+    }
+
+    /// `try_send`s an item to every open outlet: a full one drops it (counted), a closed one is
+    /// removed.
+    fn to_outlets(&mut self, item: impl Fn() -> LiveItem) {
+        self.outlets.retain(|o| match o.tx.try_send(item()) {
+            Ok(()) => true,
+            Err(TrySendError::Full(_)) => {
+                o.dropped.fetch_add(1, Ordering::Relaxed);
+                true
+            }
+            Err(TrySendError::Disconnected(_)) => false,
+        });
     }
 
     fn control(&mut self, c: Control) {
@@ -423,6 +534,7 @@ impl Worker {
             Control::Stop(reply) => {
                 let _ = reply.send(self.stop());
             }
+            Control::Outlet(o) => self.outlets.push(o),
             Control::Finish(_) => {}
         }
         self.take_events();
@@ -440,6 +552,9 @@ impl Worker {
                 && let Err(err) = sink.write_event(e)
             {
                 self.fail(err);
+            }
+            if !self.outlets.is_empty() {
+                self.to_outlets(|| LiveItem::Event(e.clone()));
             }
         }
         self.events = events;

@@ -1,7 +1,8 @@
 //! [`McapSink`]: writes [`TelemetrySample`]s and [`TelemetryEvent`]s to an MCAP file.
 //!
 //! Channels: `/robot_description` (once, at the start), `/joint_states` and `/joint_commands`
-//! (every sample), `/tf` and `/tcp_pose` (at most [`McapSink::pose_rate_hz`], 100 Hz),
+//! (every sample), `/tf` and `/tcp_pose` (at most 100 Hz), encoded by [`TelemetryEncoder`] (the
+//! live servers use the same encoder),
 //! `/events`, `/link` (when the link state, E-stop or loss count changes, else once a
 //! second), and a metadata record
 //! ([`super::schema::METADATA_NAME`]: app version, robot, tool, program, tracking mode, joints). Chunks are
@@ -30,10 +31,10 @@ use mcap::{Compression, WriteOptions, Writer};
 use crate::model::RobotModel;
 
 use super::TelemetryError;
+use super::encode::{Channel, TelemetryEncoder};
 use super::event::TelemetryEvent;
-use super::frames::TfFrames;
-use super::sample::{DriveKind, LinkHealth, TelemetrySample};
-use super::schema::{self, Header, JointStateMsg, LogMsg, Pose, PoseInFrame, Quaternion, Time, Vector3, WorstZone};
+use super::sample::TelemetrySample;
+use super::schema;
 
 /// Chunks are closed at least this often (of motion time and of wall time), s: a crash
 /// (SIGKILL, a power loss) loses at most the open chunk. The reader also gives back what a
@@ -171,34 +172,18 @@ impl Seek for SyncedFile {
     }
 }
 
-struct Channels {
-    joint_states: u16,
-    joint_commands: u16,
-    tf: u16,
-    tcp_pose: u16,
-    events: u16,
-    link: u16,
-}
+/// The MCAP channel id of each of our channels.
+type ChannelIds = BTreeMap<Channel, u16>;
 
 /// Writes one MCAP recording. See the module docs.
 pub struct McapSink<W: Write + Seek> {
     writer: Writer<W>,
-    channels: Channels,
-    model: RobotModel,
-    frames: TfFrames,
-    joint_names: Vec<String>,
-    frame_id: String,
+    channels: ChannelIds,
+    encoder: TelemetryEncoder,
     sequence: u32,
-    start_unix_ns: u64,
-    t0_s: Option<f64>,
-    last_pose_s: Option<f64>,
     last_flush_s: f64,
     last_flush_at: Instant,
-    last_link: Option<(f64, LinkHealth)>,
-    buf: Vec<u8>,
     summary: RecordingSummary,
-    /// Highest rate of `/tf` and `/tcp_pose`, Hz.
-    pub pose_rate_hz: f64,
 }
 
 impl<W: Write + Seek> std::fmt::Debug for McapSink<W> {
@@ -280,20 +265,11 @@ impl<W: Write + Seek> McapSink<W> {
             .library(format!("parol6-studio {}", info.app_version));
         let mut writer = options.create(w)?;
         let none = BTreeMap::new();
-        let mut channel = |topic: &str, schema_name: &str| -> Result<u16, TelemetryError> {
-            let text = schema::schema_text(schema_name).unwrap_or_default();
-            let schema_id = writer.add_schema(schema_name, schema::SCHEMA_ENCODING, text.as_bytes())?;
-            Ok(writer.add_channel(schema_id, topic, schema::MESSAGE_ENCODING, &none)?)
-        };
-        let description = channel("/robot_description", schema::ROBOT_DESCRIPTION)?;
-        let channels = Channels {
-            joint_states: channel("/joint_states", schema::JOINT_STATE)?,
-            joint_commands: channel("/joint_commands", schema::JOINT_STATE)?,
-            tf: channel("/tf", schema::FRAME_TRANSFORMS)?,
-            tcp_pose: channel("/tcp_pose", schema::POSE_IN_FRAME)?,
-            events: channel("/events", schema::LOG)?,
-            link: channel("/link", schema::LINK_HEALTH)?,
-        };
+        let mut channels = ChannelIds::new();
+        for c in Channel::ALL {
+            let schema_id = writer.add_schema(c.schema_name(), schema::SCHEMA_ENCODING, c.schema_text().as_bytes())?;
+            channels.insert(c, writer.add_channel(schema_id, c.topic(), schema::MESSAGE_ENCODING, &none)?);
+        }
         let joint_names: Vec<String> = model.joints.iter().map(|j| j.name.clone()).collect();
         let start_unix_ns = unix_now_ns();
         let metadata = BTreeMap::from([
@@ -307,145 +283,51 @@ impl<W: Write + Seek> McapSink<W> {
             ("started_unix_ns".to_string(), start_unix_ns.to_string()),
         ]);
         writer.write_metadata(&Metadata { name: schema::METADATA_NAME.into(), metadata })?;
-        let data = serde_json::to_vec(&schema::RobotDescription { data: info.urdf_text.clone() })
-            .map_err(|e| TelemetryError::Mcap(e.to_string()))?;
+        let text = (!info.urdf_text.is_empty()).then_some(info.urdf_text.as_str());
+        let encoder = TelemetryEncoder::new(model, text, start_unix_ns);
+        let data = encoder.robot_description(&info.urdf_text)?;
         let header = MessageHeader {
-            channel_id: description,
+            channel_id: channels.get(&Channel::RobotDescription).copied().unwrap_or_default(),
             sequence: 0,
             log_time: start_unix_ns,
             publish_time: start_unix_ns,
         };
         writer.write_to_known_channel(&header, &data)?;
-        let text = (!info.urdf_text.is_empty()).then_some(info.urdf_text.as_str());
         Ok(Self {
             writer,
             channels,
-            model: model.clone(),
-            frames: TfFrames::new(model, text),
-            joint_names,
-            frame_id: model.root_link.clone(),
+            encoder,
             sequence: 1,
-            start_unix_ns,
-            t0_s: None,
-            last_pose_s: None,
             last_flush_s: 0.0,
             last_flush_at: Instant::now(),
-            last_link: None,
-            buf: Vec::with_capacity(1024),
             summary: RecordingSummary { samples: 0, events: 0, messages: 1, flushes: 0, duration_s: 0.0 },
-            pose_rate_hz: 100.0,
         })
     }
 
-    /// Unix time of motion time `t_s`, ns (the first sample is the recording's start).
-    fn stamp_ns(&mut self, t_s: f64) -> u64 {
-        let t0 = *self.t0_s.get_or_insert(t_s);
-        let dt_ns = ((t_s - t0).max(0.0) * 1e9).round();
-        self.start_unix_ns.saturating_add(if dt_ns.is_finite() { dt_ns as u64 } else { 0 })
-    }
-
-    fn put<T: serde::Serialize>(&mut self, channel_id: u16, log_time: u64, msg: &T) -> Result<(), TelemetryError> {
-        self.buf.clear();
-        serde_json::to_writer(&mut self.buf, msg).map_err(|e| TelemetryError::Mcap(e.to_string()))?;
-        let header = MessageHeader { channel_id, sequence: self.sequence, log_time, publish_time: log_time };
-        self.sequence = self.sequence.wrapping_add(1);
-        self.writer.write_to_known_channel(&header, &self.buf)?;
-        self.summary.messages += 1;
-        Ok(())
+    /// Highest rate of `/tf` and `/tcp_pose`, Hz (100).
+    pub fn set_pose_rate_hz(&mut self, rate_hz: f64) {
+        self.encoder.pose_rate_hz = rate_hz;
     }
 
     /// Writes one sample: joint states and commands always, `/tf` and `/tcp_pose` at most at
-    /// [`McapSink::pose_rate_hz`], `/link` when the link health changed.
+    /// 100 Hz, `/link` when the link health changed ([`TelemetryEncoder::encode_sample`]).
     pub fn write_sample(&mut self, s: &TelemetrySample) -> Result<(), TelemetryError> {
-        let ns = self.stamp_ns(s.time_s);
-        let header = Header { stamp: Time::from_ns(ns), frame_id: self.frame_id.clone() };
-        let worst_zone = s.worst_zone.map(|(joint, z)| WorstZone { joint, zone: super::zone_name(z).to_string() });
-        let measured = JointStateMsg {
-            header: header.clone(),
-            name: self.joint_names.clone(),
-            position: s.joints.iter().map(|j| j.q_rad).collect(),
-            velocity: s.joints.iter().map(|j| j.qd_rad_s).collect(),
-            effort: match s.drive {
-                DriveKind::TorqueNm => s.joints.iter().map(|j| j.drive).collect(),
-                DriveKind::StepsPerS => Vec::new(),
-            },
-            acceleration: s.joints.iter().map(|j| j.qdd_rad_s2).collect(),
-            seq: s.seq,
-            time_s: s.time_s,
-            steps_per_s: (s.drive == DriveKind::StepsPerS).then(|| s.joints.iter().map(|j| j.drive).collect()),
-            program_step: s.program_step,
-            worst_zone: worst_zone.clone(),
-        };
-        self.put(self.channels.joint_states, ns, &measured)?;
-        let commanded = JointStateMsg {
-            header: header.clone(),
-            name: self.joint_names.clone(),
-            position: s.joints.iter().map(|j| j.cmd_q_rad).collect(),
-            velocity: s.joints.iter().map(|j| j.cmd_qd_rad_s).collect(),
-            effort: Vec::new(),
-            acceleration: s.joints.iter().map(|j| j.cmd_qdd_rad_s2).collect(),
-            seq: s.seq,
-            time_s: s.time_s,
-            steps_per_s: None,
-            program_step: s.program_step,
-            worst_zone,
-        };
-        self.put(self.channels.joint_commands, ns, &commanded)?;
-        let pose_due = match self.last_pose_s {
-            None => true,
-            Some(last) => s.time_s < last || s.time_s - last >= 0.999 / self.pose_rate_hz,
-        };
-        if pose_due {
-            self.last_pose_s = Some(s.time_s);
-            let q: Vec<f64> = s.joints.iter().map(|j| j.q_rad).collect();
-            let transforms = self.frames.transforms(&self.model, &q, header.stamp);
-            self.put(self.channels.tf, ns, &schema::FrameTransforms { transforms })?;
-            let [x, y, z] = s.tcp.position_m;
-            let [qw, qx, qy, qz] = s.tcp.quaternion_wxyz;
-            let pose = PoseInFrame {
-                timestamp: header.stamp,
-                frame_id: self.frame_id.clone(),
-                pose: Pose { position: Vector3 { x, y, z }, orientation: Quaternion { x: qx, y: qy, z: qz, w: qw } },
-            };
-            self.put(self.channels.tcp_pose, ns, &pose)?;
-        }
-        if let Some(health) = &s.link
-            && self.link_due(health, s.time_s)
-        {
-            self.last_link = Some((s.time_s, health.clone()));
-            let health = health.clone();
-            self.put(self.channels.link, ns, &schema::LinkHealthMsg { header, health })?;
-        }
+        let Self { writer, channels, encoder, sequence, summary, .. } = self;
+        encoder.encode_sample(s, |c, log_time, data| {
+            write_message(writer, channels, sequence, summary, c, log_time, data)
+        })?;
         self.summary.samples += 1;
-        self.summary.duration_s = (s.time_s - self.t0_s.unwrap_or(s.time_s)).max(self.summary.duration_s);
+        let t0 = self.encoder.first_time_s().unwrap_or(s.time_s);
+        self.summary.duration_s = (s.time_s - t0).max(self.summary.duration_s);
         self.flush_if_due(s.time_s)
-    }
-
-    /// `/link` gets the health when its state, E-stop or loss count changes, else once a second.
-    fn link_due(&self, h: &LinkHealth, t_s: f64) -> bool {
-        match &self.last_link {
-            None => true,
-            Some((t, last)) => {
-                last.state != h.state
-                    || last.estop_pressed != h.estop_pressed
-                    || last.link_losses != h.link_losses
-                    || !(0.0..1.0).contains(&(t_s - t))
-            }
-        }
     }
 
     /// Writes one event to `/events`.
     pub fn write_event(&mut self, e: &TelemetryEvent) -> Result<(), TelemetryError> {
-        let ns = self.stamp_ns(e.time_s);
-        let msg = LogMsg {
-            timestamp: Time::from_ns(ns),
-            level: e.log_level(),
-            message: e.message.clone(),
-            name: "parol6".into(),
-            file: String::new(),
-            line: 0,
-        };
-        self.put(self.channels.events, ns, &msg)?;
+        let Self { writer, channels, encoder, sequence, summary, .. } = self;
+        encoder.encode_event(e, |c, log_time, data| {
+            write_message(writer, channels, sequence, summary, c, log_time, data)
+        })?;
         self.summary.events += 1;
         Ok(())
     }
@@ -480,6 +362,27 @@ impl<W: Write + Seek> McapSink<W> {
         w.flush().map_err(|e| TelemetryError::Write(describe_io(&e)))?;
         Ok((self.summary, w))
     }
+}
+
+/// Writes one encoded message on its channel.
+fn write_message<W: Write + Seek>(
+    writer: &mut Writer<W>,
+    channels: &ChannelIds,
+    sequence: &mut u32,
+    summary: &mut RecordingSummary,
+    channel: Channel,
+    log_time: u64,
+    data: &[u8],
+) -> Result<(), TelemetryError> {
+    let channel_id = channels
+        .get(&channel)
+        .copied()
+        .ok_or_else(|| TelemetryError::Mcap(format!("no channel {}", channel.topic())))?;
+    let header = MessageHeader { channel_id, sequence: *sequence, log_time, publish_time: log_time };
+    *sequence = sequence.wrapping_add(1);
+    writer.write_to_known_channel(&header, data)?;
+    summary.messages += 1;
+    Ok(())
 }
 
 #[cfg(test)]

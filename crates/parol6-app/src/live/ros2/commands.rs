@@ -1,0 +1,234 @@
+//! Trajectories from ROS 2: the subscription's callback hands each payload to a bounded inbox
+//! (`try_send`: a full inbox drops and counts), and this thread decodes it, asks the
+//! remote-control switch ([`RemoteControl::admit`]: refused and logged unless remote control
+//! is on), checks it and runs the pre-flight ([`plan_trajectory`]), then runs it on the backend
+//! with the [`ProgramRunner`] (as `parol6 program run` does). Every step's verdict goes to
+//! `/events` and, as one JSON object in a `std_msgs/msg/String`, to
+//! `/parol6/trajectory_result`: `{"id", "state": "refused" | "running" | "done" | "stopped" |
+//! "failed", "reason", "points", "duration_s", "warnings"}`.
+//!
+//! One trajectory runs at a time: another that arrives meanwhile is refused. STOP and the
+//! dead-man on the PC go to the backend directly and win over a running trajectory (the runner
+//! then ends as stopped or failed, and that is published); a backend that refuses motion
+//! (E-stop, link lost, not homed) refuses the trajectory before it starts.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Duration;
+
+use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, TrySendError};
+use parol6_core::RobotModel;
+use parol6_core::motion::{MotionCommand, RobotBackend};
+use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
+use parol6_core::ros2::cdr::{self, MAX_MESSAGE_BYTES};
+use parol6_core::ros2::msgs::{JointTrajectory, StringMsg};
+use parol6_core::ros2::{TOPIC_JOINT_TRAJECTORY, plan_trajectory};
+use serde_json::json;
+
+use super::node::Publisher;
+use crate::live::RemoteControl;
+
+/// Payloads the inbox holds before it drops.
+pub const INBOX_CAPACITY: usize = 8;
+/// How often a running trajectory's progress is looked at.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Who sends the commands, as `/events` names them.
+pub fn source() -> String {
+    format!("ros2 {TOPIC_JOINT_TRAJECTORY}")
+}
+
+/// A payload as the subscription's callback hands it over.
+#[derive(Debug)]
+pub enum Incoming {
+    /// The payload's bytes.
+    Payload(Vec<u8>),
+    /// A payload over [`MAX_MESSAGE_BYTES`] (not copied), its size.
+    TooLarge(usize),
+}
+
+/// The command thread's counters.
+#[derive(Debug, Default)]
+pub struct CommandCounters {
+    /// Trajectories received.
+    pub received: AtomicU64,
+    /// Refused (remote control off, malformed, invalid, pre-flight, busy, backend).
+    pub refused: AtomicU64,
+    /// Started on the backend.
+    pub started: AtomicU64,
+    /// Ran to their end.
+    pub done: AtomicU64,
+    /// Dropped because the inbox was full.
+    pub dropped: AtomicU64,
+}
+
+/// The subscription's callback: copies the payload into the inbox, never blocking.
+pub fn on_sample(tx: Sender<Incoming>, counters: Arc<CommandCounters>) -> impl Fn(zenoh::sample::Sample) {
+    move |sample| {
+        let len = sample.payload().len();
+        let item = if len > MAX_MESSAGE_BYTES {
+            Incoming::TooLarge(len)
+        } else {
+            Incoming::Payload(sample.payload().to_bytes().into_owned())
+        };
+        if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = tx.try_send(item) {
+            counters.dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
+/// What the thread works with.
+pub struct Commands {
+    /// The robot.
+    pub model: RobotModel,
+    /// Where trajectories run.
+    pub backend: Arc<dyn RobotBackend>,
+    /// The remote-control switch (and `/events`).
+    pub remote: RemoteControl,
+    /// `/parol6/trajectory_result`.
+    pub result: Publisher,
+    /// Counters.
+    pub counters: Arc<CommandCounters>,
+}
+
+/// A trajectory running on the backend.
+struct Active {
+    id: u64,
+    what: String,
+    runner: ProgramRunner,
+    points: usize,
+    duration_s: f64,
+}
+
+/// Runs until `stop` is set; a trajectory still running then is stopped.
+pub fn run(c: Commands, rx: Receiver<Incoming>, stop: Arc<AtomicBool>) {
+    let mut active: Option<Active> = None;
+    while !stop.load(Ordering::Acquire) {
+        match rx.recv_timeout(POLL) {
+            Ok(item) => {
+                let id = c.counters.received.fetch_add(1, Ordering::Relaxed) + 1;
+                if let Some(a) = c.take(id, item, active.is_some()) {
+                    active = Some(a);
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => break,
+        }
+        if active.as_ref().is_some_and(|a| a.runner.is_finished())
+            && let Some(a) = active.take()
+        {
+            c.finish(a);
+        }
+    }
+    if let Some(a) = active {
+        if !a.runner.is_finished() {
+            a.runner.abort();
+            if let Err(e) = c.backend.send(MotionCommand::Stop) {
+                tracing::warn!("ROS 2: STOP of the running trajectory: {e}");
+            }
+        }
+        c.finish(a);
+    }
+}
+
+impl Commands {
+    /// Handles one payload; the trajectory started, if it was.
+    fn take(&self, id: u64, item: Incoming, busy: bool) -> Option<Active> {
+        let source = source();
+        let decoded = match item {
+            Incoming::Payload(bytes) => cdr::decode::<JointTrajectory>(&bytes).map_err(|e| e.to_string()),
+            Incoming::TooLarge(len) => {
+                Err(format!("the message is {len} bytes; at most {MAX_MESSAGE_BYTES} are accepted"))
+            }
+        };
+        let what = match &decoded {
+            Ok(t) => format!("trajectory {id} ({} points)", t.points.len()),
+            Err(_) => format!("trajectory {id}"),
+        };
+        if let Err(refusal) = self.remote.admit(&source, &what) {
+            self.refused(id, &refusal.to_string(), None);
+            return None;
+        }
+        let refuse = |reason: String, points: Option<usize>| {
+            self.remote.outcome(&source, &what, false, &reason);
+            self.refused(id, &reason, points);
+            None
+        };
+        let traj = match decoded {
+            Ok(t) => t,
+            Err(e) => return refuse(format!("malformed JointTrajectory: {e}"), None),
+        };
+        let points = Some(traj.points.len());
+        if busy {
+            return refuse("another trajectory is running".into(), points);
+        }
+        let state = self.backend.state();
+        if let Some(why) = &state.blocked {
+            return refuse(format!("the backend does not accept motion: {why}"), points);
+        }
+        if state.moving {
+            return refuse("the arm is moving".into(), points);
+        }
+        let plan = match plan_trajectory(&self.model, &traj, &state.commanded.q) {
+            Ok(p) => p,
+            Err(e) => return refuse(e.to_string(), points),
+        };
+        let warnings: Vec<String> = plan.report.issues.iter().map(|i| i.message.clone()).collect();
+        let runner = match ProgramRunner::start(
+            Arc::clone(&self.backend),
+            self.model.clone(),
+            plan.program,
+            RunOptions::default(),
+        ) {
+            Ok(r) => r,
+            Err(e) => return refuse(format!("cannot start the program thread: {e}"), points),
+        };
+        self.counters.started.fetch_add(1, Ordering::Relaxed);
+        self.remote.outcome(&source, &what, true, &format!("running, {:.2} s planned", plan.report.duration_s));
+        self.publish(json!({
+            "id": id, "state": "running", "reason": null, "points": plan.points,
+            "duration_s": plan.duration_s, "warnings": warnings,
+        }));
+        Some(Active { id, what, runner, points: plan.points, duration_s: plan.duration_s })
+    }
+
+    /// Publishes how a run ended and logs it.
+    fn finish(&self, a: Active) {
+        let p = a.runner.join();
+        let (state, reason) = match p.state {
+            RunState::Done => ("done", None),
+            RunState::Stopped => ("stopped", Some("stopped on the PC".to_string())),
+            RunState::Failed(why) => ("failed", Some(why)),
+            _ => ("stopped", Some("the server stopped".to_string())),
+        };
+        if state == "done" {
+            self.counters.done.fetch_add(1, Ordering::Relaxed);
+        }
+        let detail = match &reason {
+            Some(why) => format!("{state}: {why}"),
+            None => state.to_string(),
+        };
+        self.remote.outcome(&source(), &a.what, true, &detail);
+        self.publish(json!({
+            "id": a.id, "state": state, "reason": reason, "points": a.points,
+            "duration_s": a.duration_s, "warnings": [],
+        }));
+    }
+
+    fn refused(&self, id: u64, reason: &str, points: Option<usize>) {
+        self.counters.refused.fetch_add(1, Ordering::Relaxed);
+        tracing::info!("ROS 2 trajectory {id} refused: {reason}");
+        self.publish(json!({
+            "id": id, "state": "refused", "reason": reason, "points": points, "duration_s": null, "warnings": [],
+        }));
+    }
+
+    fn publish(&self, result: serde_json::Value) {
+        let sent = cdr::encode(&StringMsg { data: result.to_string() })
+            .map_err(|e| e.to_string())
+            .and_then(|payload| self.result.put(payload));
+        if let Err(e) = sent {
+            tracing::warn!("ROS 2: the trajectory result: {e}");
+        }
+    }
+}

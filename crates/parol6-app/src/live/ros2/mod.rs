@@ -1,0 +1,180 @@
+//! ROS 2 over Zenoh (cargo feature `ros2`), speaking `rmw_zenoh`'s conventions so that ROS 2
+//! nodes running `RMW_IMPLEMENTATION=rmw_zenoh_cpp` see a node `parol6`:
+//!
+//! - the session is a Zenoh peer that connects to a router (`tcp/127.0.0.1:7447` unless told
+//!   otherwise), listens on localhost only, with multicast scouting off unless asked for
+//!   ([`node`]);
+//! - the node and each of its publishers and subscriptions declare `rmw_zenoh`'s liveliness
+//!   tokens; every sample carries its attachment (sequence number, time stamp, GID);
+//! - `/joint_states` (`sensor_msgs/msg/JointState`, URDF joint names, 100 Hz) and `/tf`
+//!   (`tf2_msgs/msg/TFMessage`, one transform per URDF joint, 50 Hz) from the recorder's live
+//!   outlet ([`publish`]); `/robot_description` (`std_msgs/msg/String`, the URDF) transient local
+//!   (a cache of one sample that late subscribers query, as `rmw_zenoh`'s advanced publisher
+//!   keeps);
+//! - `trajectory_msgs/msg/JointTrajectory` on `/parol6/joint_trajectory`, refused unless remote
+//!   control is on, else checked, pre-flighted and run; the result on
+//!   `/parol6/trajectory_result` ([`commands`]).
+//!
+//! The message encodings, names and checks are in `parol6_core::ros2`. Zenoh's runtime (tokio)
+//! stays inside this module: the rest of the app sees [`Ros2Server`] and [`Ros2Options`].
+
+pub mod commands;
+pub mod node;
+pub mod publish;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+
+use parol6_core::ros2::cdr;
+use parol6_core::ros2::graph::Qos;
+use parol6_core::ros2::msgs::StringMsg;
+use parol6_core::ros2::{self as msgs, NODE_NAME};
+use parol6_core::telemetry::frames::TfFrames;
+use serde_json::json;
+
+pub use node::Ros2Options;
+
+use super::{LiveServer, LiveSource};
+use commands::{CommandCounters, Commands};
+use publish::{PublishCounters, Telemetry};
+
+/// The running ROS 2 node.
+pub struct Ros2Server {
+    node: Option<node::Node>,
+    subscriber: Option<zenoh::pubsub::Subscriber<()>>,
+    description: Option<node::Publisher>,
+    stop: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+    publish: Arc<PublishCounters>,
+    commands: Arc<CommandCounters>,
+    address: String,
+}
+
+impl std::fmt::Debug for Ros2Server {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Ros2Server").field("address", &self.address).finish_non_exhaustive()
+    }
+}
+
+impl Ros2Server {
+    /// Opens the session, declares the node, its publishers and subscription, publishes the
+    /// URDF and starts the publishing and command threads.
+    pub fn start(source: &LiveSource<'_>, opts: &Ros2Options) -> Result<Self, String> {
+        let mut node = node::Node::open(opts, NODE_NAME)?;
+        let joint_states = node.publisher(msgs::TOPIC_JOINT_STATES, &msgs::JOINT_STATE, Qos::reliable(10))?;
+        let tf = node.publisher(msgs::TOPIC_TF, &msgs::TF_MESSAGE, Qos::reliable(100))?;
+        let description = node.publisher(msgs::TOPIC_ROBOT_DESCRIPTION, &msgs::STRING, Qos::LATCHED)?;
+        let result = node.publisher(msgs::TOPIC_TRAJECTORY_RESULT, &msgs::STRING, Qos::reliable(10))?;
+        let urdf = cdr::encode(&StringMsg { data: source.urdf_text.to_string() }).map_err(|e| e.to_string())?;
+        description.put(urdf)?;
+
+        let stop = Arc::new(AtomicBool::new(false));
+        let commands = Arc::new(CommandCounters::default());
+        let (tx, rx) = crossbeam_channel::bounded(commands::INBOX_CAPACITY);
+        let subscriber = node.subscribe(
+            msgs::TOPIC_JOINT_TRAJECTORY,
+            &msgs::JOINT_TRAJECTORY,
+            Qos::reliable(10),
+            commands::on_sample(tx, Arc::clone(&commands)),
+        )?;
+        let outlet = source
+            .recorder
+            .live_outlet(publish::OUTLET_CAPACITY)
+            .map_err(|e| format!("cannot open the recorder's live outlet: {e}"))?;
+        let publish = Arc::new(PublishCounters::default());
+        let telemetry = Telemetry {
+            model: source.model.clone(),
+            frames: TfFrames::new(source.model, Some(source.urdf_text)),
+            joint_states,
+            tf,
+        };
+        let mut threads = Vec::new();
+        let (s, p) = (Arc::clone(&stop), Arc::clone(&publish));
+        threads.push(spawn("parol6-ros2-pub", move || publish::run(telemetry, outlet, s, p))?);
+        let cmd = Commands {
+            model: source.model.clone(),
+            backend: Arc::clone(&source.backend),
+            remote: source.remote.clone(),
+            result,
+            counters: Arc::clone(&commands),
+        };
+        let s = Arc::clone(&stop);
+        threads.push(spawn("parol6-ros2-cmd", move || commands::run(cmd, rx, s))?);
+        let address = format!(
+            "zenoh peer {} (domain {}, connect {}, listen {})",
+            node.identity.zid,
+            opts.domain_id,
+            opts.connect.join(","),
+            opts.listen.join(",")
+        );
+        Ok(Self {
+            node: Some(node),
+            subscriber: Some(subscriber),
+            description: Some(description),
+            stop,
+            threads,
+            publish,
+            commands,
+            address,
+        })
+    }
+
+    fn counters(&self) -> serde_json::Value {
+        let n = |a: &std::sync::atomic::AtomicU64| a.load(Ordering::Relaxed);
+        json!({
+            "joint_states_sent": n(&self.publish.joint_states),
+            "tf_sent": n(&self.publish.tf),
+            "samples_seen": n(&self.publish.samples),
+            "samples_dropped": n(&self.publish.outlet_dropped),
+            "publish_errors": n(&self.publish.errors),
+            "trajectories_received": n(&self.commands.received),
+            "trajectories_refused": n(&self.commands.refused),
+            "trajectories_started": n(&self.commands.started),
+            "trajectories_done": n(&self.commands.done),
+            "trajectories_dropped": n(&self.commands.dropped),
+        })
+    }
+}
+
+fn spawn(name: &str, f: impl FnOnce() + Send + 'static) -> Result<JoinHandle<()>, String> {
+    std::thread::Builder::new().name(name.into()).spawn(f).map_err(|e| format!("cannot start the {name} thread: {e}"))
+}
+
+impl LiveServer for Ros2Server {
+    fn name(&self) -> &'static str {
+        "ros2"
+    }
+
+    fn address(&self) -> String {
+        self.address.clone()
+    }
+
+    fn stats(&self) -> serde_json::Value {
+        self.counters()
+    }
+
+    fn stop(mut self: Box<Self>) -> serde_json::Value {
+        self.stop.store(true, Ordering::Release);
+        for t in self.threads.drain(..) {
+            if t.join().is_err() {
+                tracing::warn!("ROS 2: a server thread panicked");
+            }
+        }
+        let out = self.counters();
+        drop(self.subscriber.take());
+        drop(self.description.take());
+        if let Some(node) = self.node.take()
+            && let Err(e) = node.close()
+        {
+            tracing::warn!("ROS 2: {e}");
+        }
+        out
+    }
+}
+
+impl Drop for Ros2Server {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+    }
+}

@@ -45,7 +45,7 @@ fn valid() -> &'static Valid {
         let model = RobotModel::parol6();
         let info = RecordingInfo { app_version: "fuzz".into(), tool: "none".into(), ..RecordingInfo::default() };
         let mut sink = McapSink::new(Cursor::new(Vec::new()), &model, &info).unwrap_or_else(|e| panic!("sink: {e}"));
-        sink.pose_rate_hz = 1.0;
+        sink.set_pose_rate_hz(1.0);
         for k in 1..=24u64 {
             let joints = (0..6)
                 .map(|i| JointTelemetry {

@@ -72,8 +72,8 @@ struct Backend {
     backend: Arc<dyn RobotBackend>,
     link_health: Box<dyn Fn() -> Option<LinkHealth>>,
     source: String,
-    /// True for the simulation.
-    sim: bool,
+    /// The simulation (`None`: the controller).
+    sim: Option<Arc<SimHandle>>,
     _emulator: Option<parol6_hw::emulator::EmulatorHandle>,
 }
 
@@ -142,12 +142,13 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
     let outcome = serve_until_done(args, &backend, &model, &recorder, program);
     let servers: serde_json::Map<String, serde_json::Value> =
         servers.into_iter().map(|s| (s.name().to_string(), s.stop())).collect();
-    if backend.sim
+    if backend.sim.is_some()
         && interrupt::requested()
         && let Err(e) = backend.backend.send(MotionCommand::Stop)
     {
         super::warn(format!("STOP after the signal: {e}"));
     }
+    let sim = backend.sim.as_ref().map(|s| sim_json(&s.stats()));
     // the simulation's thread (or the session, then the emulator) stops here
     drop(backend);
     let stats = recorder.stats();
@@ -159,6 +160,9 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
         "servers": servers,
         "samples": stats.samples,
         "missing_samples": stats.missing_samples,
+        "recorder_cpu_percent": stats.thread_cpu_ns as f64 * 1e-7 / started.elapsed().as_secs_f64().max(1e-9),
+        "process_cpu_s": crate::live::process_cpu_s(),
+        "sim": sim,
         "network_commands": commands,
         "network_commands_refused": refused,
         "program": outcome?,
@@ -170,6 +174,17 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
         return Err(interrupt::error("the servers stopped"));
     }
     print_json(&out)
+}
+
+/// The simulation's step rate and CPU, for the summary: a live server must not slow it.
+fn sim_json(s: &parol6_core::sim::SimStats) -> serde_json::Value {
+    let wall_s = s.wall_ns as f64 * 1e-9;
+    json!({
+        "steps": s.steps,
+        "overruns": s.overruns,
+        "steps_per_s": if wall_s > 0.0 { s.steps as f64 / wall_s } else { 0.0 },
+        "cpu_percent": s.cpu_fraction().map(|f| f * 100.0),
+    })
 }
 
 /// Opens the simulation (default) or the controller, its tap into `recorder`.
@@ -188,17 +203,18 @@ fn open_backend(
             backend: session,
             link_health: Box::new(move || Some(link_health(&health_of.snapshot()))),
             source,
-            sim: false,
+            sim: None,
             _emulator: link.emulator,
         })
     } else {
         let config = SimConfig { tracking: args.rate.tracking.unwrap_or_default(), ..SimConfig::default() };
-        let sim = SimHandle::spawn_with_tap(model.clone(), config, Some(recorder.tap())).map_err(CliError::usage)?;
+        let sim =
+            Arc::new(SimHandle::spawn_with_tap(model.clone(), config, Some(recorder.tap())).map_err(CliError::usage)?);
         Ok(Backend {
-            backend: Arc::new(sim),
+            backend: Arc::clone(&sim) as Arc<dyn RobotBackend>,
             link_health: Box::new(|| None),
             source: "simulation".to_string(),
-            sim: true,
+            sim: Some(sim),
             _emulator: None,
         })
     }

@@ -176,6 +176,37 @@ impl std::fmt::Debug for LiveSource<'_> {
     }
 }
 
+/// CPU time (user + system) of this process's threads whose name starts with `prefix`, s
+/// (`None` where `/proc` does not tell: not Linux). Thread names are cut to 15 bytes.
+pub fn threads_cpu_s(prefix: &str) -> Option<f64> {
+    let tasks = std::fs::read_dir("/proc/self/task").ok()?;
+    let mut total = 0.0;
+    for task in tasks.flatten() {
+        let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        if comm.trim_end().starts_with(prefix)
+            && let Ok(stat) = std::fs::read_to_string(task.path().join("stat"))
+        {
+            total += stat_cpu_s(&stat).unwrap_or(0.0);
+        }
+    }
+    Some(total)
+}
+
+/// CPU time (user + system) of this process, s (`None` where `/proc` does not tell).
+pub fn process_cpu_s() -> Option<f64> {
+    stat_cpu_s(&std::fs::read_to_string("/proc/self/stat").ok()?)
+}
+
+/// utime + stime of a `/proc/…/stat` line, s (clock ticks of 1/100 s, Linux's USER_HZ).
+fn stat_cpu_s(stat: &str) -> Option<f64> {
+    // the name (2nd field) is in parentheses and may hold spaces: count from the last ')'
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    Some((utime + stime) / 100.0)
+}
+
 /// A running live server.
 pub trait LiveServer: Send {
     /// Its protocol (`foxglove`, `ros2`).
@@ -204,6 +235,16 @@ mod tests {
         assert_eq!(bind_address(Some("[::1]:7"), 8765).map(|a| a.port()), Ok(7));
         for bad in ["example.org:80", "localhost:99999", "", "1.2.3.4:x"] {
             assert!(bind_address(Some(bad), 8765).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn cpu_times_are_read_from_proc() {
+        let line = "42 (a b) S 1 2 3 4 5 6 7 8 9 10 150 50 0 0";
+        assert_eq!(stat_cpu_s(line), Some(2.0));
+        if cfg!(target_os = "linux") {
+            assert!(process_cpu_s().is_some_and(|s| s >= 0.0));
+            assert!(threads_cpu_s("no-such-thread").is_some_and(|s| s == 0.0));
         }
     }
 

@@ -99,6 +99,12 @@ impl RemoteControl {
         }
     }
 
+    /// The same switch and counters, logging to `events` (the window: the active backend's
+    /// recorder).
+    pub fn logging_to(&self, events: Option<RecorderEvents>) -> Self {
+        Self { events, ..self.clone() }
+    }
+
     /// True while network commands are carried out.
     pub fn allowed(&self) -> bool {
         self.allowed.load(Ordering::Acquire)
@@ -256,5 +262,43 @@ mod tests {
         remote.set_allowed(true);
         assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 3 points").is_ok());
         assert_eq!(remote.counts(), (2, 1));
+    }
+
+    /// Every network command, refused or carried out, is an `/events` entry of the recorder.
+    #[test]
+    fn every_network_command_is_logged_to_events() {
+        let rec =
+            Recorder::start(RobotModel::parol6(), parol6_core::telemetry::RecorderConfig::default()).expect("recorder");
+        let remote = RemoteControl::new(false, Some(rec.events()));
+        assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 2 points").is_err());
+        remote.set_allowed(true);
+        assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 3 points").is_ok());
+        remote.outcome(
+            "ros2 /parol6/joint_trajectory",
+            "a trajectory of 3 points",
+            false,
+            "pre-flight: J2 out of range",
+        );
+        let mut events = Vec::new();
+        for _ in 0..300 {
+            events = rec.live().events.iter().cloned().collect();
+            if events.len() >= 4 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        let kinds: Vec<(EventKind, u8)> = events.iter().map(|e| (e.kind.clone(), e.log_level())).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (EventKind::NetworkCommand { accepted: false }, 3),
+                (EventKind::Note, 2),
+                (EventKind::NetworkCommand { accepted: true }, 2),
+                (EventKind::NetworkCommand { accepted: false }, 3),
+            ],
+            "{events:?}"
+        );
+        assert!(events[0].message.contains("remote control is off"), "{}", events[0].message);
+        assert!(events[3].message.contains("pre-flight: J2 out of range"), "{}", events[3].message);
     }
 }

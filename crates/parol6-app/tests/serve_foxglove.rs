@@ -245,3 +245,25 @@ fn serve_refuses_nothing_to_serve_and_bad_addresses() {
     run(&["serve", "--foxglove", "example.org:80"]).assert_refused("serve --foxglove host", "not an address");
     run(&["serve", "--foxglove", "--demo", "--fake-robot"]).assert_refused("serve --demo --fake-robot", "--demo");
 }
+
+#[test]
+fn serve_runs_until_sigint_and_exits_130_with_its_summary() {
+    let mut serving = Serving::start(&["--foxglove", "127.0.0.1:0"]);
+    std::thread::sleep(Duration::from_millis(500));
+    let sent = Command::new("kill").args(["-INT", &serving.pid().to_string()]).status().unwrap();
+    assert!(sent.success());
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(st) = serving.child.try_wait().unwrap() {
+            break st;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(20), "serve did not end after SIGINT");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(130));
+    let mut rest = String::new();
+    serving.stdout.read_to_string(&mut rest).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(rest.trim()).unwrap_or_else(|e| panic!("{rest:?}: {e}"));
+    assert_eq!(summary["interrupted"], "SIGINT", "{summary}");
+    assert_eq!(summary["servers"]["foxglove"]["clients_seen"], 0, "{summary}");
+}

@@ -48,7 +48,7 @@ pub struct ServeArgs {
     #[arg(long, value_parser = f64_above(0.0, 1e7))]
     pub seconds: Option<f64>,
     /// Simulation only: move gently back and forth (10 % of the way toward each joint's
-    /// mid-range) while serving.
+    /// mid-range and back, again and again) while serving.
     #[arg(long, conflicts_with = "program")]
     pub demo: bool,
     /// Run this program once on the backend while serving (.json, .gcode/.nc, .csv, .txt; from
@@ -276,11 +276,13 @@ fn serve_until_done(
     }))
 }
 
-/// `--demo`: a gentle move toward each joint's mid-range and back, every 2 s.
+/// `--demo`: a gentle move toward each joint's mid-range and back, the next as soon as the arm
+/// has stopped (so it moves nearly all the time: the simulation's tap runs at 1 kHz).
 struct Demo {
     home: Vec<f64>,
     away: Vec<f64>,
     toward_away: bool,
+    /// No new move before this (the state shows a move only once the backend took it).
     next: Instant,
 }
 
@@ -296,12 +298,12 @@ impl Demo {
     }
 
     fn tick(&mut self, backend: &dyn RobotBackend) -> CliResult {
-        if Instant::now() < self.next {
+        if Instant::now() < self.next || backend.state().moving {
             return Ok(());
         }
         let goal = if self.toward_away { self.away.clone() } else { self.home.clone() };
         self.toward_away = !self.toward_away;
-        self.next = Instant::now() + Duration::from_secs(2);
+        self.next = Instant::now() + Duration::from_millis(200);
         let profile = parol6_core::profile::ProfileKind::JerkLimited;
         backend
             .send(MotionCommand::MoveJoints { goal_rad: goal, speed_fraction: 0.3, profile })

@@ -281,7 +281,7 @@ mod tests {
         );
         let mut events = Vec::new();
         for _ in 0..300 {
-            events = rec.live().events.iter().cloned().collect();
+            events = rec.live().events.to_vec();
             if events.len() >= 4 {
                 break;
             }

@@ -8,7 +8,9 @@ name, so both are offered): reads `serverInfo` and `advertise`
 (opcode 0x01, u32 subscription id, u64 log time ns, payload), all little-endian.
 
 Modes:
-  receive URL SECONDS   subscribe to every channel, read for SECONDS, then print one JSON
+  receive URL SECONDS [TOPICS]
+                        subscribe to every channel (or those of the comma-separated TOPICS),
+                        read for SECONDS, then print one JSON
                         object: the channels advertised, per-topic counts and time spans, the
                         /robot_description length, and pairs of (/joint_states positions, the
                         flange position chained from the /tf transforms of the same stamp).
@@ -94,12 +96,13 @@ async def handshake(ws):
     return info, channels
 
 
-async def receive(url, seconds):
+async def receive(url, seconds, topics=None):
     async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=None) as ws:
         if ws.subprotocol not in SUBPROTOCOLS:
             raise SystemExit(f"server chose subprotocol {ws.subprotocol!r}")
         info, channels = await handshake(ws)
-        subs = [{"id": i + 1, "channelId": cid} for i, cid in enumerate(sorted(channels))]
+        wanted = sorted(c for c in channels if topics is None or channels[c]["topic"] in topics)
+        subs = [{"id": i + 1, "channelId": cid} for i, cid in enumerate(wanted)]
         topic_of = {s["id"]: channels[s["channelId"]]["topic"] for s in subs}
         await ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
         counts = {}
@@ -197,7 +200,8 @@ async def slow(url, seconds):
 def main():
     mode, url, seconds = sys.argv[1], sys.argv[2], float(sys.argv[3])
     if mode == "receive":
-        asyncio.run(receive(url, seconds))
+        topics = sys.argv[4].split(",") if len(sys.argv) > 4 else None
+        asyncio.run(receive(url, seconds, topics))
     elif mode == "slow":
         asyncio.run(slow(url, seconds))
     else:

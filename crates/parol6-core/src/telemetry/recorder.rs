@@ -5,7 +5,7 @@
 //! and samples a backend could not deliver show up as gaps in its sequence numbers
 //! ([`RecorderStats::missing_samples`]).
 //!
-//! The thread builds a [`TelemetrySample`](super::TelemetrySample) per tick, finds events, keeps the last
+//! The thread builds a [`TelemetrySample`] per tick, finds events, keeps the last
 //! [`RecorderConfig::live_span_s`] in a [`LiveRing`] published lock-free as a [`LiveView`]
 //! ([`Recorder::live`]), and while recording writes an MCAP file through [`McapSink`].
 //!

@@ -54,6 +54,12 @@ pub const CONDITION_SINGULAR: [u8; 3] = [96, 104, 120];
 pub const SOURCE_ROBOT: [u8; 3] = [255, 143, 0];
 /// "SIMULATION" source badge in the status bar.
 pub const SOURCE_SIM: [u8; 3] = [140, 200, 255];
+/// "LIVE ws://…" in the status bar while the window shares live.
+pub const LIVE_TEXT: [u8; 3] = [120, 220, 140];
+/// The "REMOTE CONTROL ON" banner: commands from the network can move the arm.
+pub const REMOTE_CONTROL_BG: [u8; 3] = [200, 40, 40];
+/// Its text.
+pub const REMOTE_CONTROL_TEXT: [u8; 3] = [255, 255, 255];
 /// "moving" in the status bar.
 pub const MOVING_TEXT: [u8; 3] = [255, 143, 0];
 /// Warning text (a scan that failed, a stale value).

@@ -147,6 +147,7 @@ fn panel_harness() -> Harness<'static, Bench> {
                     link: None,
                     preview: &mut b.preview,
                     program: None,
+                    live: &Default::default(),
                 };
                 b.panel.ui(ui, &mut ctx);
             });

@@ -62,6 +62,7 @@ impl<P: Panel> Bench<P> {
             link: None,
             preview: &mut self.preview,
             program: None,
+            live: &Default::default(),
         };
         self.panel.ui(ui, &mut ctx);
     }
@@ -209,6 +210,7 @@ fn status_of<P>(b: &Bench<P>) -> (String, Option<parol6_core::limits::LimitZone>
         link: None,
         preview: &mut preview,
         program: None,
+        live: &Default::default(),
     };
     limit_status_text(&ctx)
 }

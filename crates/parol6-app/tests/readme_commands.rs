@@ -10,7 +10,8 @@
 //!   `xvfb-run` it falls back to clap's `--help` (SKIPPED, a failure when `CI` is set);
 //! - any other line runs as printed; its stdout is JSON, except for a command that has a
 //!   `--json` option the line does not give (then human-readable text) and `hw emulate`
-//!   (the pseudo-terminal's path first; it gets `quit` on stdin).
+//!   (the pseudo-terminal's path first; it gets `quit` on stdin); `serve` prints two JSON
+//!   lines (listening, then its summary).
 //!
 //! A trailing `# comment` is not part of the command. A bare file name (no `/`) with a file
 //! extension is a file the command writes or one an earlier line wrote: it is put into a
@@ -200,6 +201,16 @@ fn readme_commands_run_as_printed() {
                 let stats: serde_json::Value = serde_json::from_str(line)
                     .unwrap_or_else(|e| panic!("{command}: no frame statistics ({e}): {run:?}"));
                 assert!(stats["frames"].as_u64().is_some_and(|n| n > 0), "{command}: no frame drawn: {run:?}");
+            }
+            Kind::Prints { path, json: true } if path == &["serve"] => {
+                // a JSON line when it listens, another when it ends
+                let lines: Vec<&str> = run.stdout.lines().collect();
+                assert_eq!(lines.len(), 2, "{command}: {run:?}");
+                for line in lines {
+                    let v: serde_json::Value =
+                        serde_json::from_str(line).unwrap_or_else(|e| panic!("{command}: {line}: {e}"));
+                    assert!(v.is_object(), "{command}: {line}");
+                }
             }
             Kind::Prints { path, json: true } => {
                 // one JSON value a line (`serve` prints one when listening and one at the end)

@@ -57,6 +57,8 @@ impl Parol6App {
             }
             AppCommand::Record(Some(path)) => self.start_file_recording(&path),
             AppCommand::Record(None) => self.stop_file_recording(),
+            AppCommand::ShareLive(on) => self.share_live(on),
+            AppCommand::RemoteControl(on) => self.set_remote_control(on),
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
                     self.stop_program();

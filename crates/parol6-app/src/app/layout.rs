@@ -57,6 +57,8 @@ impl FileMenu {
             pctx.send(AppCommand::CloseRecording);
         }
         ui.separator();
+        live_menu_ui(ui, pctx);
+        ui.separator();
         match &self.recording {
             Some(path) => {
                 ui.label(format!("recording to {path}"));
@@ -76,6 +78,30 @@ impl FileMenu {
                 });
             }
         }
+    }
+}
+
+/// File menu: *Share live* (Foxglove WebSocket) with its address, and the remote-control switch.
+fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
+    let mut on = pctx.live.sharing.is_some();
+    if ui.checkbox(&mut on, "Share live (Foxglove WebSocket)").changed() {
+        pctx.send(AppCommand::ShareLive(on));
+    }
+    ui.horizontal(|ui| {
+        let label = ui.label("Address");
+        let edit = egui::TextEdit::singleline(&mut pctx.settings.share_live_address).desired_width(180.0);
+        ui.add_enabled(!on, edit)
+            .labelled_by(label.id)
+            .on_hover_text("IP:PORT; only this PC unless another address is given (0.0.0.0:8765: every interface)");
+    });
+    if let Some(addr) = &pctx.live.sharing {
+        ui.label(format!("sharing at {addr}"));
+    }
+    let mut remote = pctx.live.remote_control;
+    let hover = "carry out motion commands that come over the network (ROS 2 trajectories), after the same \
+                 pre-flight as a program; a banner shows while it is on";
+    if ui.checkbox(&mut remote, "Allow remote control").on_hover_text(hover).changed() {
+        pctx.send(AppCommand::RemoteControl(remote));
     }
 }
 

@@ -18,7 +18,7 @@ use parol6_core::RobotModel;
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::{MotionCommand, RobotBackend};
 use parol6_core::program::runner::{ProgramRunner, RunProgress};
-use parol6_core::sim::{SimCommand, SimConfig, SimHandle, SimSnapshot};
+use parol6_core::sim::{SimCommand, SimConfig, SimHandle};
 
 use crate::panels::registry::Panels;
 use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource};
@@ -30,7 +30,9 @@ pub(crate) mod frame_reuse;
 mod icon;
 mod layout;
 mod link;
+mod live_share;
 mod panel_groups;
+mod perf;
 mod quit;
 mod replay;
 mod settings_store;
@@ -171,6 +173,8 @@ pub struct Parol6App {
     close_now: bool,
     /// The operator chose to quit (saved or discarded): the window closes without asking.
     quit_closing: bool,
+    /// Live sharing (Foxglove WebSocket) and the remote-control switch.
+    live: live_share::LiveShare,
 }
 
 impl Parol6App {
@@ -252,6 +256,7 @@ impl Parol6App {
             quit_prompt: false,
             close_now: false,
             quit_closing: false,
+            live: live_share::LiveShare::new(),
         };
         if let Some(w) = app.viewport.as_ref().map(|v| v.warnings().to_vec()) {
             for w in w {
@@ -339,26 +344,6 @@ impl Parol6App {
         }
     }
 
-    fn update_perf(&mut self, now: Instant, snap: &SimSnapshot) {
-        self.frame_starts.push_back(now);
-        // the last second's frames, and at least the one before this (an idle window draws one
-        // frame every IDLE_REPAINT)
-        while self.frame_starts.len() > 2
-            && self.frame_starts.front().is_some_and(|t| now.duration_since(*t) > Duration::from_secs(1))
-        {
-            self.frame_starts.pop_front();
-        }
-        let n = self.frame_starts.len();
-        self.perf.fps = match (self.frame_starts.front(), n) {
-            (Some(first), n) if n > 1 => (n - 1) as f64 / now.duration_since(*first).as_secs_f64().max(1e-6),
-            _ => 0.0,
-        };
-        self.perf.physics_rate_hz = snap.step_rate_hz;
-        self.perf.physics_step_us = snap.last_step_ns as f64 / 1000.0;
-        self.perf.command_latency_ms = snap.last_command_latency_ns.map(|ns| ns as f64 / 1e6);
-        self.perf.sim_time_s = snap.sim_time_s;
-    }
-
     fn keyboard(&mut self, ctx: &egui::Context) {
         use crate::panels::shortcuts::{self, Action};
         // the held jog keys see this frame's key presses before any panel consumes one
@@ -400,6 +385,7 @@ impl Parol6App {
         let robot: &RobotState = &robot_arc;
         self.refusal_notices(robot);
         self.feed_telemetry(&robot_arc);
+        self.live_share_frame();
         let replay_playing = self.replay_frame(t0);
         self.files.recording = self.recording.as_ref().map(|r| r.path.display().to_string());
         self.files.replaying = self.panels.timeline.replay.is_some();
@@ -460,6 +446,7 @@ impl Parol6App {
                 link: link_view.as_ref(),
                 preview: &mut preview,
                 program: self.program_progress.as_ref(),
+                live: &self.live.status,
             };
             if let Some(t) = &mut self.test {
                 t.frames += 1;

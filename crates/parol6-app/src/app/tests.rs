@@ -61,6 +61,7 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
             link: None,
             preview: &mut preview,
             program: None,
+            live: &Default::default(),
         };
         app.panels.joints.set_joint(0, target, &mut pctx);
         // A value beyond the limit is clamped to it, never passed on.

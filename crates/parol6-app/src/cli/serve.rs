@@ -48,7 +48,7 @@ pub struct ServeArgs {
     #[arg(long, value_parser = f64_above(0.0, 1e7))]
     pub seconds: Option<f64>,
     /// Simulation only: move gently back and forth (10 % of the way toward each joint's
-    /// mid-range) while serving.
+    /// mid-range and back, again and again) while serving.
     #[arg(long, conflicts_with = "program")]
     pub demo: bool,
     /// Run this program once on the backend while serving (.json, .gcode/.nc, .csv, .txt; from
@@ -75,8 +75,8 @@ struct Backend {
     backend: Arc<dyn RobotBackend>,
     link_health: Box<dyn Fn() -> Option<LinkHealth>>,
     source: String,
-    /// True for the simulation.
-    sim: bool,
+    /// The simulation (`None`: the controller).
+    sim: Option<Arc<SimHandle>>,
     _emulator: Option<parol6_hw::emulator::EmulatorHandle>,
 }
 
@@ -145,12 +145,13 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
     let outcome = serve_until_done(args, &backend, &model, &recorder, program);
     let servers: serde_json::Map<String, serde_json::Value> =
         servers.into_iter().map(|s| (s.name().to_string(), s.stop())).collect();
-    if backend.sim
+    if backend.sim.is_some()
         && interrupt::requested()
         && let Err(e) = backend.backend.send(MotionCommand::Stop)
     {
         super::warn(format!("STOP after the signal: {e}"));
     }
+    let sim = backend.sim.as_ref().map(|s| sim_json(&s.stats()));
     // the simulation's thread (or the session, then the emulator) stops here
     drop(backend);
     let stats = recorder.stats();
@@ -162,6 +163,9 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
         "servers": servers,
         "samples": stats.samples,
         "missing_samples": stats.missing_samples,
+        "recorder_cpu_percent": stats.thread_cpu_ns as f64 * 1e-7 / started.elapsed().as_secs_f64().max(1e-9),
+        "process_cpu_s": crate::live::process_cpu_s(),
+        "sim": sim,
         "network_commands": commands,
         "network_commands_refused": refused,
         "program": outcome?,
@@ -173,6 +177,17 @@ pub fn run(args: &ServeArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRes
         return Err(interrupt::error("the servers stopped"));
     }
     print_json(&out)
+}
+
+/// The simulation's step rate and CPU, for the summary: a live server must not slow it.
+fn sim_json(s: &parol6_core::sim::SimStats) -> serde_json::Value {
+    let wall_s = s.wall_ns as f64 * 1e-9;
+    json!({
+        "steps": s.steps,
+        "overruns": s.overruns,
+        "steps_per_s": if wall_s > 0.0 { s.steps as f64 / wall_s } else { 0.0 },
+        "cpu_percent": s.cpu_fraction().map(|f| f * 100.0),
+    })
 }
 
 /// Opens the simulation (default) or the controller, its tap into `recorder`.
@@ -191,17 +206,18 @@ fn open_backend(
             backend: session,
             link_health: Box::new(move || Some(link_health(&health_of.snapshot()))),
             source,
-            sim: false,
+            sim: None,
             _emulator: link.emulator,
         })
     } else {
         let config = SimConfig { tracking: args.rate.tracking.unwrap_or_default(), ..SimConfig::default() };
-        let sim = SimHandle::spawn_with_tap(model.clone(), config, Some(recorder.tap())).map_err(CliError::usage)?;
+        let sim =
+            Arc::new(SimHandle::spawn_with_tap(model.clone(), config, Some(recorder.tap())).map_err(CliError::usage)?);
         Ok(Backend {
-            backend: Arc::new(sim),
+            backend: Arc::clone(&sim) as Arc<dyn RobotBackend>,
             link_health: Box::new(|| None),
             source: "simulation".to_string(),
-            sim: true,
+            sim: Some(sim),
             _emulator: None,
         })
     }
@@ -263,11 +279,13 @@ fn serve_until_done(
     }))
 }
 
-/// `--demo`: a gentle move toward each joint's mid-range and back, every 2 s.
+/// `--demo`: a gentle move toward each joint's mid-range and back, the next as soon as the arm
+/// has stopped (so it moves nearly all the time: the simulation's tap runs at 1 kHz).
 struct Demo {
     home: Vec<f64>,
     away: Vec<f64>,
     toward_away: bool,
+    /// No new move before this (the state shows a move only once the backend took it).
     next: Instant,
 }
 
@@ -283,12 +301,12 @@ impl Demo {
     }
 
     fn tick(&mut self, backend: &dyn RobotBackend) -> CliResult {
-        if Instant::now() < self.next {
+        if Instant::now() < self.next || backend.state().moving {
             return Ok(());
         }
         let goal = if self.toward_away { self.away.clone() } else { self.home.clone() };
         self.toward_away = !self.toward_away;
-        self.next = Instant::now() + Duration::from_secs(2);
+        self.next = Instant::now() + Duration::from_millis(200);
         let profile = parol6_core::profile::ProfileKind::JerkLimited;
         backend
             .send(MotionCommand::MoveJoints { goal_rad: goal, speed_fraction: 0.3, profile })

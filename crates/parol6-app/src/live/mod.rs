@@ -102,6 +102,12 @@ impl RemoteControl {
         }
     }
 
+    /// The same switch and counters, logging to `events` (the window: the active backend's
+    /// recorder).
+    pub fn logging_to(&self, events: Option<RecorderEvents>) -> Self {
+        Self { events, ..self.clone() }
+    }
+
     /// True while network commands are carried out.
     pub fn allowed(&self) -> bool {
         self.allowed.load(Ordering::Acquire)
@@ -179,6 +185,37 @@ impl std::fmt::Debug for LiveSource<'_> {
     }
 }
 
+/// CPU time (user + system) of this process's threads whose name starts with `prefix`, s
+/// (`None` where `/proc` does not tell: not Linux). Thread names are cut to 15 bytes.
+pub fn threads_cpu_s(prefix: &str) -> Option<f64> {
+    let tasks = std::fs::read_dir("/proc/self/task").ok()?;
+    let mut total = 0.0;
+    for task in tasks.flatten() {
+        let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        if comm.trim_end().starts_with(prefix)
+            && let Ok(stat) = std::fs::read_to_string(task.path().join("stat"))
+        {
+            total += stat_cpu_s(&stat).unwrap_or(0.0);
+        }
+    }
+    Some(total)
+}
+
+/// CPU time (user + system) of this process, s (`None` where `/proc` does not tell).
+pub fn process_cpu_s() -> Option<f64> {
+    stat_cpu_s(&std::fs::read_to_string("/proc/self/stat").ok()?)
+}
+
+/// utime + stime of a `/proc/…/stat` line, s (clock ticks of 1/100 s, Linux's USER_HZ).
+fn stat_cpu_s(stat: &str) -> Option<f64> {
+    // the name (2nd field) is in parentheses and may hold spaces: count from the last ')'
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    Some((utime + stime) / 100.0)
+}
+
 /// A running live server.
 pub trait LiveServer: Send {
     /// Its protocol (`foxglove`, `ros2`).
@@ -211,6 +248,16 @@ mod tests {
     }
 
     #[test]
+    fn cpu_times_are_read_from_proc() {
+        let line = "42 (a b) S 1 2 3 4 5 6 7 8 9 10 150 50 0 0";
+        assert_eq!(stat_cpu_s(line), Some(2.0));
+        if cfg!(target_os = "linux") {
+            assert!(process_cpu_s().is_some_and(|s| s >= 0.0));
+            assert!(threads_cpu_s("no-such-thread").is_some_and(|s| s == 0.0));
+        }
+    }
+
+    #[test]
     fn network_commands_are_refused_unless_remote_control_is_on() {
         let remote = RemoteControl::new(false, None);
         let e = remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 3 points").expect_err("off");
@@ -218,5 +265,43 @@ mod tests {
         remote.set_allowed(true);
         assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 3 points").is_ok());
         assert_eq!(remote.counts(), (2, 1));
+    }
+
+    /// Every network command, refused or carried out, is an `/events` entry of the recorder.
+    #[test]
+    fn every_network_command_is_logged_to_events() {
+        let rec =
+            Recorder::start(RobotModel::parol6(), parol6_core::telemetry::RecorderConfig::default()).expect("recorder");
+        let remote = RemoteControl::new(false, Some(rec.events()));
+        assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 2 points").is_err());
+        remote.set_allowed(true);
+        assert!(remote.admit("ros2 /parol6/joint_trajectory", "a trajectory of 3 points").is_ok());
+        remote.outcome(
+            "ros2 /parol6/joint_trajectory",
+            "a trajectory of 3 points",
+            false,
+            "pre-flight: J2 out of range",
+        );
+        let mut events = Vec::new();
+        for _ in 0..300 {
+            events = rec.live().events.to_vec();
+            if events.len() >= 4 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        let kinds: Vec<(EventKind, u8)> = events.iter().map(|e| (e.kind.clone(), e.log_level())).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (EventKind::NetworkCommand { accepted: false }, 3),
+                (EventKind::Note, 2),
+                (EventKind::NetworkCommand { accepted: true }, 2),
+                (EventKind::NetworkCommand { accepted: false }, 3),
+            ],
+            "{events:?}"
+        );
+        assert!(events[0].message.contains("remote control is off"), "{}", events[0].message);
+        assert!(events[3].message.contains("pre-flight: J2 out of range"), "{}", events[3].message);
     }
 }

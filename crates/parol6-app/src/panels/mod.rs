@@ -137,6 +137,9 @@ pub struct Settings {
     pub lower_panel_height_pt: f32,
     /// Tracking mode of motion on the robot and in the simulation (`parol6_core::motion::tracking`).
     pub tracking: parol6_core::motion::tracking::TrackingMode,
+    /// Where File → Share live serves (Foxglove WebSocket; `crate::live::bind_address`). Sharing
+    /// itself is never remembered: it is off at every start.
+    pub share_live_address: String,
 }
 
 /// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
@@ -188,6 +191,7 @@ impl Default for Settings {
             show_dynamics: false,
             lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
+            share_live_address: format!("127.0.0.1:{}", crate::live::FOXGLOVE_DEFAULT_PORT),
         }
     }
 }
@@ -260,6 +264,11 @@ pub enum AppCommand {
     SeekReplay(f64),
     /// Start writing the active backend to this MCAP file (`None`: stop writing).
     Record(Option<std::path::PathBuf>),
+    /// Start (`true`) or stop sharing the active backend live (Foxglove WebSocket at
+    /// [`Settings::share_live_address`]).
+    ShareLive(bool),
+    /// Turn remote control (commands from the network) on or off; a banner shows while it is on.
+    RemoteControl(bool),
     /// Forward dynamics: run these joint torques on the simulation (refused on the robot).
     RunTorques(parol6_core::sim::TorqueRun),
 }
@@ -342,6 +351,17 @@ pub struct PanelContext<'a> {
     pub preview: &'a mut Option<Vec<f64>>,
     /// Progress of the running (or last) program.
     pub program: Option<&'a RunProgress>,
+    /// Live sharing: where clients connect while it is on, and whether remote control is on.
+    pub live: &'a LiveStatus,
+}
+
+/// The window's live sharing, as the panels show it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LiveStatus {
+    /// Where clients connect (`ws://127.0.0.1:8765`) while sharing is on.
+    pub sharing: Option<String>,
+    /// Commands from the network are carried out (the banner shows).
+    pub remote_control: bool,
 }
 
 impl PanelContext<'_> {

@@ -1,7 +1,8 @@
 //! Bottom status bar: FPS, CPU time of the UI pass, physics rate and step time, command
-//! latency, and where the shown state comes from.
+//! latency, where the shown state comes from, the *Share live* toggle (with the address while
+//! on) and the remote-control banner.
 
-use super::{Panel, PanelContext, StateSource};
+use super::{AppCommand, Panel, PanelContext, StateSource};
 use eframe::egui;
 
 use crate::palette;
@@ -49,6 +50,34 @@ impl Panel for StatusBar {
                 ui.separator();
                 ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
             }
+            ui.separator();
+            live_ui(ui, ctx);
         });
+    }
+}
+
+/// The *Share live* toggle: the address while on (a click stops it), and the remote-control
+/// banner while network commands can move the arm.
+fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+    let sharing = ctx.live.sharing.clone();
+    let (text, hover) = match &sharing {
+        Some(addr) => (
+            egui::RichText::new(format!("LIVE {addr}")).color(palette::rgb(palette::LIVE_TEXT)),
+            "sharing live (Foxglove WebSocket: Foxglove or Lichtblick, Open connection); click to stop",
+        ),
+        None => (egui::RichText::new("Share live"), "share the arm live (Foxglove WebSocket; File menu: address)"),
+    };
+    if ui.selectable_label(sharing.is_some(), text).on_hover_text(hover).clicked() {
+        ctx.send(AppCommand::ShareLive(sharing.is_none()));
+    }
+    if ctx.live.remote_control {
+        ui.separator();
+        let banner = egui::RichText::new(" REMOTE CONTROL ON ")
+            .strong()
+            .color(palette::rgb(palette::REMOTE_CONTROL_TEXT))
+            .background_color(palette::rgb(palette::REMOTE_CONTROL_BG));
+        if ui.button(banner).on_hover_text("commands from the network can move the arm; click to turn off").clicked() {
+            ctx.send(AppCommand::RemoteControl(false));
+        }
     }
 }

@@ -104,6 +104,8 @@ pub struct TelemetryEncoder {
     last_pose_s: Option<f64>,
     last_link: Option<(f64, LinkHealth)>,
     buf: Vec<u8>,
+    /// The channels encoded this time ([`TelemetryEncoder::encode_sample_for`]).
+    wanted: Vec<Channel>,
     /// Highest rate of `/tf` and `/tcp_pose`, Hz.
     pub pose_rate_hz: f64,
 }
@@ -122,8 +124,18 @@ impl TelemetryEncoder {
             last_pose_s: None,
             last_link: None,
             buf: Vec::with_capacity(1024),
+            wanted: Channel::ALL.to_vec(),
             pose_rate_hz: 100.0,
         }
+    }
+
+    /// Starts the log times afresh: `start_unix_ns` at the next sample (a live server: the wall
+    /// clock when its first sample arrives); the rates start afresh too.
+    pub fn restart(&mut self, start_unix_ns: u64) {
+        self.start_unix_ns = start_unix_ns;
+        self.t0_s = None;
+        self.last_pose_s = None;
+        self.last_link = None;
     }
 
     /// The wall-clock start of the log times, Unix ns.
@@ -163,6 +175,9 @@ impl TelemetryEncoder {
         msg: &T,
         emit: &mut impl FnMut(Channel, u64, &[u8]) -> Result<(), E>,
     ) -> Result<(), E> {
+        if !self.wanted.contains(&channel) {
+            return Ok(());
+        }
         self.buf.clear();
         serde_json::to_writer(&mut self.buf, msg)
             .map_err(|e| EncodeError { topic: channel.topic(), reason: e.to_string() })?;
@@ -175,8 +190,22 @@ impl TelemetryEncoder {
     pub fn encode_sample<E: From<EncodeError>>(
         &mut self,
         s: &TelemetrySample,
+        emit: impl FnMut(Channel, u64, &[u8]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.encode_sample_for(s, |_| true, emit)
+    }
+
+    /// [`TelemetryEncoder::encode_sample`] that serialises only the channels `wants` names (a
+    /// live server: those a client subscribed to); the rates are kept as if all were: `/tf`
+    /// comes at the same instants whoever listens.
+    pub fn encode_sample_for<E: From<EncodeError>>(
+        &mut self,
+        s: &TelemetrySample,
+        wants: impl Fn(Channel) -> bool,
         mut emit: impl FnMut(Channel, u64, &[u8]) -> Result<(), E>,
     ) -> Result<(), E> {
+        self.wanted.clear();
+        self.wanted.extend(Channel::ALL.into_iter().filter(|c| wants(*c)));
         let ns = self.stamp_ns(s.time_s);
         let header = Header { stamp: Time::from_ns(ns), frame_id: self.frame_id.clone() };
         let worst_zone = s.worst_zone.map(|(joint, z)| WorstZone { joint, zone: super::zone_name(z).to_string() });
@@ -259,6 +288,8 @@ impl TelemetryEncoder {
         mut emit: impl FnMut(Channel, u64, &[u8]) -> Result<(), E>,
     ) -> Result<(), E> {
         let ns = self.stamp_ns(e.time_s);
+        self.wanted.clear();
+        self.wanted.push(Channel::Events);
         let msg = LogMsg {
             timestamp: Time::from_ns(ns),
             level: e.log_level(),
@@ -304,5 +335,22 @@ mod tests {
         assert_eq!(counts[&Channel::JointCommands], 1000);
         assert_eq!(counts[&Channel::Tf], 100);
         assert_eq!(counts[&Channel::TcpPose], 100);
+        // only /tf wanted: the same instants, nothing else serialised
+        let mut enc = TelemetryEncoder::new(&model, Some(PAROL6_URDF), 1_000_000_000);
+        let mut tf_times = Vec::new();
+        for k in 1..=1000 {
+            enc.encode_sample_for(
+                &sample(k, 1e-3),
+                |c| c == Channel::Tf,
+                |c, t, _: &[u8]| {
+                    assert_eq!(c, Channel::Tf);
+                    tf_times.push(t);
+                    Ok::<_, EncodeError>(())
+                },
+            )
+            .expect("encode");
+        }
+        assert_eq!(tf_times.len(), 100);
+        assert_eq!(tf_times[1] - tf_times[0], 10_000_000);
     }
 }

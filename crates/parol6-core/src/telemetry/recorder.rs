@@ -5,7 +5,7 @@
 //! and samples a backend could not deliver show up as gaps in its sequence numbers
 //! ([`RecorderStats::missing_samples`]).
 //!
-//! The thread builds a [`TelemetrySample`](super::TelemetrySample) per tick, finds events, keeps the last
+//! The thread builds a [`TelemetrySample`] per tick, finds events, keeps the last
 //! [`RecorderConfig::live_span_s`] in a [`LiveRing`] published lock-free as a [`LiveView`]
 //! ([`Recorder::live`]), and while recording writes an MCAP file through [`McapSink`].
 //!
@@ -478,7 +478,7 @@ impl Worker {
         }
         if !self.outlets.is_empty() {
             let s = Arc::new(s);
-            self.to_outlets(|| LiveItem::Sample(Arc::clone(&s)));
+            self.send_to_outlets(|| LiveItem::Sample(Arc::clone(&s)));
         }
         self.take_events();
         self.dirty = true;
@@ -486,7 +486,7 @@ impl Worker {
 
     /// `try_send`s an item to every open outlet: a full one drops it (counted), a closed one is
     /// removed.
-    fn to_outlets(&mut self, item: impl Fn() -> LiveItem) {
+    fn send_to_outlets(&mut self, item: impl Fn() -> LiveItem) {
         self.outlets.retain(|o| match o.tx.try_send(item()) {
             Ok(()) => true,
             Err(TrySendError::Full(_)) => {
@@ -554,7 +554,7 @@ impl Worker {
                 self.fail(err);
             }
             if !self.outlets.is_empty() {
-                self.to_outlets(|| LiveItem::Event(e.clone()));
+                self.send_to_outlets(|| LiveItem::Event(e.clone()));
             }
         }
         self.events = events;

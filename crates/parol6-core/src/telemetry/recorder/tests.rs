@@ -141,3 +141,49 @@ fn an_unwritable_path_is_an_error_at_once() {
     assert!(e.to_string().contains("/nonexistent-dir-parol6/x.mcap"), "{e}");
     assert_eq!(rec.stop_recording().expect("stop"), None);
 }
+
+/// Issue 30: a live outlet gets every sample (not only the live view's 250 Hz) and every event,
+/// in order; a full outlet drops and counts without holding the recorder up; a dropped outlet
+/// is closed.
+#[test]
+fn a_live_outlet_gets_every_sample_and_event_and_never_holds_the_recorder() {
+    let model = RobotModel::parol6();
+    let home = home_position(&model);
+    let rec = Recorder::start(model, RecorderConfig::default()).expect("start");
+    let outlet = rec.live_outlet(10_000).expect("outlet");
+    let small = rec.live_outlet(5).expect("small outlet");
+    let tap = rec.tap();
+    // the outlets are taken with the control messages, before these samples
+    std::thread::sleep(Duration::from_millis(50));
+    let n = 1000u64;
+    for k in 1..=n {
+        while tap.try_send(motion(k, 1e-3, &home)).is_err() {
+            std::thread::sleep(Duration::from_micros(100));
+        }
+    }
+    wait_for(&rec, n);
+    // control messages are taken before the samples waiting in the tap: sent once they are in
+    rec.events().note("hello from the network");
+    let mut seqs = Vec::new();
+    let mut notes = Vec::new();
+    let t0 = std::time::Instant::now();
+    while notes.is_empty() && t0.elapsed() < Duration::from_secs(5) {
+        match outlet.rx.recv_timeout(Duration::from_millis(100)) {
+            Ok(LiveItem::Sample(s)) => seqs.push(s.seq),
+            Ok(LiveItem::Event(e)) if e.kind == EventKind::Note => notes.push(e.message),
+            Ok(LiveItem::Event(_)) | Err(_) => {}
+        }
+    }
+    assert_eq!(seqs, (1..=n).collect::<Vec<_>>(), "every sample, in order");
+    assert_eq!(notes, vec!["hello from the network".to_string()]);
+    assert_eq!(outlet.dropped(), 0);
+    // the small outlet, never read, kept 5 and counted the rest
+    assert_eq!(small.rx.len(), 5);
+    assert!(small.dropped() >= n - 5, "{}", small.dropped());
+    assert_eq!(rec.stats().missing_samples, 0, "the recorder was never held up");
+    drop(small);
+    drop(outlet);
+    tap.try_send(motion(n + 1, 1e-3, &home)).expect("room");
+    wait_for(&rec, n + 1);
+    assert_eq!(rec.finish().expect("finish"), None);
+}

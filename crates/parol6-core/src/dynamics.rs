@@ -2,7 +2,7 @@
 //! inertials: the joint torques a motion needs, split into gravity and inertial + Coriolis
 //! parts. Gravity is −z, [`GRAVITY_M_S2`].
 //!
-//! The multibody ([`super::multibody`]) builds on this module (body inertials, gravity), never
+//! The multibody ([`crate::sim::multibody`]) builds on this module (body inertials, gravity), never
 //! the other way round.
 
 use nalgebra::{Matrix3, Point3, Vector3};

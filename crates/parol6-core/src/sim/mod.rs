@@ -9,9 +9,9 @@
 //!   lock-free snapshot.
 //!
 //! Every target passes the planner's limit check before it reaches the multibody, and, when
-//! [`SimConfig::check_collisions`] is on, the self-collision guard ([`collision`]) before a
+//! [`SimConfig::check_collisions`] is on, the self-collision guard ([`crate::collision`]) before a
 //! target or a profiled move is accepted. Joint torques come from recursive Newton–Euler
-//! inverse dynamics ([`dynamics`]).
+//! inverse dynamics ([`crate::dynamics`]).
 
 use std::time::Instant;
 

@@ -171,7 +171,8 @@ fn foxglove_client_gets_our_channels_and_tf_agrees_with_fk() {
     let tf_hz = (count("/tf") - 1.0) / span("/tf");
     assert!((60.0..=101.0).contains(&tf_hz), "/tf at {tf_hz} Hz: {got}");
     assert!(count("/joint_states") > 3.0 * count("/tf"), "{got}");
-    assert_eq!(count("/joint_states"), count("/joint_commands"), "{got}");
+    // one command per state sample; the client's listening window can cut between the pair
+    assert!((count("/joint_states") - count("/joint_commands")).abs() <= 2.0, "{got}");
 
     // the /tf chain of each pair against parol6 fk, over a motion
     let pairs = got["pairs"].as_array().unwrap();

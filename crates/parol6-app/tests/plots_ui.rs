@@ -10,7 +10,7 @@ mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use ui_support::{app_harness, click_in_view_menu, has_label, until};
 
 use parol6_app::app::Parol6App;
@@ -242,4 +242,34 @@ fn the_lower_panel_keeps_its_height_once_the_plots_are_shown() {
     next.run_steps(5);
     let reopened = lower_panel_height(&next);
     assert!((reopened - dragged).abs() < 1.0, "reopened at {reopened} points, dragged to {dragged}");
+}
+
+/// Regression (issue 32, major 5): a velocity or tracking-error plot had a single "0" on its
+/// value axis, and hovering it showed no value. The axis now labels ticks on a 1-2-5 series at
+/// every range, and the pointer's time shows each line's value with its unit.
+#[test]
+fn hovering_a_plot_reads_out_the_time_and_each_lines_value_with_its_unit() {
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    click_in_view_menu(&mut h, "Plots");
+    h.key_press(egui::Key::Escape);
+    until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));
+    h.get_by_label("velocity").click();
+    h.run_steps(2);
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    h.run_steps(300);
+    // inside the plot, below the export row
+    let export = h.get_by_label("Export to").rect();
+    let inside = egui::pos2(export.left() + 300.0, export.bottom() + 80.0);
+    h.hover_at(inside);
+    h.run_steps(2);
+    // (the status bar's simulated time reads "t = …" too)
+    let readout =
+        h.query_all_by_label_contains("\nJ1: ").find_map(|n| n.value().or_else(|| n.accesskit_node().label()));
+    let text = readout.expect("a hover read-out");
+    assert!(text.starts_with("t = ") && text.contains(" s\nJ1: ") && text.contains(" °/s"), "{text}");
+    // at least two labelled ticks on the value axis (the old axis had "0" alone)
+    let ticks = ["-50", "-40", "-20", "-10", "0", "10", "20", "40", "50"].iter().filter(|t| has_label(&h, t)).count();
+    assert!(ticks >= 2, "{ticks} value-axis labels");
 }

@@ -23,6 +23,7 @@ pub mod entry;
 pub mod help;
 pub mod joints;
 pub mod measure;
+pub mod plot_axis;
 pub mod plot_cache;
 pub mod plot_export;
 pub mod plot_line;

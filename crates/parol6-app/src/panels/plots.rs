@@ -17,6 +17,7 @@ use eframe::egui;
 use egui_plot::{Plot, VLine};
 use parol6_core::telemetry::{DriveKind, LiveView, Quantity, ReplayData, SeriesId, SeriesStore};
 
+use super::plot_axis;
 use super::plot_cache::DecimationCache;
 use super::plot_export::{self, DrawnGroup, DrawnLine};
 use super::plot_line::ThinLine;
@@ -286,8 +287,10 @@ impl Panel for PlotsPanel {
                     .height(height)
                     .link_axis(link, [true, false])
                     .link_cursor(link, [true, false])
-                    .y_axis_label(format!("{} ({unit})", q.label()))
-                    .y_axis_min_width(48.0)
+                    .custom_y_axes(vec![plot_axis::value_axis(format!("{} ({unit})", q.label()))])
+                    .y_grid_spacer(plot_axis::value_marks)
+                    // the read-out below names every line's value at the pointer's time
+                    .label_formatter(|_| None)
                     .show_x(true)
                     // the panel's own colour behind the lines: a filled plot area is the
                     // largest thing egui shades in the window (~0.4 Mpx at 1280×800)
@@ -310,10 +313,15 @@ impl Panel for PlotsPanel {
                     // one min / max pair per two pixels: one point per pixel
                     let columns = width_px.div_ceil(PX_PER_MIN_MAX_PAIR);
                     let mut group = DrawnGroup { title: format!("{} ({unit})", q.label()), lines: Vec::new() };
+                    let hover_t = pui.response().hovered().then(|| pui.pointer_coordinate()).flatten().map(|p| p.x);
+                    let mut hover_values = Vec::new();
                     for id in ids {
                         let Some(col) = store.column(*id) else { continue };
                         let points = lines.line(store, col, x0, x1, columns);
                         let scaled: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1] * scale]).collect();
+                        if let Some(v) = hover_t.and_then(|t| plot_axis::value_at(&scaled, t)) {
+                            hover_values.push((series_name(*id), v));
+                        }
                         if collect_svg {
                             let color = series_color(id.index);
                             group.lines.push(DrawnLine { name: series_name(*id), color, points: scaled.clone() });
@@ -325,9 +333,17 @@ impl Panel for PlotsPanel {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
                     }
                     let clicked_at = pui.response().clicked().then(|| pui.pointer_coordinate()).flatten();
-                    ((x0, x1), group, clicked_at.map(|p| p.x))
+                    let b = pui.plot_bounds();
+                    let value_step = (b.max()[1] - b.min()[1]) / f64::from(pui.transform().frame().height().max(1.0))
+                        * plot_axis::LABEL_SPACING_PT;
+                    let hover = hover_t.map(|t| plot_axis::hover_text(t, &hover_values, unit, value_step));
+                    ((x0, x1), group, clicked_at.map(|p| p.x), hover)
                 });
-                let ((x0, x1), group, clicked_at) = resp.inner;
+                let ((x0, x1), group, clicked_at, hover) = resp.inner;
+                if let (Some(text), Some(pointer)) = (hover, resp.response.hover_pos()) {
+                    let id = ui.make_persistent_id(("plot_readout", k));
+                    plot_axis::show_readout(ui.ctx(), id, pointer, resp.response.rect, text);
+                }
                 visible.get_or_insert((x0, x1));
                 if collect_svg {
                     svg_groups.push(group);

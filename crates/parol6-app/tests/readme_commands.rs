@@ -1,4 +1,5 @@
-//! Every `parol6 …` command printed in README.md's code blocks runs as printed, with the built
+//! Every `parol6 …` command printed in the code blocks of README.md and of the user guide
+//! (`docs/guide/*.md`) runs as printed, with the built
 //! binary, from the repository root, and exits 0.
 //!
 //! Each line is classified by the app's own clap definition ([`Cli`]): a line clap refuses
@@ -35,10 +36,24 @@ const WINDOW_SUBCOMMANDS: [&str; 1] = ["replay"];
 /// Extensions of the files README lines name.
 const FILE_EXTENSIONS: [&str; 8] = ["mcap", "csv", "html", "png", "gcode", "nc", "json", "txt"];
 
-/// The `parol6 …` lines of the README's fenced code blocks, without trailing comments.
+/// The `parol6 …` lines of the fenced code blocks of README.md and of the user guide
+/// (`docs/guide/*.md`), without trailing comments.
 fn readme_commands() -> Vec<String> {
-    let readme = std::fs::read_to_string(cli_support::workspace_root().join("README.md")).expect("README.md");
-    commands_in(&readme)
+    let root = cli_support::workspace_root();
+    let mut files = vec![root.join("README.md")];
+    let mut guide: Vec<_> = std::fs::read_dir(root.join("docs/guide"))
+        .expect("docs/guide")
+        .map(|e| e.expect("a guide entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    guide.sort();
+    files.extend(guide);
+    let mut commands = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        commands.extend(commands_in(&text));
+    }
+    commands
 }
 
 /// The `parol6 …` lines of the fenced code blocks of a Markdown text, without trailing comments.

@@ -162,6 +162,14 @@ mod tests {
     }
 
     #[test]
+    fn a_position_plot_of_whole_degrees_has_no_decimals() {
+        let m = marks(-107.3, 206.1, 270.0);
+        let labels: Vec<String> = m.iter().map(|k| tick_label(k.value, k.step_size)).collect();
+        assert_eq!(labels.first().map(String::as_str), Some("-100"), "{labels:?}");
+        assert!(labels.iter().all(|l| !l.contains('.')), "{labels:?}");
+    }
+
+    #[test]
     fn tick_labels_have_no_float_noise_or_negative_zero() {
         assert_eq!(tick_label(0.30000000000000004, 0.1), "0.3");
         assert_eq!(tick_label(-1e-17, 0.02), "0.00");

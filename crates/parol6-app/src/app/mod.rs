@@ -130,6 +130,8 @@ pub struct Parol6App {
     /// The tracking mode the simulation was last given.
     sim_tracking: parol6_core::motion::tracking::TrackingMode,
     settings_path: Option<PathBuf>,
+    /// Writes the settings when they change (none without a settings file).
+    autosave: Option<settings_store::SettingsAutosave>,
     /// The operator panels (see [`crate::panels::registry`]).
     panels: Panels,
     perf: PerfStats,
@@ -212,6 +214,11 @@ impl Parol6App {
             viewport,
             viewport_error,
             sim_tracking: settings.tracking,
+            autosave: opts.settings_path.clone().and_then(|p| {
+                settings_store::SettingsAutosave::start(p, &settings)
+                    .map_err(|e| tracing::warn!("settings will be saved at exit only: {e}"))
+                    .ok()
+            }),
             settings,
             settings_path: opts.settings_path,
             perf: PerfStats::default(),
@@ -265,7 +272,7 @@ impl Parol6App {
         }
         for w in &app.model.warnings {
             let text = format!("model: {w}");
-            app.notices.push(Notice { text, error: false, at: Instant::now() });
+            Notice::raise(&mut app.notices, text, false);
         }
         if let Some(target) = opts.connect {
             app.connect(&target);
@@ -287,7 +294,7 @@ impl Parol6App {
         if error {
             tracing::warn!("{text}");
         }
-        self.notices.push(Notice { text, error, at: Instant::now() });
+        Notice::raise(&mut self.notices, text, error);
     }
 
     fn connect(&mut self, target: &ConnectTarget) {
@@ -386,6 +393,9 @@ impl Parol6App {
         self.refusal_notices(robot);
         self.feed_telemetry(&robot_arc);
         self.live_share_frame();
+        if let Some(autosave) = &mut self.autosave {
+            autosave.frame(&self.settings);
+        }
         let replay_playing = self.replay_frame(t0);
         self.files.recording = self.recording.as_ref().map(|r| r.path.display().to_string());
         self.files.replaying = self.panels.timeline.replay.is_some();
@@ -541,9 +551,13 @@ impl Parol6App {
         self.moves_sent.iter().map(String::as_str)
     }
 
-    /// Saves the settings (also done on exit).
-    pub fn save_settings(&self) {
-        if let Some(p) = &self.settings_path
+    /// Saves the settings now, after any write under way (they are also saved whenever they
+    /// change, see [`settings_store::SettingsAutosave`]).
+    pub fn save_settings(&mut self) {
+        if let Some(autosave) = &mut self.autosave {
+            autosave.finish(&self.settings);
+            self.autosave = None;
+        } else if let Some(p) = &self.settings_path
             && let Err(e) = save_settings(p, &self.settings)
         {
             tracing::warn!("settings not saved: {e:#}");

@@ -42,3 +42,71 @@ pub(super) fn save_settings(path: &Path, settings: &Settings) -> anyhow::Result<
     let text = serde_json::to_string_pretty(settings)?;
     Ok(parol6_core::fsio::write_atomic_bytes(path, text.as_bytes())?)
 }
+
+/// How long the settings must stay unchanged before they are written (a dragged panel edge or
+/// slider changes them every frame).
+const AUTOSAVE_AFTER_S: f64 = 0.5;
+
+/// Writes the settings whenever they change, off the UI thread, so that a crash loses nothing
+/// the operator set. The window's last settings are written at exit by [`SettingsAutosave::finish`].
+pub(super) struct SettingsAutosave {
+    saved: Settings,
+    last_seen: Settings,
+    stable_since: std::time::Instant,
+    tx: Option<std::sync::mpsc::SyncSender<Settings>>,
+    writer: Option<std::thread::JoinHandle<()>>,
+}
+
+impl SettingsAutosave {
+    /// A writer thread for `path`; `loaded` is what the file holds now.
+    pub(super) fn start(path: PathBuf, loaded: &Settings) -> std::io::Result<Self> {
+        let (tx, rx) = std::sync::mpsc::sync_channel::<Settings>(1);
+        let writer = std::thread::Builder::new().name("parol6-settings".into()).spawn(move || {
+            for settings in rx {
+                if let Err(e) = save_settings(&path, &settings) {
+                    tracing::warn!("settings not saved: {e:#}");
+                }
+            }
+        })?;
+        Ok(Self {
+            saved: loaded.clone(),
+            last_seen: loaded.clone(),
+            stable_since: std::time::Instant::now(),
+            tx: Some(tx),
+            writer: Some(writer),
+        })
+    }
+
+    /// Once a frame: queues `current` for writing once it has changed and then stayed the same
+    /// for [`AUTOSAVE_AFTER_S`]. Never waits: a write still under way is caught up next frame.
+    pub(super) fn frame(&mut self, current: &Settings) {
+        if *current != self.last_seen {
+            self.last_seen = current.clone();
+            self.stable_since = std::time::Instant::now();
+            return;
+        }
+        if *current == self.saved || self.stable_since.elapsed().as_secs_f64() < AUTOSAVE_AFTER_S {
+            return;
+        }
+        if let Some(tx) = &self.tx
+            && tx.try_send(current.clone()).is_ok()
+        {
+            self.saved = current.clone();
+        }
+    }
+
+    /// At exit: writes `current` after any write under way, and waits for it (so an older write
+    /// can never land last).
+    pub(super) fn finish(&mut self, current: &Settings) {
+        if let Some(tx) = self.tx.take()
+            && tx.send(current.clone()).is_err()
+        {
+            tracing::warn!("settings not saved: the writer thread has ended");
+        }
+        if let Some(writer) = self.writer.take()
+            && writer.join().is_err()
+        {
+            tracing::warn!("settings not saved: the writer thread panicked");
+        }
+    }
+}

@@ -328,6 +328,16 @@ pub struct Notice {
     pub at: Instant,
 }
 
+impl Notice {
+    /// Adds a notice raised now to `list`. The same message already shown is not stacked again
+    /// (a jog held against the workspace edge raises it on every key repeat): it is renewed and
+    /// moved to the end.
+    pub fn raise(list: &mut Vec<Notice>, text: String, error: bool) {
+        list.retain(|n| n.text != text || n.error != error);
+        list.push(Notice { text, error, at: Instant::now() });
+    }
+}
+
 /// The per-frame context handed to every panel.
 pub struct PanelContext<'a> {
     /// The robot.
@@ -373,12 +383,12 @@ impl PanelContext<'_> {
 
     /// Shows an error to the operator.
     pub fn error(&mut self, text: impl Into<String>) {
-        self.notices.push(Notice { text: text.into(), error: true, at: Instant::now() });
+        Notice::raise(self.notices, text.into(), true);
     }
 
     /// Shows information to the operator.
     pub fn info(&mut self, text: impl Into<String>) {
-        self.notices.push(Notice { text: text.into(), error: false, at: Instant::now() });
+        Notice::raise(self.notices, text.into(), false);
     }
 
     /// Queues a motion command for the active backend.
@@ -433,4 +443,26 @@ pub fn on_off_led(ui: &mut egui::Ui, on: bool, on_color: egui::Color32, label: &
     let r = led(ui, c, format!("{label}: {}", if on { "yes" } else { "no" }));
     ui.label(label);
     r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (issue 32): holding a jog against the workspace edge stacked one identical
+    /// toast per key repeat; four covered the 3D view.
+    #[test]
+    fn the_same_notice_raised_again_is_renewed_not_stacked() {
+        let mut list = Vec::new();
+        for _ in 0..30 {
+            Notice::raise(&mut list, "outside the workspace".into(), true);
+        }
+        Notice::raise(&mut list, "saved".into(), false);
+        Notice::raise(&mut list, "outside the workspace".into(), true);
+        let texts: Vec<&str> = list.iter().map(|n| n.text.as_str()).collect();
+        assert_eq!(texts, ["saved", "outside the workspace"]);
+        // the same words as information and as an error are two notices
+        Notice::raise(&mut list, "saved".into(), true);
+        assert_eq!(list.len(), 3);
+    }
 }

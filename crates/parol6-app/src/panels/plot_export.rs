@@ -47,6 +47,14 @@ pub fn csv_column(store: &SeriesStore, col: usize) -> String {
     }
 }
 
+/// A sample time, s, to the microsecond (the samples' times are sums of 1 ms steps, whose
+/// binary noise wrote `377.40000000000003`), without trailing zeros and never "-0".
+pub fn time_text(t_s: f64) -> String {
+    let text = format!("{:.6}", t_s + 0.0);
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" { "0".into() } else { text.into() }
+}
+
 /// Writes every kept sample between `t0_s` and `t1_s` to `path` as CSV (atomically: a failed
 /// write leaves the old file); returns the rows.
 pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Result<usize, String> {
@@ -61,11 +69,12 @@ pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Resu
         let mut line = String::new();
         for (t, values) in store.raw_window(t0_s, t1_s) {
             line.clear();
-            let _ = write!(line, "{t}");
+            line.push_str(&time_text(t));
             for v in values {
                 line.push(',');
                 if v.is_finite() {
-                    let _ = write!(line, "{v}");
+                    // the shortest text that reads back as the same f64
+                    line.push_str(&(v + 0.0).to_string());
                 }
             }
             writeln!(out, "{line}")?;
@@ -133,7 +142,7 @@ pub fn svg_text(groups: &[DrawnGroup], t0_s: f64, t1_s: f64) -> String {
         for (i, l) in g.lines.iter().enumerate() {
             let mut pts = String::new();
             for p in l.points.iter().filter(|p| p[0] >= t0_s && p[0] <= t1_s) {
-                let _ = write!(pts, "{:.1},{:.1} ", x(p[0]), y(p[1]));
+                pts.push_str(&format!("{:.1},{:.1} ", x(p[0]), y(p[1])));
             }
             let c = css(l.color);
             let _ = writeln!(
@@ -168,6 +177,17 @@ pub fn write_svg(path: &Path, groups: &[DrawnGroup], t0_s: f64, t1_s: f64) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (issue 32): the plot CSV had times such as `377.40000000000003`.
+    #[test]
+    fn sample_times_are_written_to_the_microsecond_without_noise() {
+        assert_eq!(time_text(377.40000000000003), "377.4");
+        assert_eq!(time_text(0.001 * 3.0), "0.003");
+        assert_eq!(time_text(-0.0), "0");
+        assert_eq!(time_text(-1e-9), "0");
+        assert_eq!(time_text(12.0), "12");
+        assert_eq!(time_text(0.0000016), "0.000002");
+    }
 
     #[test]
     fn svg_has_a_polyline_per_line_and_escapes_titles() {

@@ -308,6 +308,24 @@ fn a_port_where_no_parol6_answers_is_reported_as_such() {
     assert!(s.fault.is_none(), "{:?}", s.fault);
 }
 
+/// Issue 32 (minor): after the E-stop is released and ENABLE succeeds, the "E-stop pressed"
+/// fault text goes away (it stayed red under the LEDs until a CLEAR ERROR).
+#[test]
+fn estop_text_clears_after_release_and_enable() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    emu.set_estop_pressed(true);
+    let s = session.wait_until(LONG, |s| s.estop_pressed && s.fault.is_some()).expect("estop seen");
+    assert!(s.fault.as_deref().unwrap_or("").contains("E-stop"), "{:?}", s.fault);
+    emu.set_estop_pressed(false);
+    session.wait_until(LONG, |s| !s.estop_pressed).expect("released");
+    session.enable().expect("enable");
+    let s = session.wait_until(LONG, |s| !s.needs_enable && s.enabled == Some(true)).expect("enabled");
+    // one more period, so a stale text would have been published again
+    std::thread::sleep(Duration::from_millis(50));
+    let s2 = session.snapshot();
+    assert_eq!(s2.fault, None, "fault after enable: {:?} (at enable: {:?})", s2.fault, s.fault);
+}
+
 /// Issue 32 (major 8): a recording of the robot starts at the board's first answer: the tap
 /// sends nothing before the first valid status (it sent the session's all-zero joints, J3 = 0
 /// far outside its limit, so a replay opened on a folded arm with false "at limit" events).

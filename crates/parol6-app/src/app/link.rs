@@ -17,7 +17,7 @@ use crate::panels::connection::LinkView;
 pub(super) struct HwLink {
     pub(super) session: Arc<parol6_hw::Session>,
     /// Kept alive while connected; dropping it stops the emulator.
-    pub(super) _emulator: Option<parol6_hw::EmulatorHandle>,
+    pub(super) emulator: Option<parol6_hw::EmulatorHandle>,
     pub(super) emulated: bool,
     pub(super) last_fault: Option<String>,
     /// When the port was opened (to say when no controller answers).
@@ -60,7 +60,7 @@ impl HwLink {
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
             session: Arc::new(session),
             emulated: emulator.is_some(),
-            _emulator: emulator,
+            emulator,
             last_fault: None,
             opened_at: Instant::now(),
             told: None,

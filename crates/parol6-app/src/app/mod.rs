@@ -122,6 +122,8 @@ pub struct Parol6App {
     jog_held: Option<(usize, i8, Instant)>,
     /// The Cartesian jog being held: the command and when it was last sent.
     cartesian_jog_held: Option<(MotionCommand, Instant)>,
+    /// The E-stop button latched: motion commands are refused until it is released.
+    estop: bool,
     /// Refusal id last shown, per backend name.
     last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
@@ -208,6 +210,7 @@ impl Parol6App {
             program_progress: None,
             jog_held: None,
             cartesian_jog_held: None,
+            estop: false,
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,
@@ -338,10 +341,17 @@ impl Parol6App {
     /// controller has sent a first status there is no measured pose: the simulation's is shown
     /// (not the board's zeros).
     fn robot_state(&self) -> Arc<RobotState> {
-        match &self.hw {
+        let state = match &self.hw {
             Some(link) if link.session.snapshot().status.is_some() => link.session.state(),
             _ => self.sim.state(),
+        };
+        if !self.estop {
+            return state;
         }
+        // the latched E-stop is why motion is refused, whatever the backend says
+        let mut latched = (*state).clone();
+        latched.blocked = Some(crate::panels::io_gripper::ESTOP_LATCHED.to_string());
+        Arc::new(latched)
     }
 
     fn keyboard(&mut self, ctx: &egui::Context) {

@@ -110,6 +110,9 @@ impl Worker {
                 inputs: [self.snap.io[0], self.snap.io[1]],
                 outputs: [self.snap.io[2], self.snap.io[3]],
                 gripper_position: u8::try_from(self.snap.gripper_position.clamp(0, 255)).unwrap_or(0),
+                gripper_current_ma: self.snap.gripper_current_ma,
+                gripper_status: self.snap.gripper_status,
+                drives_disabled: self.snap.enabled == Some(false) || self.snap.needs_enable,
             },
         };
         state.update_kinematics(&self.model, &ZoneThresholds::default());

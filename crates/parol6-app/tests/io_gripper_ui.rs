@@ -161,3 +161,13 @@ fn gripper_fields_take_units_refuse_the_range_and_move_the_gripper() {
     h.get_by_label("Calibrate").click();
     until(&mut h, "calibrated", 5.0, |h| h.state().sim().state().io.gripper().calibrated);
 }
+
+/// Issue 32 (minor): Home (homing) on the fake robot shows its progress and its outcome.
+#[test]
+fn home_on_the_fake_robot_shows_progress_and_outcome() {
+    let mut h = robot_harness();
+    h.get_by_label("Home (homing)").click();
+    until(&mut h, "homing progress shown", 10.0, |h| has_label(h, "homing: "));
+    until(&mut h, "homing outcome shown", 20.0, |h| has_label(h, "homing done"));
+    assert!(h.state().notices().iter().any(|n| n.text.contains("homing done")), "a notice says it");
+}

@@ -264,6 +264,14 @@ impl Parol6App {
         let snap = link.session.snapshot();
         let mut out: Vec<(String, bool)> = Vec::new();
         let mut remember_port = None;
+        if snap.homing != link.told_homing {
+            link.told_homing = snap.homing.clone();
+            match &snap.homing {
+                parol6_hw::HomingState::Sending => out.push(("robot: homing started".to_string(), false)),
+                parol6_hw::HomingState::Done => out.push(("robot: homing done, all joints homed".to_string(), false)),
+                // the session's fault says why ("homing failed: …")
+                _ => {}
+            }
         }
         if snap.fault != link.last_fault {
             link.last_fault.clone_from(&snap.fault);

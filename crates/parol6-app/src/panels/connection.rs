@@ -30,6 +30,8 @@ pub struct LinkView {
     pub estop: bool,
     /// Homing in progress.
     pub homing: bool,
+    /// Where the last homing stands, in words ("" when none was asked for).
+    pub homing_text: String,
     /// Homed flag per joint.
     pub homed: Vec<bool>,
     /// Command/status loop rate, Hz.
@@ -210,6 +212,10 @@ impl ConnectionPanel {
             on_off_led(ui, link.estop, red, "E-stop input");
             on_off_led(ui, link.homing, zone_color(LimitZone::Warning), "homing");
         });
+        if !link.homing_text.is_empty() {
+            let color = if link.homing { zone_color(LimitZone::Warning) } else { ui.visuals().text_color() };
+            ui.colored_label(color, &link.homing_text);
+        }
         ui.horizontal(|ui| {
             ui.label("homed");
             for (i, h) in link.homed.iter().enumerate() {

@@ -140,6 +140,20 @@ fn the_estop_disables_the_simulation_the_same_way() {
     let mut h = ui_support::app_harness(egui::vec2(1280.0, 2400.0));
     h.get_by_label("E-STOP").click();
     until(&mut h, "the simulated drives are disabled", 5.0, |h| h.state().sim().state().io.drives_disabled);
+    // the Cartesian jog is off while latched: holding +X sends nothing
+    let plus_x = h.get_by_label("+X").rect().center();
+    h.hover_at(plus_x);
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::PointerButton { pos: plus_x, button: egui::PointerButton::Primary, pressed: true, modifiers });
+    h.run_steps(10);
+    h.event(egui::Event::PointerButton {
+        pos: plus_x,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers,
+    });
+    h.run_steps(2);
+    assert_eq!(h.state().moves_sent().count(), 0, "no jog left the app while latched");
     h.get_by_label("Release E-STOP").click();
     until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
 }

@@ -139,7 +139,8 @@ impl IoGripperPanel {
             on_off_led(ui, g.activated, green, "active");
             on_off_led(ui, g.calibrated, green, "calibrated");
             on_off_led(ui, g.error, red, "error");
-            ui.label(g.object_text());
+            // the object code means nothing before the gripper is activated
+            ui.label(if g.activated { g.object_text() } else { "not activated" });
         });
         egui::Grid::new("gripper_set").num_columns(2).spacing([6.0, 3.0]).show(ui, |ui| {
             ui.label("Position");

@@ -307,3 +307,53 @@ fn a_port_where_no_parol6_answers_is_reported_as_such() {
     let s = session.wait_until(LONG, |s| s.link == LinkState::Connected).expect("answered");
     assert!(s.fault.is_none(), "{:?}", s.fault);
 }
+
+/// Issue 32 (minor): after the E-stop is released and ENABLE succeeds, the "E-stop pressed"
+/// fault text goes away (it stayed red under the LEDs until a CLEAR ERROR).
+#[test]
+fn estop_text_clears_after_release_and_enable() {
+    let (emu, session) = start(EmulatorConfig::homed_at_standby());
+    emu.set_estop_pressed(true);
+    let s = session.wait_until(LONG, |s| s.estop_pressed && s.fault.is_some()).expect("estop seen");
+    assert!(s.fault.as_deref().unwrap_or("").contains("E-stop"), "{:?}", s.fault);
+    emu.set_estop_pressed(false);
+    session.wait_until(LONG, |s| !s.estop_pressed).expect("released");
+    session.enable().expect("enable");
+    let s = session.wait_until(LONG, |s| !s.needs_enable && s.enabled == Some(true)).expect("enabled");
+    // one more period, so a stale text would have been published again
+    std::thread::sleep(Duration::from_millis(50));
+    let s2 = session.snapshot();
+    assert_eq!(s2.fault, None, "fault after enable: {:?} (at enable: {:?})", s2.fault, s.fault);
+}
+
+/// Issue 32 (major 8): a recording of the robot starts at the board's first answer: the tap
+/// sends nothing before the first valid status (it sent the session's all-zero joints, J3 = 0
+/// far outside its limit, so a replay opened on a folded arm with false "at limit" events).
+#[test]
+fn the_first_tap_sample_is_the_boards_first_status_not_zeros() {
+    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
+    let (tx, rx) = crossbeam_channel::bounded(1024);
+    let session = Session::open_with_tap(emu.path(), SessionConfig::default(), Some(tx)).expect("session");
+    session.wait_connected(LONG).expect("connected");
+    std::thread::sleep(Duration::from_millis(200));
+    let first = rx.try_recv().expect("samples arrive");
+    let standby = standby_rad();
+    for (j, want) in standby.iter().enumerate() {
+        assert!((first.measured_q[j] - want).abs() < 1e-3, "first sample: measured {:?}", first.measured_q);
+        assert!((first.commanded.q[j] - want).abs() < 1e-3, "first sample: commanded {:?}", first.commanded.q);
+    }
+}
+
+/// Issue 32 (major 8): samples the tap could not take are counted, not silently dropped, and
+/// the count is published in the snapshot.
+#[test]
+fn a_full_tap_counts_the_dropped_samples() {
+    let emu = EmulatorHandle::spawn(EmulatorConfig::homed_at_standby()).expect("emulator");
+    let (tx, rx) = crossbeam_channel::bounded(2);
+    let session = Session::open_with_tap(emu.path(), SessionConfig::default(), Some(tx)).expect("session");
+    session.wait_connected(LONG).expect("connected");
+    let s = session.wait_until(LONG, |s| s.tap_dropped >= 5).expect("drops counted");
+    assert!(s.tap_dropped >= 5, "{}", s.tap_dropped);
+    assert_eq!(rx.len(), 2, "the tap kept the first samples");
+    assert!(session.snapshot().to_json()["tap_dropped"].as_u64().unwrap() >= 5);
+}

@@ -111,6 +111,32 @@ fn record_the_fake_robot() {
     let _ = std::fs::remove_file(&file);
 }
 
+/// Issue 32, major 8: the first sample of a robot recording is the board's first answer (the
+/// emulator's standby), never the all-zero joints of a session that has not heard the board yet.
+#[test]
+fn a_robot_recording_starts_at_the_first_status_not_at_zeros() {
+    let file = temp("first-sample.mcap");
+    run(&["record", "--seconds", "0.3", "-o", &s(&file), "--fake-robot"]).json("record --fake-robot");
+    let csv = temp("first-sample.csv");
+    run(&["mcap", "csv", &s(&file), "-o", &s(&csv)]).json("mcap csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let first: Vec<&str> = lines.next().expect("at least one sample").split(',').collect();
+    let standby = parol6_core::parol6::standby_rad();
+    for (j, want) in standby.iter().enumerate() {
+        for kind in ["cmd", "meas"] {
+            let name = format!("j{}_{kind}_rad", j + 1);
+            let col = header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+            let got: f64 = first[col].parse().unwrap();
+            // one encoder step is ~1e-4 rad; zeros are 1.5 rad or more away for J1, J2, J3, J6
+            assert!((got - want).abs() < 1e-3, "first sample {name} = {got}, the emulator's standby is {want}");
+        }
+    }
+    let _ = std::fs::remove_file(&file);
+    let _ = std::fs::remove_file(&csv);
+}
+
 #[test]
 fn bad_files_and_paths_get_clear_messages_and_exit_codes() {
     let empty = temp("empty.mcap");

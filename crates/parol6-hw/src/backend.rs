@@ -26,6 +26,10 @@ impl RobotBackend for Session {
         let sent = match cmd {
             IoCommand::SetOutput { output, on } => self.set_output(output, on),
             IoCommand::Gripper { position, speed, current_ma } => self.set_gripper(position, speed, current_ma),
+            IoCommand::GripperCalibrate => self.gripper_calibrate(),
+            IoCommand::ClearError => self.clear_error().and_then(|()| self.gripper_clear_error()),
+            IoCommand::Disable => self.disable(),
+            IoCommand::Enable => self.enable(),
             IoCommand::SetSimulatedInput { input, .. } => {
                 return Err(BackendError::Refused(format!(
                     "input {input} of the robot is read from the controller board; it cannot be set"

@@ -348,6 +348,8 @@ pub struct EmulatorSnapshot {
     pub homing: bool,
     /// Code of the last accepted frame.
     pub last_code: Option<u8>,
+    /// OUTPUT1 and OUTPUT2 as the last accepted frame set them.
+    pub outputs: [bool; 2],
     /// Frames accepted so far.
     pub frames_accepted: u64,
     /// Frames stored but rejected by the firmware parser.
@@ -499,6 +501,7 @@ fn snapshot_of(m: &ControllerModel, accepted: u64, rejected: u64) -> EmulatorSna
         disabled: m.is_disabled(),
         homing: m.is_homing(),
         last_code: m.last_code(),
+        outputs: [m.out_bits & IO_OUT1 != 0, m.out_bits & IO_OUT2 != 0],
         frames_accepted: accepted,
         frames_rejected: rejected,
     }

@@ -69,6 +69,16 @@ impl Parol6App {
         &self.notices
     }
 
+    /// The built-in emulator, while the window is connected to it (tests read what reached it).
+    pub fn emulator(&self) -> Option<&parol6_hw::EmulatorHandle> {
+        self.hw.as_ref().and_then(|l| l.emulator.as_ref())
+    }
+
+    /// True while the E-stop button is latched.
+    pub fn estop_latched(&self) -> bool {
+        self.estop
+    }
+
     /// True while a controller (the robot or the built-in emulator) is connected.
     pub fn robot_connected(&self) -> bool {
         self.hw.is_some()

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use parol6_core::motion::{CartesianAxis, JogFrame, MotionCommand, RobotBackend};
+use parol6_core::motion::{CartesianAxis, IoCommand, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
@@ -27,8 +27,28 @@ fn sets_arm_moving(cmd: &AppCommand) -> bool {
     }
 }
 
+/// True for a command the latched E-stop refuses: whatever sets the arm or the gripper moving,
+/// and ENABLE other than by releasing the E-stop.
+fn refused_by_estop(cmd: &AppCommand) -> bool {
+    sets_arm_moving(cmd)
+        || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
+}
+
 impl Parol6App {
     pub(super) fn execute(&mut self, cmd: AppCommand) {
+        if self.estop && refused_by_estop(&cmd) {
+            if matches!(cmd, AppCommand::Jog(_) | AppCommand::CartesianJog(_)) {
+                self.jog_held = None;
+                self.cartesian_jog_held = None;
+            }
+            // one notice, kept up while the refused command repeats (a held jog key)
+            let text = format!("refused: {}", crate::panels::io_gripper::ESTOP_LATCHED);
+            match self.notices.iter_mut().find(|n| n.text == text) {
+                Some(n) => n.at = Instant::now(),
+                None => self.notice(text, true),
+            }
+            return;
+        }
         if sets_arm_moving(&cmd) {
             if self.moves_sent.len() >= 256 {
                 self.moves_sent.pop_front();
@@ -111,6 +131,47 @@ impl Parol6App {
                     r.control(control);
                 }
             }
+            AppCommand::Io(io) => {
+                if let Err(e) = self.backend().io(io) {
+                    self.notice(format!("{io:?} refused: {e}"), true);
+                }
+            }
+            AppCommand::EStop(true) => self.press_estop(),
+            AppCommand::EStop(false) => self.release_estop(),
+        }
+    }
+
+    /// The E-stop button: ends a program or measurement, STOP and DISABLE to the active backend,
+    /// and latches (motion refused here until released) even when the backend refused them.
+    fn press_estop(&mut self) {
+        self.estop = true;
+        self.stop_program();
+        self.panels.measure.abort();
+        self.jog_held = None;
+        self.cartesian_jog_held = None;
+        let backend = self.backend();
+        let failed: Vec<String> = [
+            backend.send(MotionCommand::Stop).err().map(|e| format!("STOP: {e}")),
+            backend.io(IoCommand::Disable).err().map(|e| format!("DISABLE: {e}")),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if failed.is_empty() {
+            self.notice("E-STOP: STOP and DISABLE sent; motion is refused until the E-stop is released", true);
+        } else {
+            self.notice(format!("E-STOP latched, but {}: motion is refused here", failed.join(", ")), true);
+        }
+    }
+
+    /// Releases the E-stop latch with ENABLE; it stays latched when ENABLE is refused.
+    fn release_estop(&mut self) {
+        match self.backend().io(IoCommand::Enable) {
+            Ok(()) => {
+                self.estop = false;
+                self.notice("E-stop released: ENABLE sent; motion is accepted again", false);
+            }
+            Err(e) => self.notice(format!("E-stop stays latched: ENABLE refused: {e}"), true),
         }
     }
 
@@ -203,6 +264,15 @@ impl Parol6App {
         let snap = link.session.snapshot();
         let mut out: Vec<(String, bool)> = Vec::new();
         let mut remember_port = None;
+        if snap.homing != link.told_homing {
+            link.told_homing = snap.homing.clone();
+            match &snap.homing {
+                parol6_hw::HomingState::Sending => out.push(("robot: homing started".to_string(), false)),
+                parol6_hw::HomingState::Done => out.push(("robot: homing done, all joints homed".to_string(), false)),
+                // the session's fault says why ("homing failed: …")
+                _ => {}
+            }
+        }
         if snap.fault != link.last_fault {
             link.last_fault.clone_from(&snap.fault);
             if let Some(f) = &snap.fault {

@@ -6,8 +6,29 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use parol6_core::RobotModel;
+use parol6_core::motion::RobotBackend as _;
 
 use super::ConnectTarget;
+
+/// How long the built-in emulator's homing takes, s.
+const EMULATED_HOMING_S: f64 = 3.0;
+
+/// Where a homing stands, in the operator's words ("" before any was asked for).
+pub(super) fn homing_text(h: &parol6_hw::HomingState, homed: &[bool]) -> String {
+    use parol6_hw::HomingState as H;
+    match h {
+        H::NotRequested => String::new(),
+        H::Sending => "homing: HOME sent…".to_string(),
+        H::Waiting => {
+            let done: Vec<String> =
+                homed.iter().enumerate().filter(|(_, h)| **h).map(|(i, _)| format!("J{}", i + 1)).collect();
+            let done = if done.is_empty() { "none yet".to_string() } else { done.join(" ") };
+            format!("homing: waiting for the joints (homed: {done})")
+        }
+        H::Done => "homing done: all joints homed".to_string(),
+        H::Failed(why) => format!("homing failed: {why}"),
+    }
+}
 
 /// A backend's sample tap.
 type Tap = crossbeam_channel::Sender<parol6_core::motion::MotionSample>;
@@ -17,13 +38,15 @@ use crate::panels::connection::LinkView;
 pub(super) struct HwLink {
     pub(super) session: Arc<parol6_hw::Session>,
     /// Kept alive while connected; dropping it stops the emulator.
-    pub(super) _emulator: Option<parol6_hw::EmulatorHandle>,
+    pub(super) emulator: Option<parol6_hw::EmulatorHandle>,
     pub(super) emulated: bool,
     pub(super) last_fault: Option<String>,
     /// When the port was opened (to say when no controller answers).
     pub(super) opened_at: Instant,
     /// The link state the operator was last told about.
     pub(super) told: Option<parol6_hw::LinkState>,
+    /// The homing outcome the operator was last told about.
+    pub(super) told_homing: parol6_hw::HomingState,
     /// Telemetry of the link (fed by the session's sample tap).
     pub(super) recorder: Option<parol6_core::telemetry::Recorder>,
     /// The tracking mode the session streams in (chosen at connection).
@@ -60,16 +83,22 @@ impl HwLink {
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
             session: Arc::new(session),
             emulated: emulator.is_some(),
-            _emulator: emulator,
+            emulator,
             last_fault: None,
             opened_at: Instant::now(),
             told: None,
+            told_homing: parol6_hw::HomingState::NotRequested,
         }
     }
 
     #[cfg(unix)]
     fn connect_emulator(config: parol6_hw::SessionConfig, tap: Option<Tap>) -> anyhow::Result<Self> {
-        let emu = parol6_hw::EmulatorHandle::spawn(parol6_hw::EmulatorConfig::homed_at_standby())?;
+        // homing takes a few seconds, as on a board (its progress shows in the panel)
+        let config_emu = parol6_hw::EmulatorConfig {
+            home_duration_s: EMULATED_HOMING_S,
+            ..parol6_hw::EmulatorConfig::homed_at_standby()
+        };
+        let emu = parol6_hw::EmulatorHandle::spawn(config_emu)?;
         let session = parol6_hw::Session::open_with_tap(emu.path(), config, tap)?;
         Ok(Self::new(session, Some(emu)))
     }
@@ -88,6 +117,7 @@ impl HwLink {
             enabled: snap.status.is_some() && snap.enabled.unwrap_or(true) && !snap.needs_enable,
             estop: snap.estop_pressed,
             homing: matches!(snap.homing, parol6_hw::HomingState::Sending | parol6_hw::HomingState::Waiting),
+            homing_text: homing_text(&snap.homing, &snap.homed),
             homed: snap.homed.to_vec(),
             loop_rate_hz: snap.loop_rate_hz,
             jitter_ms: snap.period_jitter_p99_ms,
@@ -95,5 +125,24 @@ impl HwLink {
             implausible_frames: snap.implausible_frames,
             last_error: snap.fault.clone(),
         }
+    }
+}
+
+impl super::Parol6App {
+    /// The state shown this frame: the active backend's, computed on its own thread. Until the
+    /// controller has sent a first status there is no measured pose: the simulation's is shown
+    /// (not the board's zeros).
+    pub(super) fn robot_state(&self) -> Arc<parol6_core::motion::RobotState> {
+        let state = match &self.hw {
+            Some(link) if link.session.snapshot().status.is_some() => link.session.state(),
+            _ => self.sim.state(),
+        };
+        if !self.estop {
+            return state;
+        }
+        // the latched E-stop is why motion is refused, whatever the backend says
+        let mut latched = (*state).clone();
+        latched.blocked = Some(crate::panels::io_gripper::ESTOP_LATCHED.to_string());
+        Arc::new(latched)
     }
 }

@@ -16,7 +16,7 @@ use anyhow::Context as _;
 use eframe::egui_wgpu;
 use parol6_core::RobotModel;
 use parol6_core::limits::LimitZone;
-use parol6_core::motion::{MotionCommand, RobotBackend};
+use parol6_core::motion::MotionCommand;
 use parol6_core::program::runner::{ProgramRunner, RunProgress};
 use parol6_core::sim::{SimCommand, SimConfig, SimHandle};
 
@@ -122,6 +122,8 @@ pub struct Parol6App {
     jog_held: Option<(usize, i8, Instant)>,
     /// The Cartesian jog being held: the command and when it was last sent.
     cartesian_jog_held: Option<(MotionCommand, Instant)>,
+    /// The E-stop button latched: motion commands are refused until it is released.
+    estop: bool,
     /// Refusal id last shown, per backend name.
     last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
@@ -210,6 +212,7 @@ impl Parol6App {
             program_progress: None,
             jog_held: None,
             cartesian_jog_held: None,
+            estop: false,
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,
@@ -338,16 +341,6 @@ impl Parol6App {
     fn stop_program(&mut self) {
         if let Some(r) = &self.program {
             r.abort();
-        }
-    }
-
-    /// The state shown this frame: the active backend's, computed on its own thread. Until the
-    /// controller has sent a first status there is no measured pose: the simulation's is shown
-    /// (not the board's zeros).
-    fn robot_state(&self) -> Arc<RobotState> {
-        match &self.hw {
-            Some(link) if link.session.snapshot().status.is_some() => link.session.state(),
-            _ => self.sim.state(),
         }
     }
 

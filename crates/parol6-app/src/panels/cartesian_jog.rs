@@ -230,8 +230,12 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
             ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
         });
-        let mut held = self.buttons(ui, ctx);
-        if held.is_none() && !self.step_mode {
+        // the latched E-stop refuses every jog: the buttons and keys are off, the hover says why
+        let latched = super::io_gripper::estop_latched(ctx);
+        let buttons = ui.add_enabled_ui(!latched, |ui| self.buttons(ui, ctx));
+        buttons.response.on_disabled_hover_text(super::io_gripper::ESTOP_LATCHED);
+        let mut held = buttons.inner;
+        if held.is_none() && !self.step_mode && !latched {
             held = Self::key_held(ui);
         }
         ui.horizontal(|ui| {

@@ -30,6 +30,8 @@ pub struct LinkView {
     pub estop: bool,
     /// Homing in progress.
     pub homing: bool,
+    /// Where the last homing stands, in words ("" when none was asked for).
+    pub homing_text: String,
     /// Homed flag per joint.
     pub homed: Vec<bool>,
     /// Command/status loop rate, Hz.
@@ -139,9 +141,13 @@ impl ConnectionPanel {
     fn jog_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, link: &LinkView) {
         let mut held: Option<(usize, i8)> = None;
         let n = ctx.model.dof();
-        let allowed = link.link_ok && link.enabled && !link.estop;
+        let latched = super::io_gripper::estop_latched(ctx);
+        let allowed = link.link_ok && link.enabled && !link.estop && !latched;
         ui.label(egui::RichText::new("Jog (hold)").strong())
             .on_hover_text("Press and hold a button, or select a joint with 1–6 and hold Page Up / Page Down");
+        if latched {
+            ui.colored_label(palette::rgb(palette::ERROR_TEXT), super::io_gripper::ESTOP_LATCHED);
+        }
         egui::Grid::new("jog_grid").num_columns(4).spacing([6.0, 3.0]).show(ui, |ui| {
             for i in 0..n {
                 let name = ctx.model.joints.get(i).map(|j| j.name.as_str()).unwrap_or("?");
@@ -203,9 +209,13 @@ impl ConnectionPanel {
         ui.horizontal(|ui| {
             on_off_led(ui, link.link_ok, green, "link").on_hover_text(&link.link_state);
             on_off_led(ui, link.enabled, green, "enabled");
-            on_off_led(ui, link.estop, red, "E-STOP");
+            on_off_led(ui, link.estop, red, "E-stop input");
             on_off_led(ui, link.homing, zone_color(LimitZone::Warning), "homing");
         });
+        if !link.homing_text.is_empty() {
+            let color = if link.homing { zone_color(LimitZone::Warning) } else { ui.visuals().text_color() };
+            ui.colored_label(color, &link.homing_text);
+        }
         ui.horizontal(|ui| {
             ui.label("homed");
             for (i, h) in link.homed.iter().enumerate() {

@@ -10,7 +10,7 @@ use super::{led, zone_color};
 use crate::palette;
 
 /// What each panel is for, in the order they appear.
-const PANELS: [(&str, &str); 8] = [
+const PANELS: [(&str, &str); 9] = [
     (
         "Joints (left)",
         "HOME moves to the standby pose, STOP holds the arm where it is. Under them one line \
@@ -30,6 +30,15 @@ const PANELS: [(&str, &str); 8] = [
         "Robot connection",
         "Open a serial port or the built-in emulator; enable / disable the drives, run homing, \
          jog a joint (hold the buttons). Folded while no robot is connected.",
+    ),
+    (
+        "I/O & gripper",
+        "OUTPUT 1 / 2 toggle on a click; INPUT 1 / 2 and the drives are LEDs. The gripper's \
+         reported position, current and status; type position (0–255), speed (0–255) and current \
+         (100–2800 mA), then Move gripper; Calibrate. Clear error sends CLEAR ERROR. The same \
+         buttons drive the simulation (its gripper and outputs are emulated) and the robot. \
+         E-STOP (beside STOP) sends STOP and DISABLE and refuses all motion until Release \
+         E-STOP (which sends ENABLE); Esc stays STOP.",
     ),
     (
         "TCP (right)",

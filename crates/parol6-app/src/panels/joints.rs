@@ -342,6 +342,7 @@ impl Panel for JointsPanel {
             if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
                 ctx.stop();
             }
+            super::io_gripper::estop_button(ui, ctx);
         });
         Self::status_line(ui, ctx);
         ui.add_space(4.0);

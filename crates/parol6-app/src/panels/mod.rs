@@ -21,6 +21,7 @@ pub mod connection;
 pub mod dynamics;
 pub mod entry;
 pub mod help;
+pub mod io_gripper;
 pub mod joints;
 pub mod measure;
 pub mod plot_axis;
@@ -272,6 +273,12 @@ pub enum AppCommand {
     RemoteControl(bool),
     /// Forward dynamics: run these joint torques on the simulation (refused on the robot).
     RunTorques(parol6_core::sim::TorqueRun),
+    /// An output, the gripper, CLEAR ERROR or the drives, on the active backend (the same
+    /// `RobotBackend::io` for the simulation and the robot).
+    Io(parol6_core::motion::IoCommand),
+    /// The E-stop button: `true` sends STOP and DISABLE and latches (every motion command is
+    /// refused, naming [`io_gripper::ESTOP_LATCHED`]); `false` releases it with ENABLE.
+    EStop(bool),
 }
 
 /// Commands of the connection panel, executed by the app against the serial session.

@@ -9,6 +9,7 @@ use super::cartesian_jog::CartesianJogPanel;
 use super::cartesian_target::CartesianTargetPanel;
 use super::connection::ConnectionPanel;
 use super::dynamics::DynamicsPanel;
+use super::io_gripper::IoGripperPanel;
 use super::joints::JointsPanel;
 use super::measure::MeasurePanel;
 use super::plots::PlotsPanel;
@@ -38,6 +39,8 @@ pub struct Panels {
     pub joints: JointsPanel,
     /// Serial link to the robot.
     pub connection: ConnectionPanel,
+    /// Outputs, inputs, the gripper, Clear error.
+    pub io_gripper: IoGripperPanel,
     /// TCP pose and manipulability.
     pub tcp: TcpPanel,
     /// Cartesian target solved by IK.
@@ -64,6 +67,7 @@ impl Panels {
         Self {
             joints: JointsPanel::default(),
             connection: ConnectionPanel::default(),
+            io_gripper: IoGripperPanel::default(),
             tcp: TcpPanel::default(),
             target: CartesianTargetPanel::default(),
             cartesian_jog: CartesianJogPanel::default(),
@@ -83,6 +87,7 @@ impl Panels {
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.program),
             (Dock::Left, &mut self.connection),
+            (Dock::Left, &mut self.io_gripper),
             (Dock::Right, &mut self.tcp),
             (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),

@@ -56,7 +56,7 @@ pub use backend::{
     BackendError, JointDrive, MotionSample, RobotBackend, RobotState, ScheduleState, StateSource, stop_best_effort,
 };
 pub use cartesian_jog::{CartesianAxis, JogFrame, JogKinematics, JogStop};
-pub use io::{DIGITAL_PORTS, IoCommand, IoState};
+pub use io::{DIGITAL_PORTS, GRIPPER_CURRENT_MA, GripperStatus, IoCommand, IoState};
 pub use planner::{MotionPlanner, PlannerMode, jog_refusal};
 
 /// A jog stops unless refreshed within this time of its motion clock, s.

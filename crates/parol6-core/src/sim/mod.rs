@@ -316,6 +316,9 @@ impl Simulation {
     /// Applies a motion command at `t_s`: planned on a copy first, whose swept path is checked
     /// for collisions; a refused command leaves the simulation unchanged.
     fn apply_motion(&mut self, cmd: MotionCommand, t_s: f64, immediate: bool) -> Result<(), SimError> {
+        if self.io.drives_disabled && cmd.starts_motion() {
+            return Err(SimError::DrivesDisabled);
+        }
         let cmd = self.with_policy(cmd)?;
         if self.torque_control {
             self.leave_torque_control();
@@ -346,6 +349,9 @@ impl Simulation {
             SimCommand::Motion(m) => self.apply_motion(m, now, true)?,
             SimCommand::MotionAt { cmd, at_s } => {
                 self.planner.note_scheduled();
+                if self.io.drives_disabled && cmd.starts_motion() {
+                    return Err(SimError::DrivesDisabled);
+                }
                 let cmd = self.with_policy(cmd)?;
                 self.planner.schedule_arriving(cmd, at_s, now)?;
             }
@@ -387,6 +393,10 @@ impl Simulation {
             }
             SimCommand::Io(io) => {
                 io.validate().map_err(SimError::InvalidCommand)?;
+                if io == crate::motion::IoCommand::Disable {
+                    // as the board: the drives stop where they are, the schedule is dropped
+                    self.apply_motion(MotionCommand::Stop, now, true)?;
+                }
                 self.io.apply(&io);
             }
             SimCommand::ApplyJointTorques(tau) => {

@@ -88,3 +88,21 @@ fn the_tap_gets_every_step_while_moving_and_every_tenth_at_rest() {
         "every step of the move is sampled"
     );
 }
+
+/// Issue 32 (safety 3): DISABLE (the E-stop button) stops the simulated arm and refuses motion
+/// until ENABLE, as the robot's board does; the state says why.
+#[test]
+fn disabled_drives_refuse_motion_until_enabled() {
+    use crate::motion::IoCommand;
+    let mut s = dynamic();
+    let jog = MotionCommand::JogJoint { joint: 0, fraction: 0.5 };
+    s.apply(SimCommand::Motion(jog.clone())).expect("jog");
+    s.apply(SimCommand::Io(IoCommand::Disable)).expect("disable");
+    assert!(matches!(s.apply(SimCommand::Motion(jog.clone())), Err(SimError::DrivesDisabled)));
+    let state = s.snapshot().robot_state();
+    assert!(state.io.drives_disabled);
+    assert!(state.blocked.as_deref().unwrap_or("").contains("disabled"), "{:?}", state.blocked);
+    s.apply(SimCommand::Io(IoCommand::Enable)).expect("enable");
+    assert!(s.snapshot().robot_state().blocked.is_none());
+    s.apply(SimCommand::Motion(jog)).expect("jog after enable");
+}

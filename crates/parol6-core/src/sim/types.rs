@@ -145,6 +145,9 @@ pub enum SimError {
     /// A command that is not valid now, e.g. torques of the wrong length or in kinematic mode.
     #[error("invalid command: {0}")]
     InvalidCommand(String),
+    /// Motion while the drives are disabled (DISABLE, the E-stop button), as the robot refuses it.
+    #[error("the drives are disabled (DISABLE): enable them first")]
+    DrivesDisabled,
     /// The command channel is full (the simulation is not keeping up).
     #[error("simulation command queue is full")]
     ChannelFull,
@@ -226,7 +229,7 @@ impl SimSnapshot {
             moving: self.moving,
             commands_applied: self.commands_applied,
             last_refusal: self.last_error.clone(),
-            blocked: None,
+            blocked: self.io.drives_disabled.then(|| SimError::DrivesDisabled.to_string()),
             homed: true,
             io: self.io,
             schedule: self.schedule,

@@ -153,6 +153,9 @@ pub struct Snapshot {
     pub fault: Option<String>,
     /// Age of the latest valid status when this snapshot was published, ms.
     pub status_age_ms: Option<f64>,
+    /// Samples the motion-sample tap could not take (its channel was full): dropped and
+    /// counted, never waited for (as the simulation's `tap_dropped`).
+    pub tap_dropped: u64,
     #[serde(skip)]
     /// When the latest valid status arrived.
     pub last_status_at: Option<Instant>,
@@ -199,6 +202,7 @@ impl Snapshot {
             link_losses: 0,
             fault: None,
             status_age_ms: None,
+            tap_dropped: 0,
             last_status_at: None,
             published_at: Instant::now(),
         }

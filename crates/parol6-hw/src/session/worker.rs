@@ -35,6 +35,10 @@ pub const TIMING_WINDOW: usize = 256;
 const NO_ANSWER_PROBE_EVERY: u64 = 10;
 /// Final IDLE frames sent when the session closes.
 const CLOSING_FRAMES: u32 = 3;
+/// The fault text of an E-stop press (cleared by the ENABLE after its release).
+const ESTOP_FAULT: &str = "E-stop pressed: motion stopped, DISABLE sent; enable after release";
+/// The fault text of an ENABLE refused while the E-stop is pressed (cleared by a later ENABLE).
+const ENABLE_REFUSED_FAULT: &str = "enable refused: E-stop is pressed";
 
 /// Requests from the API to the session thread.
 #[derive(Debug, Clone)]
@@ -317,10 +321,14 @@ impl Worker {
                     match code {
                         CommandCode::Enable => {
                             if self.snap.estop_pressed {
-                                self.set_fault("enable refused: E-stop is pressed");
+                                self.set_fault(ENABLE_REFUSED_FAULT);
                                 continue;
                             }
                             self.snap.needs_enable = false;
+                            // the E-stop's text is answered by this ENABLE: it must not stay red
+                            if matches!(self.snap.fault.as_deref(), Some(ESTOP_FAULT | ENABLE_REFUSED_FAULT)) {
+                                self.snap.fault = None;
+                            }
                             self.fail_homing("homing cancelled by ENABLE");
                         }
                         CommandCode::Disable => {

@@ -50,10 +50,11 @@ impl Worker {
         self.snap.status_age_ms =
             self.snap.last_status_at.map(|t| now.saturating_duration_since(t).as_secs_f64() * 1e3);
         self.snap.published_at = now;
-        self.shared.snapshot.store(Arc::new(self.snap.clone()));
         let state = self.robot_state(t_s);
-        if let Some(tap) = &self.tap {
-            let _ = tap.try_send(MotionSample {
+        // Nothing is sampled before the board's first valid status: until then the joints are
+        // the session's zeros, not a measurement (a recording would open on a folded arm).
+        if let Some(tap) = self.tap.as_ref().filter(|_| self.snap.status.is_some()) {
+            let sample = MotionSample {
                 seq: self.streamer.tick(),
                 // the status read at this tick describes the arm when the board took the
                 // previous frame: the sample is stamped with that frame's instant
@@ -62,8 +63,12 @@ impl Worker {
                 measured_q: state.q.clone(),
                 measured_qd: state.qd.clone(),
                 drive: JointDrive::StepsPerS(self.snap.joint_speed_steps_s.iter().map(|&v| f64::from(v)).collect()),
-            });
+            };
+            if tap.try_send(sample).is_err() {
+                self.snap.tap_dropped += 1;
+            }
         }
+        self.shared.snapshot.store(Arc::new(self.snap.clone()));
         self.shared.state.store(Arc::new(state));
     }
 
@@ -105,6 +110,9 @@ impl Worker {
                 inputs: [self.snap.io[0], self.snap.io[1]],
                 outputs: [self.snap.io[2], self.snap.io[3]],
                 gripper_position: u8::try_from(self.snap.gripper_position.clamp(0, 255)).unwrap_or(0),
+                gripper_current_ma: self.snap.gripper_current_ma,
+                gripper_status: self.snap.gripper_status,
+                drives_disabled: self.snap.enabled == Some(false) || self.snap.needs_enable,
             },
         };
         state.update_kinematics(&self.model, &ZoneThresholds::default());

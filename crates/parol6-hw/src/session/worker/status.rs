@@ -100,7 +100,7 @@ impl Worker {
             self.stop_all("E-stop pressed during homing");
             self.snap.needs_enable = true;
             self.snap.enabled = Some(false);
-            self.set_fault("E-stop pressed: motion stopped, DISABLE sent; enable after release");
+            self.set_fault(super::ESTOP_FAULT);
         }
         // Homing progress.
         let all = s.all_homed();

@@ -1,0 +1,213 @@
+//! I/O & gripper panel: the two digital outputs (toggle), the two inputs (read-only LEDs), the
+//! electric gripper (reported position, current and status; position / speed / current to set,
+//! Move and Calibrate), Clear error and the drives' state. And the E-stop button
+//! ([`estop_button`], drawn beside HOME / STOP in the joints panel so it never scrolls away).
+//!
+//! Everything goes through [`AppCommand::Io`] and [`AppCommand::EStop`] to the active backend's
+//! one `RobotBackend::io`: the same buttons drive the simulation (which keeps an emulated gripper
+//! and I/O state) and the robot.
+
+use eframe::egui;
+
+use parol6_core::limits::LimitZone;
+use parol6_core::motion::{DIGITAL_PORTS, GRIPPER_CURRENT_MA, IoCommand};
+
+use super::entry::{EntryEvent, unit_entry};
+use super::{AppCommand, Panel, PanelContext, on_off_led, zone_color};
+use crate::palette;
+
+/// Why motion is refused while the E-stop is latched: the app puts it in the shown state's
+/// `blocked` (see `RobotState::blocked`), every refusal names it.
+pub const ESTOP_LATCHED: &str = "E-STOP latched: drives disabled, motion refused until the E-stop is released";
+
+/// True when the shown state says the E-stop is latched.
+pub fn estop_latched(ctx: &PanelContext<'_>) -> bool {
+    ctx.robot.blocked.as_deref() == Some(ESTOP_LATCHED)
+}
+
+/// The E-stop button: red "E-STOP" sends DISABLE (and STOP) and latches; while latched it
+/// reads "Release E-STOP" and releasing sends ENABLE.
+pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+    let latched = estop_latched(ctx);
+    let (text, hover) = if latched {
+        ("Release E-STOP", "Release the E-stop latch: ENABLE the drives; motion is accepted again")
+    } else {
+        ("E-STOP", "Emergency stop: STOP, DISABLE the drives, and refuse all motion until released")
+    };
+    let button = egui::Button::new(egui::RichText::new(text).strong().color(palette::rgb(palette::STOP_TEXT)))
+        .fill(if latched { palette::rgb(palette::LED_OFF) } else { palette::rgb(palette::STOP_FILL) })
+        .stroke(egui::Stroke::new(2.0, zone_color(LimitZone::Critical)))
+        .min_size(egui::vec2(120.0, 28.0));
+    if ui.add(button).on_hover_text(hover).clicked() {
+        ctx.send(AppCommand::EStop(!latched));
+    }
+}
+
+/// Gripper position range (0 open … 255 closed).
+const POSITION_RANGE: (f64, f64) = (0.0, 255.0);
+/// Gripper speed range.
+const SPEED_RANGE: (f64, f64) = (0.0, 255.0);
+
+/// The I/O & gripper panel: the gripper values to send next.
+#[derive(Debug, Clone)]
+pub struct IoGripperPanel {
+    /// Gripper position to send, 0–255.
+    pub position: u8,
+    /// Gripper speed to send, 0–255.
+    pub speed: u8,
+    /// Gripper current limit to send, mA.
+    pub current_ma: u16,
+}
+
+impl Default for IoGripperPanel {
+    fn default() -> Self {
+        Self { position: 0, speed: 128, current_ma: 500 }
+    }
+}
+
+/// A typed value checked against `range` (inclusive): the value, or the refusal naming the field
+/// and the range.
+pub fn in_range(name: &str, v: f64, range: (f64, f64), unit: &str) -> Result<f64, String> {
+    if (range.0..=range.1).contains(&v) {
+        Ok(v.round())
+    } else {
+        let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+        Err(format!("{name}: {v}{u} is outside {}–{}{u}", range.0, range.1))
+    }
+}
+
+impl IoGripperPanel {
+    fn entry(
+        ui: &mut egui::Ui,
+        ctx: &mut PanelContext<'_>,
+        name: &str,
+        value: f64,
+        unit: &str,
+        range: (f64, f64),
+    ) -> Option<f64> {
+        let (_, ev) = unit_entry(ui, name, value, 0, 60.0, unit, unit);
+        match ev {
+            Some(EntryEvent::Committed(v)) => match in_range(name, v, range, unit) {
+                Ok(v) => Some(v),
+                Err(e) => {
+                    ctx.error(e);
+                    None
+                }
+            },
+            Some(EntryEvent::Invalid(e)) => {
+                ctx.error(format!("{name}: {e}"));
+                None
+            }
+            None => None,
+        }
+    }
+
+    fn io_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let io = ctx.robot.io;
+        let green = zone_color(LimitZone::Safe);
+        ui.horizontal(|ui| {
+            ui.label("Outputs");
+            for i in 0..DIGITAL_PORTS {
+                let on = io.outputs.get(i).copied().unwrap_or(false);
+                let label = format!("OUTPUT {}: {}", i + 1, if on { "HIGH" } else { "LOW" });
+                if ui.selectable_label(on, label).on_hover_text("Click to toggle the output").clicked() {
+                    let output = u8::try_from(i + 1).unwrap_or(1);
+                    ctx.send(AppCommand::Io(IoCommand::SetOutput { output, on: !on }));
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Inputs");
+            for i in 0..DIGITAL_PORTS {
+                on_off_led(ui, io.inputs.get(i).copied().unwrap_or(false), green, &format!("INPUT {}", i + 1));
+            }
+            ui.separator();
+            let disabled = io.drives_disabled;
+            on_off_led(ui, !disabled, green, "drives enabled");
+        });
+    }
+
+    fn gripper_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let io = ctx.robot.io;
+        let g = io.gripper();
+        ui.label(egui::RichText::new("Gripper").strong());
+        ui.monospace(format!("position {:>3} / 255   current {:>5} mA", io.gripper_position, io.gripper_current_ma))
+            .on_hover_text("as reported (0 open … 255 closed)");
+        let green = zone_color(LimitZone::Safe);
+        let red = zone_color(LimitZone::Critical);
+        ui.horizontal(|ui| {
+            on_off_led(ui, g.activated, green, "active");
+            on_off_led(ui, g.calibrated, green, "calibrated");
+            on_off_led(ui, g.error, red, "error");
+            // the object code means nothing before the gripper is activated
+            ui.label(if g.activated { g.object_text() } else { "not activated" });
+        });
+        egui::Grid::new("gripper_set").num_columns(2).spacing([6.0, 3.0]).show(ui, |ui| {
+            ui.label("Position");
+            if let Some(v) = Self::entry(ui, ctx, "Gripper position", f64::from(self.position), "", POSITION_RANGE) {
+                self.position = v as u8;
+            }
+            ui.end_row();
+            ui.label("Speed");
+            if let Some(v) = Self::entry(ui, ctx, "Gripper speed", f64::from(self.speed), "", SPEED_RANGE) {
+                self.speed = v as u8;
+            }
+            ui.end_row();
+            ui.label("Current");
+            let range = (f64::from(GRIPPER_CURRENT_MA.0), f64::from(GRIPPER_CURRENT_MA.1));
+            if let Some(v) = Self::entry(ui, ctx, "Gripper current", f64::from(self.current_ma), "mA", range) {
+                self.current_ma = v as u16;
+            }
+            ui.end_row();
+        });
+        ui.horizontal(|ui| {
+            if ui.button("Move gripper").on_hover_text("Send position, speed and current").clicked() {
+                let cmd =
+                    IoCommand::Gripper { position: self.position, speed: self.speed, current_ma: self.current_ma };
+                ctx.send(AppCommand::Io(cmd));
+            }
+            if ui.button("Calibrate").on_hover_text("One-shot gripper calibration").clicked() {
+                ctx.send(AppCommand::Io(IoCommand::GripperCalibrate));
+            }
+        });
+    }
+}
+
+impl Panel for IoGripperPanel {
+    fn title(&self) -> &'static str {
+        "I/O & gripper"
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        ui.horizontal(|ui| {
+            ui.heading(self.title());
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                let hover = "CLEAR ERROR to the controller (resets a failed homing and the fault text) and the \
+                             gripper's clear-error";
+                if ui.button("Clear error").on_hover_text(hover).clicked() {
+                    ctx.send(AppCommand::Io(IoCommand::ClearError));
+                }
+            });
+        });
+        if estop_latched(ctx) {
+            ui.colored_label(palette::rgb(palette::ERROR_TEXT), ESTOP_LATCHED);
+        }
+        Self::io_ui(ui, ctx);
+        ui.add_space(4.0);
+        self.gripper_ui(ui, ctx);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn typed_values_outside_the_range_are_refused_with_it() {
+        assert_eq!(in_range("Gripper position", 200.4, POSITION_RANGE, ""), Ok(200.0));
+        let e = in_range("Gripper position", 300.0, POSITION_RANGE, "").unwrap_err();
+        assert!(e.contains("outside 0–255"), "{e}");
+        let e = in_range("Gripper current", 5000.0, (100.0, 2800.0), "mA").unwrap_err();
+        assert!(e.contains("5000 mA is outside 100–2800 mA"), "{e}");
+    }
+}

@@ -1,0 +1,187 @@
+//! The I/O & gripper panel, Clear error, the E-stop button and homing feedback (issue 32,
+//! safety item 3 and two minors), in the whole app: against the built-in emulator (what reaches
+//! the board) and the simulation (the same buttons through the same backend trait).
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use std::time::{Duration, Instant};
+
+use eframe::egui::{self, Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use parol6_app::app::{ConnectTarget, LaunchOptions, Parol6App};
+use parol6_app::panels::io_gripper::ESTOP_LATCHED;
+use parol6_core::RobotModel;
+use parol6_core::motion::{RobotBackend, StateSource};
+use parol6_hw::CommandCode;
+
+use ui_support::{has_label, type_into, until};
+
+/// The app connected to the built-in emulator, once the board answers (a tall window: the
+/// left column shows every panel without scrolling).
+fn robot_harness() -> Harness<'static, Parol6App> {
+    let opts = LaunchOptions {
+        model: RobotModel::parol6(),
+        connect: Some(ConnectTarget::Emulator),
+        settings_path: None,
+        test_script: None,
+        started: Instant::now(),
+        msaa_samples: 1,
+        record: None,
+        replay: None,
+        recording_info: Default::default(),
+    };
+    let app = Parol6App::new(opts, None).expect("app");
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 2400.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
+    h.run_steps(3);
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    h
+}
+
+fn emulator_positions(h: &Harness<'_, Parol6App>) -> [i32; 6] {
+    h.state().emulator().expect("emulator").snapshot().position_steps
+}
+
+/// Clicks the 3D view, so that no widget has the keyboard.
+fn focus_view(h: &mut Harness<'_, Parol6App>) {
+    let at = h.get_by_label_contains("3D view unavailable").rect().center();
+    h.hover_at(at);
+    for pressed in [true, false] {
+        let modifiers = Modifiers::NONE;
+        h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed, modifiers });
+        h.run_steps(1);
+    }
+}
+
+/// Holds Page Up (jog the selected joint, J1) for `frames` frames.
+fn hold_page_up(h: &mut Harness<'_, Parol6App>, frames: usize) {
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::Key { key: Key::PageUp, pressed: true, modifiers, repeat: false, physical_key: None });
+    for _ in 0..frames {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.event(egui::Event::Key { key: Key::PageUp, pressed: false, modifiers, repeat: false, physical_key: None });
+    h.run_steps(2);
+}
+
+#[test]
+fn toggling_an_output_reaches_the_emulator() {
+    let mut h = robot_harness();
+    assert!(!h.state().emulator().unwrap().snapshot().outputs[0]);
+    h.get_by_label("OUTPUT 1: LOW").click();
+    until(&mut h, "OUTPUT1 high on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().outputs[0]);
+    until(&mut h, "the panel shows the board's echo", 10.0, |h| has_label(h, "OUTPUT 1: HIGH"));
+    assert!(!h.state().emulator().unwrap().snapshot().outputs[1], "OUTPUT2 untouched");
+    h.get_by_label("OUTPUT 1: HIGH").click();
+    until(&mut h, "OUTPUT1 low again", 10.0, |h| !h.state().emulator().unwrap().snapshot().outputs[0]);
+}
+
+#[test]
+fn clear_error_is_sent_to_the_board() {
+    let mut h = robot_harness();
+    h.state().emulator().unwrap().take_received();
+    h.get_by_label("Clear error").click();
+    let mut seen = false;
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while !seen && Instant::now() < deadline {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+        seen = h
+            .state()
+            .emulator()
+            .unwrap()
+            .take_received()
+            .iter()
+            .any(|f| f.command.code == CommandCode::ClearError.byte());
+    }
+    assert!(seen, "a CLEAR ERROR frame reached the board");
+}
+
+#[test]
+fn the_estop_latches_and_refuses_a_jog_until_released() {
+    let mut h = robot_harness();
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
+    assert!(h.state().estop_latched());
+    until(&mut h, "the reason is shown", 5.0, |h| has_label(h, ESTOP_LATCHED));
+    let before = emulator_positions(&h);
+    focus_view(&mut h);
+    hold_page_up(&mut h, 30);
+    // H (HOME) goes to the app and is refused there, with the reason
+    h.key_press(Key::H);
+    h.run_steps(2);
+    assert!(h.state().notices().iter().any(|n| n.text.contains(ESTOP_LATCHED)), "refusal names the E-stop");
+    std::thread::sleep(Duration::from_millis(300));
+    h.run_steps(2);
+    assert_eq!(emulator_positions(&h), before, "nothing moved while latched");
+    assert_eq!(h.state().moves_sent().count(), 0, "no motion command left the app");
+
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "ENABLE reached the board", 10.0, |h| !h.state().emulator().unwrap().snapshot().disabled);
+    assert!(!h.state().estop_latched());
+    until(&mut h, "the robot accepts motion", 10.0, |h| h.state().backend().state().blocked.is_none());
+    focus_view(&mut h);
+    hold_page_up(&mut h, 40);
+    until(&mut h, "the jog moves J1 after the release", 10.0, |h| emulator_positions(h)[0] != before[0]);
+}
+
+#[test]
+fn the_estop_disables_the_simulation_the_same_way() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 2400.0));
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the simulated drives are disabled", 5.0, |h| h.state().sim().state().io.drives_disabled);
+    // the Cartesian jog is off while latched: holding +X sends nothing
+    let plus_x = h.get_by_label("+X").rect().center();
+    h.hover_at(plus_x);
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::PointerButton { pos: plus_x, button: egui::PointerButton::Primary, pressed: true, modifiers });
+    h.run_steps(10);
+    h.event(egui::Event::PointerButton {
+        pos: plus_x,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers,
+    });
+    h.run_steps(2);
+    assert_eq!(h.state().moves_sent().count(), 0, "no jog left the app while latched");
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
+}
+
+#[test]
+fn gripper_fields_take_units_refuse_the_range_and_move_the_gripper() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 2400.0));
+    type_into(&mut h, "Gripper position", "300");
+    assert!(h.state().notices().iter().any(|n| n.error && n.text.contains("outside 0–255")), "range refused");
+    type_into(&mut h, "Gripper current", "0,5 rad");
+    assert!(h.state().notices().iter().any(|n| n.text.contains("does not fit")), "a unit that does not fit");
+    type_into(&mut h, "Gripper current", "700 mA");
+    type_into(&mut h, "Gripper position", "200");
+    h.get_by_label("Move gripper").click();
+    until(&mut h, "the simulated gripper follows", 5.0, |h| {
+        let io = h.state().sim().state().io;
+        io.gripper_position == 200 && io.gripper_current_ma == 700
+    });
+    h.get_by_label("Calibrate").click();
+    until(&mut h, "calibrated", 5.0, |h| h.state().sim().state().io.gripper().calibrated);
+}
+
+/// Issue 32 (minor): Home (homing) on the fake robot shows its progress and its outcome.
+#[test]
+fn home_on_the_fake_robot_shows_progress_and_outcome() {
+    let mut h = robot_harness();
+    h.get_by_label("Home (homing)").click();
+    until(&mut h, "homing progress shown", 10.0, |h| has_label(h, "homing: "));
+    until(&mut h, "homing outcome shown", 20.0, |h| has_label(h, "homing done"));
+    assert!(h.state().notices().iter().any(|n| n.text.contains("homing done")), "a notice says it");
+}

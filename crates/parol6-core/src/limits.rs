@@ -1,8 +1,8 @@
 //! Joint limits, limit zones (the LED system) and the enforcement policy.
 //!
 //! This is the single place where the thresholds **and colours** of the LED / limit system are
-//! defined: [`ZoneThresholds::default`] (the old HMI's amber within 15 % of the range, red within
-//! 5 %) and [`LimitZone::rgba`]. The app, the simulation and the serial session all call
+//! defined: [`ZoneThresholds::default`] (amber within 10 % of the range, red within 5 %; the old
+//! HMI's 15 % lit J1 amber at standby, 33° from its limit) and [`LimitZone::rgba`]. The app, the simulation and the serial session all call
 //! [`JointLimits::enforce`] before a target reaches a motor.
 
 use serde::{Deserialize, Serialize};
@@ -144,7 +144,7 @@ impl LimitZone {
 /// Zone thresholds, as fractions of each joint's range, plus the prediction horizon.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ZoneThresholds {
-    /// Amber when the distance to a limit is below this fraction of the range (default 0.15).
+    /// Amber when the distance to a limit is below this fraction of the range (default 0.10).
     pub warning_fraction: f64,
     /// Red when the distance to a limit is below this fraction of the range (default 0.05).
     pub critical_fraction: f64,
@@ -154,7 +154,7 @@ pub struct ZoneThresholds {
 
 impl Default for ZoneThresholds {
     fn default() -> Self {
-        Self { warning_fraction: 0.15, critical_fraction: 0.05, predict_horizon_s: 0.5 }
+        Self { warning_fraction: 0.10, critical_fraction: 0.05, predict_horizon_s: 0.5 }
     }
 }
 
@@ -403,11 +403,17 @@ mod tests {
         JointLimits::parol6().get(1).cloned().expect("J2")
     }
 
+    /// Regression (issue 32): at standby the J1 LED was amber ("nearest limit") 33° from its
+    /// limit, and every recording opened with a "J1 near limit" event.
     #[test]
-    fn default_thresholds_are_the_old_hmi_values() {
+    fn standby_is_safe_on_every_joint() {
         let t = ZoneThresholds::default();
-        assert_eq!(t.warning_fraction, 0.15);
-        assert_eq!(t.critical_fraction, 0.05);
+        assert_eq!((t.warning_fraction, t.critical_fraction), (0.10, 0.05));
+        let limits = JointLimits::parol6();
+        for (j, q) in crate::parol6::standby_rad().iter().enumerate() {
+            let l = limits.get(j).cloned().expect("six joints");
+            assert_eq!(t.zone(&l, *q), LimitZone::Safe, "J{} at standby", j + 1);
+        }
     }
 
     #[test]
@@ -416,8 +422,8 @@ mod tests {
         let l = j2();
         let r = l.range();
         assert_eq!(t.zone(&l, l.min + 0.5 * r), LimitZone::Safe);
-        assert_eq!(t.zone(&l, l.min + 0.10 * r), LimitZone::Warning);
-        assert_eq!(t.zone(&l, l.max - 0.10 * r), LimitZone::Warning);
+        assert_eq!(t.zone(&l, l.min + 0.08 * r), LimitZone::Warning);
+        assert_eq!(t.zone(&l, l.max - 0.08 * r), LimitZone::Warning);
         assert_eq!(t.zone(&l, l.min + 0.02 * r), LimitZone::Critical);
         assert_eq!(t.zone(&l, l.max), LimitZone::Critical);
         assert_eq!(t.zone(&l, l.max + 0.1), LimitZone::Critical);

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::compile::{CompileOptions, CompiledStep, StepAction, compile};
+use super::compile::{CompileOptions, CompileStop, CompiledStep, StepAction, compile_observed};
 use super::{PoseMm, Program};
 use crate::ik::ConfigRule;
 use crate::model::RobotModel;
@@ -15,6 +15,9 @@ use crate::motion::MotionCaps;
 use crate::motion::preflight::{MoveKind, PlannedMove, Preflight};
 
 pub use crate::motion::preflight::{CheckStatus, CheckedPoint, Severity};
+pub use checked::{CheckProgress, CheckStage, CheckedProgram, RECHECK_TOLERANCE_RAD};
+
+mod checked;
 
 /// How to check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,8 +102,42 @@ impl CheckReport {
     }
 }
 
-/// Checks `program` from joints `start_q`.
-pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opts: CheckOptions) -> CheckReport {
+/// Checks `program` from joints `start_q`: the [`CheckedProgram`] (start joints, the compiled
+/// steps, the report) that the path overlay, the program panel and
+/// [`ProgramRunner::start_checked`](super::runner::ProgramRunner::start_checked) share.
+pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opts: CheckOptions) -> CheckedProgram {
+    let program = Arc::new(program.clone());
+    match check_shared(model, &program, start_q, opts, &CheckProgress::default()) {
+        Some(checked) => checked,
+        // never: nothing cancels this progress
+        None => CheckedProgram::cancelled(program, start_q, opts),
+    }
+}
+
+/// [`check_program`] of a shared program, publishing its progress in `progress` (steps
+/// planned, then steps checked) and stopping early (`None`) once [`CheckProgress::cancel`] is
+/// called: a newer request supersedes this one.
+pub fn check_shared(
+    model: &RobotModel,
+    program: &Arc<Program>,
+    start_q: &[f64],
+    opts: CheckOptions,
+    progress: &CheckProgress,
+) -> Option<CheckedProgram> {
+    let (compiled, report) = check_report(model, program, start_q, opts, progress)?;
+    Some(CheckedProgram { program: Arc::clone(program), start_q: start_q.to_vec(), opts, compiled, report })
+}
+
+/// The compiled steps (empty when the program does not compile) and the report; `None` when
+/// cancelled.
+fn check_report(
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    check_opts: CheckOptions,
+    progress: &CheckProgress,
+) -> Option<(Vec<CompiledStep>, CheckReport)> {
+    progress.start(program.steps.len());
     let mut issues = Vec::new();
     let mut duration_s = 0.0;
     if let Err(e) = model.limits.check(start_q) {
@@ -113,10 +150,12 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
             tcp_mm: None,
         });
     }
-    let opts = CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT };
+    let opts = CompileOptions { speed_override: check_opts.speed_override, ..CompileOptions::PREFLIGHT };
     let mut path = Vec::new();
     let mut plan = Vec::new();
-    match compile(model, program, start_q, opts) {
+    let mut kept = Vec::new();
+    match compile_observed(model, program, start_q, opts, &mut |done| progress.planned(done)) {
+        Err(CompileStop::Cancelled) => return None,
         Ok(compiled) => {
             plan = planned_steps(model, start_q, &compiled);
             for c in &compiled {
@@ -152,7 +191,10 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
             duration_s = compiled.iter().map(|c| c.duration_s()).sum();
             match Preflight::new(model, &MotionCaps::of(model), &program.keep_out) {
                 Ok(checker) => {
-                    let report = checker.check(&moves);
+                    // progress in program steps: those before the next move to check
+                    let report = checker.check_observed(&moves, &mut |k| {
+                        progress.checked(moves.get(k).map_or(program.steps.len(), |m| m.index))
+                    })?;
                     path = report.path;
                     issues.extend(report.issues.into_iter().map(|i| CheckIssue {
                         line: i.line,
@@ -172,8 +214,9 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
                     tcp_mm: None,
                 }),
             }
+            kept = compiled;
         }
-        Err(e) => issues.push(CheckIssue {
+        Err(CompileStop::Error(e)) => issues.push(CheckIssue {
             line: e.line,
             move_index: e.index,
             severity: Severity::Error,
@@ -183,7 +226,7 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
+    Some((kept, CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }))
 }
 
 /// No joint strays more than this from where a move starts for the move to count as holding

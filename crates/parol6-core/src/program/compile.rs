@@ -130,6 +130,32 @@ pub fn compile(
     start_q: &[f64],
     opts: CompileOptions,
 ) -> Result<Vec<CompiledStep>, CompileError> {
+    match compile_observed(model, program, start_q, opts, &mut |_| true) {
+        Ok(steps) => Ok(steps),
+        Err(CompileStop::Error(e)) => Err(e),
+        // the observer never cancels
+        Err(CompileStop::Cancelled) => Ok(Vec::new()),
+    }
+}
+
+/// Why [`compile_observed`] stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CompileStop {
+    /// A step cannot be compiled.
+    Error(CompileError),
+    /// The observer asked to stop.
+    Cancelled,
+}
+
+/// [`compile`], telling `observe` how many program steps are compiled after each compiled
+/// step; it returns false to stop (a newer request supersedes this one).
+pub fn compile_observed(
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    opts: CompileOptions,
+    observe: &mut dyn FnMut(usize) -> bool,
+) -> Result<Vec<CompiledStep>, CompileStop> {
     let caps = MotionCaps::of(model);
     let mut out = Vec::with_capacity(program.steps.len());
     let mut q = start_q.to_vec();
@@ -141,18 +167,18 @@ pub fn compile(
         let mut warnings = Vec::new();
         let (action, covers) = if blend_end > i {
             let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut warnings)
-                .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
+                .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
             let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut warnings)
-                .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
+                .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (action, i..i + 1)
         };
         if let StepAction::Motion(t) = &action {
             q = t.goal().to_vec();
             planned += t.samples().len();
             if planned > MAX_PLANNED_SAMPLES {
-                return Err(CompileError {
+                return Err(CompileStop::Error(CompileError {
                     index: i,
                     line,
                     kind: first.kind(),
@@ -161,11 +187,14 @@ pub fn compile(
                     ),
                     t_s: None,
                     tcp_mm: None,
-                });
+                }));
             }
         }
         out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings });
         i = covers.end;
+        if !observe(i) {
+            return Err(CompileStop::Cancelled);
+        }
     }
     Ok(out)
 }

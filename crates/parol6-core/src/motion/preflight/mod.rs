@@ -173,15 +173,28 @@ impl Preflight {
 
     /// Checks `moves` in order (each should start where the previous one ends).
     pub fn check(&self, moves: &[PlannedMove]) -> PreflightReport {
+        self.check_observed(moves, &mut |_| true).unwrap_or_default()
+    }
+
+    /// [`Self::check`], telling `observe` how many moves are checked after each one; it
+    /// returns false to stop (`None`: stopped).
+    pub fn check_observed(
+        &self,
+        moves: &[PlannedMove],
+        observe: &mut dyn FnMut(usize) -> bool,
+    ) -> Option<PreflightReport> {
         let mut report = PreflightReport { moves: moves.len(), ..PreflightReport::default() };
         let mut walk = walk::Walk::new(self);
         let mut previous_end: Option<&[f64]> = None;
-        for mv in moves {
+        for (k, mv) in moves.iter().enumerate() {
             report.duration_s += mv.trajectory.duration_s().max(0.0);
             let valid = walk.check_move(mv, previous_end, &mut report);
             previous_end = valid.then(|| mv.trajectory.goal());
+            if !observe(k + 1) {
+                return None;
+            }
         }
-        report
+        Some(report)
     }
 }
 

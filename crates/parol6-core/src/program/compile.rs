@@ -130,7 +130,7 @@ pub fn compile(
     start_q: &[f64],
     opts: CompileOptions,
 ) -> Result<Vec<CompiledStep>, CompileError> {
-    match compile_observed(model, program, start_q, opts, &mut |_| true) {
+    match compile_observed(model, program, start_q, opts, &mut |_: &CompiledStep| true) {
         Ok(steps) => Ok(steps),
         Err(CompileStop::Error(e)) => Err(e),
         // the observer never cancels
@@ -147,14 +147,14 @@ pub enum CompileStop {
     Cancelled,
 }
 
-/// [`compile`], telling `observe` how many program steps are compiled after each compiled
-/// step; it returns false to stop (a newer request supersedes this one).
+/// [`compile`], handing `observe` each compiled step as soon as it is compiled (its `steps.end`
+/// program steps are then done); it returns false to stop (a newer request supersedes this one).
 pub fn compile_observed(
     model: &RobotModel,
     program: &Program,
     start_q: &[f64],
     opts: CompileOptions,
-    observe: &mut dyn FnMut(usize) -> bool,
+    observe: &mut dyn FnMut(&CompiledStep) -> bool,
 ) -> Result<Vec<CompiledStep>, CompileStop> {
     let caps = MotionCaps::of(model);
     let mut out = Vec::with_capacity(program.steps.len());
@@ -190,11 +190,12 @@ pub fn compile_observed(
                 }));
             }
         }
-        out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings });
-        i = covers.end;
-        if !observe(i) {
+        let step = CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings };
+        if !observe(&step) {
             return Err(CompileStop::Cancelled);
         }
+        out.push(step);
+        i = covers.end;
     }
     Ok(out)
 }

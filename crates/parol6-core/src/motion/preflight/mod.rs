@@ -173,26 +173,31 @@ impl Preflight {
 
     /// Checks `moves` in order (each should start where the previous one ends).
     pub fn check(&self, moves: &[PlannedMove]) -> PreflightReport {
-        self.check_observed(moves, &mut |_| true).unwrap_or_default()
+        self.check_stream(moves, &mut |_| true).unwrap_or_default()
     }
 
-    /// [`Self::check`], telling `observe` how many moves are checked after each one; it
-    /// returns false to stop (`None`: stopped).
-    pub fn check_observed(
+    /// [`Self::check`] of moves as they come (a program's check walks each move while the next
+    /// ones are still being compiled), telling `observe` each move checked; it returns false to
+    /// stop (`None`: stopped).
+    pub fn check_stream<M: std::borrow::Borrow<PlannedMove>>(
         &self,
-        moves: &[PlannedMove],
-        observe: &mut dyn FnMut(usize) -> bool,
+        moves: impl IntoIterator<Item = M>,
+        observe: &mut dyn FnMut(&PlannedMove) -> bool,
     ) -> Option<PreflightReport> {
-        let mut report = PreflightReport { moves: moves.len(), ..PreflightReport::default() };
+        let mut report = PreflightReport::default();
         let mut walk = walk::Walk::new(self);
-        let mut previous_end: Option<&[f64]> = None;
-        for (k, mv) in moves.iter().enumerate() {
+        // the last move, when its samples were usable
+        let mut previous: Option<M> = None;
+        for m in moves {
+            let mv = m.borrow();
+            report.moves += 1;
             report.duration_s += mv.trajectory.duration_s().max(0.0);
+            let previous_end = previous.as_ref().map(|p| p.borrow().trajectory.goal());
             let valid = walk.check_move(mv, previous_end, &mut report);
-            previous_end = valid.then(|| mv.trajectory.goal());
-            if !observe(k + 1) {
+            if !observe(mv) {
                 return None;
             }
+            previous = valid.then_some(m);
         }
         Some(report)
     }

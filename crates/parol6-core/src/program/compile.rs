@@ -459,7 +459,14 @@ fn joint_move(start: &[f64], goal: &[f64], caps: &MotionCaps, fraction: f64, dt_
         ));
     }
     let n = n as usize;
-    let samples = (0..=n).map(|k| mv.sample((k as f64 * dt_s).min(mv.duration_s())).q).collect();
+    let (mut qd, mut qdd) = (vec![0.0; start.len()], vec![0.0; start.len()]);
+    let samples = (0..=n)
+        .map(|k| {
+            let mut q = vec![0.0; start.len()];
+            mv.sample_into((k as f64 * dt_s).min(mv.duration_s()), &mut q, &mut qd, &mut qdd);
+            q
+        })
+        .collect();
     Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, samples))))
 }
 

@@ -205,7 +205,7 @@ pub fn planned_path(model: &RobotModel, checked: &CheckedProgram) -> PathOverlay
         }
         for (k, q) in traj.samples().iter().enumerate() {
             counted += 1;
-            if (counted - 1) % stride != 0 && counted != samples {
+            if !(counted - 1).is_multiple_of(stride) && counted != samples {
                 continue;
             }
             let t = k as f64 * traj.dt_s();

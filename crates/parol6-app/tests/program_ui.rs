@@ -5,7 +5,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 mod ui_support;
 
@@ -90,5 +90,52 @@ fn a_program_that_fails_pre_flight_cannot_be_started() {
     h.run_steps(2);
     assert!(!h.state().backend().state().moving);
     assert!(!has_label(&h, "Too far: step"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 33: a large G-code file is read, checked and planned on a worker. The frames go on
+/// while it loads (none near the seconds the check takes), the panel shows "checking…" with
+/// its progress in steps before the result, and F5 meanwhile refuses with a message instead
+/// of running an unchecked program.
+#[test]
+fn loading_a_large_program_does_not_block_the_ui() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = std::env::temp_dir().join(format!("parol6-program-ui-large-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let file = dir.join("raster.gcode");
+    // 40 000 stop-and-go lines: about 1.5 s of checking on one core
+    parol6_app::cli::bench_program::write_raster_gcode(&file, 40_000, None).expect("write");
+    type_path(&mut h, &file);
+    h.get_by_label("Open").click();
+    let t0 = Instant::now();
+    let (mut longest, mut checking_frames, mut with_progress) = (Duration::ZERO, 0, false);
+    let mut f5_refused = false;
+    loop {
+        let frame = Instant::now();
+        h.run_steps(1);
+        longest = longest.max(frame.elapsed());
+        if has_label(&h, "pre-flight: checking…") {
+            checking_frames += 1;
+            with_progress |= has_label(&h, "steps planned") || has_label(&h, "steps checked");
+            if checking_frames == 3 {
+                h.key_press(egui::Key::F5);
+                h.run_steps(1);
+                f5_refused = h.state().notices().iter().any(|n| n.error && n.text.contains("still being checked"));
+            }
+        } else if h.state().program_panel().program().steps.len() == 39_995 && has_label(&h, "pre-flight: ok") {
+            break;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(120), "the program was not checked within 120 s");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    assert!(checking_frames >= 3, "\"checking…\" was shown in {checking_frames} frames");
+    assert!(with_progress, "the checking line shows steps done / total");
+    assert!(f5_refused, "F5 while checking refuses with a message");
+    assert!(!h.state().backend().state().moving, "nothing ran");
+    let total = t0.elapsed();
+    assert!(
+        longest < total / 4,
+        "a frame took {longest:?} of the {total:?} the load took: the UI waited for the check"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -36,6 +36,20 @@ impl Parol6App {
         self.panels.program.load_builtin(name)
     }
 
+    /// Starts opening the program file `path` in the program panel, as its Open button does: read
+    /// and checked from the commanded pose on a worker (`program_panel().checking()` until done).
+    pub fn open_program_file(&mut self, path: &std::path::Path) -> Result<(), String> {
+        let start_q = self.backend().state().commanded.q.clone();
+        let abc = parol6_core::program::gcode::AbcChoice::default_to(self.settings.gcode_abc);
+        self.panels.program.start_load(&self.model, path, abc, start_q)
+    }
+
+    /// Waits at most `timeout` for the program panel's load or check in flight (headless
+    /// rendering wants the planned path in its first frames); true when none is left.
+    pub fn wait_for_program_check(&mut self, timeout: std::time::Duration) -> bool {
+        self.panels.program.wait_for_check(timeout)
+    }
+
     /// Runs the program loaded in the program panel on the active backend.
     pub fn run_program(&mut self, looping: bool) {
         self.panels.program.looping = looping;

@@ -91,13 +91,18 @@ impl Parol6App {
             }
             AppCommand::Jog(held) => self.jog(held),
             AppCommand::CartesianJog(held) => self.cartesian_jog(held),
-            AppCommand::RunProgram { program, opts } => {
+            AppCommand::RunProgram { program, checked, opts } => {
                 if self.program_running() {
                     self.notice("a program is running: stop it first".to_string(), true);
                     return;
                 }
                 let name = program.name.clone();
-                match ProgramRunner::start(self.backend(), self.model.clone(), (*program).clone(), opts) {
+                let started = match checked.filter(|c| Arc::ptr_eq(&c.program, &program)) {
+                    // the runner reuses the check from the joints it was made at
+                    Some(c) => ProgramRunner::start_checked(self.backend(), self.model.clone(), c, opts),
+                    None => ProgramRunner::start(self.backend(), self.model.clone(), (*program).clone(), opts),
+                };
+                match started {
                     Ok(r) => {
                         self.program_progress = Some(r.progress());
                         self.program = Some(r);

@@ -80,6 +80,24 @@ pub enum BenchTarget {
         #[arg(long, value_name = "OUT.mcap", value_parser = super::options::output_file)]
         keep: Option<std::path::PathBuf>,
     },
+    /// Opening a generated G-code file of `--lines` lines in the window (headless): the longest
+    /// frame while it is read, checked and planned on a worker (`frame_ms_max`,
+    /// `frames_over_50ms`), and the time to its pre-flight result (`checked_in_s`).
+    ProgramLoad {
+        /// Lines of the file, 10–1 000 000.
+        #[arg(long, default_value_t = 200_000, value_parser = clap::value_parser!(u64).range(10..=1_000_000))]
+        lines: u64,
+        /// Round the corners between lines with this radius, mm (`G64 P…`; default: exact stops,
+        /// every line its own move).
+        #[arg(long, value_parser = f64_above(0.0, 100.0))]
+        blend_mm: Option<f64>,
+        /// Window size, WxH px.
+        #[arg(long, default_value = "1280x800")]
+        size: String,
+        /// Keep the generated file at this path.
+        #[arg(long, value_name = "OUT.gcode", value_parser = super::options::output_file)]
+        keep: Option<std::path::PathBuf>,
+    },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
     Latency {
@@ -104,6 +122,7 @@ impl BenchTarget {
             Self::Latency { .. } => "latency",
             Self::Motion { .. } => "motion",
             Self::Replay { .. } => "replay",
+            Self::ProgramLoad { .. } => "program-load",
         }
     }
 }
@@ -130,5 +149,11 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         BenchTarget::Motion { repeats, runner_seconds } => {
             super::bench_motion::bench_motion(count(*repeats)?, *runner_seconds)
         }
+        BenchTarget::ProgramLoad { lines, blend_mm, size, keep } => super::bench_program::bench_program_load(
+            count(*lines)?,
+            *blend_mm,
+            super::render::parse_size(size)?,
+            keep.as_deref(),
+        ),
     }
 }

@@ -9,7 +9,7 @@ use parol6_core::RobotModel;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::options::{ConnectArgs, RobotArgs, f64_above};
 use super::{CliError, CliResult, print_json};
@@ -247,6 +247,8 @@ fn bench_render_model(
         return Err(CliError::runtime(format!("no built-in program \"{BENCH_PROGRAM}\"")));
     }
     headless.frame().map_err(CliError::from)?;
+    // the pre-flight and the planned path are made on a worker: take them before measuring
+    headless.app.wait_for_program_check(Duration::from_secs(10));
     let program_path_points = headless.app.program_panel().overlay().map_or(0, |o| o.len());
     headless.app.run_program(true);
     let mut plotted_samples = 0;

@@ -18,6 +18,7 @@ use clap::{Parser, Subcommand};
 
 pub mod bench;
 pub mod bench_motion;
+pub mod bench_program;
 pub mod bench_replay;
 pub mod bench_seed;
 pub mod common;

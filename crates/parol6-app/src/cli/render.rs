@@ -177,8 +177,12 @@ fn run_ui_screenshot(args: &ScreenshotArgs, out: &Path, robot: &RobotArgs) -> Cl
         std::thread::sleep(Duration::from_millis(2));
     }
     let mut last = None;
-    for _ in 0..4 {
+    for k in 0..4 {
         last = Some(headless.frame().map_err(CliError::from)?);
+        if k == 0 {
+            // the program's pre-flight and planned path (made on a worker) in the picture
+            headless.app.wait_for_program_check(Duration::from_secs(10));
+        }
     }
     let (img, timing) = last.ok_or_else(|| CliError::runtime("no frame rendered"))?;
     write_png(out, &img).map_err(CliError::runtime)?;

@@ -241,10 +241,13 @@ pub enum AppCommand {
     /// Hold-to-run Cartesian jog (frame, axis, signed speed fraction) while `Some`; `None`
     /// releases. The app repeats it within the dead-man time while held.
     CartesianJog(Option<(parol6_core::motion::JogFrame, parol6_core::motion::CartesianAxis, f64)>),
-    /// Run a program off the UI thread on the active backend (pre-flight first).
+    /// Run a program off the UI thread on the active backend (pre-flight first, unless its
+    /// check is given and holds for where the arm stands).
     RunProgram {
         /// The program.
         program: std::sync::Arc<parol6_core::program::Program>,
+        /// Its check (of this program at this speed), reused by the runner from the same start.
+        checked: Option<std::sync::Arc<parol6_core::program::check::CheckedProgram>>,
         /// Speed override, single step, loop.
         opts: RunOptions,
     },

@@ -70,7 +70,8 @@ pub fn click_in_view_menu(h: &mut Harness<'_, Parol6App>, label: &str) {
     h.run_steps(2);
 }
 
-/// Types `path` into the program panel's file field and opens it.
+/// Types `path` into the program panel's file field and opens it; returns once the panel's
+/// worker has read and checked it (or refused it).
 pub fn open_program_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
     h.get_by_label("Program file").click();
     h.run_steps(1);
@@ -78,6 +79,8 @@ pub fn open_program_file(h: &mut Harness<'_, Parol6App>, path: &std::path::Path)
     h.run_steps(1);
     h.get_by_label("Open").click();
     h.run_steps(3);
+    until(h, "the program's load and check", 30.0, |h| !h.state().program_panel().checking());
+    h.run_steps(1);
 }
 
 /// Writes the loaded (built-in) program to `path` and opens it from there, so that Ctrl+S

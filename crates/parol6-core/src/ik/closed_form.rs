@@ -97,7 +97,7 @@ pub fn solve_parol6_in(
 
     let rho = wc.x.hypot(wc.y);
     let shoulder_singular = rho < 1e-9;
-    let mut raw: Vec<(Vec<f64>, Branch, bool)> = Vec::with_capacity(8);
+    let mut raw: Vec<([f64; 6], Branch, bool)> = Vec::with_capacity(8);
     let mut any_reach = false;
     let mut reach_detail = String::new();
     for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
@@ -157,7 +157,7 @@ pub fn solve_parol6_in(
                     ((-m[(1, 2)]).atan2(-m[(0, 2)]), (-sb).atan2(m[(2, 2)]), (-m[(2, 1)]).atan2(m[(2, 0)]))
                 };
                 raw.push((
-                    vec![q1, q2, q3, q4, q5, q6],
+                    [q1, q2, q3, q4, q5, q6],
                     Branch { shoulder, elbow, wrist },
                     shoulder_singular || elbow_singular || wrist_singular,
                 ));

@@ -132,9 +132,12 @@ pub fn plan(
         let mut samples = Vec::with_capacity(n + 1);
         let mut seed = start_q.to_vec();
         let mut rule = start_rule;
+        // the path parameter and its derivatives at each sample, without allocating
+        let (mut s_at, mut sd, mut sdd) = ([0.0], [0.0], [0.0]);
         for k in 0..=n {
             let t = (k as f64 * dt_s).min(duration);
-            let s = timing.sample(t / stretch).q[0];
+            timing.sample_into(t / stretch, &mut s_at, &mut sd, &mut sdd);
+            let s = s_at[0];
             let pose = path.pose(s);
             if k == 0 {
                 // exactly where the arm is, so the trajectory is accepted from there

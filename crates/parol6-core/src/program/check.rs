@@ -7,14 +7,17 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::compile::{CompileOptions, CompiledStep, StepAction, compile};
+use super::compile::{CompileOptions, CompileStop, CompiledStep, StepAction, compile_observed};
 use super::{PoseMm, Program};
 use crate::ik::ConfigRule;
 use crate::model::RobotModel;
 use crate::motion::MotionCaps;
-use crate::motion::preflight::{MoveKind, PlannedMove, Preflight};
+use crate::motion::preflight::{MoveKind, PlannedMove, Preflight, PreflightReport};
 
 pub use crate::motion::preflight::{CheckStatus, CheckedPoint, Severity};
+pub use checked::{CheckProgress, CheckStage, CheckedProgram, RECHECK_TOLERANCE_RAD};
+
+mod checked;
 
 /// How to check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,8 +102,42 @@ impl CheckReport {
     }
 }
 
-/// Checks `program` from joints `start_q`.
-pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opts: CheckOptions) -> CheckReport {
+/// Checks `program` from joints `start_q`: the [`CheckedProgram`] (start joints, the compiled
+/// steps, the report) that the path overlay, the program panel and
+/// [`ProgramRunner::start_checked`](super::runner::ProgramRunner::start_checked) share.
+pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opts: CheckOptions) -> CheckedProgram {
+    let program = Arc::new(program.clone());
+    match check_shared(model, &program, start_q, opts, &CheckProgress::default()) {
+        Some(checked) => checked,
+        // never: nothing cancels this progress
+        None => CheckedProgram::cancelled(program, start_q, opts),
+    }
+}
+
+/// [`check_program`] of a shared program, publishing its progress in `progress` (steps
+/// planned, then steps checked) and stopping early (`None`) once [`CheckProgress::cancel`] is
+/// called: a newer request supersedes this one.
+pub fn check_shared(
+    model: &RobotModel,
+    program: &Arc<Program>,
+    start_q: &[f64],
+    opts: CheckOptions,
+    progress: &CheckProgress,
+) -> Option<CheckedProgram> {
+    let (compiled, report) = check_report(model, program, start_q, opts, progress)?;
+    Some(CheckedProgram { program: Arc::clone(program), start_q: start_q.to_vec(), opts, compiled, report })
+}
+
+/// The compiled steps (empty when the program does not compile) and the report; `None` when
+/// cancelled.
+fn check_report(
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    check_opts: CheckOptions,
+    progress: &CheckProgress,
+) -> Option<(Vec<CompiledStep>, CheckReport)> {
+    progress.start(program.steps.len());
     let mut issues = Vec::new();
     let mut duration_s = 0.0;
     if let Err(e) = model.limits.check(start_q) {
@@ -113,10 +150,14 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
             tcp_mm: None,
         });
     }
-    let opts = CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT };
+    let opts = CompileOptions { speed_override: check_opts.speed_override, ..CompileOptions::PREFLIGHT };
     let mut path = Vec::new();
     let mut plan = Vec::new();
-    match compile(model, program, start_q, opts) {
+    let mut kept = Vec::new();
+    let checker = Preflight::new(model, &MotionCaps::of(model), &program.keep_out);
+    let (compiled, walked) = compile_and_walk(model, program, start_q, opts, checker.as_ref().ok(), progress);
+    match compiled {
+        Err(CompileStop::Cancelled) => return None,
         Ok(compiled) => {
             plan = planned_steps(model, start_q, &compiled);
             for c in &compiled {
@@ -129,30 +170,10 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
                     tcp_mm: None,
                 }));
             }
-            let moves: Vec<PlannedMove> = compiled
-                .iter()
-                .filter_map(|c| match &c.action {
-                    StepAction::Motion(t) => Some(PlannedMove {
-                        index: c.steps.start,
-                        line: c.line,
-                        label: c.kind.to_string(),
-                        // a Cartesian move that does not move the joints (a line of no length,
-                        // as the commander's `MoveCart` to where the arm is) holds still: it is
-                        // checked as the joint move it is, so a singular pose is a warning there
-                        kind: if matches!(c.kind, "home" | "move_joints" | "move_pose") || holds_still(t) {
-                            MoveKind::Joint
-                        } else {
-                            MoveKind::Cartesian
-                        },
-                        trajectory: Arc::clone(t),
-                    }),
-                    _ => None,
-                })
-                .collect();
             duration_s = compiled.iter().map(|c| c.duration_s()).sum();
-            match Preflight::new(model, &MotionCaps::of(model), &program.keep_out) {
-                Ok(checker) => {
-                    let report = checker.check(&moves);
+            match checker {
+                Ok(_) => {
+                    let report = walked?;
                     path = report.path;
                     issues.extend(report.issues.into_iter().map(|i| CheckIssue {
                         line: i.line,
@@ -172,8 +193,9 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
                     tcp_mm: None,
                 }),
             }
+            kept = compiled;
         }
-        Err(e) => issues.push(CheckIssue {
+        Err(CompileStop::Error(e)) => issues.push(CheckIssue {
             line: e.line,
             move_index: e.index,
             severity: Severity::Error,
@@ -183,7 +205,73 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
+    Some((kept, CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }))
+}
+
+/// Moves compiled ahead of the pre-flight walk (the channel between the two threads).
+const PIPELINE_MOVES: usize = 256;
+
+/// Compiles `program` and walks its moves through `checker` at the same time: the walk runs on a
+/// second thread and takes each move as soon as it is compiled, so a long program's check takes
+/// about the longer of the two, not their sum. The walk's report is `None` when cancelled
+/// (or without a checker); a panic of the walk is raised here.
+fn compile_and_walk(
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    opts: CompileOptions,
+    checker: Option<&Preflight>,
+    progress: &CheckProgress,
+) -> (Result<Vec<CompiledStep>, CompileStop>, Option<PreflightReport>) {
+    let plan_only = |observe: &mut dyn FnMut(&CompiledStep) -> bool| {
+        compile_observed(model, program, start_q, opts, &mut |c| observe(c) && progress.planned(c.steps.end))
+    };
+    let Some(checker) = checker else { return (plan_only(&mut |_| true), None) };
+    // progress of the walk in program steps: those of the moves checked
+    let walk_observer = |mv: &PlannedMove| progress.checked(mv.index + 1);
+    let (tx, rx) = crossbeam_channel::bounded::<PlannedMove>(PIPELINE_MOVES);
+    std::thread::scope(|scope| {
+        let walker = std::thread::Builder::new()
+            .name("parol6-preflight".into())
+            .spawn_scoped(scope, move || checker.check_stream(rx, &mut |mv| walk_observer(mv)));
+        match walker {
+            Ok(walker) => {
+                // a walk that stopped (cancelled) takes no more moves; the compile then stops too
+                let compiled = plan_only(&mut |c| planned_move(c).is_none_or(|mv| tx.send(mv).is_ok()));
+                drop(tx);
+                let walked = walker.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                (compiled, walked)
+            }
+            // no second thread: one after the other
+            Err(_) => match plan_only(&mut |_| true) {
+                Ok(compiled) => {
+                    let moves = compiled.iter().filter_map(planned_move);
+                    let walked = checker.check_stream(moves, &mut |mv| walk_observer(mv));
+                    (Ok(compiled), walked)
+                }
+                Err(stop) => (Err(stop), None),
+            },
+        }
+    })
+}
+
+/// The move the pre-flight walks for a compiled motion step (`None` for the other steps).
+fn planned_move(c: &CompiledStep) -> Option<PlannedMove> {
+    let StepAction::Motion(t) = &c.action else { return None };
+    Some(PlannedMove {
+        index: c.steps.start,
+        line: c.line,
+        label: c.kind.to_string(),
+        // a Cartesian move that does not move the joints (a line of no length, as the
+        // commander's `MoveCart` to where the arm is) holds still: it is checked as the joint
+        // move it is, so a singular pose is a warning there
+        kind: if matches!(c.kind, "home" | "move_joints" | "move_pose") || holds_still(t) {
+            MoveKind::Joint
+        } else {
+            MoveKind::Cartesian
+        },
+        trajectory: Arc::clone(t),
+    })
 }
 
 /// No joint strays more than this from where a move starts for the move to count as holding

@@ -130,6 +130,32 @@ pub fn compile(
     start_q: &[f64],
     opts: CompileOptions,
 ) -> Result<Vec<CompiledStep>, CompileError> {
+    match compile_observed(model, program, start_q, opts, &mut |_: &CompiledStep| true) {
+        Ok(steps) => Ok(steps),
+        Err(CompileStop::Error(e)) => Err(e),
+        // the observer never cancels
+        Err(CompileStop::Cancelled) => Ok(Vec::new()),
+    }
+}
+
+/// Why [`compile_observed`] stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CompileStop {
+    /// A step cannot be compiled.
+    Error(CompileError),
+    /// The observer asked to stop.
+    Cancelled,
+}
+
+/// [`compile`], handing `observe` each compiled step as soon as it is compiled (its `steps.end`
+/// program steps are then done); it returns false to stop (a newer request supersedes this one).
+pub fn compile_observed(
+    model: &RobotModel,
+    program: &Program,
+    start_q: &[f64],
+    opts: CompileOptions,
+    observe: &mut dyn FnMut(&CompiledStep) -> bool,
+) -> Result<Vec<CompiledStep>, CompileStop> {
     let caps = MotionCaps::of(model);
     let mut out = Vec::with_capacity(program.steps.len());
     let mut q = start_q.to_vec();
@@ -141,18 +167,18 @@ pub fn compile(
         let mut warnings = Vec::new();
         let (action, covers) = if blend_end > i {
             let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut warnings)
-                .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
+                .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
             let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut warnings)
-                .map_err(|e| cartesian_error(i, line, first.kind(), e))?;
+                .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (action, i..i + 1)
         };
         if let StepAction::Motion(t) = &action {
             q = t.goal().to_vec();
             planned += t.samples().len();
             if planned > MAX_PLANNED_SAMPLES {
-                return Err(CompileError {
+                return Err(CompileStop::Error(CompileError {
                     index: i,
                     line,
                     kind: first.kind(),
@@ -161,10 +187,14 @@ pub fn compile(
                     ),
                     t_s: None,
                     tcp_mm: None,
-                });
+                }));
             }
         }
-        out.push(CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings });
+        let step = CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings };
+        if !observe(&step) {
+            return Err(CompileStop::Cancelled);
+        }
+        out.push(step);
         i = covers.end;
     }
     Ok(out)
@@ -429,7 +459,14 @@ fn joint_move(start: &[f64], goal: &[f64], caps: &MotionCaps, fraction: f64, dt_
         ));
     }
     let n = n as usize;
-    let samples = (0..=n).map(|k| mv.sample((k as f64 * dt_s).min(mv.duration_s())).q).collect();
+    let (mut qd, mut qdd) = (vec![0.0; start.len()], vec![0.0; start.len()]);
+    let samples = (0..=n)
+        .map(|k| {
+            let mut q = vec![0.0; start.len()];
+            mv.sample_into((k as f64 * dt_s).min(mv.duration_s()), &mut q, &mut qd, &mut qdd);
+            q
+        })
+        .collect();
     Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, samples))))
 }
 

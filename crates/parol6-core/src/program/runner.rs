@@ -33,7 +33,7 @@ use crossbeam_channel::{Receiver, Sender, TryRecvError};
 pub use types::{RunOptions, RunProgress, RunState, RunnerControl};
 
 use super::Program;
-use super::check::{CheckOptions, check_program};
+use super::check::{CheckOptions, CheckProgress, CheckedProgram, check_shared};
 use super::compile::{CompileOptions, CompiledStep, StepAction, compile};
 use crate::model::RobotModel;
 use crate::motion::{MotionCommand, PlannerMode, RobotBackend, RobotState};
@@ -104,6 +104,30 @@ impl ProgramRunner {
         program: Program,
         opts: RunOptions,
     ) -> std::io::Result<Self> {
+        Self::start_shared(backend, model, Arc::new(program), None, opts)
+    }
+
+    /// Starts running a program already checked (`checked.program`): the thread reuses the
+    /// check when the arm starts from the joints it was checked from (within
+    /// [`RECHECK_TOLERANCE_RAD`](super::check::RECHECK_TOLERANCE_RAD)) at the same speed
+    /// override, and checks again otherwise; then it compiles at the control rate.
+    pub fn start_checked(
+        backend: Arc<dyn RobotBackend>,
+        model: RobotModel,
+        checked: Arc<CheckedProgram>,
+        opts: RunOptions,
+    ) -> std::io::Result<Self> {
+        let program = Arc::clone(&checked.program);
+        Self::start_shared(backend, model, program, Some(checked), opts)
+    }
+
+    fn start_shared(
+        backend: Arc<dyn RobotBackend>,
+        model: RobotModel,
+        program: Arc<Program>,
+        checked: Option<Arc<CheckedProgram>>,
+        opts: RunOptions,
+    ) -> std::io::Result<Self> {
         let progress = Arc::new(ArcSwap::from_pointee(RunProgress {
             name: program.name.clone(),
             step: 0,
@@ -119,6 +143,7 @@ impl ProgramRunner {
             runner_cpu_s: None,
             schedule_slip_s: 0.0,
             stop_failed: None,
+            preflights_run: 0,
         }));
         let (tx, rx) = crossbeam_channel::bounded(16);
         let p = Arc::clone(&progress);
@@ -138,6 +163,7 @@ impl ProgramRunner {
                 received_base: schedule.received,
                 submitted: 0,
                 delay_s: schedule.delay_s,
+                checked,
             };
             run.run(&model, &program, opts);
         })?;
@@ -213,6 +239,8 @@ struct Run<'a> {
     submitted: u64,
     /// The backend's schedule delay last seen, s.
     delay_s: f64,
+    /// The program's check, reused while the arm starts where it was checked from.
+    checked: Option<Arc<CheckedProgram>>,
 }
 
 /// A step scheduled on the motion clock.
@@ -229,7 +257,7 @@ impl Run<'_> {
         self.progress.store(Arc::new(p));
     }
 
-    fn run(&mut self, model: &RobotModel, program: &Program, opts: RunOptions) {
+    fn run(&mut self, model: &RobotModel, program: &Arc<Program>, opts: RunOptions) {
         self.single = opts.single_step;
         let mut outcome = self.prepare(model, program, opts).and_then(|compiled| self.execute(&compiled));
         while (opts.looping || program.looping) && outcome.is_ok() && !program.steps.is_empty() {
@@ -266,45 +294,9 @@ impl Run<'_> {
         });
     }
 
-    /// Between the passes of a looping run: waits until the arm is at rest (a robot's measured
-    /// joints lag the commanded ones and settle after the last step ends), at most
-    /// [`SETTLE_BETWEEN_PASSES`]; STOP, an abort or a blocked backend end the wait, PAUSE
-    /// pauses it.
-    fn settle_between_passes(&mut self) -> Result<(), Halt> {
-        let started = std::time::Instant::now();
-        loop {
-            let s = self.backend.state();
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted between passes: {b}")));
-            }
-            if !s.moving && s.mode == PlannerMode::Hold {
-                return Ok(());
-            }
-            if started.elapsed() > SETTLE_BETWEEN_PASSES {
-                return Err(Halt::Failed(format!(
-                    "the arm did not come to rest within {:.0} s after the pass",
-                    SETTLE_BETWEEN_PASSES.as_secs_f64()
-                )));
-            }
-            match self.poll_control() {
-                Some(RunnerControl::Stop) => {
-                    self.stop_arm("stopped between passes");
-                    return Err(Halt::Stopped);
-                }
-                Some(RunnerControl::Pause) => self.idle_until_control()?,
-                Some(RunnerControl::Step) => self.single = true,
-                Some(RunnerControl::Resume) | None => {}
-            }
-            if self.abort.load(Ordering::SeqCst) {
-                return Err(Halt::Aborted);
-            }
-            std::thread::sleep(POLL);
-        }
-    }
-
     /// Refuses to start unless the backend accepts motion, is homed, holds still and the
     /// program passes pre-flight from where the arm is; then compiles at the control rate.
-    fn prepare(&self, model: &RobotModel, program: &Program, opts: RunOptions) -> Result<Vec<CompiledStep>, Halt> {
+    fn prepare(&self, model: &RobotModel, program: &Arc<Program>, opts: RunOptions) -> Result<Vec<CompiledStep>, Halt> {
         let s = self.backend.state();
         if let Some(b) = &s.blocked {
             return Err(Halt::Refused(format!("the robot does not accept motion: {b}")));
@@ -316,8 +308,17 @@ impl Run<'_> {
             return Err(Halt::Refused("the arm is moving: stop it before running a program".into()));
         }
         let start_q = s.commanded.q.clone();
-        let report = check_program(model, program, &start_q, CheckOptions { speed_override: opts.speed_override });
-        if let Some(first) = report.first_error() {
+        let check_opts = CheckOptions { speed_override: opts.speed_override };
+        let reusable = self.checked.as_ref().filter(|c| c.opts == check_opts && c.is_from(&start_q));
+        let first_error = match reusable {
+            Some(c) => c.first_error(),
+            None => {
+                self.publish(|p| p.preflights_run += 1);
+                let progress = CheckProgress::default();
+                check_shared(model, program, &start_q, check_opts, &progress).and_then(|c| c.first_error())
+            }
+        };
+        if let Some(first) = first_error {
             return Err(Halt::Refused(format!("pre-flight: {first}")));
         }
         let compiled = compile(
@@ -572,6 +573,8 @@ impl Run<'_> {
 mod pausing;
 mod types;
 
+#[cfg(test)]
+mod checked_tests;
 #[cfg(test)]
 mod late_tests;
 #[cfg(test)]

@@ -81,7 +81,7 @@ pub fn plan_trajectory(
     current_q: &[f64],
 ) -> Result<TrajectoryPlan, TrajectoryError> {
     let (program, duration_s) = to_program(model, traj, current_q)?;
-    let report = check_program(model, &program, current_q, CheckOptions::default());
+    let report = check_program(model, &program, current_q, CheckOptions::default()).report;
     if let Some(first) = report.first_error() {
         return Err(TrajectoryError::Preflight(first));
     }

@@ -134,24 +134,32 @@ impl ProgramPanel {
     }
 
     /// The steps, one line each (cut to the column so the panel never widens); click selects.
+    /// Only the rows in view are laid out (a G-code file may hold 200 000 steps).
     pub(super) fn step_list(&mut self, ui: &mut egui::Ui, progress: Option<&RunProgress>) {
-        let issues = self.report.as_ref().map(|(_, r)| r.issues.as_slice()).unwrap_or(&[]);
-        let plan = self.report.as_ref().map(|(_, r)| r.plan.as_slice()).unwrap_or(&[]);
+        let issues = self.checked.as_ref().map(|r| r.issues.as_slice()).unwrap_or(&[]);
+        let plan = self.checked.as_ref().map(|r| r.plan.as_slice()).unwrap_or(&[]);
         let mut clicked = None;
+        let row_height = ui
+            .spacing()
+            .interact_size
+            .y
+            .max(ui.text_style_height(&egui::TextStyle::Monospace) + 2.0 * ui.spacing().button_padding.y);
+        let steps = &self.program.steps;
         egui::ScrollArea::vertical()
             .id_salt("program-steps")
             .max_height(super::STEP_LIST_HEIGHT)
             .auto_shrink([false, true])
-            .show(ui, |ui| {
-                for (i, s) in self.program.steps.iter().enumerate() {
+            .show_rows(ui, row_height, steps.len(), |ui, rows| {
+                for (i, s) in steps.iter().enumerate().skip(rows.start).take(rows.len()) {
                     let (mark, strong) = match progress {
                         Some(p) if !p.state.is_finished() && i == p.step => (">", true),
                         Some(p) if i < p.steps_done => ("+", false),
                         _ => (" ", false),
                     };
                     let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
-                    // the pre-flight's plan: the configuration the step ends in (motions)
-                    let planned = plan.iter().find(|p| (p.index..p.index + p.steps).contains(&i));
+                    // the pre-flight's plan (in step order): the configuration the step ends in
+                    let at = plan.partition_point(|p| p.index + p.steps <= i);
+                    let planned = plan.get(at).filter(|p| (p.index..p.index + p.steps).contains(&i));
                     let config = planned.filter(|p| p.end_tcp != p.start_tcp).and_then(|p| p.config.as_deref());
                     let row = match config {
                         Some(c) => format!("{mark}{:>3}  [{c}] {}", i + 1, s.step.summary()),

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use eframe::egui;
-use parol6_core::program::files::{FormatContext, ProgramFormat, read_program, write_program};
+use parol6_core::program::files::{FormatContext, ProgramFormat, write_program};
 use parol6_core::program::gcode::AbcChoice;
 
 use super::ProgramPanel;
@@ -119,25 +119,37 @@ impl ProgramPanel {
             OpenRequest::Builtin(name) => {
                 self.load_builtin(&name);
             }
-            OpenRequest::File(path) => match self.load_file(&path, ctx) {
-                Ok(()) => ctx.info(format!("loaded {}", path.display())),
-                Err(e) => ctx.error(e),
-            },
+            OpenRequest::File(path) => {
+                if let Err(e) = self.load_file(&path, ctx) {
+                    ctx.error(e);
+                }
+            }
         }
     }
 
-    /// Loads a program file of any format (by extension), from the commanded pose; on an error
-    /// the program in memory stays as it is.
+    /// Starts loading a program file of any format (by extension) from the commanded pose on a
+    /// worker, which reads and checks it (the panel shows "checking…" with its progress, then
+    /// the program and "loaded …"); on an error the program in memory stays as it is. A newer
+    /// open or check supersedes this one. `Err` when the worker cannot start.
     pub fn load_file(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
         let start_q = ctx.robot.commanded.q.clone();
         // the G-code A/B/C setting is a default: a file's `; parol6: abc=…` header wins
         let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
-        let fctx = FormatContext { abc, ..FormatContext::new(ctx.model, &start_q) };
-        let program = read_program(path, &fctx).map_err(|e| e.to_string())?;
-        let shown = path.display().to_string();
-        self.set_program(program, shown.clone(), Some(path.to_path_buf()));
-        self.path_text = shown.clone();
-        ctx.settings.remember_program(&shown);
+        self.start_load(ctx.model, path, abc, start_q)
+    }
+
+    /// [`Self::load_file`] without a frame's context: G-code `A B C` by `abc`, from `start_q`.
+    pub fn start_load(
+        &mut self,
+        model: &parol6_core::RobotModel,
+        path: &Path,
+        abc: AbcChoice,
+        start_q: Vec<f64>,
+    ) -> Result<(), String> {
+        let opts = parol6_core::program::check::CheckOptions { speed_override: self.speed_override };
+        let job = super::checker::CheckJob::load(model, path, abc, start_q, opts)
+            .map_err(|e| format!("cannot start reading {}: {e}", path.display()))?;
+        self.job = Some(job);
         Ok(())
     }
 

@@ -9,9 +9,16 @@
 //! - `files`: open / save / save as, the file dialog, recent files;
 //! - `table`: the point-table window (every step's numbers in a grid).
 //!
-//! The runner is the core's `ProgramRunner` on its own thread (the app owns it); this panel
-//! only reads its progress and queues commands.
+//! - `checker`: loading, pre-flight and the planned path on a worker thread (progress, a newer
+//!   request supersedes an older one).
+//!
+//! The panel owns the program's one check (`CheckedProgram`: start joints, compiled steps,
+//! report), made on a worker from where the arm stands; the 3D view's planned path comes from it
+//! and a run gets it (`AppCommand::RunProgram`), so the runner does not check again from the
+//! same start. The runner is the core's `ProgramRunner` on its own thread (the app owns it);
+//! this panel only reads its progress and queues commands.
 
+mod checker;
 mod edit;
 mod files;
 mod table;
@@ -24,15 +31,16 @@ use parol6_core::program::edit::ProgramEditor;
 use eframe::egui;
 
 use parol6_core::RobotModel;
-use parol6_core::program::check::{CheckOptions, CheckReport, CheckStatus, Severity, check_program};
-use parol6_core::program::compile::{CompileOptions, StepAction, compile};
+use parol6_core::program::check::{CheckOptions, CheckStage, CheckedProgram, Severity};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
 use parol6_core::program::{Program, builtin};
+
+pub use checker::{MAX_OVERLAY_POINTS, planned_path};
 
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
-use crate::viewport::{PathOverlay, PathPointStatus};
+use crate::viewport::PathOverlay;
 
 /// Height of the step list, px (fixed so the panel never grows while running).
 const STEP_LIST_HEIGHT: f32 = 120.0;
@@ -58,10 +66,14 @@ pub struct ProgramPanel {
     pub table_open: bool,
     /// Typed path of a program file to open.
     pub path_text: String,
-    /// Pre-flight of the program from the pose it was checked at.
-    report: Option<(Vec<f64>, CheckReport)>,
+    /// The program checked from the pose it was checked at (its pre-flight report).
+    checked: Option<Arc<CheckedProgram>>,
     /// The planned TCP path for the 3D view.
     overlay: Option<Arc<PathOverlay>>,
+    /// A load or check running on a worker.
+    job: Option<checker::CheckJob>,
+    /// Why the last check could not start or finish.
+    check_error: Option<String>,
     /// Speed override (0, 1].
     pub speed_override: f64,
     /// Start over after the last step.
@@ -83,8 +95,10 @@ impl ProgramPanel {
             files: files::FileState::default(),
             table_open: false,
             path_text: String::new(),
-            report: None,
+            checked: None,
             overlay: None,
+            job: None,
+            check_error: None,
             speed_override: 1.0,
             looping: false,
         }
@@ -116,10 +130,35 @@ impl ProgramPanel {
         }
     }
 
-    /// The command that runs the loaded program with this panel's settings.
+    /// The loaded program's check (its report, from the pose it was checked at), once done.
+    pub fn checked(&self) -> Option<&Arc<CheckedProgram>> {
+        self.checked.as_ref()
+    }
+
+    /// True while a file is read or the program checked on a worker.
+    pub fn checking(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Waits at most `timeout` for a load or check in flight and takes its answer (headless
+    /// rendering wants the planned path in its first frames); true when none is left.
+    pub fn wait_for_check(&mut self, timeout: std::time::Duration) -> bool {
+        if let Some(answer) = self.job.as_ref().and_then(|j| j.wait(timeout)) {
+            self.take_answer(answer, None);
+        }
+        self.job.is_none()
+    }
+
+    /// The command that runs the loaded program with this panel's settings (with its check when
+    /// that is of this program at this speed: the runner then does not check it again from the
+    /// same start).
     pub fn run_command(&self, single_step: bool) -> AppCommand {
+        let opts = CheckOptions { speed_override: self.speed_override };
+        let checked =
+            self.checked.as_ref().filter(|c| Arc::ptr_eq(&c.program, &self.program) && c.opts == opts).cloned();
         AppCommand::RunProgram {
             program: Arc::clone(&self.program),
+            checked,
             opts: RunOptions {
                 speed_override: self.speed_override,
                 single_step,
@@ -132,6 +171,7 @@ impl ProgramPanel {
     /// A new program (loaded): history cleared, nothing selected.
     fn set_program(&mut self, program: Program, source: String, file: Option<PathBuf>) {
         self.editor.replace(program);
+        self.job = None; // a load or check in flight is superseded
         self.source = source;
         self.file = file;
         self.selected = None;
@@ -141,54 +181,107 @@ impl ProgramPanel {
     /// After any change of the edited program: share it and plan / check it again.
     fn program_changed(&mut self) {
         self.program = Arc::new(self.editor.program().clone());
-        self.report = None;
+        drop_elsewhere(self.checked.take());
         self.overlay = None;
+        self.check_error = None;
+        if self.job.as_ref().is_some_and(|j| j.file.is_none()) {
+            self.job = None; // a check of the program before the change: superseded
+        }
         if self.selected.is_some_and(|i| i >= self.program.steps.len()) {
             self.selected = self.program.steps.len().checked_sub(1);
         }
     }
 
-    /// Pre-flight from `start_q` (again only when the start pose or the program changed).
+    /// Pre-flight from `start_q` on a worker (again only when the start pose, the speed or the
+    /// program changed; a file being read is checked when it arrives).
     fn refresh_check(&mut self, model: &RobotModel, start_q: &[f64]) {
-        if self.report.as_ref().is_some_and(|(q, _)| q == start_q) {
+        let opts = CheckOptions { speed_override: self.speed_override };
+        if self.checked.as_ref().is_some_and(|c| c.holds_for(&self.program, start_q, opts))
+            || self.check_error.is_some()
+        {
             return;
         }
-        let opts = CheckOptions { speed_override: self.speed_override };
-        let report = check_program(model, &self.program, start_q, opts);
-        self.overlay = Some(Arc::new(planned_path(model, &self.program, start_q, &report)));
-        self.report = Some((start_q.to_vec(), report));
+        match &self.job {
+            Some(j) if j.file.is_some() || j.is_for(&self.program, start_q, opts) => return,
+            _ => {}
+        }
+        match checker::CheckJob::check(model, Arc::clone(&self.program), start_q.to_vec(), opts) {
+            Ok(job) => self.job = Some(job),
+            Err(e) => self.check_error = Some(format!("cannot start the pre-flight: {e}")),
+        }
+    }
+
+    /// Takes a finished load or check: the program read (a load) and its check.
+    fn poll_job(&mut self, ctx: &mut PanelContext<'_>) {
+        if let Some(answer) = self.job.as_ref().and_then(checker::CheckJob::poll) {
+            self.take_answer(answer, Some(ctx));
+        }
+    }
+
+    fn take_answer(&mut self, answer: Result<checker::Checked, String>, ctx: Option<&mut PanelContext<'_>>) {
+        let Some(job) = self.job.take() else { return };
+        match (answer, job.file.clone()) {
+            (Ok(done), Some(path)) => {
+                let Some(program) = done.loaded else { return };
+                let shown = path.display().to_string();
+                // as set_program, without copying the program on this thread: the editor's
+                // program and the checked one are equal, the checked one is shared
+                self.editor.replace(program);
+                self.program = Arc::clone(&done.checked.program);
+                self.source = shown.clone();
+                self.file = Some(path.clone());
+                self.selected = None;
+                self.check_error = None;
+                self.path_text = shown.clone();
+                if let Some(ctx) = ctx {
+                    ctx.settings.remember_program(&shown);
+                    ctx.info(format!(
+                        "loaded {} ({} steps, read and checked in {:.2} s)",
+                        path.display(),
+                        self.program.steps.len(),
+                        done.seconds
+                    ));
+                }
+                drop_elsewhere(self.checked.replace(done.checked));
+                self.overlay = Some(done.overlay);
+            }
+            (Ok(done), None) => {
+                if Arc::ptr_eq(&done.checked.program, &self.program) {
+                    drop_elsewhere(self.checked.replace(done.checked));
+                    self.overlay = Some(done.overlay);
+                }
+            }
+            (Err(e), Some(_)) => match ctx {
+                Some(ctx) => ctx.error(e),
+                None => self.check_error = Some(e),
+            },
+            (Err(e), None) => self.check_error = Some(e),
+        }
+        drop_elsewhere(Some(job));
+    }
+
+    /// "checking…" with its progress while a worker loads or checks.
+    fn checking_text(&self) -> Option<String> {
+        let job = self.job.as_ref()?;
+        let what = match (&job.file, job.stage()) {
+            (Some(f), CheckStage::Waiting) => format!("reading {}", f.display()),
+            (_, CheckStage::Waiting) => "starting".into(),
+            (_, CheckStage::Planning { done, total }) => format!("{done} / {total} steps planned"),
+            (_, CheckStage::Checking { done, total }) => format!("{done} / {total} steps checked"),
+        };
+        Some(format!("pre-flight: checking… {what} ({:.1} s)", job.started.elapsed().as_secs_f64()))
     }
 }
 
-/// The planned TCP path: every pre-flight sample of every motion step, coloured by the status
-/// of the pre-flight's last checked point at or before it in the same step (an error in a
-/// step without checked points, e.g. an unreachable one, colours the whole step).
-pub fn planned_path(model: &RobotModel, program: &Program, start_q: &[f64], report: &CheckReport) -> PathOverlay {
-    let mut overlay = PathOverlay::default();
-    let Ok(compiled) = compile(model, program, start_q, CompileOptions::PREFLIGHT) else {
-        return overlay;
-    };
-    let to_path = |s: CheckStatus| match s {
-        CheckStatus::Ok => PathPointStatus::Ok,
-        CheckStatus::Warning => PathPointStatus::Warning,
-        CheckStatus::Error => PathPointStatus::Error,
-    };
-    for c in &compiled {
-        let StepAction::Motion(traj) = &c.action else { continue };
-        let checked: Vec<_> = report.path.iter().filter(|p| p.move_index == c.steps.start).collect();
-        let step_worst = report.issues.iter().filter(|i| c.steps.contains(&i.move_index)).map(|i| i.severity).max();
-        overlay.break_strip();
-        for (k, q) in traj.samples().iter().enumerate() {
-            let t = k as f64 * traj.dt_s();
-            let status = match checked.iter().rev().find(|p| p.t_s <= t + 1e-9) {
-                Some(p) => to_path(p.status),
-                None => step_worst.map_or(PathPointStatus::Ok, |s| to_path(s.into())),
-            };
-            let p = model.tcp_isometry(q).translation.vector;
-            overlay.push([p.x as f32, p.y as f32, p.z as f32], status);
+/// Drops `value` on a short-lived thread: a large program's check holds millions of samples,
+/// whose freeing would stall a frame. When no thread can be started it is dropped here.
+fn drop_elsewhere<T: Send + 'static>(value: Option<T>) {
+    if let Some(v) = value {
+        let spawned = std::thread::Builder::new().name("parol6-drop".into()).spawn(move || drop(v));
+        if let Err(e) = spawned {
+            eprintln!("parol6: freeing a program's check on the UI thread ({e})");
         }
     }
-    overlay
 }
 
 impl Panel for ProgramPanel {
@@ -204,8 +297,13 @@ impl Panel for ProgramPanel {
             self.picker(ui, ctx);
             self.file_row(ui, ctx);
         });
+        self.poll_job(ctx);
         if !running && !ctx.robot.moving {
             self.refresh_check(ctx.model, &ctx.robot.commanded.q.clone());
+        }
+        if self.job.is_some() {
+            // the progress line moves while a worker loads or checks
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(50));
         }
         self.summary_line(ui);
         self.step_list(ui, progress.as_ref());
@@ -246,8 +344,19 @@ impl ProgramPanel {
     }
 
     fn summary_line(&self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| match &self.report {
-            Some((_, r)) => {
+        if let Some(text) = self.checking_text() {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(text);
+            });
+            return;
+        }
+        if let Some(e) = &self.check_error {
+            ui.colored_label(palette::rgb(palette::PATH_ERROR), format!("pre-flight: {e}"));
+            return;
+        }
+        ui.horizontal(|ui| match &self.checked {
+            Some(r) => {
                 let errors = r.issues.iter().filter(|i| i.severity == Severity::Error).count();
                 let warnings = r.issues.len() - errors;
                 let (text, color) = if errors > 0 {
@@ -270,16 +379,26 @@ impl ProgramPanel {
         let state = progress.map(|p| &p.state);
         let running = state.is_some_and(|s| !s.is_finished());
         let paused = state == Some(&RunState::Paused);
-        let clean = self.report.as_ref().is_some_and(|(_, r)| r.ok);
+        let checking = self.job.is_some();
+        let clean = !checking && self.checked.as_ref().is_some_and(|r| r.ok);
         ui.horizontal(|ui| {
             let run_label = if paused { "Resume (F5)" } else { "Run (F5)" };
             let can_run = (clean && !running) || paused;
             let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(if running {
                 "running"
+            } else if checking {
+                "the pre-flight is still checking"
             } else {
                 "the pre-flight must be clean"
             });
             let f5 = shortcuts::pressed(ui.ctx(), Action::RunProgram);
+            if f5 && checking && !running {
+                // never an unchecked program: F5 waits for the operator to press it again
+                ctx.error(format!(
+                    "{} is still being checked: Run (F5) starts it once the pre-flight is done",
+                    self.program.name
+                ));
+            }
             if run.clicked() || (f5 && can_run) {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Resume));
@@ -310,14 +429,14 @@ impl ProgramPanel {
                 ui.label("Speed ×");
                 let r = ui.add(egui::Slider::new(&mut self.speed_override, 0.05..=1.0).max_decimals(2));
                 if r.changed() {
-                    self.report = None; // planned again at the new speed
+                    drop_elsewhere(self.checked.take()); // planned again at the new speed
                 }
             });
         });
     }
 
     fn issue_lines(&self, ui: &mut egui::Ui) {
-        let Some((_, r)) = &self.report else { return };
+        let Some(r) = &self.checked else { return };
         for i in r.issues.iter().take(ISSUES_SHOWN) {
             let color = if i.severity == Severity::Error { palette::PATH_ERROR } else { palette::PATH_WARNING };
             let line = if i.line > 0 { format!("line {}, ", i.line) } else { String::new() };

@@ -173,15 +173,33 @@ impl Preflight {
 
     /// Checks `moves` in order (each should start where the previous one ends).
     pub fn check(&self, moves: &[PlannedMove]) -> PreflightReport {
-        let mut report = PreflightReport { moves: moves.len(), ..PreflightReport::default() };
+        self.check_stream(moves, &mut |_| true).unwrap_or_default()
+    }
+
+    /// [`Self::check`] of moves as they come (a program's check walks each move while the next
+    /// ones are still being compiled), telling `observe` each move checked; it returns false to
+    /// stop (`None`: stopped).
+    pub fn check_stream<M: std::borrow::Borrow<PlannedMove>>(
+        &self,
+        moves: impl IntoIterator<Item = M>,
+        observe: &mut dyn FnMut(&PlannedMove) -> bool,
+    ) -> Option<PreflightReport> {
+        let mut report = PreflightReport::default();
         let mut walk = walk::Walk::new(self);
-        let mut previous_end: Option<&[f64]> = None;
-        for mv in moves {
+        // the last move, when its samples were usable
+        let mut previous: Option<M> = None;
+        for m in moves {
+            let mv = m.borrow();
+            report.moves += 1;
             report.duration_s += mv.trajectory.duration_s().max(0.0);
+            let previous_end = previous.as_ref().map(|p| p.borrow().trajectory.goal());
             let valid = walk.check_move(mv, previous_end, &mut report);
-            previous_end = valid.then(|| mv.trajectory.goal());
+            if !observe(mv) {
+                return None;
+            }
+            previous = valid.then_some(m);
         }
-        report
+        Some(report)
     }
 }
 

@@ -5,11 +5,47 @@ use std::collections::VecDeque;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-use super::{Halt, POLL, Run, RunState, RunnerControl, Slot};
+use super::{Halt, POLL, Run, RunState, RunnerControl, SETTLE_BETWEEN_PASSES, Slot};
 use crate::motion::{MotionCommand, PlannerMode, stop_best_effort};
 use crate::program::compile::{CompiledStep, StepAction};
 
 impl Run<'_> {
+    /// Between the passes of a looping run: waits until the arm is at rest (a robot's measured
+    /// joints lag the commanded ones and settle after the last step ends), at most
+    /// [`SETTLE_BETWEEN_PASSES`]; STOP, an abort or a blocked backend end the wait, PAUSE
+    /// pauses it.
+    pub(super) fn settle_between_passes(&mut self) -> Result<(), Halt> {
+        let started = std::time::Instant::now();
+        loop {
+            let s = self.backend.state();
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted between passes: {b}")));
+            }
+            if !s.moving && s.mode == PlannerMode::Hold {
+                return Ok(());
+            }
+            if started.elapsed() > SETTLE_BETWEEN_PASSES {
+                return Err(Halt::Failed(format!(
+                    "the arm did not come to rest within {:.0} s after the pass",
+                    SETTLE_BETWEEN_PASSES.as_secs_f64()
+                )));
+            }
+            match self.poll_control() {
+                Some(RunnerControl::Stop) => {
+                    self.stop_arm("stopped between passes");
+                    return Err(Halt::Stopped);
+                }
+                Some(RunnerControl::Pause) => self.idle_until_control()?,
+                Some(RunnerControl::Step) => self.single = true,
+                Some(RunnerControl::Resume) | None => {}
+            }
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
+            }
+            std::thread::sleep(POLL);
+        }
+    }
+
     /// Sends STOP ([`stop_best_effort`]); a refused one is recorded in the progress
     /// ([`RunProgress::stop_failed`](super::RunProgress::stop_failed)), where the window and
     /// `parol6 program run` show it.

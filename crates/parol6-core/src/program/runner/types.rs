@@ -72,6 +72,12 @@ pub struct RunProgress {
     /// A STOP this run sent that the backend refused (what it stopped, and why it failed);
     /// `None` when every STOP was taken. The arm may not have stopped.
     pub stop_failed: Option<String>,
+    /// Pre-flights this run ran itself: 0 when it reused the [`CheckedProgram`] it was given
+    /// (started from the joints that program was checked from), one per pass otherwise.
+    ///
+    /// [`CheckedProgram`]: crate::program::check::CheckedProgram
+    #[serde(skip)]
+    pub preflights_run: usize,
 }
 
 /// How to run.

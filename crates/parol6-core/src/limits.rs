@@ -3,9 +3,12 @@
 //! This is the single place where the thresholds **and colours** of the LED / limit system are
 //! defined: [`ZoneThresholds::default`] (the old HMI's amber within 15 % of the range, red within
 //! 5 %) and [`LimitZone::rgba`]. The app, the simulation and the serial session all call
-//! [`JointLimits::enforce`] before a target reaches a motor.
+//! [`JointLimits::enforce`] before a target reaches a motor. The swing bound of Cartesian
+//! motion near singular poses (how far a joint may turn per mm of TCP travel) is [`swing`].
 
 use serde::{Deserialize, Serialize};
+
+pub mod swing;
 
 /// Tolerance used when comparing a value against a limit (absorbs rounding of deg↔rad).
 pub const LIMIT_EPSILON_RAD: f64 = 1e-9;

@@ -84,6 +84,11 @@ pub struct CheckReport {
     pub issues: Vec<CheckIssue>,
     /// Every planned step, in order (empty when the program does not compile).
     pub plan: Vec<PlannedStep>,
+    /// How many of the warnings are joint torques over the motor limits (inverse dynamics along
+    /// the compiled trajectory, [`super::torques::torque_warnings`]): the window asks before it
+    /// runs such a program.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub torque_warnings: usize,
     /// The checked TCP path, coloured by status (for the 3D view; not in the JSON).
     #[serde(skip)]
     pub path: Vec<CheckedPoint>,
@@ -116,6 +121,7 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
     let opts = CompileOptions { speed_override: opts.speed_override, ..CompileOptions::PREFLIGHT };
     let mut path = Vec::new();
     let mut plan = Vec::new();
+    let mut torque_warnings = 0;
     match compile(model, program, start_q, opts) {
         Ok(compiled) => {
             plan = planned_steps(model, start_q, &compiled);
@@ -172,6 +178,9 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
                     tcp_mm: None,
                 }),
             }
+            let before = issues.len();
+            issues.extend(torque_issues(model, &compiled, start_q));
+            torque_warnings = issues.len() - before;
         }
         Err(e) => issues.push(CheckIssue {
             line: e.line,
@@ -183,7 +192,50 @@ pub fn check_program(model: &RobotModel, program: &Program, start_q: &[f64], opt
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }
+    CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path, torque_warnings }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// One warning per stretch where a joint's torque (inverse dynamics along the compiled
+/// trajectory, the tool's mass included) exceeds its motor limit, naming the step and line.
+fn torque_issues(model: &RobotModel, compiled: &[CompiledStep], start_q: &[f64]) -> Vec<CheckIssue> {
+    let (warnings, dropped) = super::torques::torque_warnings(model, compiled, start_q);
+    let mut out: Vec<CheckIssue> = warnings
+        .iter()
+        .map(|w| CheckIssue {
+            line: w.line,
+            move_index: w.step,
+            severity: Severity::Warning,
+            message: format!(
+                "J{} torque {:.2} N·m exceeds its motor limit {:.2} N·m at t = {:.2} s of the program \
+                 (over from {:.2} to {:.2} s): risk of lost steps, slow the step down or lighten the load",
+                w.joint,
+                w.peak_nm.abs(),
+                w.limit_nm,
+                w.peak_s,
+                w.start_s,
+                w.end_s
+            ),
+            t_s: None,
+            tcp_mm: None,
+        })
+        .collect();
+    if dropped > 0
+        && let Some(last) = warnings.last()
+    {
+        out.push(CheckIssue {
+            line: last.line,
+            move_index: last.step,
+            severity: Severity::Warning,
+            message: format!("{dropped} more stretches of joint torque over the motor limits are not listed"),
+            t_s: None,
+            tcp_mm: None,
+        });
+    }
+    out
 }
 
 /// No joint strays more than this from where a move starts for the move to count as holding

@@ -12,6 +12,7 @@
 //! The runner is the core's `ProgramRunner` on its own thread (the app owns it); this panel
 //! only reads its progress and queues commands.
 
+mod confirm;
 mod edit;
 mod files;
 mod table;
@@ -66,6 +67,8 @@ pub struct ProgramPanel {
     pub speed_override: f64,
     /// Start over after the last step.
     pub looping: bool,
+    /// A run waits for the torque question (`Some(single_step)`, see `confirm`).
+    confirm_run: Option<bool>,
 }
 
 impl ProgramPanel {
@@ -87,6 +90,7 @@ impl ProgramPanel {
             overlay: None,
             speed_override: 1.0,
             looping: false,
+            confirm_run: None,
         }
     }
 
@@ -223,6 +227,7 @@ impl Panel for ProgramPanel {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
         self.dialogs(ui, ctx);
+        self.run_confirmation(ui, ctx);
         if self.table_open && !running {
             self.table_window(ui, ctx);
         }
@@ -284,7 +289,7 @@ impl ProgramPanel {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Resume));
                 } else {
-                    ctx.send(self.run_command(false));
+                    self.start_run(ctx, false);
                 }
             }
             let pause = ui.add_enabled(running && !paused, egui::Button::new("Pause (F6)"));
@@ -297,7 +302,7 @@ impl ProgramPanel {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Step));
                 } else {
-                    ctx.send(self.run_command(true));
+                    self.start_run(ctx, true);
                 }
             }
             if ui.add_enabled(running, egui::Button::new("Stop program")).clicked() {

@@ -37,7 +37,14 @@ pub struct SwingOverBound {
     pub travel_mm: f64,
     /// Tool rotation over the interval, deg.
     pub rotation_deg: f64,
+    /// The wrist is near its singularity: a six-joint arm with J5 within
+    /// [`WRIST_SINGULAR_J5_DEG`] of 0 (J4 and J6 nearly in line, as on the PAROL6); otherwise
+    /// the arm is stretched, folded or overhead.
+    pub wrist: bool,
 }
+
+/// Within this of J5 = 0 a six-joint arm's swing is called a singular wrist, deg.
+pub const WRIST_SINGULAR_J5_DEG: f64 = 10.0;
 
 impl SwingOverBound {
     /// The joint's turn per unit of TCP motion: deg/mm for a translation, deg/deg for a pure
@@ -52,11 +59,11 @@ impl SwingOverBound {
 
     /// One short line: what to do instead first, then which joint, how fast, and the bound.
     pub fn message(&self) -> String {
-        let near = if self.joint >= 3 { "a singular wrist" } else { "a singular arm pose" };
+        let near = if self.wrist { "a singular wrist" } else { "a singular pose" };
         let rate = if self.travel_mm > 0.0 {
-            format!("{:.0}°/mm (bound {MAX_SWING_DEG_PER_MM}°/mm)", self.ratio())
+            format!("{:.0}°/mm, bound {MAX_SWING_DEG_PER_MM}°/mm", self.ratio())
         } else {
-            format!("{:.0}°/° of rotation (bound {MAX_SWING_DEG_PER_DEG}°/°)", self.ratio())
+            format!("{:.0}°/° of rotation, bound {MAX_SWING_DEG_PER_DEG}°/°", self.ratio())
         };
         format!("near {near}: use a joint move (J{} would turn {rate})", self.joint + 1)
     }
@@ -74,6 +81,7 @@ pub fn swing_over_bound(a: &[f64], b: &[f64], travel_m: f64, rotation_rad: f64) 
         turn_deg: turn.to_degrees(),
         travel_mm,
         rotation_deg,
+        wrist: b.len() == 6 && b[4].abs().to_degrees() < WRIST_SINGULAR_J5_DEG,
     })
 }
 
@@ -97,7 +105,8 @@ mod tests {
         assert!(swing_over_bound(&a, &b, 0.0, 1f64.to_radians()).is_some());
         assert!(swing_over_bound(&a, &a, 0.0, 0.0).is_none(), "no motion, no swing");
         b[3] = 0.0;
-        b[1] = 0.01;
-        assert!(swing_over_bound(&a, &b, 0.0, 0.0).expect("J2").message().contains("arm pose"));
+        b[4] = 0.5;
+        let s = swing_over_bound(&a, &b, 0.001, 0.0).expect("J5 away from 0: the arm");
+        assert!(s.message().contains("near a singular pose: use a joint move"), "{}", s.message());
     }
 }

@@ -270,3 +270,41 @@ fn the_jog_increment_refuses_zero_negatives_and_absurd_values() {
     h.run_steps(2);
     assert_eq!(h.get_by_label("Step mm").value().as_deref(), Some("0.50"));
 }
+
+/// The reproduction in the window: from the standby pose (J5 = 0, the wrist singular)
+/// holding +X (world) swung J4 by 90° for 1.5 mm of TCP travel. Now the panel says why, on one
+/// line, and the wrist does not swing.
+#[test]
+fn holding_plus_x_at_the_singular_wrist_says_why_and_does_not_swing() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    let standby = parol6_core::parol6::standby_rad().to_vec();
+    h.state_mut().teleport(standby.clone()).expect("teleport");
+    h.run_steps(3);
+    settle(&mut h, 0.2);
+    let before_mm = commanded_tcp(&h);
+    let at = h.get_by_label("+X").rect().center();
+    h.hover_at(at);
+    h.event(egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
+    settle(&mut h, 1.0);
+    let q = h.state().backend().state().commanded.q.clone();
+    let reason = h.query_by_label_contains("singular wrist").map(|n| n.rect());
+    h.event(egui::Event::PointerButton {
+        pos: at,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: Default::default(),
+    });
+    settle(&mut h, 0.3);
+    let rect = reason.expect("the panel names the singular wrist");
+    assert!(rect.height() < 24.0, "one line: {rect:?}");
+    let after = commanded_tcp(&h);
+    let travel_mm = (0..3).map(|k| (after[k] - before_mm[k]).powi(2)).sum::<f64>().sqrt() * 1e3;
+    let j4_deg = (q[3] - standby[3]).abs().to_degrees();
+    let bound = parol6_core::limits::swing::MAX_SWING_DEG_PER_MM;
+    assert!(j4_deg <= bound * travel_mm + 1e-6, "J4 turned {j4_deg:.1}° over {travel_mm:.2} mm");
+}

@@ -23,17 +23,19 @@ pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// Mass properties of each chain body (index 0 = root), every link riding on that frame merged,
 /// expressed in the chain frame: COM in frame coordinates, inertia about the COM in frame axes.
+/// The tool's mass ([`RobotModel::tool_inertial`], in the tip frame) rides on the last body.
 /// `None` for a frame with no massive link.
 pub fn body_inertials(model: &RobotModel) -> Vec<Option<Inertial>> {
     let mut out: Vec<Option<Inertial>> = vec![None; model.dof() + 1];
-    for link in &model.links {
-        let Some(li) = &link.inertial else { continue };
+    let tool = model.tool_inertial.as_ref().map(|t| (model.dof(), model.tip_offset, t));
+    let links = model.links.iter().filter_map(|l| l.inertial.as_ref().map(|i| (l.frame, l.offset, i)));
+    for (frame, offset, li) in links.chain(tool) {
         if !(li.mass_kg.is_finite() && li.mass_kg > 0.0) {
             continue;
         }
-        let Some(slot) = out.get_mut(link.frame) else { continue };
-        let r = link.offset.rotation.to_rotation_matrix().into_inner();
-        let com = link.offset * li.com_m;
+        let Some(slot) = out.get_mut(frame) else { continue };
+        let r = offset.rotation.to_rotation_matrix().into_inner();
+        let com = offset * li.com_m;
         let inertia = r * li.inertia_kg_m2 * r.transpose();
         *slot = Some(match slot.take() {
             None => Inertial { mass_kg: li.mass_kg, com_m: com, inertia_kg_m2: inertia },
@@ -221,5 +223,60 @@ impl InverseDynamics {
         self.zeros = zeros;
         let inertial = total.iter().zip(&gravity).map(|(t, g)| t - g).collect();
         Ok(JointTorques { total_nm: total, gravity_nm: gravity, inertial_coriolis_nm: inertial })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parol6::Tool;
+
+    /// Gravity torques (holding) at `q`.
+    fn holding(model: &RobotModel, q: &[f64]) -> Vec<f64> {
+        let zeros = vec![0.0; model.dof()];
+        InverseDynamics::new(model).compute(model, q, &zeros, &zeros).expect("valid").gravity_nm
+    }
+
+    /// The issue: `--tool ssg48` gave the same torques as no tool. With the SSG-48 on the
+    /// flange and the arm stretched out horizontally, J2 must hold the tool's weight on its
+    /// lever too: the extra holding torque is the tool's weight through the Jacobian of its
+    /// centre of mass, `J_v(com)ᵀ · m·g·ẑ`.
+    #[test]
+    fn the_ssg48_raises_the_j2_holding_torque_at_a_stretched_pose() {
+        let bare = RobotModel::parol6();
+        let tool = RobotModel::parol6_with_tool(Tool::Ssg48);
+        let mass_kg = Tool::Ssg48.mass_kg();
+        assert!(mass_kg > 0.1, "the SSG-48 has a mass: {mass_kg} kg");
+        // stretched: the arm (J2 / J3) reaching out as far as it goes horizontally, J5 pointing the tool on
+        let mut best = (0.0, crate::parol6::standby_rad().to_vec());
+        for k in 0..=60 {
+            let mut q = crate::parol6::standby_rad().to_vec();
+            q[1] = bare.limits.get(1).map_or(0.0, |l| l.min + (l.max - l.min) * f64::from(k) / 60.0);
+            let reach = bare.tcp_isometry(&q).translation.vector.xy().norm();
+            if reach > best.0 {
+                best = (reach, q);
+            }
+        }
+        let q = best.1;
+        let (t_bare, t_tool) = (holding(&bare, &q), holding(&tool, &q));
+        let frames = tool.chain_frames(&q);
+        let com = tool.flange_pose(&q) * nalgebra::Point3::from(Vector3::from(Tool::Ssg48.com_m()));
+        let jac = tool.jacobian_from_frames(&frames, &com.coords);
+        let weight = Vector3::new(0.0, 0.0, mass_kg * GRAVITY_M_S2);
+        for j in 0..6 {
+            let expected = jac.fixed_view::<3, 1>(0, j).dot(&weight);
+            let got = t_tool[j] - t_bare[j];
+            assert!((got - expected).abs() < 1e-9, "J{}: +{got:.4} N·m, expected +{expected:.4} N·m", j + 1);
+        }
+        let extra = (t_tool[1] - t_bare[1]).abs();
+        assert!(
+            t_tool[1].abs() > t_bare[1].abs() && extra > mass_kg * GRAVITY_M_S2 * 0.1,
+            "J2 holds {:.3} N·m bare, {:.3} N·m with the SSG-48 at reach {:.0} mm",
+            t_bare[1],
+            t_tool[1],
+            best.0 * 1e3
+        );
+        // no tool, no change
+        assert_eq!(holding(&RobotModel::parol6_with_tool(Tool::None), &q), t_bare);
     }
 }

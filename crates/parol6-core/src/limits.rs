@@ -2,10 +2,14 @@
 //!
 //! This is the single place where the thresholds **and colours** of the LED / limit system are
 //! defined: [`ZoneThresholds::default`] (amber within 10 % of the range, red within 5 %; the old
-//! HMI's 15 % lit J1 amber at standby, 33° from its limit) and [`LimitZone::rgba`]. The app, the simulation and the serial session all call
-//! [`JointLimits::enforce`] before a target reaches a motor.
+//! HMI's 15 % lit J1 amber at standby, 33° from its limit) and [`LimitZone::rgba`]. The app, the
+//! simulation and the serial session all call [`JointLimits::enforce`] before a target reaches a
+//! motor. The swing bound of Cartesian motion near singular poses (how far a joint may turn per mm
+//! of TCP travel) is [`swing`].
 
 use serde::{Deserialize, Serialize};
+
+pub mod swing;
 
 /// Tolerance used when comparing a value against a limit (absorbs rounding of deg↔rad).
 pub const LIMIT_EPSILON_RAD: f64 = 1e-9;

@@ -120,6 +120,9 @@ pub fn max_jerk_rad_s3() -> [f64; JOINT_COUNT] {
     std::array::from_fn(|i| MAX_JERK_STEPS_S3[i] * rad_per_step(i))
 }
 
+/// Radius of the solid sphere a tool's inertia is modelled as, m ([`Tool::inertia_kg_m2`]).
+pub const TOOL_INERTIA_RADIUS_M: f64 = 0.03;
+
 /// A tool fitted to the flange, ROBOT.md §7. The TCP is a pure translation in the L6 frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
 pub enum Tool {
@@ -153,6 +156,39 @@ impl Tool {
             Tool::Msg => [-0.029, 0.0, -0.103],
             Tool::Vacuum => [0.0, 0.0, -0.037],
         }
+    }
+
+    /// Mass of the tool, kg. Our reference pack gives no tool masses; these are the values used
+    /// for inverse dynamics, pre-flight torques and the simulation:
+    /// - MSG: 0.40 kg, the maker's "Weight: 400 g" (Source Robotics, MSG gripper docs,
+    ///   *About the gripper*);
+    /// - SSG-48: 0.30 kg, *estimated* (no published figure found): a compact stepper gripper of
+    ///   printed PETG, lighter than the MSG, heavier than the pneumatic grippers;
+    /// - pneumatic grippers: 0.20 kg, vacuum gripper: 0.10 kg, *estimated* (printed bodies with a
+    ///   small valve or cup; the air lines are carried by the arm).
+    ///
+    /// An estimate errs heavy, so that a torque warning is not missed.
+    pub fn mass_kg(self) -> f64 {
+        match self {
+            Tool::None => 0.0,
+            Tool::PneumaticVertical | Tool::PneumaticHorizontal => 0.20,
+            Tool::Ssg48 => 0.30,
+            Tool::Msg => 0.40,
+            Tool::Vacuum => 0.10,
+        }
+    }
+
+    /// Centre of mass of the tool in the L6 (flange) frame, m: halfway from the flange to the
+    /// TCP (*assumed*: a body of even density between the two).
+    pub fn com_m(self) -> [f64; 3] {
+        self.tcp_offset_m().map(|v| 0.5 * v)
+    }
+
+    /// Inertia of the tool about its centre of mass, kg·m² (the same about every axis): a solid
+    /// sphere of radius [`TOOL_INERTIA_RADIUS_M`] of its mass (*assumed*; its effect on the
+    /// torques is small next to the mass on its lever).
+    pub fn inertia_kg_m2(self) -> f64 {
+        0.4 * self.mass_kg() * TOOL_INERTIA_RADIUS_M * TOOL_INERTIA_RADIUS_M
     }
 
     /// Command-line / config name.

@@ -184,7 +184,13 @@ impl CartesianJogPanel {
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
         match &v.plan {
             Err(e) => {
-                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("{what} refused: {e}"));
+                // one line: the reason without the planner's "cannot jog … frame: " and
+                // "singularity: " prefixes (the whole text on hover)
+                let why = e.split_once(" frame: ").map_or(e.as_str(), |(_, w)| w);
+                let why = why.strip_prefix("singularity: ").unwrap_or(why);
+                let text =
+                    egui::RichText::new(format!("{what} refused: {why}")).color(palette::rgb(palette::ERROR_TEXT));
+                ui.add(egui::Label::new(text).truncate()).on_hover_text(e);
             }
             Ok(plan) => {
                 let travel = display(v.axis, plan.travel().abs());

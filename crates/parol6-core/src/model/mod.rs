@@ -114,6 +114,10 @@ pub struct RobotModel {
     pub limits: JointLimits,
     /// Tool (TCP) transform in the tip frame.
     pub tool: Isometry3<f64>,
+    /// Mass properties of the tool, in the tip frame (`None`: no tool mass). Inverse dynamics,
+    /// pre-flight torques and the simulation add it to the last chain body
+    /// ([`crate::dynamics::body_inertials`]).
+    pub tool_inertial: Option<Inertial>,
     /// Problems that did not stop loading (missing meshes).
     pub warnings: Vec<ModelError>,
     /// Names of links the URDF leaves out of self-collision checks (pairs), from an SRDF.
@@ -201,13 +205,20 @@ impl RobotModel {
         self.joints.iter().map(|j| j.name.as_str()).collect()
     }
 
-    /// Fits a PAROL6 tool (a translation in the flange frame).
+    /// Fits a PAROL6 tool: its TCP (a translation in the flange frame) and its mass
+    /// ([`Tool::mass_kg`], centre of mass [`Tool::com_m`], inertia [`Tool::inertia_kg_m2`]).
     pub fn set_tool(&mut self, tool: Tool) {
         let [x, y, z] = tool.tcp_offset_m();
         self.tool = Isometry3::translation(x, y, z);
+        let mass_kg = tool.mass_kg();
+        self.tool_inertial = (mass_kg > 0.0).then(|| Inertial {
+            mass_kg,
+            com_m: nalgebra::Point3::from(Vector3::from(tool.com_m())),
+            inertia_kg_m2: nalgebra::Matrix3::identity() * tool.inertia_kg_m2(),
+        });
     }
 
-    /// Sets an arbitrary tool transform in the tip frame.
+    /// Sets an arbitrary tool transform in the tip frame (the tool's mass, if any, stays).
     pub fn set_tool_transform(&mut self, tool: Isometry3<f64>) {
         self.tool = tool;
     }

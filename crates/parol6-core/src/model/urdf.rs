@@ -218,6 +218,7 @@ pub(super) fn build(robot: &urdf_rs::Robot, opts: &LoadOptions) -> Result<RobotM
         links,
         limits: JointLimits::new(limits),
         tool: Isometry3::identity(),
+        tool_inertial: None,
         warnings,
         disabled_collision_pairs: Vec::new(),
         is_parol6,

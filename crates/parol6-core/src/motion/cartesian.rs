@@ -1,10 +1,13 @@
 //! Cartesian motion: a [`TcpPath`] timed under TCP speed / acceleration / jerk caps and the
 //! joint caps (whichever binds), then turned into joint values at the control rate by IK that
-//! keeps the branch of the start pose (no branch flip, no J6 wrap jump mid-move).
+//! keeps the branch of the start pose (no branch flip, no J6 wrap jump mid-move). A path on
+//! which a joint would turn faster than the swing bound ([`crate::limits::swing`]) per mm or
+//! degree of TCP motion, near a singular pose, is refused ([`CartesianError::SingularSwing`]).
 
 use std::sync::Arc;
 
 use crate::ik::{self, Branch, ConfigRule, IkError};
+use crate::limits::swing::swing_over_bound;
 use crate::model::RobotModel;
 use crate::profile::{JointMove, ProfileKind};
 
@@ -50,6 +53,21 @@ pub enum CartesianError {
         /// TCP position, mm.
         z_mm: f64,
         /// The IK error.
+        reason: String,
+    },
+    /// A joint would turn faster than the swing bound ([`crate::limits::swing`]) per mm or
+    /// degree of TCP motion: the path passes close to a singular pose.
+    #[error("TCP ({x_mm:.1}, {y_mm:.1}, {z_mm:.1}) mm at t = {t_s:.3} s: {reason}")]
+    SingularSwing {
+        /// Time along the move, s.
+        t_s: f64,
+        /// TCP position, mm.
+        x_mm: f64,
+        /// TCP position, mm.
+        y_mm: f64,
+        /// TCP position, mm.
+        z_mm: f64,
+        /// Which joint, how fast, the bound ([`crate::limits::swing::SwingOverBound::message`]).
         reason: String,
     },
     /// The joints would jump between two samples (a singularity or a branch change).
@@ -134,6 +152,7 @@ pub fn plan(
         let mut rule = start_rule;
         // the path parameter and its derivatives at each sample, without allocating
         let (mut s_at, mut sd, mut sdd) = ([0.0], [0.0], [0.0]);
+        let mut prev_pose = path.pose(0.0);
         for k in 0..=n {
             let t = (k as f64 * dt_s).min(duration);
             timing.sample_into(t / stretch, &mut s_at, &mut sd, &mut sdd);
@@ -148,6 +167,20 @@ pub fn plan(
                 let p = pose.translation.vector * 1000.0;
                 CartesianError::Unreachable { t_s: t, x_mm: p.x, y_mm: p.y, z_mm: p.z, reason }
             })?;
+            // near a singular pose: refused rather than swing a joint round (the swing bound)
+            let travel_m = (pose.translation.vector - prev_pose.translation.vector).norm();
+            let rotation_rad = pose.rotation.angle_to(&prev_pose.rotation);
+            if let Some(swing) = swing_over_bound(&seed, &q, travel_m, rotation_rad) {
+                let p = pose.translation.vector * 1000.0;
+                return Err(CartesianError::SingularSwing {
+                    t_s: t,
+                    x_mm: p.x,
+                    y_mm: p.y,
+                    z_mm: p.z,
+                    reason: swing.message(),
+                });
+            }
+            prev_pose = pose;
             seed.clone_from(&q);
             samples.push(q);
         }

@@ -2,7 +2,9 @@
 //! tool frame (the TCP frame at jog start) while the button is held.
 //!
 //! At jog start the whole path is planned up to where it must stop ([`CartesianJogPlan`]):
-//! the first joint limit, the edge of the workspace, a singularity, a collision (when a
+//! the first joint limit, the edge of the workspace, a singularity (σ_min falling below
+//! [`STOP_SIGMA`], or a joint that would turn faster than the swing bound of
+//! [`crate::limits::swing`] per mm or degree of TCP motion), a collision (when a
 //! [`JogObstacleCheck`] is given) or the end of the jog range. The arm decelerates to a
 //! stop *at* that point, so it stops before the limit, never after. The setpoint is a pure
 //! function of the time since jog start, so the simulation (1 kHz) and the serial session
@@ -27,6 +29,7 @@ use nalgebra::{Isometry3, Unit, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::ik::{self, Branch};
+use crate::limits::swing::{SwingOverBound, swing_over_bound};
 use crate::model::RobotModel;
 
 use super::{MotionCaps, MotionError, Setpoint};
@@ -270,6 +273,14 @@ impl Walker<'_> {
         Ok(q)
     }
 
+    /// The joint that would turn beyond the swing bound ([`crate::limits::swing`]) between two
+    /// knots `ds` apart along the path (joints interpolate linearly between knots, so this bounds
+    /// every setpoint in between).
+    fn swing(&self, ds: f64, q_a: &[f64], q_b: &[f64]) -> Option<SwingOverBound> {
+        let (travel_m, rotation_rad) = if self.axis.is_rotation() { (0.0, ds) } else { (ds, 0.0) };
+        swing_over_bound(q_a, q_b, travel_m, rotation_rad)
+    }
+
     /// True when the joints interpolated halfway between two knots put the TCP within the
     /// chord tolerances of the ideal pose halfway along the path.
     fn chord_ok(&self, s_a: f64, q_a: &[f64], s_b: f64, q_b: &[f64]) -> bool {
@@ -359,7 +370,7 @@ impl CartesianJogPlan {
                         h *= 0.5;
                         continue;
                     } else if chord {
-                        // a wrist swing at a singularity: the joints turn, the TCP stays on the path
+                        // the finest knot and still a large turn: the swing bound below stops it
                         q_b
                     } else {
                         break JogStop::Singularity("the joints cannot follow the path here".into());
@@ -381,7 +392,10 @@ impl CartesianJogPlan {
                     let reason = limit_near(model, &q_a, &q_lo)
                         .or_else(|| q.len().checked_sub(2).and_then(|k| limit_near(model, &q[k], &q_lo)))
                         .unwrap_or(JogStop::Unreachable(why));
-                    if lo > s_a && kin.obstacles.as_ref().is_none_or(|o| o.contact(model, &q_lo).is_none()) {
+                    if lo > s_a
+                        && w.swing(lo - s_a, &q_a, &q_lo).is_none()
+                        && kin.obstacles.as_ref().is_none_or(|o| o.contact(model, &q_lo).is_none())
+                    {
                         sig.push(sigma_min(model, &q_lo));
                         s.push(lo);
                         q.push(q_lo);
@@ -389,6 +403,10 @@ impl CartesianJogPlan {
                     break reason;
                 }
             };
+            // near a singular pose: stop rather than swing a joint round (the swing bound)
+            if let Some(swing) = w.swing(s_b - s_a, &q_a, &q_b) {
+                break JogStop::Singularity(swing.message());
+            }
             let sig_b = sigma_min(model, &q_b);
             if sig_b < STOP_SIGMA && sig_b < sig[sig.len() - 1] {
                 break JogStop::Singularity(format!(
@@ -424,8 +442,12 @@ impl CartesianJogPlan {
         if s.len() == 2 {
             // one interval: add its middle so the speed can rise and fall again
             let mid = 0.5 * s[1];
-            let qm =
-                w.solve(mid, &q[0]).unwrap_or_else(|_| q[0].iter().zip(&q[1]).map(|(a, b)| 0.5 * (a + b)).collect());
+            let halfway = || q[0].iter().zip(&q[1]).map(|(a, b)| 0.5 * (a + b)).collect::<Vec<f64>>();
+            let qm = w
+                .solve(mid, &q[0])
+                .ok()
+                .filter(|qm| w.swing(mid, &q[0], qm).is_none() && w.swing(s[1] - mid, qm, &q[1]).is_none())
+                .unwrap_or_else(halfway);
             s.insert(1, mid);
             sig.insert(1, sigma_min(model, &qm));
             q.insert(1, qm);
@@ -543,5 +565,7 @@ impl CartesianJogPlan {
     }
 }
 
+#[cfg(test)]
+mod swing_tests;
 #[cfg(test)]
 mod tests;

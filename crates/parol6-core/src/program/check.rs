@@ -87,6 +87,11 @@ pub struct CheckReport {
     pub issues: Vec<CheckIssue>,
     /// Every planned step, in order (empty when the program does not compile).
     pub plan: Vec<PlannedStep>,
+    /// How many of the warnings are joint torques over the motor limits (inverse dynamics along
+    /// the compiled trajectory, [`super::torques::torque_warnings`]): the window asks before it
+    /// runs such a program.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub torque_warnings: usize,
     /// The checked TCP path, coloured by status (for the 3D view; not in the JSON).
     #[serde(skip)]
     pub path: Vec<CheckedPoint>,
@@ -153,7 +158,9 @@ fn check_report(
     let opts = CompileOptions { speed_override: check_opts.speed_override, ..CompileOptions::PREFLIGHT };
     let mut path = Vec::new();
     let mut plan = Vec::new();
+
     let mut kept = Vec::new();
+    let mut torque_warnings = 0;
     let checker = Preflight::new(model, &MotionCaps::of(model), &program.keep_out);
     let (compiled, walked) = compile_and_walk(model, program, start_q, opts, checker.as_ref().ok(), progress);
     match compiled {
@@ -193,6 +200,10 @@ fn check_report(
                     tcp_mm: None,
                 }),
             }
+            let before = issues.len();
+            issues.extend(torque_issues(model, &compiled, start_q));
+            torque_warnings = issues.len() - before;
+
             kept = compiled;
         }
         Err(CompileStop::Error(e)) => issues.push(CheckIssue {
@@ -205,7 +216,7 @@ fn check_report(
         }),
     }
     let ok = !issues.iter().any(|i| i.severity == Severity::Error);
-    Some((kept, CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path }))
+    Some((kept, CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path, torque_warnings }))
 }
 
 /// Moves compiled ahead of the pre-flight walk (the channel between the two threads).
@@ -329,6 +340,49 @@ fn without_place_prefix(message: &str) -> String {
         (true, Some(i)) => message[i + 3..].to_string(),
         _ => message.to_string(),
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// One warning per stretch where a joint's torque (inverse dynamics along the compiled
+/// trajectory, the tool's mass included) exceeds its motor limit, naming the step and line.
+fn torque_issues(model: &RobotModel, compiled: &[CompiledStep], start_q: &[f64]) -> Vec<CheckIssue> {
+    let (warnings, dropped) = super::torques::torque_warnings(model, compiled, start_q);
+    let mut out: Vec<CheckIssue> = warnings
+        .iter()
+        .map(|w| CheckIssue {
+            line: w.line,
+            move_index: w.step,
+            severity: Severity::Warning,
+            message: format!(
+                "J{} torque {:.2} N·m exceeds its motor limit {:.2} N·m at t = {:.2} s of the program \
+                 (over from {:.2} to {:.2} s): risk of lost steps, slow the step down or lighten the load",
+                w.joint,
+                w.peak_nm.abs(),
+                w.limit_nm,
+                w.peak_s,
+                w.start_s,
+                w.end_s
+            ),
+            t_s: None,
+            tcp_mm: None,
+        })
+        .collect();
+    if dropped > 0
+        && let Some(last) = warnings.last()
+    {
+        out.push(CheckIssue {
+            line: last.line,
+            move_index: last.step,
+            severity: Severity::Warning,
+            message: format!("{dropped} more stretches of joint torque over the motor limits are not listed"),
+            t_s: None,
+            tcp_mm: None,
+        });
+    }
+    out
 }
 
 #[cfg(test)]

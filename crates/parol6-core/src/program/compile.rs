@@ -390,6 +390,9 @@ fn cartesian_error(index: usize, line: usize, kind: &'static str, e: StepError) 
             Some(t_s),
             Some([x_mm, y_mm, z_mm]),
         ),
+        StepError::Cartesian(c @ CartesianError::SingularSwing { t_s, x_mm, y_mm, z_mm, .. }) => {
+            (c.to_string(), Some(t_s), Some([x_mm, y_mm, z_mm]))
+        }
         StepError::Cartesian(c @ CartesianError::Discontinuous { t_s, .. }) => (c.to_string(), Some(t_s), None),
         StepError::Cartesian(c) => (c.to_string(), None, None),
         StepError::Message(m) => (m, None, None),

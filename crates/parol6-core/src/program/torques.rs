@@ -23,6 +23,8 @@ pub struct TorqueWarning {
     pub joint: usize,
     /// 1-based source line of the step (0: unknown).
     pub line: usize,
+    /// 0-based index of the program step.
+    pub step: usize,
     /// Step type.
     pub step_kind: &'static str,
     /// Program time where the torque first exceeds the limit, s.
@@ -65,6 +67,7 @@ pub fn torque_limits_nm(model: &RobotModel) -> Option<Vec<f64>> {
 #[derive(Clone, Copy)]
 struct Origin {
     line: usize,
+    step: usize,
     kind: &'static str,
 }
 
@@ -72,23 +75,60 @@ struct Builder<'m> {
     model: &'m RobotModel,
     id: InverseDynamics,
     out: ProgramTorques,
-    origins: Vec<Origin>,
+    /// Keep every sample's torque (the plot), or only peaks and warnings (pre-flight).
+    keep_series: bool,
+    /// Per joint, the stretch over the limit now open.
+    open: Vec<Option<TorqueWarning>>,
+    /// Per joint, the closed stretches (the first [`MAX_TORQUE_WARNINGS`]; the rest counted).
+    closed: Vec<Vec<TorqueWarning>>,
     tau: Vec<f64>,
 }
 
 impl Builder<'_> {
     fn push(&mut self, t_s: f64, q: &[f64], qd: &[f64], qdd: &[f64], origin: Origin) {
         self.id.compute_into(self.model, q, qd, qdd, &mut self.tau);
-        self.out.time_s.push(t_s);
-        for (j, &v) in self.tau.iter().enumerate() {
-            if let Some(col) = self.out.torques_nm.get_mut(j) {
+        if self.keep_series {
+            self.out.time_s.push(t_s);
+        }
+        for j in 0..self.tau.len() {
+            let v = self.tau[j];
+            if self.keep_series
+                && let Some(col) = self.out.torques_nm.get_mut(j)
+            {
                 col.push(v);
             }
             if let Some(p) = self.out.peak_abs_nm.get_mut(j) {
                 *p = p.max(v.abs());
             }
+            let Some(limit) = self.out.limits_nm.as_ref().and_then(|l| l.get(j).copied()) else { continue };
+            if v.abs() > limit {
+                let w = self.open[j].get_or_insert_with(|| TorqueWarning {
+                    joint: j + 1,
+                    line: origin.line,
+                    step: origin.step,
+                    step_kind: origin.kind,
+                    start_s: t_s,
+                    end_s: t_s,
+                    peak_s: t_s,
+                    peak_nm: v,
+                    limit_nm: limit,
+                });
+                w.end_s = t_s;
+                if v.abs() > w.peak_nm.abs() {
+                    w.peak_nm = v;
+                    w.peak_s = t_s;
+                }
+            } else if let Some(w) = self.open[j].take() {
+                self.close(j, w);
+            }
         }
-        self.origins.push(origin);
+    }
+
+    fn close(&mut self, j: usize, w: TorqueWarning) {
+        match self.closed.get_mut(j) {
+            Some(c) if c.len() < MAX_TORQUE_WARNINGS => c.push(w),
+            _ => self.out.warnings_dropped += 1,
+        }
     }
 }
 
@@ -99,6 +139,26 @@ pub fn program_torques(
     steps: &[CompiledStep],
     start_q: &[f64],
     limits_nm: Option<Vec<f64>>,
+) -> ProgramTorques {
+    walk(model, steps, start_q, limits_nm, true)
+}
+
+/// The stretches over the documented torque limits ([`torque_limits_nm`]) of the compiled
+/// `steps` from `start_q`, and how many were left out: what [`program_torques`] warns about,
+/// without keeping the series (pre-flight of a long program). Empty for a robot without
+/// documented limits.
+pub fn torque_warnings(model: &RobotModel, steps: &[CompiledStep], start_q: &[f64]) -> (Vec<TorqueWarning>, usize) {
+    let Some(limits) = torque_limits_nm(model) else { return (Vec::new(), 0) };
+    let out = walk(model, steps, start_q, Some(limits), false);
+    (out.warnings, out.warnings_dropped)
+}
+
+fn walk(
+    model: &RobotModel,
+    steps: &[CompiledStep],
+    start_q: &[f64],
+    limits_nm: Option<Vec<f64>>,
+    keep_series: bool,
 ) -> ProgramTorques {
     let n = model.dof();
     let mut b = Builder {
@@ -112,16 +172,19 @@ pub fn program_torques(
             warnings: Vec::new(),
             warnings_dropped: 0,
         },
-        origins: Vec::new(),
+        keep_series,
+        open: vec![None; n],
+        closed: vec![Vec::new(); n],
         tau: vec![0.0; n],
     };
     let zeros = vec![0.0; n];
     let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
     let mut t0 = 0.0;
     let mut q_end = start_q.to_vec();
-    b.push(0.0, start_q, &zeros, &zeros, Origin { line: steps.first().map_or(0, |s| s.line), kind: "start" });
+    let first = Origin { line: steps.first().map_or(0, |s| s.line), step: 0, kind: "start" };
+    b.push(0.0, start_q, &zeros, &zeros, first);
     for step in steps {
-        let origin = Origin { line: step.line, kind: step.kind };
+        let origin = Origin { line: step.line, step: step.steps.start, kind: step.kind };
         match &step.action {
             StepAction::Motion(traj) => {
                 let s = traj.samples();
@@ -150,45 +213,18 @@ pub fn program_torques(
         }
         q_end.clone_from(&step.end_q);
     }
-    find_warnings(&mut b.out, &b.origins);
-    b.out
-}
-
-/// One warning per stretch over the limit, per joint, sorted by start time.
-fn find_warnings(out: &mut ProgramTorques, origins: &[Origin]) {
-    let Some(limits) = out.limits_nm.clone() else { return };
-    let mut all = Vec::new();
-    for (j, col) in out.torques_nm.iter().enumerate() {
-        let limit = limits[j];
-        let mut open: Option<TorqueWarning> = None;
-        for (k, &v) in col.iter().enumerate() {
-            let t = out.time_s[k];
-            if v.abs() > limit {
-                let w = open.get_or_insert_with(|| TorqueWarning {
-                    joint: j + 1,
-                    line: origins[k].line,
-                    step_kind: origins[k].kind,
-                    start_s: t,
-                    end_s: t,
-                    peak_s: t,
-                    peak_nm: v,
-                    limit_nm: limit,
-                });
-                w.end_s = t;
-                if v.abs() > w.peak_nm.abs() {
-                    w.peak_nm = v;
-                    w.peak_s = t;
-                }
-            } else if let Some(w) = open.take() {
-                all.push(w);
-            }
+    for j in 0..n {
+        if let Some(w) = b.open[j].take() {
+            b.close(j, w);
         }
-        all.extend(open);
     }
+    let mut all: Vec<TorqueWarning> = b.closed.into_iter().flatten().collect();
+    // one warning per stretch over the limit, per joint, sorted by start time
     all.sort_by(|a, b| a.start_s.total_cmp(&b.start_s).then(a.joint.cmp(&b.joint)));
-    out.warnings_dropped = all.len().saturating_sub(MAX_TORQUE_WARNINGS);
+    b.out.warnings_dropped += all.len().saturating_sub(MAX_TORQUE_WARNINGS);
     all.truncate(MAX_TORQUE_WARNINGS);
-    out.warnings = all;
+    b.out.warnings = all;
+    b.out
 }
 
 #[cfg(test)]

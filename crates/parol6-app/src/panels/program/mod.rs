@@ -19,6 +19,7 @@
 //! this panel only reads its progress and queues commands.
 
 mod checker;
+mod confirm;
 mod edit;
 mod files;
 mod table;
@@ -78,6 +79,8 @@ pub struct ProgramPanel {
     pub speed_override: f64,
     /// Start over after the last step.
     pub looping: bool,
+    /// A run waits for the torque question (`Some(single_step)`, see `confirm`).
+    confirm_run: Option<bool>,
 }
 
 impl ProgramPanel {
@@ -101,6 +104,7 @@ impl ProgramPanel {
             check_error: None,
             speed_override: 1.0,
             looping: false,
+            confirm_run: None,
         }
     }
 
@@ -321,6 +325,7 @@ impl Panel for ProgramPanel {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
         self.dialogs(ui, ctx);
+        self.run_confirmation(ui, ctx);
         if self.table_open && !running {
             self.table_window(ui, ctx);
         }
@@ -403,7 +408,7 @@ impl ProgramPanel {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Resume));
                 } else {
-                    ctx.send(self.run_command(false));
+                    self.start_run(ctx, false);
                 }
             }
             let pause = ui.add_enabled(running && !paused, egui::Button::new("Pause (F6)"));
@@ -416,7 +421,7 @@ impl ProgramPanel {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Step));
                 } else {
-                    ctx.send(self.run_command(true));
+                    self.start_run(ctx, true);
                 }
             }
             if ui.add_enabled(running, egui::Button::new("Stop program")).clicked() {

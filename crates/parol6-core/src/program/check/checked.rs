@@ -79,6 +79,7 @@ impl CheckedProgram {
             issues: vec![issue],
             plan: Vec::new(),
             path: Vec::new(),
+            torque_warnings: 0,
         };
         Self { program, start_q: start_q.to_vec(), opts, compiled: Vec::new(), report }
     }

@@ -94,8 +94,15 @@ fn a_line_into_another_configuration_says_what_to_insert() {
     assert!(!r.ok);
     let e = &r.issues[0];
     assert_eq!(e.line, 20);
-    assert!(e.message.contains("not reachable in configuration front/"), "{}", e.message);
-    assert!(e.message.contains("insert a joint move to the pose"), "{}", e.message);
+    // the line crosses the wrist border (J5 0.8 → −0.8): it is refused either where the wrist
+    // would swing beyond the swing bound near J5 = 0 (issue 32) or, past it, in the other
+    // configuration; both say to use a joint move
+    if e.message.contains("near a singular") {
+        assert!(e.message.contains("use a joint move"), "{}", e.message);
+    } else {
+        assert!(e.message.contains("not reachable in configuration front/"), "{}", e.message);
+        assert!(e.message.contains("insert a joint move to the pose"), "{}", e.message);
+    }
     // the joint move the message asks for, then the line, pass
     let r = check_program(&model, &program(vec![move_pose(target, None)]), &start, CheckOptions::default());
     assert!(r.ok, "{:?}", r.issues);
@@ -152,4 +159,53 @@ fn a_line_of_no_length_at_a_singular_pose_is_a_warning() {
     let line = Step::MoveL { pose: away, speed_mm_s: None, blend_mm: None, duration_s: None };
     let r = check_program(&model, &program(vec![line]), &q0, CheckOptions::default());
     assert!(!r.ok, "{:?}", r.issues);
+}
+
+/// Issue 32: a linear step that would swing a joint beyond the swing bound (from standby, J5 =
+/// 0, a world +X line needs J4 and J6 to turn 90°) is a pre-flight error naming its step and
+/// line and saying what to do.
+#[test]
+fn a_linear_step_past_the_swing_bound_is_a_pre_flight_error() {
+    let model = RobotModel::parol6();
+    let start = model.tcp_isometry(&standby());
+    let mut goal = start;
+    goal.translation.vector.x += 0.005;
+    let p = PoseMm::from_isometry(&goal);
+    let steps = vec![Step::MoveL { pose: p, speed_mm_s: None, blend_mm: None, duration_s: None }];
+    let r = check_program(&model, &program(steps), &standby(), CheckOptions::default());
+    assert!(!r.ok, "{:?}", r.issues);
+    let e = r.issues.iter().find(|i| i.severity == Severity::Error).expect("an error");
+    assert_eq!((e.line, e.move_index), (20, 0), "{e:?}");
+    assert!(e.message.contains("singular wrist") && e.message.contains("joint move"), "{}", e.message);
+}
+
+/// Issue 32: joint torque over the motor limits is a pre-flight warning naming the step and
+/// line (here a PAROL6 with links four times as heavy holding a pose); the bare PAROL6 has none.
+#[test]
+fn joint_torque_over_the_motor_limits_is_a_pre_flight_warning() {
+    let mut heavy = RobotModel::parol6();
+    for l in &mut heavy.links {
+        if let Some(i) = &mut l.inertial {
+            i.mass_kg *= 4.0;
+            i.inertia_kg_m2 *= 4.0;
+        }
+    }
+    let mut q = standby();
+    q[1] += 0.6;
+    let steps = vec![
+        Step::MoveJoints {
+            joints_deg: q.iter().map(|v| v.to_degrees()).collect(),
+            speed_fraction: None,
+            duration_s: None,
+        },
+        Step::Dwell { seconds: 0.5 },
+    ];
+    let r = check_program(&heavy, &program(steps.clone()), &standby(), CheckOptions::default());
+    assert!(r.ok, "warnings only: {:?}", r.issues);
+    assert!(r.torque_warnings > 0, "{:?}", r.issues);
+    let w = r.issues.iter().find(|i| i.message.contains("exceeds its motor limit")).expect("a torque warning");
+    assert_eq!(w.severity, Severity::Warning);
+    assert!(w.line >= 20 && w.message.contains("J2 torque"), "{w:?}");
+    let bare = check_program(&RobotModel::parol6(), &program(steps), &standby(), CheckOptions::default());
+    assert_eq!(bare.torque_warnings, 0, "{:?}", bare.issues);
 }

@@ -1,0 +1,72 @@
+//! The question before a run whose pre-flight warns of joint torque over the motor limits
+//! (`CheckReport::torque_warnings`): the arm may lose steps, so Run / F5 / Step ask first.
+
+use eframe::egui;
+
+use parol6_core::program::check::CheckReport;
+
+use super::ProgramPanel;
+use crate::palette;
+use crate::panels::PanelContext;
+
+/// Text of the question: how many torque warnings, and the first one with its step and line.
+pub(super) fn torque_question(report: &CheckReport) -> String {
+    let first = report
+        .issues
+        .iter()
+        .find(|i| i.message.contains("exceeds its motor limit"))
+        .map(|i| format!("Step {} (line {}): {}", i.move_index + 1, i.line, i.message))
+        .unwrap_or_default();
+    format!(
+        "Pre-flight found {} stretch(es) where a joint needs more torque than its motor gives. \
+         The arm may lose steps or sag. {first}",
+        report.torque_warnings
+    )
+}
+
+impl ProgramPanel {
+    /// Starts a run (`single_step`: one step, then pause), or first asks when the pre-flight
+    /// warns of torque over the motor limits.
+    pub(super) fn start_run(&mut self, ctx: &mut PanelContext<'_>, single_step: bool) {
+        let torque = self.checked.as_ref().is_some_and(|c| c.report.torque_warnings > 0);
+        if torque {
+            self.confirm_run = Some(single_step);
+        } else {
+            ctx.send(self.run_command(single_step));
+        }
+    }
+
+    /// True while the torque question is open.
+    pub fn run_confirmation_open(&self) -> bool {
+        self.confirm_run.is_some()
+    }
+
+    /// The torque question, while it is open: "Run anyway" starts the run, "Cancel" (or a
+    /// click outside) does not.
+    pub(super) fn run_confirmation(&mut self, ui: &egui::Ui, ctx: &mut PanelContext<'_>) {
+        let Some(single_step) = self.confirm_run else { return };
+        let Some(checked) = &self.checked else {
+            self.confirm_run = None;
+            return;
+        };
+        let text = torque_question(&checked.report);
+        let (mut run, mut cancel) = (false, false);
+        let modal = egui::Modal::new(egui::Id::unique("parol6_torque_confirm")).show(ui.ctx(), |ui| {
+            ui.set_max_width(460.0);
+            ui.heading("Joint torque over the motor limits");
+            ui.add(egui::Label::new(egui::RichText::new(text).color(palette::rgb(palette::PATH_WARNING))).wrap());
+            ui.add_space(6.0);
+            ui.horizontal(|ui| {
+                run = ui.button("Run anyway").on_hover_text("start the program as planned").clicked();
+                cancel =
+                    ui.button("Cancel").on_hover_text("do not run; slow the steps down or lighten the load").clicked();
+            });
+        });
+        if run {
+            self.confirm_run = None;
+            ctx.send(self.run_command(single_step));
+        } else if cancel || modal.should_close() {
+            self.confirm_run = None;
+        }
+    }
+}

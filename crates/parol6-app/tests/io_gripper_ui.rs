@@ -14,32 +14,16 @@ use egui_kittest::kittest::Queryable;
 
 use parol6_app::app::{ConnectTarget, LaunchOptions, Parol6App};
 use parol6_app::panels::io_gripper::ESTOP_LATCHED;
-use parol6_core::RobotModel;
 use parol6_core::motion::{RobotBackend, StateSource};
 use parol6_hw::CommandCode;
 
-use ui_support::{has_label, type_into, until};
+use ui_support::{harness_with, has_label, launch_options, type_into, until};
 
 /// The app connected to the built-in emulator, once the board answers (a tall window: the
 /// left column shows every panel without scrolling).
 fn robot_harness() -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
-        model: RobotModel::parol6(),
-        connect: Some(ConnectTarget::Emulator),
-        settings_path: None,
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-        record: None,
-        replay: None,
-        recording_info: Default::default(),
-    };
-    let app = Parol6App::new(opts, None).expect("app");
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 2400.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
-    h.run_steps(3);
+    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..launch_options() };
+    let mut h = harness_with(opts, egui::vec2(1280.0, 2400.0));
     until(&mut h, "the emulator answers", 15.0, |h| {
         let s = h.state().backend().state();
         s.source == StateSource::Robot && s.blocked.is_none()

@@ -5,38 +5,21 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::{has_label, until};
+use ui_support::{harness_with, has_label, launch_options, until};
 
 use parol6_app::app::{LaunchOptions, Parol6App};
 use parol6_core::RobotModel;
 
 /// The app on `model` in a harness.
 fn harness(model: RobotModel) -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
-        model,
-        connect: None,
-        settings_path: None,
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-        record: None,
-        replay: None,
-        recording_info: Default::default(),
-    };
-    let app = Parol6App::new(opts, None).expect("app");
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 1400.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
-    h.run_steps(3);
-    h
+    harness_with(LaunchOptions { model, ..launch_options() }, egui::vec2(1280.0, 1400.0))
 }
 
 /// The embedded PAROL6 with every link four times as heavy.

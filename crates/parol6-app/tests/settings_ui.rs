@@ -5,16 +5,12 @@
 
 mod ui_support;
 
-use std::time::Instant;
-
 use eframe::egui;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use ui_support::until;
+use ui_support::{harness_with, launch_options, until};
 
-use parol6_app::app::{LaunchOptions, Parol6App, load_settings};
+use parol6_app::app::{LaunchOptions, load_settings};
 use parol6_app::panels::AngleUnit;
-use parol6_core::RobotModel;
 
 /// Regression (issue 32): settings were written only on Ctrl+Q, so a crash lost them.
 #[test]
@@ -22,23 +18,8 @@ fn a_changed_setting_is_on_disk_before_the_window_closes() {
     let dir = std::env::temp_dir().join(format!("parol6-settings-ui-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("settings.json");
-    let opts = LaunchOptions {
-        model: RobotModel::parol6(),
-        connect: None,
-        settings_path: Some(path.clone()),
-        test_script: None,
-        started: Instant::now(),
-        msaa_samples: 1,
-        record: None,
-        replay: None,
-        recording_info: Default::default(),
-    };
-    let app = Parol6App::new(opts, None).expect("app");
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
-    h.run_steps(3);
+    let opts = LaunchOptions { settings_path: Some(path.clone()), ..launch_options() };
+    let mut h = harness_with(opts, egui::vec2(1280.0, 800.0));
     assert_eq!(load_settings(Some(&path)).unit, AngleUnit::Deg, "a fresh start: degrees");
     h.get_by_label("Units").click();
     h.run_steps(2);

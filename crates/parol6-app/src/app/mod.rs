@@ -545,7 +545,7 @@ impl Parol6App {
     }
 
     /// Saves the settings now, after any write under way (they are also saved whenever they
-    /// change, see [`settings_store::SettingsAutosave`]).
+    /// change, on a writer thread: `settings_store::SettingsAutosave`).
     pub fn save_settings(&mut self) {
         if let Some(autosave) = &mut self.autosave {
             autosave.finish(&self.settings);

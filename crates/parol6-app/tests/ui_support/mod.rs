@@ -12,9 +12,10 @@ use egui_kittest::kittest::Queryable;
 use parol6_app::app::{LaunchOptions, Parol6App};
 use parol6_core::RobotModel;
 
-/// The app in a harness of `size` points.
-pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
-    let opts = LaunchOptions {
+/// The launch options of the UI tests: the embedded PAROL6 in simulation, no settings file,
+/// MSAA 1. A test changes what it needs: `LaunchOptions { connect: …, ..launch_options() }`.
+pub fn launch_options() -> LaunchOptions {
+    LaunchOptions {
         model: RobotModel::parol6(),
         connect: None,
         settings_path: None,
@@ -24,7 +25,11 @@ pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
         record: None,
         replay: None,
         recording_info: Default::default(),
-    };
+    }
+}
+
+/// The app started with `opts`, in a harness of `size` points, three frames run.
+pub fn harness_with(opts: LaunchOptions, size: egui::Vec2) -> Harness<'static, Parol6App> {
     let app = Parol6App::new(opts, None).expect("app");
     let mut h = Harness::builder()
         .with_size(size)
@@ -32,6 +37,11 @@ pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
         .build_ui_state(|ui, app: &mut Parol6App| app.frame(ui), app);
     h.run_steps(3);
     h
+}
+
+/// The app in a harness of `size` points.
+pub fn app_harness(size: egui::Vec2) -> Harness<'static, Parol6App> {
+    harness_with(launch_options(), size)
 }
 
 /// Runs frames until `f` holds (at most `s` seconds of wall time); fails naming `what`.

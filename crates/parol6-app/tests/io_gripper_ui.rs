@@ -169,3 +169,15 @@ fn home_on_the_fake_robot_shows_progress_and_outcome() {
     until(&mut h, "homing outcome shown", 20.0, |h| has_label(h, "homing done"));
     assert!(h.state().notices().iter().any(|n| n.text.contains("homing done")), "a notice says it");
 }
+
+/// Regression (issue 32, minor): robot versus simulation was shown only by a small word in the
+/// status bar. The window title names the robot and its port; the simulation says so.
+#[test]
+fn the_window_title_says_robot_or_simulation() {
+    let sim = ui_support::app_harness(egui::vec2(1280.0, 800.0));
+    assert_eq!(sim.state().window_title(), Some(parol6_app::app::TITLE_SIMULATION));
+    let mut h = robot_harness();
+    h.run_steps(2);
+    let title = h.state().window_title().unwrap_or_default().to_string();
+    assert!(title.contains("ROBOT on /dev/"), "{title}");
+}

@@ -94,3 +94,21 @@ fn discard_quits_without_saving_and_a_clean_program_is_not_asked_about() {
     ctrl_q(&mut clean);
     assert!(!clean.state().quit_prompt_open(), "no edits: nothing to ask");
 }
+
+/// Regression (issue 32, minor): the File menu had no Quit. It asks over unsaved edits as
+/// Ctrl+Q does.
+#[test]
+fn quit_in_the_file_menu_asks_as_ctrl_q_does() {
+    let dir = std::env::temp_dir().join(format!("parol6-quit-ui-m-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = edited(&dir.join("edited.json"));
+    h.query_all_by_label("File").next().expect("the File menu").click();
+    h.run_steps(2);
+    h.get_by_label("Quit (Ctrl+Q)").click();
+    h.run_steps(2);
+    assert!(!closes(&h) && h.state().quit_prompt_open(), "asks first");
+    h.run_steps(2);
+    h.get_by_label("Discard and quit").click();
+    h.run_steps(1);
+    assert!(closes(&h), "then quits");
+}

@@ -10,6 +10,11 @@ use parol6_core::sim::{SimCommand, SimHandle};
 use super::{Notice, Parol6App, PerfStats, Settings};
 
 impl Parol6App {
+    /// The window title last sent: robot (with its port) or simulation.
+    pub fn window_title(&self) -> Option<&str> {
+        self.window_title.as_deref()
+    }
+
     /// Shares the slot where the test hook stores the process exit status (0 = success).
     pub fn set_exit_code(&mut self, slot: Arc<AtomicI32>) {
         self.exit_code = slot;

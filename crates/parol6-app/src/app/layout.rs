@@ -39,6 +39,8 @@ pub struct FileMenu {
     pub recording: Option<String>,
     /// A recording is open for replay (set by the app each frame).
     pub replaying: bool,
+    /// *Quit* was clicked (taken by the app, which asks first over unsaved edits, as Ctrl+Q).
+    pub quit_clicked: bool,
 }
 
 impl FileMenu {
@@ -77,6 +79,11 @@ impl FileMenu {
                     }
                 });
             }
+        }
+        ui.separator();
+        if ui.button("Quit (Ctrl+Q)").clicked() {
+            self.quit_clicked = true;
+            ui.close();
         }
     }
 }

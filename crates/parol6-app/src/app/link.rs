@@ -5,6 +5,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use eframe::egui;
 use parol6_core::RobotModel;
 use parol6_core::motion::RobotBackend as _;
 
@@ -144,5 +145,31 @@ impl super::Parol6App {
         let mut latched = (*state).clone();
         latched.blocked = Some(crate::panels::io_gripper::ESTOP_LATCHED.to_string());
         Arc::new(latched)
+    }
+}
+
+/// The window's title while the simulation is shown.
+pub const TITLE_SIMULATION: &str = "PAROL6 Studio — simulation";
+
+impl super::Parol6App {
+    /// Robot or simulation, impossible to miss: the window's title names it ("— ROBOT on PORT"),
+    /// and while the robot is shown a frame in the robot colour runs round the whole window.
+    pub(super) fn source_marks(&mut self, ctx: &egui::Context, source: parol6_core::motion::StateSource) {
+        let title = match source {
+            parol6_core::motion::StateSource::Robot => match &self.hw {
+                Some(link) => format!("PAROL6 Studio — ROBOT on {}", link.session.snapshot().port),
+                None => "PAROL6 Studio — ROBOT".to_string(),
+            },
+            parol6_core::motion::StateSource::Simulation => TITLE_SIMULATION.to_string(),
+        };
+        if self.window_title.as_deref() != Some(title.as_str()) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.window_title = Some(title);
+        }
+        if source == parol6_core::motion::StateSource::Robot {
+            let layer = egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("parol6_robot_frame"));
+            let stroke = egui::Stroke::new(3.0, crate::palette::rgb(crate::palette::SOURCE_ROBOT));
+            ctx.layer_painter(layer).rect_stroke(ctx.content_rect(), 0.0, stroke, egui::StrokeKind::Inside);
+        }
     }
 }

@@ -45,6 +45,7 @@ mod tests;
 pub use icon::window_icon;
 pub use layout::FileMenu;
 use link::HwLink;
+pub use link::TITLE_SIMULATION;
 pub use replay::read_replay;
 use settings_store::save_settings;
 pub use settings_store::{load_settings, settings_path};
@@ -132,6 +133,8 @@ pub struct Parol6App {
     /// The tracking mode the simulation was last given.
     sim_tracking: parol6_core::motion::tracking::TrackingMode,
     settings_path: Option<PathBuf>,
+    /// The window title last sent (robot or simulation, see `link::source_marks`).
+    window_title: Option<String>,
     /// Writes the settings when they change (none without a settings file).
     autosave: Option<settings_store::SettingsAutosave>,
     /// The operator panels (see [`crate::panels::registry`]).
@@ -217,6 +220,7 @@ impl Parol6App {
             viewport,
             viewport_error,
             sim_tracking: settings.tracking,
+            window_title: None,
             autosave: opts.settings_path.clone().and_then(|p| {
                 settings_store::SettingsAutosave::start(p, &settings)
                     .map_err(|e| tracing::warn!("settings will be saved at exit only: {e}"))
@@ -350,7 +354,7 @@ impl Parol6App {
         shortcuts::update_held(ctx);
         let esc = shortcuts::pressed(ctx, Action::Stop);
         let home = shortcuts::pressed(ctx, Action::Home);
-        let quit = shortcuts::pressed(ctx, Action::Quit);
+        let quit = shortcuts::pressed(ctx, Action::Quit) || std::mem::take(&mut self.files.quit_clicked);
         let help = shortcuts::pressed(ctx, Action::ToggleHelp);
         if esc {
             self.commands.push(AppCommand::Motion(MotionCommand::Stop));
@@ -383,6 +387,7 @@ impl Parol6App {
         self.link_notices();
         let robot_arc = self.robot_state();
         let robot: &RobotState = &robot_arc;
+        self.source_marks(&ctx, robot.source);
         self.refusal_notices(robot);
         self.feed_telemetry(&robot_arc);
         self.live_share_frame();

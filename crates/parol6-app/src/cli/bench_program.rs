@@ -6,7 +6,6 @@
 //! own part `app_ms_max`), the frames over 50 ms, and the time until the pre-flight result is
 //! shown (`checked_in_s`).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -47,9 +46,8 @@ pub fn write_raster_gcode(path: &Path, lines: usize, blend_mm: Option<f64>) -> R
         text.push_str(&format!("G1 X{x:.3} Y{y:.3}\n"));
     }
     text.push_str("M30\n");
-    let mut f =
-        std::fs::File::create(path).map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))?;
-    f.write_all(text.as_bytes()).map_err(|e| CliError::runtime(format!("cannot write {}: {e}", path.display())))
+    // `--keep FILE` may name a user's file: replaced whole or left as it was
+    Ok(parol6_core::fsio::write_atomic_bytes(path, text.as_bytes())?)
 }
 
 /// Runs `parol6 bench program-load`.
@@ -133,4 +131,30 @@ fn measure(path: &Path, lines: usize, blend_mm: Option<f64>, size: (u32, u32)) -
         "path_points": panel.overlay().map_or(0, |o| o.len()),
         "adapter": headless.adapter_info(),
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression: `bench program-load --keep FILE` created FILE in place (truncated first); a
+    /// user's file named there is now replaced whole, and a FIFO or folder is refused as it is.
+    #[test]
+    fn the_kept_gcode_file_is_written_atomically() {
+        let dir = std::env::temp_dir().join(format!("parol6-bench-program-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let kept = dir.join("raster.gcode");
+        std::fs::write(&kept, "old").expect("old file");
+        write_raster_gcode(&kept, 20, None).expect("written");
+        let text = std::fs::read_to_string(&kept).expect("read");
+        assert!(text.starts_with("; parol6 bench program-load") && text.ends_with("M30\n"), "{text}");
+        let names: Vec<_> = std::fs::read_dir(&dir).expect("list").map(|e| e.expect("entry").file_name()).collect();
+        assert_eq!(names, [std::ffi::OsString::from("raster.gcode")], "no temporary file left");
+        let folder = dir.join("a-folder");
+        std::fs::create_dir_all(&folder).expect("folder");
+        let err = write_raster_gcode(&folder, 20, None).expect_err("a folder is refused");
+        assert_eq!(err.status, 2, "{err:?}");
+        assert!(folder.is_dir());
+        std::fs::remove_dir_all(&dir).expect("clean up");
+    }
 }

@@ -175,11 +175,10 @@ fn official_convention_reads_rx_ry_rz_like_the_official_tools() {
 fn the_step_list_shows_configurations_and_teach_pose_records_a_joint_move() {
     let mut h = app_harness(egui::vec2(1280.0, 1400.0));
     h.get_by_label("Draw").click();
-    h.run_steps(4);
-    assert!(
-        h.query_all_by_label_contains("[front/down/no-flip] line to").next().is_some(),
-        "a line of Draw shows its configuration"
-    );
+    // the configurations come from the pre-flight's plan, made on a worker thread
+    ui_support::until(&mut h, "a line of Draw shows its configuration", 20.0, |h| {
+        h.query_all_by_label_contains("[front/down/no-flip] line to").next().is_some()
+    });
     let before = steps(&h).len();
     h.get_by_label("Teach line").click();
     h.run_steps(2);

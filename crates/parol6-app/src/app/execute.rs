@@ -78,6 +78,7 @@ impl Parol6App {
             AppCommand::Record(Some(path)) => self.start_file_recording(&path),
             AppCommand::Record(None) => self.stop_file_recording(),
             AppCommand::ShareLive(on) => self.share_live(on),
+            AppCommand::ShareRos2(on) => self.share_ros2(on),
             AppCommand::RemoteControl(on) => self.set_remote_control(on),
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {

@@ -88,7 +88,8 @@ impl FileMenu {
     }
 }
 
-/// File menu: *Share live* (Foxglove WebSocket) with its address, and the remote-control switch.
+/// File menu: *Share live* (Foxglove WebSocket) with its address, *Share over ROS 2* with its
+/// router and domain, and the remote-control switch.
 fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
     let mut on = pctx.live.sharing.is_some();
     if ui.checkbox(&mut on, "Share live (Foxglove WebSocket)").changed() {
@@ -104,6 +105,29 @@ fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
     if let Some(addr) = &pctx.live.sharing {
         ui.label(format!("sharing at {addr}"));
     }
+    ui.separator();
+    let mut ros2 = pctx.live.ros2.is_some() || pctx.live.ros2_starting;
+    let hover = "a ROS 2 node `parol6` over Zenoh (rmw_zenoh): /joint_states, /tf, /robot_description, and \
+                 trajectories on /parol6/joint_trajectory (refused unless remote control is on)";
+    if ui.checkbox(&mut ros2, "Share over ROS 2 (Zenoh)").on_hover_text(hover).changed() {
+        pctx.send(AppCommand::ShareRos2(ros2));
+    }
+    ui.horizontal(|ui| {
+        let label = ui.label("Router");
+        let edit = egui::TextEdit::singleline(&mut pctx.settings.ros2_router).desired_width(180.0);
+        ui.add_enabled(!ros2, edit).labelled_by(label.id).on_hover_text(
+            "tcp/ADDRESS:PORT of the Zenoh router (`ros2 run rmw_zenoh_cpp rmw_zenohd`: tcp/127.0.0.1:7447)",
+        );
+        let label = ui.label("Domain");
+        let domain = egui::DragValue::new(&mut pctx.settings.ros2_domain).range(0..=232);
+        ui.add_enabled(!ros2, domain).labelled_by(label.id).on_hover_text("ROS_DOMAIN_ID of the other nodes, 0–232");
+    });
+    if pctx.live.ros2_starting {
+        ui.label("ROS 2 node starting…");
+    } else if let Some(addr) = &pctx.live.ros2 {
+        ui.label(format!("ROS 2 node parol6: {addr}"));
+    }
+    ui.separator();
     let mut remote = pctx.live.remote_control;
     let hover = "carry out motion commands that come over the network (ROS 2 trajectories), after the same \
                  pre-flight as a program; a banner shows while it is on";

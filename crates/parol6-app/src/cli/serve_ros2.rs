@@ -24,17 +24,7 @@ pub struct Ros2Args {
 
 /// Refuses an endpoint this build cannot use (only TCP is built in).
 fn checked(flag: &str, endpoints: &[String]) -> Result<Vec<String>, CliError> {
-    for e in endpoints {
-        let Some(addr) = e.strip_prefix("tcp/") else {
-            return Err(CliError::usage(format!(
-                "{flag} {e}: only tcp/ADDRESS:PORT endpoints are built in (e.g. tcp/127.0.0.1:7447)"
-            )));
-        };
-        if addr.rsplit_once(':').is_none_or(|(_, port)| port.parse::<u16>().is_err()) {
-            return Err(CliError::usage(format!("{flag} {e}: give tcp/ADDRESS:PORT (e.g. tcp/127.0.0.1:7447)")));
-        }
-    }
-    Ok(endpoints.to_vec())
+    crate::live::tcp_endpoints(flag, endpoints).map_err(CliError::usage)
 }
 
 /// Starts the ROS 2 node.

@@ -216,6 +216,20 @@ fn stat_cpu_s(stat: &str) -> Option<f64> {
     Some((utime + stime) / 100.0)
 }
 
+/// Zenoh endpoints as given (`--ros2-connect`, the window's router field), each checked to be
+/// `tcp/ADDRESS:PORT`, the only transport built in; the error names `what` and the endpoint.
+pub fn tcp_endpoints(what: &str, endpoints: &[String]) -> Result<Vec<String>, String> {
+    for e in endpoints {
+        let Some(addr) = e.strip_prefix("tcp/") else {
+            return Err(format!("{what} {e}: only tcp/ADDRESS:PORT endpoints are built in (e.g. tcp/127.0.0.1:7447)"));
+        };
+        if addr.rsplit_once(':').is_none_or(|(_, port)| port.parse::<u16>().is_err()) {
+            return Err(format!("{what} {e}: give tcp/ADDRESS:PORT (e.g. tcp/127.0.0.1:7447)"));
+        }
+    }
+    Ok(endpoints.to_vec())
+}
+
 /// A running live server.
 pub trait LiveServer: Send {
     /// Its protocol (`foxglove`, `ros2`).

@@ -142,6 +142,11 @@ pub struct Settings {
     /// Where File → Share live serves (Foxglove WebSocket; `crate::live::bind_address`). Sharing
     /// itself is never remembered: it is off at every start.
     pub share_live_address: String,
+    /// The Zenoh router File → *Share over ROS 2* connects to (`tcp/ADDRESS:PORT`; rmw_zenoh's
+    /// `rmw_zenohd` listens on tcp/127.0.0.1:7447). Off at every start, as sharing is.
+    pub ros2_router: String,
+    /// ROS domain id of the node (ROS_DOMAIN_ID of the other nodes), 0–232.
+    pub ros2_domain: u32,
 }
 
 /// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
@@ -194,6 +199,8 @@ impl Default for Settings {
             lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
             share_live_address: format!("127.0.0.1:{}", crate::live::FOXGLOVE_DEFAULT_PORT),
+            ros2_router: "tcp/127.0.0.1:7447".into(),
+            ros2_domain: 0,
         }
     }
 }
@@ -272,6 +279,8 @@ pub enum AppCommand {
     /// Start (`true`) or stop sharing the active backend live (Foxglove WebSocket at
     /// [`Settings::share_live_address`]).
     ShareLive(bool),
+    /// Start (`true`) or stop the ROS 2 node over Zenoh (at [`Settings::ros2_router`]).
+    ShareRos2(bool),
     /// Turn remote control (commands from the network) on or off; a banner shows while it is on.
     RemoteControl(bool),
     /// Forward dynamics: run these joint torques on the simulation (refused on the robot).
@@ -381,6 +390,10 @@ pub struct PanelContext<'a> {
 pub struct LiveStatus {
     /// Where clients connect (`ws://127.0.0.1:8765`) while sharing is on.
     pub sharing: Option<String>,
+    /// The ROS 2 node while it runs (its Zenoh peer and router).
+    pub ros2: Option<String>,
+    /// The ROS 2 node is being started (its session opens on a thread of its own).
+    pub ros2_starting: bool,
     /// Commands from the network are carried out (the banner shows).
     pub remote_control: bool,
 }

@@ -56,8 +56,8 @@ impl Panel for StatusBar {
     }
 }
 
-/// The *Share live* toggle: the address while on (a click stops it), and the remote-control
-/// banner while network commands can move the arm.
+/// The *Share live* toggle: the address while on (a click stops it); the *ROS 2* toggle; and
+/// the remote-control banner while network commands can move the arm.
 fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     let sharing = ctx.live.sharing.clone();
     let (text, hover) = match &sharing {
@@ -69,6 +69,25 @@ fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     };
     if ui.selectable_label(sharing.is_some(), text).on_hover_text(hover).clicked() {
         ctx.send(AppCommand::ShareLive(sharing.is_none()));
+    }
+    ui.separator();
+    let (text, hover) = match (&ctx.live.ros2, ctx.live.ros2_starting) {
+        (_, true) => (egui::RichText::new("ROS 2 starting…"), "the Zenoh session is opening; click to cancel"),
+        (Some(_), false) => (
+            egui::RichText::new("ROS 2 ON").color(palette::rgb(palette::LIVE_TEXT)),
+            "ROS 2 node parol6 over Zenoh (File menu: router, domain); click to stop",
+        ),
+        (None, false) => {
+            (egui::RichText::new("ROS 2"), "start the ROS 2 node over Zenoh (File menu: router and domain)")
+        }
+    };
+    let on = ctx.live.ros2.is_some() || ctx.live.ros2_starting;
+    let hover = match &ctx.live.ros2 {
+        Some(addr) => format!("{hover}\n{addr}"),
+        None => hover.to_string(),
+    };
+    if ui.selectable_label(on, text).on_hover_text(hover).clicked() {
+        ctx.send(AppCommand::ShareRos2(!on));
     }
     if ctx.live.remote_control {
         ui.separator();

@@ -57,16 +57,81 @@ impl std::fmt::Debug for Ros2Server {
     }
 }
 
+/// What the node serves, owned so that the session can be opened on another thread.
+struct Parts {
+    model: parol6_core::model::RobotModel,
+    urdf_text: String,
+    outlet: parol6_core::telemetry::LiveOutlet,
+    remote: super::RemoteControl,
+    backend: Arc<dyn parol6_core::motion::RobotBackend>,
+}
+
+impl Parts {
+    fn of(source: &LiveSource<'_>) -> Result<Self, String> {
+        let outlet = source
+            .recorder
+            .live_outlet(publish::OUTLET_CAPACITY)
+            .map_err(|e| format!("cannot open the recorder's live outlet: {e}"))?;
+        Ok(Self {
+            model: source.model.clone(),
+            urdf_text: source.urdf_text.to_string(),
+            outlet,
+            remote: source.remote.clone(),
+            backend: Arc::clone(&source.backend),
+        })
+    }
+}
+
+/// A node being started on its own thread ([`Ros2Server::start_in_background`]): opening a
+/// Zenoh session may wait on the network, which the window never does.
+#[derive(Debug)]
+pub struct PendingRos2 {
+    rx: crossbeam_channel::Receiver<Result<Ros2Server, String>>,
+}
+
+impl PendingRos2 {
+    /// The started node or why it failed, once the start is over (`None` while it goes on).
+    pub fn try_take(&self) -> Option<Result<Ros2Server, String>> {
+        match self.rx.try_recv() {
+            Ok(result) => Some(result),
+            Err(crossbeam_channel::TryRecvError::Empty) => None,
+            Err(crossbeam_channel::TryRecvError::Disconnected) => {
+                Some(Err("the ROS 2 start thread ended without a result".into()))
+            }
+        }
+    }
+}
+
 impl Ros2Server {
     /// Opens the session, declares the node, its publishers and subscription, publishes the
     /// URDF and starts the publishing and command threads.
     pub fn start(source: &LiveSource<'_>, opts: &Ros2Options) -> Result<Self, String> {
+        Self::start_parts(Parts::of(source)?, opts)
+    }
+
+    /// [`Ros2Server::start`] on a thread of its own: the recorder's outlet is opened here, the
+    /// session there. A start dropped before it ends stops the node it made.
+    pub fn start_in_background(source: &LiveSource<'_>, opts: &Ros2Options) -> Result<PendingRos2, String> {
+        let parts = Parts::of(source)?;
+        let opts = opts.clone();
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        spawn("parol6-ros2-open", move || {
+            let started = Self::start_parts(parts, &opts);
+            if let Err(crossbeam_channel::TrySendError::Disconnected(Ok(server))) = tx.try_send(started) {
+                // nobody waits any more: the node closes
+                Box::new(server).stop();
+            }
+        })?;
+        Ok(PendingRos2 { rx })
+    }
+
+    fn start_parts(parts: Parts, opts: &Ros2Options) -> Result<Self, String> {
         let mut node = node::Node::open(opts, NODE_NAME)?;
         let joint_states = node.publisher(msgs::TOPIC_JOINT_STATES, &msgs::JOINT_STATE, Qos::reliable(10))?;
         let tf = node.publisher(msgs::TOPIC_TF, &msgs::TF_MESSAGE, Qos::reliable(100))?;
         let description = node.publisher(msgs::TOPIC_ROBOT_DESCRIPTION, &msgs::STRING, Qos::LATCHED)?;
         let result = node.publisher(msgs::TOPIC_TRAJECTORY_RESULT, &msgs::STRING, Qos::reliable(10))?;
-        let urdf = cdr::encode(&StringMsg { data: source.urdf_text.to_string() }).map_err(|e| e.to_string())?;
+        let urdf = cdr::encode(&StringMsg { data: parts.urdf_text.clone() }).map_err(|e| e.to_string())?;
         description.put(urdf)?;
 
         let stop = Arc::new(AtomicBool::new(false));
@@ -78,24 +143,21 @@ impl Ros2Server {
             Qos::reliable(10),
             commands::on_sample(tx, Arc::clone(&commands)),
         )?;
-        let outlet = source
-            .recorder
-            .live_outlet(publish::OUTLET_CAPACITY)
-            .map_err(|e| format!("cannot open the recorder's live outlet: {e}"))?;
         let publish = Arc::new(PublishCounters::default());
         let telemetry = Telemetry {
-            model: source.model.clone(),
-            frames: TfFrames::new(source.model, Some(source.urdf_text)),
+            frames: TfFrames::new(&parts.model, Some(&parts.urdf_text)),
+            model: parts.model.clone(),
             joint_states,
             tf,
         };
         let mut threads = Vec::new();
         let (s, p) = (Arc::clone(&stop), Arc::clone(&publish));
+        let outlet = parts.outlet;
         threads.push(spawn("parol6-ros2-pub", move || publish::run(telemetry, outlet, s, p))?);
         let cmd = Commands {
-            model: source.model.clone(),
-            backend: Arc::clone(&source.backend),
-            remote: source.remote.clone(),
+            model: parts.model,
+            backend: parts.backend,
+            remote: parts.remote,
             result,
             counters: Arc::clone(&commands),
         };

@@ -105,3 +105,56 @@ fn every_path_in_where_to_change_x_exists() {
     }
     assert!(checked >= 25, "the list names its files ({checked} found)");
 }
+
+/// The sibling files of `crates/parol6-app/src/cli/` that `file` imports (`super::X` or
+/// `crate::cli::X`, grouped imports included).
+fn cli_imports(dir: &Path, file: &str, files: &[String]) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join(format!("{file}.rs"))).expect("cli file");
+    let mut found = Vec::new();
+    for prefix in ["super::", "crate::cli::"] {
+        for (at, _) in text.match_indices(prefix) {
+            let rest = &text[at + prefix.len()..];
+            let names: Vec<&str> = match rest.strip_prefix('{') {
+                Some(group) => group.split('}').next().unwrap_or("").split(',').collect(),
+                None => vec![rest],
+            };
+            for name in names {
+                let name: String = name.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                if files.contains(&name) && name != file && !found.contains(&name) {
+                    found.push(name);
+                }
+            }
+        }
+    }
+    found
+}
+
+/// No import circle among the CLI's files: shared helpers live in `cli/common.rs`, not in
+/// whichever subcommand needed them first (issue 33: an 8-file circle).
+#[test]
+fn cli_files_import_no_circle() {
+    let dir = root().join("crates/parol6-app/src/cli");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .expect("cli dir")
+        .filter_map(|e| e.ok()?.file_name().to_str()?.strip_suffix(".rs").map(str::to_string))
+        .filter(|f| f != "mod")
+        .collect();
+    files.sort();
+    let edges: Vec<(String, Vec<String>)> = files.iter().map(|f| (f.clone(), cli_imports(&dir, f, &files))).collect();
+    // a file on a circle reaches itself
+    let reaches = |from: &str| {
+        let mut seen: Vec<String> = Vec::new();
+        let mut todo = vec![from.to_string()];
+        while let Some(f) = todo.pop() {
+            for next in edges.iter().filter(|(g, _)| *g == f).flat_map(|(_, to)| to) {
+                if !seen.contains(next) {
+                    seen.push(next.clone());
+                    todo.push(next.clone());
+                }
+            }
+        }
+        seen
+    };
+    let circled: Vec<&String> = files.iter().filter(|f| reaches(f).contains(f)).collect();
+    assert!(circled.is_empty(), "cli files on an import circle: {circled:?}");
+}

@@ -70,7 +70,7 @@ impl Parol6App {
     /// Shows the plots panel with `quantity` alone (as a click on its toggle does).
     pub fn show_plot(&mut self, quantity: parol6_core::telemetry::Quantity) {
         self.settings.show_plots = true;
-        self.panels.plots.quantities = std::array::from_fn(|i| parol6_core::telemetry::Quantity::ALL[i] == quantity);
+        self.panels.plots.show_only(quantity);
     }
 
     /// The program panel (its program, dirty state).

@@ -24,20 +24,15 @@ use parol6_core::profile::ProfileKind;
 use parol6_hw::HwError;
 use parol6_hw::emulator::{EmulatorConfig, EmulatorHandle};
 use parol6_hw::frame::CommandCode;
-use parol6_hw::session::{HomingState, Session, SessionConfig, Snapshot};
+use parol6_hw::session::{HomingState, Session, Snapshot};
 use serde_json::json;
 
-use super::common::parse_list;
-use super::hw_checks::{
-    JogEnd, jog_back_inside, jog_outcome, new_fault, not_connected, read_command_line, ready_to_move,
-};
+use super::common::{RateArgs, hw_err, open, parse_list};
+use super::hw_checks::{JogEnd, jog_back_inside, jog_outcome, new_fault, read_command_line, ready_to_move};
 use super::options::{ConnectArgs, f64_above, f64_within};
 use super::output::print_line;
 use super::record::{Telemetry, link_health};
 use super::{CliError, CliResult, interrupt, print_json};
-
-/// How long to wait for the first status frame.
-pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 
 /// Slowest `hw move --speed` (fraction of the max joint speeds): the longest move of the arm
 /// (every joint end to end, jerk-limited) then takes about 90 s.
@@ -52,28 +47,6 @@ pub struct HwArgs {
     /// What to do.
     #[command(subcommand)]
     pub command: HwCommand,
-}
-
-/// Session settings shared by the subcommands that talk to a controller.
-#[derive(Debug, Clone, clap::Args)]
-pub struct RateArgs {
-    /// Command rate, Hz, 50–500.
-    #[arg(long, default_value_t = 100.0, value_parser = f64_within(50.0, 500.0))]
-    pub rate: f64,
-    /// Which MOVE targets motion streams: official (the plan now, zero feed-forward, as the
-    /// official API: the arm trails by ≈ 25 ms), lead (the plan 25 ms ahead: the arm is where the
-    /// plan says when it says it), feedforward (the same tracking as lead, with feed-forward
-    /// speeds). The simulation's board uses the same mode. Default: a program file's own
-    /// `tracking`, else lead.
-    #[arg(long, value_name = "official|lead|feedforward")]
-    pub tracking: Option<TrackingMode>,
-}
-
-impl RateArgs {
-    /// The default rate and tracking mode.
-    pub fn defaults() -> Self {
-        Self { rate: 100.0, tracking: None }
-    }
 }
 
 /// `parol6 hw` subcommands.
@@ -167,52 +140,6 @@ impl HwCommand {
     }
 }
 
-/// Maps a session error to the exit status: refused or invalid requests 2, device failures 1.
-pub fn hw_err(e: HwError) -> CliError {
-    match e {
-        HwError::Limit(_) | HwError::Profile(_) | HwError::Units(_) | HwError::BadConfig(_) | HwError::Refused(_) => {
-            CliError::usage(e)
-        }
-        other => CliError::runtime(other),
-    }
-}
-
-/// An open controller session, and the emulator behind it with `--fake-robot`.
-pub(crate) struct Link {
-    /// Dropped first: it leaves the controller with IDLE frames while the emulator still runs.
-    pub(crate) session: Session,
-    pub(crate) emulator: Option<EmulatorHandle>,
-}
-
-/// Opens the controller of `connect` (the emulator with `--fake-robot`), with an optional
-/// telemetry tap, and waits for its first status.
-pub(crate) fn open(
-    connect: &ConnectArgs,
-    rate: &RateArgs,
-    tap: Option<Sender<MotionSample>>,
-) -> Result<Link, CliError> {
-    let config =
-        SessionConfig { rate_hz: rate.rate, tracking: rate.tracking.unwrap_or_default(), ..SessionConfig::default() };
-    let emulator = if connect.fake_robot {
-        Some(
-            EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
-                .map_err(hw_err)?,
-        )
-    } else {
-        None
-    };
-    let session = match (&emulator, &connect.port) {
-        (Some(emu), _) => Session::open_with_tap(emu.path(), config, tap),
-        (None, Some(p)) => Session::open_with_tap(p, config, tap),
-        (None, None) => parol6_hw::find_parol6_port().and_then(|p| Session::open_with_tap(&p, config, tap)),
-    }
-    .map_err(hw_err)?;
-    if session.wait_connected(CONNECT_TIMEOUT).is_err() {
-        return Err(CliError::runtime(not_connected(&session.snapshot(), CONNECT_TIMEOUT.as_secs_f64())));
-    }
-    Ok(Link { session, emulator })
-}
-
 /// Waits until `code` has been written at least once after `frames_before` frames.
 fn wait_sent(session: &Session, code: CommandCode, frames_before: u64) -> Result<(), CliError> {
     session
@@ -294,7 +221,7 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
                 move_to(connect, rate, &target, tap, t)
             })
         }
-        HwCommand::Emulate { homed, home_seconds } => super::hw_stop::emulate_until_signal(*homed, *home_seconds),
+        HwCommand::Emulate { homed, home_seconds } => emulate_until_signal(*homed, *home_seconds),
     }
 }
 
@@ -571,6 +498,34 @@ pub(super) fn emulate(homed: bool, home_seconds: f64) -> CliResult {
     // Stdin closed (e.g. started in the background): serve until killed.
     loop {
         std::thread::park();
+    }
+}
+
+/// `hw emulate` until `quit` or a signal: the emulator serves its stdin on a thread of its own
+/// (a read of stdin cannot be interrupted); a signal ends the command with 130 (the process
+/// exit closes the pseudo-terminal).
+fn emulate_until_signal(homed: bool, home_seconds: f64) -> CliResult {
+    let (done_tx, done_rx) = crossbeam_channel::bounded(1);
+    std::thread::Builder::new()
+        .name("parol6-emulate".into())
+        .spawn(move || {
+            // the receiver is gone only once the command has ended
+            if done_tx.send(emulate(homed, home_seconds)).is_err() {
+                tracing::debug!("hw emulate ended after its command");
+            }
+        })
+        .map_err(|e| CliError::runtime(format!("cannot start the emulator thread: {e}")))?;
+    loop {
+        match done_rx.recv_timeout(interrupt::POLL) {
+            Ok(result) => return result,
+            Err(crossbeam_channel::RecvTimeoutError::Timeout) if interrupt::requested() => {
+                return Err(interrupt::error("emulator stopped"));
+            }
+            Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
+            Err(crossbeam_channel::RecvTimeoutError::Disconnected) => {
+                return Err(CliError::runtime("the emulator thread ended without a result"));
+            }
+        }
     }
 }
 

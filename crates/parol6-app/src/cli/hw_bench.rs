@@ -9,7 +9,7 @@ use parol6_hw::units;
 use serde_json::json;
 
 use super::common::NsStats;
-use super::hw::{CONNECT_TIMEOUT, hw_err};
+use super::common::{CONNECT_TIMEOUT, hw_err};
 use super::{CliError, CliResult, print_json};
 
 /// `parol6 bench serial`: runs the real session against the in-process emulator over a pty

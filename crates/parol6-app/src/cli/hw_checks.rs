@@ -9,7 +9,7 @@ use parol6_hw::HwError;
 use parol6_hw::session::{LinkState, Session, Snapshot, impossible_answers};
 
 use super::CliError;
-use super::hw::hw_err;
+use super::common::hw_err;
 
 /// A jog whose commanded position moved this many steps or more must show in the measured one.
 const JOG_EXPECTED_STEPS: i64 = 20;
@@ -21,35 +21,6 @@ pub fn ready_to_move(s: &Snapshot) -> Result<(), CliError> {
         Err(e @ HwError::Device(_)) => Err(hw_err(e)),
         _ => Ok(()),
     }
-}
-
-/// The message when no link came up in time although status frames arrived: a board that
-/// answered with impossible positions (issue 29 item 15) or one that stopped answering.
-pub fn not_connected(s: &Snapshot, secs: f64) -> String {
-    if s.status_frames == 0 {
-        return format!(
-            "no PAROL6 answered on {} within {secs:.0} s (is the controller powered and is this its port?)",
-            s.port
-        );
-    }
-    if s.implausible_frames > 0 || s.limit_breach.is_some_and(|b| b.impossible) {
-        let why = s.limit_breach.filter(|b| b.impossible).map(|b| impossible_answers(&b)).unwrap_or_else(|| {
-            format!(
-                "the controller's answers are impossible: {} of {} status frames showed positions that jump \
-                 further than any joint can move",
-                s.implausible_frames, s.status_frames
-            )
-        });
-        return format!(
-            "the controller on {} answers, but not with a usable position within {secs:.0} s: {why}",
-            s.port
-        );
-    }
-    format!(
-        "the controller on {} stopped answering within {secs:.0} s ({})",
-        s.port,
-        s.fault.clone().unwrap_or_else(|| "link lost".into())
-    )
 }
 
 /// A fault the session reported since `start` (a new one, not the one it began with).

@@ -7,8 +7,8 @@ use parol6_hw::frame::CommandCode;
 use parol6_hw::session::{MotionState, Snapshot};
 use serde_json::json;
 
-use super::hw::Link;
-use super::{CliError, CliResult, interrupt};
+use super::common::Link;
+use super::interrupt;
 
 /// MOVE frames at a fixed target the session sends, after a signal, before it closes.
 const HOLD_FRAMES: u64 = 3;
@@ -45,32 +45,4 @@ pub(super) fn hold_before_closing(link: Link, mut out: serde_json::Value) -> ser
         "then": "IDLE",
     });
     out
-}
-
-/// `hw emulate` until `quit` or a signal: the emulator serves its stdin on a thread of its own
-/// (a read of stdin cannot be interrupted); a signal ends the command with 130 (the process
-/// exit closes the pseudo-terminal).
-pub(super) fn emulate_until_signal(homed: bool, home_seconds: f64) -> CliResult {
-    let (done_tx, done_rx) = crossbeam_channel::bounded(1);
-    std::thread::Builder::new()
-        .name("parol6-emulate".into())
-        .spawn(move || {
-            // the receiver is gone only once the command has ended
-            if done_tx.send(super::hw::emulate(homed, home_seconds)).is_err() {
-                tracing::debug!("hw emulate ended after its command");
-            }
-        })
-        .map_err(|e| CliError::runtime(format!("cannot start the emulator thread: {e}")))?;
-    loop {
-        match done_rx.recv_timeout(interrupt::POLL) {
-            Ok(result) => return result,
-            Err(crossbeam_channel::RecvTimeoutError::Timeout) if interrupt::requested() => {
-                return Err(interrupt::error("emulator stopped"));
-            }
-            Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
-            Err(crossbeam_channel::RecvTimeoutError::Disconnected) => {
-                return Err(CliError::runtime("the emulator thread ended without a result"));
-            }
-        }
-    }
 }

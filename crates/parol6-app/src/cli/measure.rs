@@ -14,8 +14,8 @@ use parol6_core::measure::{PathKind, PathTestPlan, PoseTestPlan, TestCube, compa
 use parol6_core::motion::tracking::TrackingMode;
 use serde_json::json;
 
+use super::common::RateArgs;
 use super::common::tool_of;
-use super::hw::RateArgs;
 use super::measure_backend::{Opened, wait};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
 use super::output::print_line;

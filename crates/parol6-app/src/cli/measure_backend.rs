@@ -16,7 +16,7 @@ use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_hw::emulator::EmulatorHandle;
 
 use super::CliError;
-use super::hw::{RateArgs, open};
+use super::common::{RateArgs, open};
 use super::options::ConnectArgs;
 use super::program::HEADLESS_TIME_SCALE;
 

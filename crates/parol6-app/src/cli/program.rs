@@ -18,7 +18,7 @@ use parol6_core::sim::{SimConfig, SimHandle, SimMode};
 use parol6_core::telemetry::LinkHealth;
 
 use super::common::tool_of;
-use super::hw::{RateArgs, open};
+use super::common::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_within};
 use super::record::{Telemetry, link_health, urdf_text};
 use super::{CliError, CliResult, interrupt, print_json};

@@ -22,7 +22,7 @@ use parol6_core::{RobotModel, Tool};
 use serde_json::json;
 
 use super::common::tool_of;
-use super::hw::{RateArgs, open};
+use super::common::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_above};
 use super::{CliError, CliResult, interrupt, print_json};
 

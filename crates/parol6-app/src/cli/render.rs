@@ -103,7 +103,8 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), CliError> {
 pub fn run_screenshot(a: &ScreenshotArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
     let out = a.out_path()?;
     if a.ui && (a.run.is_some() || a.plot.is_some()) {
-        return super::render_run::run_ui_program_screenshot(a, out, robot, connect);
+        let run = super::render_run::UiRun { size_px: a.size_px()?, run: a.run.clone(), plot: a.plot };
+        return super::render_run::run_ui_program_screenshot(&run, out, robot, connect);
     }
     if a.ui {
         return run_ui_screenshot(a, out, robot);

@@ -8,10 +8,10 @@ use std::time::{Duration, Instant};
 
 use parol6_core::motion::StateSource;
 use parol6_core::program::runner::RunState;
+use parol6_core::telemetry::Quantity;
 use serde_json::json;
 
 use super::options::{ConnectArgs, RobotArgs};
-use super::render::ScreenshotArgs;
 use super::{CliError, CliResult, print_json};
 use crate::app::ConnectTarget;
 use crate::ui_screenshot::HeadlessApp;
@@ -22,14 +22,20 @@ const RUN_LIMIT_S: f64 = 120.0;
 /// Longest wait for the controller's first status, s.
 const CONNECT_LIMIT_S: f64 = 5.0;
 
+/// What `screenshot --ui` runs before its picture (from `ScreenshotArgs`).
+#[derive(Debug, Clone)]
+pub struct UiRun {
+    /// Picture size, px.
+    pub size_px: (u32, u32),
+    /// Built-in program to run first.
+    pub run: Option<String>,
+    /// Quantity plotted alone.
+    pub plot: Option<Quantity>,
+}
+
 /// Runs the program (if any) with the plots shown (if asked), then writes the PNG.
-pub fn run_ui_program_screenshot(
-    args: &ScreenshotArgs,
-    out: &Path,
-    robot: &RobotArgs,
-    connect: &ConnectArgs,
-) -> CliResult {
-    let (w, h) = args.size_px()?;
+pub fn run_ui_program_screenshot(args: &UiRun, out: &Path, robot: &RobotArgs, connect: &ConnectArgs) -> CliResult {
+    let (w, h) = args.size_px;
     let model = robot.load()?;
     let target = match (&connect.port, connect.fake_robot) {
         (Some(port), _) => Some(ConnectTarget::Port(port.clone())),

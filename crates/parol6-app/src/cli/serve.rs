@@ -20,7 +20,7 @@ use parol6_core::sim::{SimConfig, SimHandle};
 use parol6_core::telemetry::{LinkHealth, Recorder, RecorderConfig};
 use serde_json::json;
 
-use super::hw::{RateArgs, open};
+use super::common::{RateArgs, open};
 use super::options::{ConnectArgs, RobotArgs, f64_above, f64_within};
 use super::record::{link_health, urdf_text};
 use super::{CliError, CliResult, interrupt, print_json};

@@ -1,5 +1,6 @@
-//! Export from the plots panel: the visible window as CSV (every kept sample, every series,
-//! SI units in the column names) and the shown plots as SVG (the decimated lines as drawn).
+//! Export from the plots panel: the visible window as CSV (every kept row, every series, SI
+//! units in the column names, and each row's `resolution`: `sample`, or `min_max_4ms` for the
+//! live summary of samples older than a minute) and the shown plots as SVG (the decimated lines as drawn).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -55,8 +56,8 @@ pub fn time_text(t_s: f64) -> String {
     if text == "-0" { "0".into() } else { text.into() }
 }
 
-/// Writes every kept sample between `t0_s` and `t1_s` to `path` as CSV (atomically: a failed
-/// write leaves the old file); returns the rows.
+/// Writes every kept row between `t0_s` and `t1_s` to `path` as CSV (atomically: a failed
+/// write leaves the old file), each with its resolution (see the module docs); returns the rows.
 pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Result<usize, String> {
     let mut rows = 0;
     parol6_core::fsio::write_atomic(path, |out| {
@@ -65,7 +66,9 @@ pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Resu
             header.push(',');
             header.push_str(&csv_column(store, c));
         }
+        header.push_str(",resolution");
         writeln!(out, "{header}")?;
+        let summary_before_s = store.summary_before_s();
         let mut line = String::new();
         for (t, values) in store.raw_window(t0_s, t1_s) {
             line.clear();
@@ -77,6 +80,10 @@ pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Resu
                     line.push_str(&(v + 0.0).to_string());
                 }
             }
+            line.push_str(match summary_before_s {
+                Some(before) if t < before => ",min_max_4ms",
+                _ => ",sample",
+            });
             writeln!(out, "{line}")?;
             rows += 1;
         }

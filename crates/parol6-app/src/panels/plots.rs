@@ -31,6 +31,10 @@ pub const WINDOWS_S: [(f64, &str); 6] =
 /// Live history kept for the plots, s (the recorder's live view holds the same).
 pub const LIVE_SPAN_S: f64 = 600.0;
 
+/// Newest live history kept at the rate the samples came, s; older samples are kept as 4 ms
+/// min/max pairs (the recorder's live view does the same).
+pub const LIVE_FULL_RATE_S: f64 = 60.0;
+
 /// Pixels per decimation column: each column gives a min / max pair, so a line has one point
 /// per pixel. Finer adds no visible detail to a one-pixel line and, on a software rasterizer,
 /// costs a third more of the plots' render time (measured with `bench render --plots`).
@@ -39,10 +43,10 @@ const PX_PER_MIN_MAX_PAIR: usize = 2;
 /// Smallest plot height, points.
 const MIN_PLOT_HEIGHT: f32 = 70.0;
 
-/// Display scale and unit of a quantity.
+/// Display scale and unit of a quantity (angles converted by [`AngleUnit`]).
 pub fn unit_of(q: Quantity, angle: AngleUnit, drive: DriveKind) -> (f64, &'static str) {
     let deg = angle == AngleUnit::Deg;
-    let d = if deg { 180.0 / std::f64::consts::PI } else { 1.0 };
+    let d = angle.from_rad(1.0);
     match q {
         Quantity::Position | Quantity::TrackingError | Quantity::TcpOrientation => (d, if deg { "°" } else { "rad" }),
         Quantity::Velocity => (d, if deg { "°/s" } else { "rad/s" }),
@@ -86,7 +90,7 @@ pub struct PlotsPanel {
     live: SeriesStore,
     replay: Option<(Arc<ReplayData>, f64)>,
     /// Quantities shown, in [`Quantity::ALL`] order.
-    pub quantities: [bool; 7],
+    pub quantities: Vec<Quantity>,
     /// Joints shown (TCP axes are always all three).
     pub joints: Vec<bool>,
     /// Visible time span while following, s.
@@ -105,12 +109,10 @@ pub struct PlotsPanel {
 impl PlotsPanel {
     /// The panel for `joints` joints: the position of every joint.
     pub fn new(joints: usize) -> Self {
-        let mut quantities = [false; 7];
-        quantities[0] = true;
         Self {
-            live: SeriesStore::new(joints, LIVE_SPAN_S),
+            live: SeriesStore::live(joints, LIVE_SPAN_S, LIVE_FULL_RATE_S),
             replay: None,
-            quantities,
+            quantities: vec![Quantity::Position],
             joints: vec![true; joints],
             window_s: 30.0,
             follow: true,
@@ -119,6 +121,18 @@ impl PlotsPanel {
             lines: DecimationCache::default(),
             svg_pending: None,
         }
+    }
+
+    /// Shows quantity `q` alone.
+    pub fn show_only(&mut self, q: Quantity) {
+        self.quantities = vec![q];
+    }
+
+    /// Shows or hides quantity `q`, keeping [`Quantity::ALL`] order.
+    fn toggle(&mut self, q: Quantity) {
+        let on = !self.quantities.contains(&q);
+        self.quantities =
+            Quantity::ALL.into_iter().filter(|&o| if o == q { on } else { self.quantities.contains(&o) }).collect();
     }
 
     /// Takes the new samples of the active backend's live view.
@@ -181,15 +195,16 @@ impl PlotsPanel {
     fn toolbar(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             let mut picked = None;
-            for (k, (on, q)) in self.quantities.iter().zip(Quantity::ALL).enumerate() {
-                let r = ui.selectable_label(*on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
+            for q in Quantity::ALL {
+                let on = self.quantities.contains(&q);
+                let r = ui.selectable_label(on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
                 if r.clicked() {
-                    picked = Some((k, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
+                    picked = Some((q, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
                 }
             }
             match picked {
-                Some((k, true)) => self.quantities[k] = !self.quantities[k],
-                Some((k, false)) => self.quantities = std::array::from_fn(|i| i == k),
+                Some((q, true)) => self.toggle(q),
+                Some((q, false)) => self.show_only(q),
                 None => {}
             }
             ui.separator();
@@ -246,7 +261,11 @@ impl Panel for PlotsPanel {
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         self.lines.begin_frame();
         self.toolbar(ui);
-        let stats = if self.quantities[4] { self.tracking_stats(ctx.settings.unit) } else { Vec::new() };
+        let stats = if self.quantities.contains(&Quantity::TrackingError) {
+            self.tracking_stats(ctx.settings.unit)
+        } else {
+            Vec::new()
+        };
         if !stats.is_empty() {
             ui.horizontal_wrapped(|ui| {
                 // the mode the simulation streams in now (the robot's: chosen at connection)
@@ -257,8 +276,7 @@ impl Panel for PlotsPanel {
             });
         }
         self.export_row(ui, ctx);
-        let shown: Vec<Quantity> =
-            Quantity::ALL.into_iter().zip(self.quantities).filter(|(_, on)| *on).map(|(q, _)| q).collect();
+        let shown = self.quantities.clone();
         if self.store().is_empty() {
             ui.weak("no telemetry yet: move the arm, run a program or open a recording");
             return;

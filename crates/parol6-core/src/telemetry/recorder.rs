@@ -42,8 +42,11 @@ use super::writer::{McapSink, RecordingInfo, RecordingSummary, SyncedFile};
 pub struct RecorderConfig {
     /// Seconds of history the live view keeps (600: ten minutes).
     pub live_span_s: f64,
-    /// Highest sample rate the live view keeps, Hz (250); files get every sample.
+    /// Highest sample rate the live view keeps, Hz (1 000); files get every sample.
     pub live_rate_hz: f64,
+    /// Seconds of the newest history the live view keeps at that rate (60); older samples
+    /// are kept as their 4 ms min/max summary (`series::SUMMARY_BUCKET_S`).
+    pub live_full_rate_s: f64,
     /// Capacity of the sample tap (16 384: 16 s at 1 kHz; the thread empties it every 20 ms).
     pub tap_capacity: usize,
     /// Capacity of the control channel.
@@ -58,7 +61,8 @@ impl Default for RecorderConfig {
     fn default() -> Self {
         Self {
             live_span_s: 600.0,
-            live_rate_hz: 250.0,
+            live_rate_hz: 1000.0,
+            live_full_rate_s: 60.0,
             tap_capacity: 16_384,
             control_capacity: 1024,
             thresholds: ZoneThresholds::default(),
@@ -223,7 +227,7 @@ impl Recorder {
         let worker = Worker {
             builder: SampleBuilder::new(model.clone(), config.thresholds),
             detector: EventDetector::new(),
-            ring: LiveRing::new(config.live_span_s, config.live_rate_hz),
+            ring: LiveRing::new(model.dof(), config.live_span_s, config.live_full_rate_s, config.live_rate_hz),
             sink: None,
             last_seq: None,
             last_time_s: 0.0,

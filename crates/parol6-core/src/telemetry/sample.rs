@@ -9,9 +9,10 @@ use crate::model::RobotModel;
 use crate::motion::{JointDrive, MotionSample};
 
 /// What [`JointTelemetry::drive`] holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum DriveKind {
     /// Joint torque of the simulation, N·m.
+    #[default]
     TorqueNm,
     /// Step rate reported by the controller, steps/s.
     StepsPerS,

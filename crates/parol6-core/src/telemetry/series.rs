@@ -9,19 +9,23 @@
 //! samples) for the RMS over a window ([`SeriesStore::window_stats`]). Samples older than the store's span are dropped
 //! ([`SeriesStore::new`]), so the same store serves the live view (10 minutes, appended to)
 //! and a replay (everything, built once).
-
-use std::collections::VecDeque;
+//!
+//! A live store ([`SeriesStore::live`]) keeps its newest minute at the rate the samples came
+//! (up to 1 kHz) and older samples as a summary: per 4 ms ([`SUMMARY_BUCKET_S`]) the minimum
+//! and the maximum of every column, in the order they came (a bucket of one or two samples is
+//! kept as it is), so a peak of one sample is never lost while the store holds half as many
+//! rows of a 1 kHz source. Rows are `f32`, built in one place ([`SeriesStore::build_row`]) for
+//! the live ring, this store and the replay.
 
 use super::ring::LiveView;
 use super::sample::{DriveKind, TelemetrySample};
 
-/// Level of the first pyramid level kept: blocks of 16 samples (the raw values serve below).
-/// The pyramid then takes 1 byte per sample and column (2 with blocks of 8: 5 MB more for a
-/// ten-minute replay), and a window's edges read at most 15 raw values each.
-const FIRST_LEVEL: u32 = 4;
-/// The running sum of squares is kept at every this many samples; a window's sum adds at most
-/// this many raw values to it (8 bytes per sample and tracking-error column before).
-const SQUARES_BLOCK: u64 = 64;
+mod summary;
+mod tier;
+
+pub use summary::SUMMARY_BUCKET_S;
+pub(crate) use summary::Summarizer;
+use tier::{EMPTY, Tier, merge};
 
 /// What a series measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -57,6 +61,11 @@ impl Quantity {
     /// True for the per-joint quantities (the others have three axes).
     pub fn per_joint(self) -> bool {
         !matches!(self, Quantity::TcpPosition | Quantity::TcpOrientation)
+    }
+
+    /// Series of this quantity in a row of `joints` joints.
+    pub fn width(self, joints: usize) -> usize {
+        if self.per_joint() { joints } else { 3 }
     }
 
     /// Name for headings and CSV columns.
@@ -97,119 +106,89 @@ pub struct WindowStats {
     pub rms: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default)]
-struct Pyramid {
-    /// `levels[i]` is level `FIRST_LEVEL + i`; its front entry is block `first_block[i]`.
-    levels: Vec<VecDeque<(f32, f32)>>,
-    first_block: Vec<u64>,
-}
-
-impl Pyramid {
-    fn entry(&self, level: u32, block: u64) -> Option<(f32, f32)> {
-        let i = usize::try_from(level.checked_sub(FIRST_LEVEL)?).ok()?;
-        let at = usize::try_from(block.checked_sub(*self.first_block.get(i)?)?).ok()?;
-        self.levels.get(i)?.get(at).copied()
-    }
-
-    fn push(&mut self, level: u32, block: u64, mm: (f32, f32)) {
-        let i = (level - FIRST_LEVEL) as usize;
-        if self.levels.len() <= i {
-            self.levels.resize_with(i + 1, VecDeque::new);
-            self.first_block.resize(i + 1, 0);
-        }
-        if self.levels[i].is_empty() {
-            self.first_block[i] = block;
-        }
-        self.levels[i].push_back(mm);
-    }
-
-    /// Drops the blocks that end at or before absolute sample `base`.
-    fn expire(&mut self, base: u64) {
-        for (i, (level, first)) in self.levels.iter_mut().zip(self.first_block.iter_mut()).enumerate() {
-            let k = FIRST_LEVEL + i as u32;
-            while !level.is_empty() && (*first + 1) << k <= base {
-                level.pop_front();
-                *first += 1;
-            }
-        }
-    }
-
-    fn clear(&mut self) {
-        self.levels.clear();
-        self.first_block.clear();
-    }
-
-    fn shrink_to_fit(&mut self) {
-        self.levels.iter_mut().for_each(VecDeque::shrink_to_fit);
-    }
-}
-
-fn merge(a: (f32, f32), b: (f32, f32)) -> (f32, f32) {
-    (a.0.min(b.0), a.1.max(b.1))
-}
-
-const EMPTY: (f32, f32) = (f32::INFINITY, f32::NEG_INFINITY);
-
-#[derive(Debug, Clone, Default)]
-struct Column {
-    values: VecDeque<f32>,
-    pyramid: Pyramid,
-    /// Sums of squares (tracking error only).
-    squares: Option<SquareSums>,
-}
-
-/// Running sums of squares of one column: `marks[j]` is the sum over every sample before
-/// absolute index `(first_mark + j) · SQUARES_BLOCK`, `total` over every sample pushed.
-#[derive(Debug, Clone, Default)]
-struct SquareSums {
-    marks: VecDeque<f64>,
-    first_mark: u64,
-    total: f64,
-}
-
-fn square(v: f32) -> f64 {
-    if v.is_finite() { f64::from(v) * f64::from(v) } else { 0.0 }
-}
-
 /// Telemetry as plot series. See the module docs.
 #[derive(Debug, Clone)]
 pub struct SeriesStore {
     joints: usize,
     ids: Vec<SeriesId>,
-    times_s: VecDeque<f64>,
-    /// Absolute index of `times_s[0]`.
-    base: u64,
-    columns: Vec<Column>,
-    span_s: f64,
+    /// Summary rows (a live store's samples older than its full-rate span).
+    older: Tier,
+    /// Rows at the rate they came.
+    recent: Tier,
+    /// A live store's summary of the rows leaving `recent`.
+    summarizer: Option<Summarizer>,
     drive: DriveKind,
     row: Vec<f32>,
 }
 
 impl SeriesStore {
-    /// An empty store for `joints` joints keeping `span_s` seconds (infinite: everything).
+    /// An empty store for `joints` joints keeping `span_s` seconds (infinite: everything) at
+    /// the rate the samples come.
     pub fn new(joints: usize, span_s: f64) -> Self {
+        Self::with_tiers(joints, span_s, f64::INFINITY)
+    }
+
+    /// An empty live store: `span_s` seconds, the newest `full_rate_s` of them at the rate the
+    /// samples come, older ones summarised (see the module docs).
+    pub fn live(joints: usize, span_s: f64, full_rate_s: f64) -> Self {
+        Self::with_tiers(joints, span_s, full_rate_s)
+    }
+
+    fn with_tiers(joints: usize, span_s: f64, full_rate_s: f64) -> Self {
         let mut ids = Vec::new();
         for q in Quantity::ALL {
-            let n = if q.per_joint() { joints } else { 3 };
-            ids.extend((0..n).map(|index| SeriesId { quantity: q, index }));
+            ids.extend((0..q.width(joints)).map(|index| SeriesId { quantity: q, index }));
         }
-        let columns = ids
-            .iter()
-            .map(|id| Column {
-                squares: (id.quantity == Quantity::TrackingError).then(SquareSums::default),
-                ..Column::default()
-            })
-            .collect();
+        let squares: Vec<bool> = ids.iter().map(|id| id.quantity == Quantity::TrackingError).collect();
+        let span_s = if span_s > 0.0 { span_s } else { f64::INFINITY };
+        let summarised = full_rate_s > 0.0 && full_rate_s < span_s;
+        let (recent_s, older_s) = if summarised { (full_rate_s, span_s - full_rate_s) } else { (span_s, 0.0) };
         Self {
             joints,
+            older: Tier::new(&squares, older_s),
+            recent: Tier::new(&squares, recent_s),
+            summarizer: summarised.then(|| Summarizer::new(ids.len())),
             ids,
-            times_s: VecDeque::new(),
-            base: 0,
-            columns,
-            span_s: if span_s > 0.0 { span_s } else { f64::INFINITY },
             drive: DriveKind::TorqueNm,
             row: Vec::new(),
         }
+    }
+
+    /// Columns of a row for `joints` joints.
+    pub fn row_width(joints: usize) -> usize {
+        Quantity::ALL.iter().map(|q| q.width(joints)).sum()
+    }
+
+    /// First column of quantity `q` in a row for `joints` joints.
+    pub fn offset_of(q: Quantity, joints: usize) -> usize {
+        Quantity::ALL.iter().take_while(|&&other| other != q).map(|other| other.width(joints)).sum()
+    }
+
+    /// The one telemetry row builder: `value(quantity, index)` of every series in column order
+    /// ([`SeriesStore::ids`]), as `f32`, into `out` (cleared first). The live ring, the store
+    /// and the replay build their rows with it.
+    pub fn build_row(joints: usize, out: &mut Vec<f32>, mut value: impl FnMut(Quantity, usize) -> f64) {
+        out.clear();
+        for q in Quantity::ALL {
+            out.extend((0..q.width(joints)).map(|i| value(q, i) as f32));
+        }
+    }
+
+    /// The row of a live sample (missing joints are NaN).
+    pub fn sample_row(s: &TelemetrySample, joints: usize, out: &mut Vec<f32>) {
+        Self::build_row(joints, out, |q, i| {
+            let joint = s.joints.get(i);
+            let of = |f: fn(&super::sample::JointTelemetry) -> f64| joint.map_or(f64::NAN, f);
+            match q {
+                Quantity::Position => of(|j| j.q_rad),
+                Quantity::Velocity => of(|j| j.qd_rad_s),
+                Quantity::Acceleration => of(|j| j.qdd_rad_s2),
+                Quantity::Drive => of(|j| j.drive),
+                Quantity::TrackingError => of(|j| j.cmd_q_rad - j.q_rad),
+                Quantity::TcpPosition => s.tcp.position_m.get(i).copied().unwrap_or(f64::NAN),
+                Quantity::TcpOrientation => s.tcp.rpy_rad.get(i).copied().unwrap_or(f64::NAN),
+            }
+        });
     }
 
     /// Joints per sample.
@@ -232,44 +211,42 @@ impl SeriesStore {
         self.drive
     }
 
-    /// Samples kept.
+    /// Rows kept (a summarised 4 ms of a 1 kHz source is two).
     pub fn len(&self) -> usize {
-        self.times_s.len()
+        self.older.len() + self.recent.len()
     }
 
     /// True when nothing is kept.
     pub fn is_empty(&self) -> bool {
-        self.times_s.is_empty()
+        self.len() == 0
     }
 
     /// First and last sample time, s.
     pub fn time_range_s(&self) -> Option<(f64, f64)> {
-        Some((*self.times_s.front()?, *self.times_s.back()?))
+        let first = self.older.first_s().or(self.recent.first_s())?;
+        let last = self.recent.last_s().or(self.older.last_s())?;
+        Some((first, last))
+    }
+
+    /// Seconds before which rows are a summary (the oldest full-rate row), if any are.
+    pub fn summary_before_s(&self) -> Option<f64> {
+        self.older.last_s()?;
+        self.recent.first_s().or(self.older.last_s())
     }
 
     /// Drops everything.
     pub fn clear(&mut self) {
-        self.times_s.clear();
-        self.base = 0;
-        for c in &mut self.columns {
-            c.values.clear();
-            c.pyramid.clear();
-            if let Some(s) = c.squares.as_mut() {
-                *s = SquareSums::default();
-            }
+        self.older.clear();
+        self.recent.clear();
+        if let Some(s) = self.summarizer.as_mut() {
+            s.clear();
         }
     }
 
     /// Gives back the room kept for more samples (a replay's store, filled once, grows no more).
     pub fn shrink_to_fit(&mut self) {
-        self.times_s.shrink_to_fit();
-        for col in &mut self.columns {
-            col.values.shrink_to_fit();
-            col.pyramid.shrink_to_fit();
-            if let Some(sq) = col.squares.as_mut() {
-                sq.marks.shrink_to_fit();
-            }
-        }
+        self.older.shrink_to_fit();
+        self.recent.shrink_to_fit();
     }
 
     /// Appends one sample of every series (`row` in [`SeriesStore::ids`] order; missing values
@@ -278,83 +255,39 @@ impl SeriesStore {
         if !time_s.is_finite() {
             return;
         }
-        if self.times_s.back().is_some_and(|&last| time_s < last) {
+        if self.time_range_s().is_some_and(|(_, last)| time_s < last) {
             self.clear();
         }
-        let i = self.base + self.times_s.len() as u64;
-        self.times_s.push_back(time_s);
-        for (c, col) in self.columns.iter_mut().enumerate() {
-            let v = row.get(c).copied().unwrap_or(f32::NAN);
-            col.values.push_back(v);
-            if let Some(sq) = col.squares.as_mut() {
-                sq.total += square(v);
-                if (i + 1).is_multiple_of(SQUARES_BLOCK) {
-                    if sq.marks.is_empty() {
-                        sq.first_mark = (i + 1) / SQUARES_BLOCK;
-                    }
-                    sq.marks.push_back(sq.total);
-                }
+        let (recent, older, summarizer) = (&mut self.recent, &mut self.older, &mut self.summarizer);
+        recent.push_row(time_s, row, &mut |t, r| {
+            if let Some(s) = summarizer.as_mut() {
+                s.push(t, r, &mut |t, r| older.push_row(t, r, &mut |_, _| {}));
             }
-            let mut k = FIRST_LEVEL;
-            while (i + 1).is_multiple_of(1u64 << k) {
-                let block = i >> k;
-                let mm = if k == FIRST_LEVEL {
-                    let from = (block << k).max(self.base);
-                    (from..=i)
-                        .filter_map(|a| col.values.get((a - self.base) as usize))
-                        .fold(EMPTY, |m, &v| merge(m, (v, v)))
-                } else {
-                    let lo = col.pyramid.entry(k - 1, 2 * block).unwrap_or(EMPTY);
-                    let hi = col.pyramid.entry(k - 1, 2 * block + 1).unwrap_or(EMPTY);
-                    merge(lo, hi)
-                };
-                col.pyramid.push(k, block, mm);
-                k += 1;
-            }
-        }
-        self.expire(time_s);
+        });
     }
 
-    fn expire(&mut self, now_s: f64) {
-        let oldest = now_s - self.span_s;
-        let mut dropped = 0u64;
-        while self.times_s.front().is_some_and(|&t| t < oldest) {
-            self.times_s.pop_front();
-            dropped += 1;
-        }
-        if dropped == 0 {
+    /// Appends a row that is already a summary (a live view's older rows): every full-rate row
+    /// kept is summarised first, all being older.
+    fn push_summary_row(&mut self, time_s: f64, row: &[f32]) {
+        if self.summarizer.is_none() {
+            self.push_row(time_s, row);
             return;
         }
-        self.base += dropped;
-        for col in &mut self.columns {
-            for _ in 0..dropped {
-                col.values.pop_front();
-            }
-            if let Some(sq) = col.squares.as_mut() {
-                // a mark is needed while a kept sample lies before it
-                let needed = self.base.div_ceil(SQUARES_BLOCK);
-                while sq.first_mark < needed && sq.marks.pop_front().is_some() {
-                    sq.first_mark += 1;
-                }
-            }
-            col.pyramid.expire(self.base);
+        if !time_s.is_finite() || self.time_range_s().is_some_and(|(_, last)| time_s < last) {
+            return;
         }
+        let (recent, older, summarizer) = (&mut self.recent, &mut self.older, &mut self.summarizer);
+        if let Some(s) = summarizer.as_mut() {
+            recent.take_all(&mut |t, r| s.push(t, r, &mut |t, r| older.push_row(t, r, &mut |_, _| {})));
+            s.flush(&mut |t, r| older.push_row(t, r, &mut |_, _| {}));
+        }
+        older.push_row(time_s, row, &mut |_, _| {});
     }
 
     /// Appends a telemetry sample.
     pub fn push_sample(&mut self, s: &TelemetrySample) {
         let mut row = std::mem::take(&mut self.row);
-        row.clear();
-        let n = self.joints;
-        let joint = |i: usize| s.joints.get(i);
-        let f = |v: Option<f64>| v.map_or(f32::NAN, |v| v as f32);
-        row.extend((0..n).map(|i| f(joint(i).map(|j| j.q_rad))));
-        row.extend((0..n).map(|i| f(joint(i).map(|j| j.qd_rad_s))));
-        row.extend((0..n).map(|i| f(joint(i).map(|j| j.qdd_rad_s2))));
-        row.extend((0..n).map(|i| f(joint(i).map(|j| j.drive))));
-        row.extend((0..n).map(|i| f(joint(i).map(|j| j.cmd_q_rad - j.q_rad))));
-        row.extend(s.tcp.position_m.iter().map(|&v| v as f32));
-        row.extend(s.tcp.rpy_rad.iter().map(|&v| v as f32));
+        Self::sample_row(s, self.joints, &mut row);
         self.drive = s.drive;
         self.push_row(s.time_s, &row);
         self.row = row;
@@ -365,161 +298,69 @@ impl SeriesStore {
         self.drive = drive;
     }
 
-    /// Appends the samples of `view` newer than the newest kept one; returns how many. When
-    /// the view's newest sample is older than the store's (another backend), starts again.
+    /// Appends the rows of `view` newer than the newest kept one; returns how many. When
+    /// the view's newest row is older than the store's (another backend), starts again.
     pub fn ingest_live(&mut self, view: &LiveView) -> usize {
-        let Some(latest) = view.latest().map(|s| s.time_s) else { return 0 };
-        let last = match self.times_s.back() {
-            Some(&last) if latest < last => {
-                self.clear();
-                None
-            }
-            other => other.copied(),
-        };
-        // the new samples sit in the last blocks: find the first block that has any
+        let Some(latest) = view.latest_time_s() else { return 0 };
+        if self.time_range_s().is_some_and(|(_, last)| latest < last) {
+            self.clear();
+        }
+        let last = self.time_range_s().map(|(_, last)| last);
+        // the new rows sit in the last blocks: find the first block that has any
         let first_block = match last {
             None => 0,
-            Some(last) => view.blocks.iter().rposition(|b| b.first().is_some_and(|s| s.time_s <= last)).unwrap_or(0),
+            Some(last) => view.blocks.iter().rposition(|b| b.times_s.first().is_some_and(|&t| t <= last)).unwrap_or(0),
         };
         let mut added = 0;
         for block in &view.blocks[first_block..] {
-            for s in block.iter() {
-                if last.is_none_or(|last| s.time_s > last) {
-                    self.push_sample(s);
+            for (t, row) in block.rows() {
+                if last.is_none_or(|last| t > last) {
+                    if block.summary {
+                        self.push_summary_row(t, row);
+                    } else {
+                        self.push_row(t, row);
+                    }
                     added += 1;
                 }
             }
         }
+        self.drive = view.drive;
         added
     }
 
-    /// Absolute index of the first sample at or after `t_s`.
-    fn index_at(&self, t_s: f64) -> u64 {
-        self.base + self.times_s.partition_point(|&t| t < t_s) as u64
-    }
-
-    fn end(&self) -> u64 {
-        self.base + self.times_s.len() as u64
-    }
-
-    /// The sum of squares of every sample before absolute index `x` (`base ≤ x ≤ end`): the
-    /// next mark (or the total) less the kept samples between `x` and it.
-    fn sum_of_squares_before(&self, col: &Column, sq: &SquareSums, x: u64) -> Option<f64> {
-        let end = self.end();
-        if x < self.base || x > end {
-            return None;
-        }
-        let m = x.div_ceil(SQUARES_BLOCK);
-        let (upto, sum) = match m.checked_sub(sq.first_mark).and_then(|j| sq.marks.get(usize::try_from(j).ok()?)) {
-            Some(&mark) if m * SQUARES_BLOCK <= end => (m * SQUARES_BLOCK, mark),
-            _ => (end, sq.total),
-        };
-        let raw = (x..upto).map(|k| col.values.get((k - self.base) as usize).copied().map_or(0.0, square));
-        Some(sum - raw.sum::<f64>())
-    }
-
-    /// Min and max of column `col` over absolute samples `[a, b)`, from the pyramid.
-    fn range_min_max(&self, col: &Column, a: u64, b: u64) -> (f32, f32) {
-        let mut mm = EMPTY;
-        let mut p = a.max(self.base);
-        let b = b.min(self.end());
-        let top = FIRST_LEVEL + col.pyramid.levels.len() as u32;
-        while p < b {
-            let level = (FIRST_LEVEL..top).rev().find(|&k| p.is_multiple_of(1u64 << k) && p + (1u64 << k) <= b);
-            match level.and_then(|k| col.pyramid.entry(k, p >> k).map(|e| (k, e))) {
-                Some((k, e)) => {
-                    mm = merge(mm, e);
-                    p += 1u64 << k;
-                }
-                None => {
-                    if let Some(&v) = col.values.get((p - self.base) as usize) {
-                        mm = merge(mm, (v, v));
-                    }
-                    p += 1;
-                }
-            }
-        }
-        mm
-    }
-
     /// The points of column `col` between `t0_s` and `t1_s` for a plot `columns_px` pixels
-    /// wide: the raw samples when there are fewer than two per pixel, else per pixel column its
+    /// wide: the rows when there are fewer than two per pixel, else per pixel column its
     /// minimum and maximum (in the order they likely occurred). Appends `[t_s, value]` to `out`
     /// (cleared first); NaN values are left out.
     pub fn decimated(&self, col: usize, t0_s: f64, t1_s: f64, columns_px: usize, out: &mut Vec<[f64; 2]>) {
         out.clear();
-        let Some(column) = self.columns.get(col) else { return };
-        if t1_s.partial_cmp(&t0_s) != Some(std::cmp::Ordering::Greater) || columns_px == 0 {
-            return;
-        }
-        // one sample either side, so the line reaches the edges
-        let a = self.index_at(t0_s).saturating_sub(1).max(self.base);
-        let b = (self.index_at(t1_s) + 1).min(self.end());
-        if b <= a {
-            return;
-        }
-        let raw = |i: u64| -> Option<[f64; 2]> {
-            let at = (i - self.base) as usize;
-            let v = *column.values.get(at)?;
-            v.is_finite().then(|| [self.times_s[at], f64::from(v)])
-        };
-        if (b - a) as usize <= 2 * columns_px {
-            out.extend((a..b).filter_map(raw));
-            return;
-        }
-        out.extend(raw(a));
-        let dt = (t1_s - t0_s) / columns_px as f64;
-        let mut ca = self.index_at(t0_s);
-        for c in 0..columns_px {
-            let cb = if c + 1 == columns_px { self.index_at(t1_s) } else { self.index_at(t0_s + (c + 1) as f64 * dt) };
-            if cb > ca {
-                let (lo, hi) = self.range_min_max(column, ca, cb);
-                if lo <= hi {
-                    let (ta, tb) =
-                        (self.times_s[(ca - self.base) as usize], self.times_s[(cb - 1 - self.base) as usize]);
-                    let first = column.values[(ca - self.base) as usize];
-                    // the first sample nearer the maximum: the maximum came first
-                    let max_first = (f64::from(first) - f64::from(hi)).abs() < (f64::from(first) - f64::from(lo)).abs();
-                    let (v0, v1) = if max_first { (hi, lo) } else { (lo, hi) };
-                    out.push([ta, f64::from(v0)]);
-                    out.push([tb.max(ta), f64::from(v1)]);
-                }
-                ca = cb;
-            }
-        }
-        if b > self.index_at(t1_s) {
-            out.extend(raw(b - 1));
-        }
+        self.older.decimated(col, t0_s, t1_s, columns_px, out);
+        self.recent.decimated(col, t0_s, t1_s, columns_px, out);
     }
 
     /// Min, max, peak magnitude and (tracking-error columns) RMS of column `col` over the
     /// samples between `t0_s` and `t1_s`; `None` without a finite sample there.
     pub fn window_stats(&self, col: usize, t0_s: f64, t1_s: f64) -> Option<WindowStats> {
-        let column = self.columns.get(col)?;
-        let a = self.index_at(t0_s);
-        let b = self.base + self.times_s.partition_point(|&t| t <= t1_s) as u64;
-        if b <= a {
+        let parts = [self.older.window_part(col, t0_s, t1_s), self.recent.window_part(col, t0_s, t1_s)];
+        let parts: Vec<_> = parts.into_iter().flatten().collect();
+        let samples: usize = parts.iter().map(|p| p.samples).sum();
+        let (lo, hi) = parts.iter().fold(EMPTY, |m, p| merge(m, p.min_max));
+        if samples == 0 || lo > hi {
             return None;
         }
-        let (lo, hi) = self.range_min_max(column, a, b);
-        if lo > hi {
-            return None;
-        }
-        let rms = column.squares.as_ref().and_then(|sq| {
-            let sum = self.sum_of_squares_before(column, sq, b)? - self.sum_of_squares_before(column, sq, a)?;
-            Some((sum.max(0.0) / (b - a) as f64).sqrt())
-        });
+        let sums: Option<Vec<f64>> = parts.iter().map(|p| p.sum_of_squares).collect();
+        let rms = sums.map(|s| (s.iter().sum::<f64>().max(0.0) / samples as f64).sqrt());
         let (min, max) = (f64::from(lo), f64::from(hi));
-        Some(WindowStats { samples: (b - a) as usize, min, max, max_abs: min.abs().max(max.abs()), rms })
+        Some(WindowStats { samples, min, max, max_abs: min.abs().max(max.abs()), rms })
     }
 
-    /// The newest sample at or before `t_s` (the first one before the store starts): its time
+    /// The newest row at or before `t_s` (the first one before the store starts): its time
     /// and every column's value.
     pub fn row_at(&self, t_s: f64) -> Option<(f64, Vec<f32>)> {
-        let after = self.times_s.partition_point(|&t| t <= t_s);
-        let at = after.saturating_sub(1);
-        let t = *self.times_s.get(at)?;
-        Some((t, self.columns.iter().map(|c| c.values.get(at).copied().unwrap_or(f32::NAN)).collect()))
+        match self.recent.first_s() {
+            Some(first) if t_s >= first || self.older.len() == 0 => self.recent.row_at(t_s),
+            _ => self.older.row_at(t_s),
+        }
     }
 
     /// The measured joint positions (rad) at or before `t_s`.
@@ -528,15 +369,10 @@ impl SeriesStore {
         Some(row.iter().take(self.joints).map(|&v| f64::from(v)).collect())
     }
 
-    /// Every kept sample between `t0_s` and `t1_s`: its time and every column's value (CSV
-    /// export of the visible window).
+    /// Every kept row between `t0_s` and `t1_s`: its time and every column's value (CSV
+    /// export of the visible window; before [`SeriesStore::summary_before_s`] the summary's).
     pub fn raw_window(&self, t0_s: f64, t1_s: f64) -> impl Iterator<Item = (f64, Vec<f32>)> + '_ {
-        let a = self.times_s.partition_point(|&t| t < t0_s);
-        let b = self.times_s.partition_point(|&t| t <= t1_s);
-        (a..b.max(a)).filter_map(move |i| {
-            let t = *self.times_s.get(i)?;
-            Some((t, self.columns.iter().map(|c| c.values.get(i).copied().unwrap_or(f32::NAN)).collect()))
-        })
+        self.older.raw_window(t0_s, t1_s).chain(self.recent.raw_window(t0_s, t1_s))
     }
 }
 

@@ -11,7 +11,7 @@ use serde::Deserialize;
 use crate::model::RobotModel;
 use crate::telemetry::sample::DriveKind;
 use crate::telemetry::schema::{JointStateMsg, LogMsg, Time};
-use crate::telemetry::series::SeriesStore;
+use crate::telemetry::series::{Quantity, SeriesStore};
 
 /// Measured samples waiting for their command, at most.
 const MAX_PENDING: usize = 16;
@@ -75,8 +75,8 @@ fn at(v: &[f64], j: usize) -> f64 {
 }
 
 impl MeasuredRow {
-    /// The row in [`SeriesStore::ids`] order; the tracking error (the fifth block of `n`) is
-    /// NaN until the command is found.
+    /// The row ([`SeriesStore::build_row`]); the tracking error is NaN until the command is
+    /// found.
     pub(super) fn new(model: &RobotModel, m: MeasuredJson) -> Self {
         let n = model.dof();
         let (drive_values, drive) = match &m.steps_per_s {
@@ -84,26 +84,26 @@ impl MeasuredRow {
             None => (m.effort.as_slice(), DriveKind::TorqueNm),
         };
         let q: Vec<f64> = (0..n).map(|j| at(&m.position, j)).collect();
-        let mut row = Vec::with_capacity(5 * n + 6);
-        row.extend(q.iter().map(|&v| v as f32));
-        row.extend((0..n).map(|j| at(&m.velocity, j) as f32));
-        row.extend((0..n).map(|j| at(&m.acceleration, j) as f32));
-        row.extend((0..n).map(|j| at(drive_values, j) as f32));
-        row.extend((0..n).map(|_| f32::NAN));
-        if q.iter().all(|v| v.is_finite()) {
-            let tcp = model.fk(&q);
-            row.extend(tcp.position_m.iter().map(|&v| v as f32));
-            row.extend(tcp.rpy_rad.iter().map(|&v| v as f32));
-        } else {
-            row.extend([f32::NAN; 6]);
-        }
+        let tcp = q.iter().all(|v| v.is_finite()).then(|| model.fk(&q));
+        let mut row = Vec::with_capacity(SeriesStore::row_width(n));
+        SeriesStore::build_row(n, &mut row, |quantity, j| match quantity {
+            Quantity::Position => at(&q, j),
+            Quantity::Velocity => at(&m.velocity, j),
+            Quantity::Acceleration => at(&m.acceleration, j),
+            Quantity::Drive => at(drive_values, j),
+            // filled in when the command is found
+            Quantity::TrackingError => f64::NAN,
+            Quantity::TcpPosition => tcp.as_ref().map_or(f64::NAN, |p| at(&p.position_m, j)),
+            Quantity::TcpOrientation => tcp.as_ref().map_or(f64::NAN, |p| at(&p.rpy_rad, j)),
+        });
         Self { seq: m.seq, time_s: m.time_s, stamp_ns: m.header.stamp.as_ns(), position: q, drive, row }
     }
 
     /// Fills in the tracking error (commanded − measured) from `c`.
     fn with_command(mut self, c: &CommandedJson) -> Self {
         let n = self.position.len();
-        for (j, e) in self.row[4 * n..5 * n].iter_mut().enumerate() {
+        let from = SeriesStore::offset_of(Quantity::TrackingError, n);
+        for (j, e) in self.row.iter_mut().skip(from).take(n).enumerate() {
             *e = (at(&c.position, j) - self.position[j]) as f32;
         }
         self
@@ -134,7 +134,7 @@ pub(super) struct ChunkRows {
 impl ChunkRows {
     pub(super) fn new(model: &RobotModel) -> Self {
         Self {
-            width: 5 * model.dof() + 6,
+            width: SeriesStore::row_width(model.dof()),
             pending: VecDeque::new(),
             orphans: Vec::new(),
             seqs: Vec::new(),

@@ -38,7 +38,7 @@ fn sine_store(n: usize) -> SeriesStore {
 }
 
 fn brute_min_max(st: &SeriesStore, col: usize, a: usize, b: usize) -> (f32, f32) {
-    (a..b).map(|i| st.columns[col].values[i]).fold(EMPTY, |m, v| merge(m, (v, v)))
+    (a..b).map(|i| st.recent.columns[col].values[i]).fold(EMPTY, |m, v| merge(m, (v, v)))
 }
 
 #[test]
@@ -54,7 +54,11 @@ fn columns_are_named_in_order() {
 fn pyramid_ranges_match_the_raw_samples() {
     let st = sine_store(5000);
     for (a, b) in [(0, 5000), (3, 4), (7, 9), (8, 16), (1, 4999), (123, 2345), (4096, 5000), (17, 18)] {
-        assert_eq!(st.range_min_max(&st.columns[0], a as u64, b as u64), brute_min_max(&st, 0, a, b), "[{a}, {b})");
+        assert_eq!(
+            st.recent.range_min_max(&st.recent.columns[0], a as u64, b as u64),
+            brute_min_max(&st, 0, a, b),
+            "[{a}, {b})"
+        );
     }
 }
 
@@ -111,22 +115,25 @@ fn a_live_span_expires_old_samples_and_stays_exact() {
     assert!((t1 - t0 - 10.0).abs() < 0.005, "{t0} {t1}");
     assert_eq!(st.len(), 2501);
     let n = st.len();
-    assert_eq!(st.range_min_max(&st.columns[0], st.base, st.end()), brute_min_max(&st, 0, 0, n));
-    let off = st.base as usize;
+    assert_eq!(
+        st.recent.range_min_max(&st.recent.columns[0], st.recent.base, st.recent.end()),
+        brute_min_max(&st, 0, 0, n)
+    );
+    let off = st.recent.base as usize;
     for (a, b) in [(5, 2000), (0, 1), (1000, 2501), (0, 2501)] {
-        let got = st.range_min_max(&st.columns[0], (off + a) as u64, (off + b) as u64);
+        let got = st.recent.range_min_max(&st.recent.columns[0], (off + a) as u64, (off + b) as u64);
         assert_eq!(got, brute_min_max(&st, 0, a, b));
     }
     // the RMS after expiry equals a direct computation
     let col = st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }).unwrap_or(0);
-    let direct = (st.columns[col].values.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / n as f64).sqrt();
+    let direct = (st.recent.columns[col].values.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / n as f64).sqrt();
     let rms = st.window_stats(col, t0, t1).and_then(|s| s.rms).unwrap();
     assert!((rms - direct).abs() < 1e-6, "{rms} vs {direct}");
 }
 
 #[test]
 fn live_views_are_ingested_once_and_a_new_source_starts_again() {
-    let mut ring = LiveRing::new(600.0, 250.0);
+    let mut ring = LiveRing::new(2, 600.0, 600.0, 250.0);
     for k in 0..1000 {
         ring.push(&sample(k as f64 * 0.004, 0.0, 0.0));
     }
@@ -138,7 +145,7 @@ fn live_views_are_ingested_once_and_a_new_source_starts_again() {
     }
     assert_eq!(st.ingest_live(&ring.view()), 300);
     assert_eq!(st.len(), 1300);
-    let mut other = LiveRing::new(600.0, 250.0);
+    let mut other = LiveRing::new(2, 600.0, 600.0, 250.0);
     other.push(&sample(0.5, 0.0, 0.0));
     assert_eq!(st.ingest_live(&other.view()), 1);
     assert_eq!(st.len(), 1);
@@ -173,7 +180,7 @@ proptest::proptest! {
             st.push_row(k as f64 * 0.004, &row);
         }
         let kept: Vec<(f64, f32)> =
-            st.times_s.iter().copied().zip(st.columns[col].values.iter().copied()).collect();
+            st.recent.times_s.iter().copied().zip(st.recent.columns[col].values.iter().copied()).collect();
         let a = ((kept.len() - 1) as f64 * a_frac) as usize;
         let b = (a + ((kept.len() - a) as f64 * len_frac) as usize).clamp(a + 1, kept.len());
         let (t0, t1) = (kept[a].0, kept[b - 1].0);
@@ -189,4 +196,79 @@ proptest::proptest! {
             None => proptest::prop_assert!(!finite),
         }
     }
+}
+
+/// A live store keeps the newest minute of a 1 kHz source whole and older samples as 4 ms
+/// min/max pairs: half the rows, and a one-sample spike still in the plotted min / max.
+#[test]
+fn a_live_store_summarises_after_a_minute_and_keeps_every_peak() {
+    let mut st = SeriesStore::live(2, 600.0, 60.0);
+    for k in 0..120_000u64 {
+        let t = k as f64 * 1e-3;
+        let q = if k == 10_002 { 5.0 } else { (t * 3.0).sin() };
+        st.push_sample(&sample(t, q, 0.01));
+    }
+    assert!((89_900..=90_100).contains(&st.len()), "{} rows", st.len());
+    let summary_until = st.summary_before_s().unwrap_or(0.0);
+    assert!((summary_until - 60.0).abs() < 0.01, "{summary_until}");
+    let mut out = Vec::new();
+    st.decimated(0, 0.0, 120.0, 800, &mut out);
+    let top = out.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(top, 5.0, "the spike at 10.002 s is plotted");
+    assert!(out.windows(2).all(|w| w[1][0] >= w[0][0]), "time never goes back");
+    assert_eq!(st.window_stats(0, 9.0, 11.0).map(|s| s.max), Some(5.0));
+    let col = st.column(SeriesId { quantity: Quantity::TrackingError, index: 0 }).unwrap_or(0);
+    let rms = st.window_stats(col, 0.0, 120.0).and_then(|s| s.rms).unwrap_or(f64::NAN);
+    assert!(rms.is_finite() && rms > 0.0, "{rms}");
+    assert_eq!(st.time_range_s(), Some((0.0, 119_999.0 * 1e-3)));
+    assert_eq!(st.raw_window(0.0, 120.0).count(), st.len());
+}
+
+/// A live store fed from the live ring, view by view or all at once from a view that already
+/// holds a summary, holds the rows of a store fed sample by sample.
+#[test]
+fn a_live_store_fed_from_the_ring_equals_one_fed_sample_by_sample() {
+    let mut ring = LiveRing::new(2, 600.0, 60.0, 1000.0);
+    let mut by_view = SeriesStore::live(2, 600.0, 60.0);
+    let mut direct = SeriesStore::live(2, 600.0, 60.0);
+    for k in 0..90_000u64 {
+        let t = k as f64 * 1e-3;
+        let s = sample(t, (t * 5.0).sin(), 0.02 * (t * 2.0).cos());
+        ring.push(&s);
+        direct.push_sample(&s);
+        if k % 50 == 49 {
+            by_view.ingest_live(&ring.view());
+        }
+    }
+    by_view.ingest_live(&ring.view());
+    let mut fresh = SeriesStore::live(2, 600.0, 60.0);
+    fresh.ingest_live(&ring.view());
+    let rows = |st: &SeriesStore| {
+        st.raw_window(f64::NEG_INFINITY, f64::INFINITY)
+            .map(|(t, r)| (t.to_bits(), r.iter().map(|v| v.to_bits()).collect::<Vec<_>>()))
+            .collect::<Vec<_>>()
+    };
+    let want = rows(&direct);
+    assert_eq!(rows(&by_view), want);
+    // a fresh store takes the ring's summary as it is: the same rows, apart from where the
+    // ring's full-rate blocks end (whole blocks are summarised)
+    let got = rows(&fresh);
+    let from = want.len().saturating_sub(59_000);
+    assert_eq!(got[got.len() - 59_000..], want[from..]);
+    assert_eq!(got[..1000], want[..1000]);
+}
+
+/// Bytes per stored second of the live ring: 152 per sample of six joints (a 100 Hz robot:
+/// 15.2 kB/s; 68 kB/s when it kept whole samples).
+#[test]
+fn the_live_ring_keeps_what_the_plots_draw_in_f32_rows() {
+    let mut ring = LiveRing::new(6, 600.0, 60.0, 1000.0);
+    let mut s = sample(0.0, 0.0, 0.0);
+    s.joints = vec![s.joints[0]; 6];
+    for k in 0..60_000u64 {
+        s.time_s = k as f64 * 0.01;
+        ring.push(&s);
+    }
+    let per_s = ring.heap_bytes() as f64 / 600.0;
+    assert!(per_s <= 15_500.0, "{per_s} bytes per stored second");
 }

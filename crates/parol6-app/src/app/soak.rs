@@ -89,7 +89,7 @@ impl Parol6App {
         }
         let link_ok = link.as_ref().is_none_or(|s| s.link == parol6_hw::LinkState::Connected);
         let name = soak.program.clone();
-        let last_state = self.program_progress.as_ref().map(|p| format!("{:?}", p.state));
+        let last_state = self.state.program.as_ref().map(|p| format!("{:?}", p.state));
         if !self.program_running() && link_ok {
             let Some(soak) = self.soak.as_mut() else { return };
             soak.program_starts += 1;

@@ -52,8 +52,8 @@ pub use replay::read_replay;
 use settings_store::save_settings;
 pub use settings_store::{load_settings, settings_path};
 pub use telemetry::link_health;
+use test_hooks::Hook;
 pub use test_hooks::TestScript;
-use test_hooks::{SmokeStep, SweepRun, TestRunner};
 
 /// Window title.
 pub const WINDOW_TITLE: &str = "PAROL6 Studio";
@@ -149,9 +149,8 @@ pub struct Parol6App {
     notices: Vec<Notice>,
     commands: Vec<AppCommand>,
     repaint_until: Instant,
-    test: Option<TestRunner>,
-    sweep: Option<SweepRun>,
-    soak: Option<soak::SoakRun>,
+    /// The test, sweep or soak script run in the window (`PAROL6_TEST_SCRIPT`), if any.
+    hook: Option<Hook>,
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
@@ -235,25 +234,7 @@ impl Parol6App {
             notices: Vec::new(),
             commands: Vec::new(),
             repaint_until: Instant::now() + COMMAND_REPAINT_WINDOW,
-            test: match &opts.test_script {
-                Some(TestScript::Smoke(out)) => Some(TestRunner {
-                    out: out.clone(),
-                    step: SmokeStep::Warmup,
-                    frames: 0,
-                    q_before: 0.0,
-                    target: 0.0,
-                    first_frame_ms: None,
-                }),
-                _ => None,
-            },
-            sweep: match opts.test_script {
-                Some(TestScript::Sweep(seconds)) => Some(SweepRun { seconds, ..Default::default() }),
-                _ => None,
-            },
-            soak: match &opts.test_script {
-                Some(TestScript::Soak(seconds, program)) => Some(soak::SoakRun::new(*seconds, program.clone())),
-                _ => None,
-            },
+            hook: opts.test_script.map(Hook::new),
             exit_code: Arc::new(AtomicI32::new(0)),
             started: opts.started,
             show_help: false,
@@ -458,7 +439,7 @@ impl Parol6App {
                 app: &self.state,
                 live: &self.live.status,
             };
-            if let Some(t) = &mut self.test {
+            if let Some(Hook::Smoke(t)) = &mut self.hook {
                 t.frames += 1;
                 Self::test_step(t, &ctx, &mut self.panels.joints, &mut pctx, &self.exit_code, self.started);
             }
@@ -504,7 +485,7 @@ impl Parol6App {
             || replay_playing
             || self.replay_loading.is_some()
             || Instant::now() < self.repaint_until;
-        if busy || self.test.is_some() || self.sweep.is_some() || self.soak.is_some() {
+        if busy || self.hook.is_some() {
             ctx.request_repaint();
         } else if self.hw.is_some() {
             ctx.request_repaint_after(LINK_REPAINT);

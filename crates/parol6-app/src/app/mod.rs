@@ -376,6 +376,8 @@ impl Parol6App {
         }
         let replay_playing = self.replay_frame(t0);
         // during replay every read-out shows the recording at the cursor (`state::AppState::replayed_robot`)
+        // the window repaints and reuses frames by the live arm's motion, as before replay
+        let live_moving = live_arc.moving;
         let robot_arc = match self.state.replayed_robot(&self.model, &live_arc) {
             Some(recorded) => Arc::new(recorded),
             None => live_arc,
@@ -395,7 +397,7 @@ impl Parol6App {
             }
             self.state.program = Some(p);
         }
-        self.sweep_step(&ctx, t0, robot.moving);
+        self.sweep_step(&ctx, t0, live_moving);
         self.soak_step(&ctx, t0);
         if self.release_memory_at.is_some_and(|at| t0 >= at) {
             self.release_memory_at = None;
@@ -417,7 +419,7 @@ impl Parol6App {
         if self.frame_reuse.is_none() {
             self.frame_reuse = frame_reuse::FrameReuse::find(&ctx);
         }
-        let partial = self.partial_layout(&ctx, t0, refresh, robot.moving);
+        let partial = self.partial_layout(&ctx, t0, refresh, live_moving);
         let (readout, readout_perf) = match &self.readout {
             Some((_, r, p)) => (r, p),
             None => (robot, &self.perf),
@@ -480,7 +482,7 @@ impl Parol6App {
         }
 
         // Repaint policy: continuous only while something moves or the link is live.
-        let busy = robot.moving
+        let busy = live_moving
             || self.program_running()
             || replay_playing
             || self.replay_loading.is_some()

@@ -47,7 +47,7 @@ pub struct FileRecording {
 
 impl AppState {
     /// The robot state to show this frame: the recording at the cursor while one is open
-    /// (measured joints and velocities, the commanded pose as the target, motion blocked with
+    /// (measured joints and velocities, the commanded pose as the target, moving while it plays, motion blocked with
     /// [`REPLAY_OPEN`]), else `None` (the live backend's). This is the one place a read-out is
     /// made to follow replay.
     pub fn replayed_robot(&self, model: &RobotModel, live: &RobotState) -> Option<RobotState> {
@@ -62,6 +62,9 @@ impl AppState {
         s.commanded.q.clone_from(&cmd);
         s.target_q = cmd;
         s.homed = true;
+        // the recorded arm moves while the replay plays: the panels re-check (pre-flight,
+        // dynamics) where it comes to rest, as for a live arm, and the read-outs refresh at their rate
+        s.moving = r.playing;
         s.io = live.io;
         s.update_kinematics(model, &parol6_core::limits::ZoneThresholds::default());
         s.blocked = Some(REPLAY_OPEN.to_string());

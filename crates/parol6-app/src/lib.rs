@@ -6,6 +6,7 @@
 //! It must not implement kinematics, physics or protocol logic itself.
 
 pub mod app;
+pub mod artifacts;
 pub mod cli;
 pub mod live;
 pub mod palette;

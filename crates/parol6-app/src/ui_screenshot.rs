@@ -5,7 +5,6 @@
 //! this module does not depend on the command line).
 
 use eframe::egui;
-use std::path::Path;
 use std::time::Instant;
 
 use parol6_core::RobotModel;
@@ -13,16 +12,12 @@ use parol6_core::RobotModel;
 use crate::app::{LaunchOptions, Parol6App};
 use crate::viewport::offscreen::EguiPassTiming;
 use crate::viewport::retained::{RetainedHandle, RetainedStats};
-use crate::viewport::{OffscreenRenderer, RgbaImage, write_png};
+use crate::viewport::{OffscreenRenderer, RgbaImage};
 
 /// Clear colour behind the panels (egui's dark panel fill).
 const CLEAR_SRGB: [u8; 3] = crate::theme::PANEL_BG_SRGB;
 
-/// Writes RGBA8 pixels (rows top to bottom) as a PNG.
-pub fn write_rgba_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> anyhow::Result<()> {
-    let img = RgbaImage { width, height, pixels: rgba.to_vec() };
-    write_png(path, &img).map_err(|e| anyhow::anyhow!("{e}"))
-}
+pub use crate::artifacts::{peak_rss_mb, rss_mb, write_rgba_png};
 
 /// Timings of one headless frame.
 #[derive(Debug, Clone, Copy)]
@@ -209,23 +204,6 @@ impl HeadlessApp {
         };
         Ok((img, timing))
     }
-}
-
-/// Peak resident set size of this process, MB (Linux `VmHWM`), if known.
-pub fn peak_rss_mb() -> Option<f64> {
-    proc_status_mb("VmHWM:")
-}
-
-/// Resident set size of this process now, MB (Linux `VmRSS`), if known.
-pub fn rss_mb() -> Option<f64> {
-    proc_status_mb("VmRSS:")
-}
-
-fn proc_status_mb(field: &str) -> Option<f64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with(field))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
 }
 
 /// Performance targets checked by `parol6 bench render --check`: whole frame, p50, ms

@@ -144,9 +144,8 @@ fn panel_harness() -> Harness<'static, Bench> {
                     commands: &mut b.commands,
                     notices: &mut b.notices,
                     perf: &b.perf,
-                    link: None,
+                    app: &Default::default(),
                     preview: &mut b.preview,
-                    program: None,
                     live: &Default::default(),
                 };
                 b.panel.ui(ui, &mut ctx);

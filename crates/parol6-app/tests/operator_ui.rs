@@ -59,9 +59,8 @@ impl<P: Panel> Bench<P> {
             commands: &mut self.commands,
             notices: &mut self.notices,
             perf: &self.perf,
-            link: None,
+            app: &Default::default(),
             preview: &mut self.preview,
-            program: None,
             live: &Default::default(),
         };
         self.panel.ui(ui, &mut ctx);
@@ -207,9 +206,8 @@ fn status_of<P>(b: &Bench<P>) -> (String, Option<parol6_core::limits::LimitZone>
         commands: &mut commands,
         notices: &mut notices,
         perf: &b.perf,
-        link: None,
+        app: &Default::default(),
         preview: &mut preview,
-        program: None,
         live: &Default::default(),
     };
     limit_status_text(&ctx)

@@ -105,7 +105,7 @@ impl Parol6App {
 
     /// The progress of the running or last program, as of the last frame.
     pub fn program_progress(&self) -> Option<&parol6_core::program::runner::RunProgress> {
-        self.program_progress.as_ref()
+        self.state.program.as_ref()
     }
 
     /// True while a program runs (paused included).

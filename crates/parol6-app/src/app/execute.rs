@@ -27,8 +27,8 @@ fn sets_arm_moving(cmd: &AppCommand) -> bool {
     }
 }
 
-/// True for a command the latched E-stop refuses: whatever sets the arm or the gripper moving,
-/// and ENABLE other than by releasing the E-stop.
+/// True for a command the latched E-stop (or an open recording) refuses: whatever sets the arm or
+/// the gripper moving, and ENABLE other than by releasing the E-stop.
 fn refused_by_estop(cmd: &AppCommand) -> bool {
     sets_arm_moving(cmd)
         || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
@@ -36,13 +36,18 @@ fn refused_by_estop(cmd: &AppCommand) -> bool {
 
 impl Parol6App {
     pub(super) fn execute(&mut self, cmd: AppCommand) {
-        if self.estop && refused_by_estop(&cmd) {
+        let refused_by = if self.estop {
+            Some(crate::panels::io_gripper::ESTOP_LATCHED)
+        } else {
+            self.state.replaying().then_some(super::state::REPLAY_OPEN)
+        };
+        if let Some(why) = refused_by.filter(|_| refused_by_estop(&cmd)) {
             if matches!(cmd, AppCommand::Jog(_) | AppCommand::CartesianJog(_)) {
                 self.jog_held = None;
                 self.cartesian_jog_held = None;
             }
             // one notice, kept up while the refused command repeats (a held jog key)
-            let text = format!("refused: {}", crate::panels::io_gripper::ESTOP_LATCHED);
+            let text = format!("refused: {why}");
             match self.notices.iter_mut().find(|n| n.text == text) {
                 Some(n) => n.at = Instant::now(),
                 None => self.notice(text, true),
@@ -69,12 +74,8 @@ impl Parol6App {
             AppCommand::Link(l) => self.execute_link(l),
             AppCommand::OpenRecording(path) => self.open_recording(path),
             AppCommand::CloseRecording => self.close_recording(),
-            AppCommand::SeekReplay(t_s) => {
-                if let Some(r) = &mut self.panels.timeline.replay {
-                    r.seek(t_s);
-                    r.playing = false;
-                }
-            }
+            AppCommand::SeekReplay(t_s) => self.seek_replay(t_s),
+            AppCommand::Replay(control) => self.control_replay(control),
             AppCommand::Record(Some(path)) => self.start_file_recording(&path),
             AppCommand::Record(None) => self.stop_file_recording(),
             AppCommand::ShareLive(on) => self.share_live(on),
@@ -105,7 +106,7 @@ impl Parol6App {
                 };
                 match started {
                     Ok(r) => {
-                        self.program_progress = Some(r.progress());
+                        self.state.program = Some(r.progress());
                         self.program = Some(r);
                     }
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),

@@ -262,7 +262,11 @@ impl Parol6App {
         }
         let reuse = self.frame_reuse.as_ref()?;
         let quiet = now.duration_since(self.input_at) >= QUIET_BEFORE_REUSE;
-        if !moving || !quiet || self.test.is_some() || self.sweep.is_some() || !self.commands.is_empty() {
+        if !moving
+            || !quiet
+            || self.hook.as_ref().is_some_and(super::test_hooks::Hook::full_frames)
+            || !self.commands.is_empty()
+        {
             return None;
         }
         if !ui_at_rest(ctx) {

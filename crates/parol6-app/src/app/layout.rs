@@ -35,10 +35,6 @@ pub struct FileMenu {
     pub open_path: String,
     /// Typed path of a recording to write.
     pub record_path: String,
-    /// The file being written (set by the app each frame).
-    pub recording: Option<String>,
-    /// A recording is open for replay (set by the app each frame).
-    pub replaying: bool,
     /// *Quit* was clicked (taken by the app, which asks first over unsaved edits, as Ctrl+Q).
     pub quit_clicked: bool,
 }
@@ -55,15 +51,15 @@ impl FileMenu {
                 pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
             }
         });
-        if self.replaying && ui.button("Close recording").clicked() {
+        if pctx.app.replaying() && ui.button("Close recording").clicked() {
             pctx.send(AppCommand::CloseRecording);
         }
         ui.separator();
         live_menu_ui(ui, pctx);
         ui.separator();
-        match &self.recording {
-            Some(path) => {
-                ui.label(format!("recording to {path}"));
+        match &pctx.app.recording {
+            Some(r) => {
+                ui.label(format!("recording to {}", r.path.display()));
                 if ui.button("Stop recording").clicked() {
                     pctx.send(AppCommand::Record(None));
                 }
@@ -258,7 +254,7 @@ impl Parol6App {
             });
             rects.set(group, r.response.rect);
         }
-        let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx.settings));
+        let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx));
         if let Some(r) = stand_in_rect(PanelGroup::Lower) {
             stand_in(ui, egui::Panel::bottom(LOWER_PANEL_ID), r.height());
         } else if lower_shown && lays_out(PanelGroup::Lower) {
@@ -367,7 +363,7 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
             ui.set_min_height(ui.available_height());
             let mut first = true;
             for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
-                if p.shown(pctx.settings) {
+                if p.shown(pctx) {
                     if !first {
                         ui.separator();
                     }

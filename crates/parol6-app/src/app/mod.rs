@@ -15,14 +15,13 @@ use std::time::{Duration, Instant};
 use anyhow::Context as _;
 use eframe::egui_wgpu;
 use parol6_core::RobotModel;
-use parol6_core::limits::LimitZone;
 use parol6_core::motion::MotionCommand;
-use parol6_core::program::runner::{ProgramRunner, RunProgress};
+use parol6_core::program::runner::ProgramRunner;
 use parol6_core::sim::{SimCommand, SimConfig, SimHandle};
 
 use crate::panels::registry::Panels;
-use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings, StateSource};
-use crate::viewport::{SceneFrame, Viewport};
+use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, RobotState, Settings};
+use crate::viewport::Viewport;
 
 mod access;
 mod execute;
@@ -35,8 +34,11 @@ mod panel_groups;
 mod perf;
 mod quit;
 mod replay;
+mod scene;
+pub mod settings;
 mod settings_store;
 mod soak;
+pub mod state;
 mod telemetry;
 mod test_hooks;
 #[cfg(test)]
@@ -50,8 +52,8 @@ pub use replay::read_replay;
 use settings_store::save_settings;
 pub use settings_store::{load_settings, settings_path};
 pub use telemetry::link_health;
+use test_hooks::Hook;
 pub use test_hooks::TestScript;
-use test_hooks::{SmokeStep, SweepRun, TestRunner};
 
 /// Window title.
 pub const WINDOW_TITLE: &str = "PAROL6 Studio";
@@ -117,8 +119,9 @@ pub struct Parol6App {
     hw: Option<HwLink>,
     /// The running (or last) program, on the backend that was active when it started.
     program: Option<ProgramRunner>,
-    /// Its last progress, kept after it ends.
-    program_progress: Option<RunProgress>,
+    /// What the panels read (the open recording, the program's progress, the file being
+    /// written, the link): changed here only, on their [`AppCommand`]s.
+    state: state::AppState,
     /// The jog being held: joint, direction, when the jog command was last sent.
     jog_held: Option<(usize, i8, Instant)>,
     /// The Cartesian jog being held: the command and when it was last sent.
@@ -146,16 +149,13 @@ pub struct Parol6App {
     notices: Vec<Notice>,
     commands: Vec<AppCommand>,
     repaint_until: Instant,
-    test: Option<TestRunner>,
-    sweep: Option<SweepRun>,
-    soak: Option<soak::SoakRun>,
+    /// The test, sweep or soak script run in the window (`PAROL6_TEST_SCRIPT`), if any.
+    hook: Option<Hook>,
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
     /// Telemetry of the simulation (its live view feeds the plots while no robot is connected).
     sim_recorder: Option<parol6_core::telemetry::Recorder>,
-    /// The MCAP file being written.
-    recording: Option<telemetry::FileRecording>,
     /// Program step last passed to the recorder.
     last_program_step: Option<Option<usize>>,
     recording_info: parol6_core::telemetry::RecordingInfo,
@@ -212,7 +212,7 @@ impl Parol6App {
             sim,
             hw: None,
             program: None,
-            program_progress: None,
+            state: state::AppState::default(),
             jog_held: None,
             cartesian_jog_held: None,
             estop: false,
@@ -234,30 +234,11 @@ impl Parol6App {
             notices: Vec::new(),
             commands: Vec::new(),
             repaint_until: Instant::now() + COMMAND_REPAINT_WINDOW,
-            test: match &opts.test_script {
-                Some(TestScript::Smoke(out)) => Some(TestRunner {
-                    out: out.clone(),
-                    step: SmokeStep::Warmup,
-                    frames: 0,
-                    q_before: 0.0,
-                    target: 0.0,
-                    first_frame_ms: None,
-                }),
-                _ => None,
-            },
-            sweep: match opts.test_script {
-                Some(TestScript::Sweep(seconds)) => Some(SweepRun { seconds, ..Default::default() }),
-                _ => None,
-            },
-            soak: match &opts.test_script {
-                Some(TestScript::Soak(seconds, program)) => Some(soak::SoakRun::new(*seconds, program.clone())),
-                _ => None,
-            },
+            hook: opts.test_script.map(Hook::new),
             exit_code: Arc::new(AtomicI32::new(0)),
             started: opts.started,
             show_help: false,
             sim_recorder,
-            recording: None,
             last_program_step: None,
             recording_info: opts.recording_info,
             replay_loading: None,
@@ -286,7 +267,7 @@ impl Parol6App {
         }
         if let Some(path) = opts.record {
             app.start_file_recording(&path);
-            if app.recording.is_none() {
+            if app.state.recording.is_none() {
                 anyhow::bail!("--record {}: the recording did not start (see the notice above)", path.display());
             }
         }
@@ -321,7 +302,7 @@ impl Parol6App {
 
     fn disconnect(&mut self) {
         self.stop_program();
-        if self.recording.as_ref().is_some_and(|r| r.on_robot) {
+        if self.state.recording.as_ref().is_some_and(|r| r.on_robot) {
             self.stop_file_recording();
         }
         if let Some(link) = self.hw.take() {
@@ -383,35 +364,40 @@ impl Parol6App {
         let snap = self.sim.snapshot();
         self.update_perf(t0, &snap);
 
-        let link_view = self.hw.as_ref().map(|l| l.view(&l.session.snapshot()));
+        self.state.link = self.hw.as_ref().map(|l| l.view(&l.session.snapshot()));
         self.link_notices();
-        let robot_arc = self.robot_state();
-        let robot: &RobotState = &robot_arc;
-        self.source_marks(&ctx, robot.source);
-        self.refusal_notices(robot);
-        self.feed_telemetry(&robot_arc);
+        let live_arc = self.robot_state();
+        self.source_marks(&ctx, live_arc.source);
+        self.refusal_notices(&live_arc);
+        self.feed_telemetry(&live_arc);
         self.live_share_frame();
         if let Some(autosave) = &mut self.autosave {
             autosave.frame(&self.settings);
         }
         let replay_playing = self.replay_frame(t0);
-        self.files.recording = self.recording.as_ref().map(|r| r.path.display().to_string());
-        self.files.replaying = self.panels.timeline.replay.is_some();
+        // during replay every read-out shows the recording at the cursor (`state::AppState::replayed_robot`)
+        // the window repaints and reuses frames by the live arm's motion, as before replay
+        let live_moving = live_arc.moving;
+        let robot_arc = match self.state.replayed_robot(&self.model, &live_arc) {
+            Some(recorded) => Arc::new(recorded),
+            None => live_arc,
+        };
+        let robot: &RobotState = &robot_arc;
         if let Some(run) = &self.program {
             let p = run.progress();
             if let parol6_core::program::runner::RunState::Failed(why) = &p.state
-                && self.program_progress.as_ref().map(|q| &q.state) != Some(&p.state)
+                && self.state.program.as_ref().map(|q| &q.state) != Some(&p.state)
             {
                 self.notice(format!("{} stopped: {why}", p.name), true);
             }
             if let Some(failure) = &p.stop_failed
-                && self.program_progress.as_ref().and_then(|q| q.stop_failed.as_ref()) != Some(failure)
+                && self.state.program.as_ref().and_then(|q| q.stop_failed.as_ref()) != Some(failure)
             {
                 self.notice(format!("{}: {failure}", p.name), true);
             }
-            self.program_progress = Some(p);
+            self.state.program = Some(p);
         }
-        self.sweep_step(&ctx, t0, robot.moving);
+        self.sweep_step(&ctx, t0, live_moving);
         self.soak_step(&ctx, t0);
         if self.release_memory_at.is_some_and(|at| t0 >= at) {
             self.release_memory_at = None;
@@ -433,7 +419,7 @@ impl Parol6App {
         if self.frame_reuse.is_none() {
             self.frame_reuse = frame_reuse::FrameReuse::find(&ctx);
         }
-        let partial = self.partial_layout(&ctx, t0, refresh, robot.moving);
+        let partial = self.partial_layout(&ctx, t0, refresh, live_moving);
         let (readout, readout_perf) = match &self.readout {
             Some((_, r, p)) => (r, p),
             None => (robot, &self.perf),
@@ -451,12 +437,11 @@ impl Parol6App {
                 commands: &mut commands,
                 notices: &mut notices,
                 perf: readout_perf,
-                link: link_view.as_ref(),
                 preview: &mut preview,
-                program: self.program_progress.as_ref(),
+                app: &self.state,
                 live: &self.live.status,
             };
-            if let Some(t) = &mut self.test {
+            if let Some(Hook::Smoke(t)) = &mut self.hook {
                 t.frames += 1;
                 Self::test_step(t, &ctx, &mut self.panels.joints, &mut pctx, &self.exit_code, self.started);
             }
@@ -479,37 +464,7 @@ impl Parol6App {
             preview = self.kept_preview.clone();
         }
 
-        // 3D view in the remaining space.
-        let ghost: Option<Vec<f64>> = preview.or_else(|| {
-            let differs = robot.target_q.len() == robot.q.len()
-                && robot.target_q.iter().zip(&robot.q).any(|(t, q)| (t - q).abs() > GHOST_MIN_DIFF_RAD);
-            differs.then(|| robot.target_q.clone())
-        });
-        let zones: Vec<LimitZone> = robot.zones.iter().map(|z| z.zone).collect();
-        let recorded = self.panels.timeline.replay.as_ref().and_then(|r| r.joints_at_cursor());
-        let scene = match &recorded {
-            Some((q, cmd)) => {
-                let differs = cmd.iter().zip(q).any(|(c, q)| (c - q).abs() > GHOST_MIN_DIFF_RAD);
-                let mut scene = SceneFrame::from_joints(&self.model, q, differs.then_some(cmd.as_slice()));
-                scene.trail_sample.tracking_error_rad = max_abs_diff(cmd, q);
-                // the loaded program's planned path stays, to compare with the recorded motion
-                scene.planned_path = self.panels.program.overlay();
-                scene
-            }
-            None => {
-                let mut scene = SceneFrame::with_zones(&self.model, &robot.q, &zones, ghost.as_deref());
-                scene.planned_path = self.panels.measure.overlay().or_else(|| self.panels.program.overlay());
-                scene.trail_sample = crate::viewport::trail_color::TrailSample {
-                    tcp_speed_m_s: tcp_speed_m_s(&self.model, &robot.q, &robot.qd),
-                    tracking_error_rad: max_abs_diff(&robot.commanded.q, &robot.q),
-                };
-                let snap = self.sim.snapshot();
-                if robot.source == StateSource::Simulation && snap.link_poses.len() == scene.link_poses.len() {
-                    scene.link_poses = snap.link_poses.clone();
-                }
-                scene
-            }
-        };
+        let scene = self.scene(robot, preview);
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
         self.quit_prompt_ui(&ctx);
 
@@ -527,12 +482,12 @@ impl Parol6App {
         }
 
         // Repaint policy: continuous only while something moves or the link is live.
-        let busy = robot.moving
+        let busy = live_moving
             || self.program_running()
             || replay_playing
             || self.replay_loading.is_some()
             || Instant::now() < self.repaint_until;
-        if busy || self.test.is_some() || self.sweep.is_some() || self.soak.is_some() {
+        if busy || self.hook.is_some() {
             ctx.request_repaint();
         } else if self.hw.is_some() {
             ctx.request_repaint_after(LINK_REPAINT);
@@ -577,22 +532,4 @@ impl eframe::App for Parol6App {
         self.stop_file_recording();
         self.disconnect();
     }
-}
-
-/// Largest |a − b| over the joints (0 for empty or mismatched vectors).
-fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-    if a.len() != b.len() {
-        return 0.0;
-    }
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
-}
-
-/// TCP linear speed from joint velocities (the Jacobian's linear rows), m/s.
-fn tcp_speed_m_s(model: &parol6_core::RobotModel, q: &[f64], qd: &[f64]) -> f64 {
-    if q.len() != model.dof() || qd.len() != model.dof() {
-        return 0.0;
-    }
-    let j = model.jacobian(q);
-    let v = j.fixed_rows::<3>(0) * parol6_core::na::DVector::from_column_slice(qd);
-    v.norm()
 }

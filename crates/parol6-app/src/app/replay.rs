@@ -11,7 +11,8 @@ use crossbeam_channel::{Receiver, TryRecvError, bounded};
 use parol6_core::telemetry::{ReplayData, ReplayError, read_replay_file};
 
 use super::Parol6App;
-use crate::panels::timeline::Replay;
+use super::state::Replay;
+use crate::panels::timeline::ReplayControl;
 
 /// A recording being read: its path and where the result (and the seconds it took) arrives.
 pub(super) type ReplayLoading = (PathBuf, Receiver<Result<(ReplayData, f64), String>>);
@@ -78,9 +79,8 @@ impl Parol6App {
                     ),
                     false,
                 );
-                self.panels.timeline.replay = Some(replay);
+                self.state.replay = Some(replay);
                 self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
-                self.panels.plots.follow = true;
                 self.settings.show_plots = true;
                 if let Some(v) = &mut self.viewport {
                     v.clear_trail();
@@ -92,8 +92,8 @@ impl Parol6App {
 
     /// Closes the open recording: the 3D view and the plots show the live robot again.
     pub(super) fn close_recording(&mut self) {
-        if self.panels.timeline.replay.take().is_some() {
-            self.panels.plots.set_replay(None);
+        if self.state.replay.take().is_some() {
+            self.panels.prepare(&self.state, None);
             self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
             if let Some(v) = &mut self.viewport {
                 v.clear_trail();
@@ -101,19 +101,32 @@ impl Parol6App {
         }
     }
 
-    /// Moves the cursor of a playing replay and hands the recording to the plots, or the live
+    /// Moves the cursor of a playing replay and hands the recording to the panels, or the live
     /// view when none is open (only while the plots are shown). Returns true while playing.
     pub(super) fn replay_frame(&mut self, now: Instant) -> bool {
         self.poll_replay_loading();
-        let playing = self.panels.timeline.replay.as_mut().is_some_and(|r| r.advance(now));
-        let handed = self.panels.timeline.replay.as_ref().map(|r| (Arc::clone(&r.data), r.cursor_s));
-        let live = handed.is_none() && self.settings.show_plots;
-        self.panels.plots.set_replay(handed);
-        if live {
-            let view = self.live_view();
-            self.panels.plots.feed_live(&view);
-        }
+        let playing = self.state.replay.as_mut().is_some_and(|r| r.advance(now));
+        let live = (self.state.replay.is_none() && self.settings.show_plots).then(|| self.live_view());
+        self.panels.prepare(&self.state, live.as_deref());
         playing
+    }
+
+    /// Plays, pauses, changes the speed of, scrubs or seeks (and pauses) the open recording.
+    pub(super) fn control_replay(&mut self, control: ReplayControl) {
+        let Some(r) = &mut self.state.replay else { return };
+        match control {
+            ReplayControl::Play(playing) => r.play(playing),
+            ReplayControl::Speed(speed) => r.speed = speed,
+            ReplayControl::Scrub(t_s) => r.seek(t_s),
+        }
+    }
+
+    /// Moves the cursor of the open recording to `t_s` and pauses (an event or a plot clicked).
+    pub(super) fn seek_replay(&mut self, t_s: f64) {
+        if let Some(r) = &mut self.state.replay {
+            r.seek(t_s);
+            r.playing = false;
+        }
     }
 
     /// Opens `data` (read from `path`) for replay at once, with the plots shown over
@@ -121,16 +134,16 @@ impl Parol6App {
     pub fn show_replay(&mut self, path: PathBuf, data: ReplayData, playing: bool, window_s: f64) {
         let mut replay = Replay::new(path, Arc::new(data));
         replay.playing = playing;
-        self.panels.timeline.replay = Some(replay);
+        self.state.replay = Some(replay);
         self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
         self.settings.show_plots = true;
-        self.panels.plots.follow = true;
+        // the render benchmark's window (the plots follow a newly opened recording themselves)
         self.panels.plots.window_s = window_s;
     }
 
     /// The open recording, if any.
     pub fn replay(&self) -> Option<&Replay> {
-        self.panels.timeline.replay.as_ref()
+        self.state.replay.as_ref()
     }
 
     /// True while a recording is being read.

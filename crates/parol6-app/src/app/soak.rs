@@ -16,6 +16,7 @@ use serde_json::json;
 use std::time::{Duration, Instant};
 
 use super::Parol6App;
+use crate::artifacts::rss_mb;
 
 /// How often the soak samples.
 const SAMPLE_EVERY: Duration = Duration::from_secs(10);
@@ -62,24 +63,24 @@ impl SoakRun {
     }
 }
 
-/// Resident memory now, MB (Linux; `None` elsewhere).
-fn rss_mb() -> Option<f64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmRSS:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
-}
-
 impl Parol6App {
+    /// The soak run, when that is the window's script.
+    fn soak_mut(&mut self) -> Option<&mut SoakRun> {
+        match &mut self.hook {
+            Some(super::test_hooks::Hook::Soak(s)) => Some(s),
+            _ => None,
+        }
+    }
+
     /// One frame of the soak script.
     pub(super) fn soak_step(&mut self, ctx: &egui::Context, now: Instant) {
-        let Some(soak) = self.soak.as_mut() else { return };
+        let Some(soak) = self.soak_mut() else { return };
         soak.frames += 1;
         if soak.frames < 10 {
             return;
         }
         let link = self.hw.as_ref().map(|l| l.session.snapshot());
-        let soak = match self.soak.as_mut() {
+        let soak = match self.soak_mut() {
             Some(s) => s,
             None => return,
         };
@@ -89,9 +90,9 @@ impl Parol6App {
         }
         let link_ok = link.as_ref().is_none_or(|s| s.link == parol6_hw::LinkState::Connected);
         let name = soak.program.clone();
-        let last_state = self.program_progress.as_ref().map(|p| format!("{:?}", p.state));
+        let last_state = self.state.program.as_ref().map(|p| format!("{:?}", p.state));
         if !self.program_running() && link_ok {
-            let Some(soak) = self.soak.as_mut() else { return };
+            let Some(soak) = self.soak_mut() else { return };
             soak.program_starts += 1;
             if soak.program_starts > 1 {
                 let t_s = now.duration_since(started).as_secs_f64();
@@ -101,13 +102,13 @@ impl Parol6App {
             if !self.start_program(&name, true) {
                 eprintln!("soak: no built-in program named \"{name}\"");
                 self.exit_code.store(1, std::sync::atomic::Ordering::SeqCst);
-                self.soak = None;
+                self.hook = None;
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
                 return;
             }
         }
         let stats = self.active_recorder().map(|r| r.stats());
-        let Some(soak) = self.soak.as_mut() else { return };
+        let Some(soak) = self.soak_mut() else { return };
         let t_s = now.duration_since(started).as_secs_f64();
         let due = soak.next_sample.is_none_or(|at| now >= at);
         let finished = t_s >= soak.seconds;
@@ -172,7 +173,7 @@ impl Parol6App {
         if !ok {
             self.exit_code.store(1, std::sync::atomic::Ordering::SeqCst);
         }
-        self.soak = None;
+        self.hook = None;
         self.stop_program();
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }

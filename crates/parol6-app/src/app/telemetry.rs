@@ -4,7 +4,7 @@
 //! view (the last ten minutes) feeds the plots; `--record OUT.mcap` and File → Record write
 //! the active backend to a file.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use parol6_core::RobotModel;
@@ -36,14 +36,6 @@ pub(super) fn start_recorder(model: &RobotModel) -> Option<Recorder> {
     }
 }
 
-/// A file being written.
-#[derive(Debug, Clone)]
-pub(super) struct FileRecording {
-    pub(super) path: PathBuf,
-    /// True when it records the serial link (it ends when the link closes).
-    pub(super) on_robot: bool,
-}
-
 impl Parol6App {
     /// The recorder of the active backend.
     pub(super) fn active_recorder(&self) -> Option<&Recorder> {
@@ -60,7 +52,7 @@ impl Parol6App {
 
     /// Passes this frame's state, link health and program step to the active recorder.
     pub(super) fn feed_telemetry(&mut self, robot: &Arc<RobotState>) {
-        let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.program_progress.as_ref());
+        let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.state.program.as_ref());
         let step = step.map(|p| p.step);
         let link = self.hw.as_ref().map(|l| link_health(&l.session.snapshot()));
         let step_changed = self.last_program_step != Some(step);
@@ -77,16 +69,16 @@ impl Parol6App {
             self.last_program_step = Some(step);
         }
         if let Some(e) = error
-            && self.recording.is_some()
+            && self.state.recording.is_some()
         {
-            self.recording = None;
+            self.state.recording = None;
             self.notice(e, true);
         }
     }
 
     /// Starts writing the active backend to `path`.
     pub(super) fn start_file_recording(&mut self, path: &Path) {
-        if let Some(r) = &self.recording {
+        if let Some(r) = &self.state.recording {
             let shown = r.path.display().to_string();
             self.notice(format!("already recording to {shown}: stop it first"), true);
             return;
@@ -98,13 +90,13 @@ impl Parol6App {
         };
         let info = RecordingInfo {
             app_version: env!("CARGO_PKG_VERSION").to_string(),
-            program: self.program_progress.as_ref().map(|p| p.name.clone()).unwrap_or_default(),
+            program: self.state.program.as_ref().map(|p| p.name.clone()).unwrap_or_default(),
             tracking: self.hw.as_ref().map_or(self.sim_tracking, |h| h.tracking).name().to_string(),
             ..self.recording_info.clone()
         };
         match rec.start_recording(path, &info) {
             Ok(()) => {
-                self.recording = Some(FileRecording { path: path.to_path_buf(), on_robot });
+                self.state.recording = Some(super::state::FileRecording { path: path.to_path_buf(), on_robot });
                 let what = if on_robot { "the robot" } else { "the simulation" };
                 self.notice(format!("recording {what} to {}", path.display()), false);
             }
@@ -114,7 +106,7 @@ impl Parol6App {
 
     /// Stops writing (the file gets its summary and index).
     pub(super) fn stop_file_recording(&mut self) {
-        let Some(r) = self.recording.take() else { return };
+        let Some(r) = self.state.recording.take() else { return };
         let rec =
             if r.on_robot { self.hw.as_ref().and_then(|l| l.recorder.as_ref()) } else { self.sim_recorder.as_ref() };
         let result = rec.map(Recorder::stop_recording);
@@ -130,6 +122,6 @@ impl Parol6App {
 
     /// The file being written, if any.
     pub fn recording_path(&self) -> Option<&Path> {
-        self.recording.as_ref().map(|r| r.path.as_path())
+        self.state.recording.as_ref().map(|r| r.path.as_path())
     }
 }

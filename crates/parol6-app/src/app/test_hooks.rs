@@ -1,8 +1,9 @@
 //! Test hooks driven by `PAROL6_TEST_SCRIPT`: the GUI smoke test and the window sweep benchmark
-//! (the soak run is in `app::soak`).
+//! (the soak run is in `app::soak`), all behind the app's one [`Hook`] field. The PNG and memory
+//! figures they write come from the leaf module [`crate::artifacts`].
 
 use eframe::egui;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -57,6 +58,39 @@ impl TestScript {
     }
 }
 
+/// The script a window runs (at most one): the app's one field for its test hooks.
+pub(super) enum Hook {
+    /// The smoke test.
+    Smoke(TestRunner),
+    /// The window sweep benchmark.
+    Sweep(SweepRun),
+    /// The soak run.
+    Soak(super::soak::SoakRun),
+}
+
+impl Hook {
+    /// The hook state of `script`, before its first frame.
+    pub(super) fn new(script: TestScript) -> Self {
+        match script {
+            TestScript::Smoke(out) => Hook::Smoke(TestRunner {
+                out,
+                step: SmokeStep::Warmup,
+                frames: 0,
+                q_before: 0.0,
+                target: 0.0,
+                first_frame_ms: None,
+            }),
+            TestScript::Sweep(seconds) => Hook::Sweep(SweepRun { seconds, ..Default::default() }),
+            TestScript::Soak(seconds, program) => Hook::Soak(super::soak::SoakRun::new(seconds, program)),
+        }
+    }
+
+    /// True for the scripts that measure or screenshot every frame (no frame reuse for them).
+    pub(super) fn full_frames(&self) -> bool {
+        matches!(self, Hook::Smoke(_) | Hook::Sweep(_))
+    }
+}
+
 type Shot = Arc<Mutex<Option<Arc<egui::ColorImage>>>>;
 
 #[derive(Debug)]
@@ -93,13 +127,6 @@ pub(super) struct SweepRun {
 
 fn pct(sorted: &[f64], q: f64) -> f64 {
     parol6_core::stats::percentile(sorted, q).unwrap_or(0.0)
-}
-
-/// Writes an egui screenshot as PNG.
-fn write_color_image(path: &Path, img: &egui::ColorImage) -> anyhow::Result<()> {
-    let [w, h] = img.size;
-    let rgba: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_srgba_unmultiplied()).collect();
-    crate::ui_screenshot::write_rgba_png(path, w as u32, h as u32, &rgba)
 }
 
 impl Parol6App {
@@ -140,7 +167,7 @@ impl Parol6App {
             SmokeStep::ShotBefore(shot) => {
                 if let Some(img) = take(shot) {
                     let before = t.out.with_extension("before.png");
-                    if let Err(e) = write_color_image(&before, &img) {
+                    if let Err(e) = crate::artifacts::write_color_image(&before, &img) {
                         return fail(format!("{e:#}"));
                     }
                     t.step = SmokeStep::Move;
@@ -169,7 +196,7 @@ impl Parol6App {
             }
             SmokeStep::ShotAfter(shot, since) => {
                 if let Some(img) = take(shot) {
-                    if let Err(e) = write_color_image(&t.out, &img) {
+                    if let Err(e) = crate::artifacts::write_color_image(&t.out, &img) {
                         return fail(format!("{e:#}"));
                     }
                     let q = pctx.robot.q.first().copied().unwrap_or(0.0);
@@ -197,7 +224,7 @@ impl Parol6App {
     }
 
     pub(super) fn sweep_step(&mut self, ctx: &egui::Context, now: Instant, moving: bool) {
-        let Some(sw) = &mut self.sweep else {
+        let Some(Hook::Sweep(sw)) = &mut self.hook else {
             return;
         };
         sw.frames += 1;
@@ -239,10 +266,10 @@ impl Parol6App {
                     "ui_cpu_ms_p50": pct(&u, 0.5),
                     "ui_cpu_ms_p99": pct(&u, 0.99),
                     "first_frame_ms": sw.first_frame_ms,
-                    "rss_mb_peak": crate::ui_screenshot::peak_rss_mb(),
+                    "rss_mb_peak": crate::artifacts::peak_rss_mb(),
                 })
             );
-            self.sweep = None;
+            self.hook = None;
             self.stop_program();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }

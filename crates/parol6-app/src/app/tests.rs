@@ -1,5 +1,5 @@
 use super::*;
-use crate::panels::LinkCommand;
+use crate::panels::{LinkCommand, StateSource};
 use parol6_core::motion::MotionCommand;
 
 fn run_frame(app: &mut Parol6App, ctx: &egui::Context) {
@@ -58,9 +58,8 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
             commands: &mut commands,
             notices: &mut notices,
             perf: &app.perf,
-            link: None,
+            app: &Default::default(),
             preview: &mut preview,
-            program: None,
             live: &Default::default(),
         };
         app.panels.joints.set_joint(0, target, &mut pctx);

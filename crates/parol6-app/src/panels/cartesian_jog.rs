@@ -111,7 +111,7 @@ impl CartesianJogPanel {
         let q = if ctx.robot.commanded.q.len() == ctx.model.dof() { &ctx.robot.commanded.q } else { &ctx.robot.q };
         let caps = self.caps.get_or_insert_with(|| MotionCaps::of(ctx.model)).clone();
         // the simulation stops before collisions, the robot at limits and singularities only
-        let obstacles: Option<Arc<dyn JogObstacleCheck>> = if ctx.link.is_none() {
+        let obstacles: Option<Arc<dyn JogObstacleCheck>> = if ctx.app.link.is_none() {
             let g = self.guard.get_or_insert_with(|| Arc::new(CollisionGuard::new(ctx.model)));
             Some(Arc::clone(g) as Arc<dyn JogObstacleCheck>)
         } else {
@@ -236,10 +236,12 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
             ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
         });
-        // the latched E-stop refuses every jog: the buttons and keys are off, the hover says why
-        let latched = super::io_gripper::estop_latched(ctx);
+        // the latched E-stop or an open recording refuses every jog: the buttons and keys are
+        // off, the hover says why
+        let refused = ctx.motion_refused();
+        let latched = refused.is_some();
         let buttons = ui.add_enabled_ui(!latched, |ui| self.buttons(ui, ctx));
-        buttons.response.on_disabled_hover_text(super::io_gripper::ESTOP_LATCHED);
+        buttons.response.on_disabled_hover_text(refused.unwrap_or_default());
         let mut held = buttons.inner;
         if held.is_none() && !self.step_mode && !latched {
             held = Self::key_held(ui);

@@ -280,7 +280,12 @@ impl CartesianTargetPanel {
         }
         let chosen = self.chosen().cloned();
         ui.horizontal(|ui| {
-            let go = ui.add_enabled(chosen.is_some(), egui::Button::new("Move to target"));
+            let refused = ctx.motion_refused();
+            let go = ui.add_enabled(chosen.is_some() && refused.is_none(), egui::Button::new("Move to target"));
+            let go = match refused {
+                Some(why) => go.on_disabled_hover_text(why),
+                None => go,
+            };
             if go.on_hover_text("Profiled joint move to the chosen configuration").clicked()
                 && let Some(s) = &chosen
             {

@@ -256,7 +256,7 @@ impl Panel for ConnectionPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let link = ctx.link.cloned();
+        let link = ctx.app.link.clone();
         if link.is_none() && self.jog.take().is_some() {
             ctx.send(AppCommand::Jog(None));
         }

@@ -17,7 +17,7 @@ use parol6_core::program::compile::{CompileOptions, compile};
 use parol6_core::program::torques::{ProgramTorques, program_torques, torque_limits_nm};
 
 use super::torque_form::TorqueForm;
-use super::{Panel, PanelContext, Settings};
+use super::{Panel, PanelContext};
 use crate::palette;
 
 /// Points drawn per joint at most (min / max per bucket beyond that).
@@ -115,12 +115,12 @@ impl Panel for DynamicsPanel {
         "Dynamics"
     }
 
-    fn shown(&self, settings: &Settings) -> bool {
-        settings.show_dynamics
+    fn shown(&self, ctx: &PanelContext<'_>) -> bool {
+        ctx.settings.show_dynamics
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let running = ctx.program.is_some_and(|p| !p.state.is_finished());
+        let running = ctx.app.program.as_ref().is_some_and(|p| !p.state.is_finished());
         if !running && !ctx.robot.moving {
             let start = ctx.robot.commanded.q.clone();
             self.refresh(ctx.model, &start);

@@ -222,6 +222,9 @@ fn joint_name(ctx: &PanelContext<'_>, i: usize) -> String {
 
 /// The text of the limit status line, and the zone to colour it with when it is an alarm.
 pub fn limit_status_text(ctx: &PanelContext<'_>) -> (String, Option<LimitZone>) {
+    if ctx.app.replaying() {
+        return (crate::app::state::REPLAY_OPEN.to_string(), None);
+    }
     let unit = ctx.settings.unit;
     let robot = ctx.robot;
     let distance = |i: usize| -> Option<(&'static str, f64)> {
@@ -333,7 +336,9 @@ impl Panel for JointsPanel {
         // HOME / STOP first: always at the same place, above anything that can change size.
         ui.horizontal(|ui| {
             let home = egui::Button::new(egui::RichText::new("HOME").strong()).min_size(egui::vec2(90.0, 28.0));
-            if ui.add(home).on_hover_text("Profiled move to the standby pose (H)").clicked() {
+            let refused = ctx.motion_refused();
+            let home = ui.add_enabled(refused.is_none(), home).on_disabled_hover_text(refused.unwrap_or_default());
+            if home.on_hover_text("Profiled move to the standby pose (H)").clicked() {
                 ctx.home();
             }
             let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(palette::rgb(palette::STOP_TEXT)))
@@ -346,10 +351,17 @@ impl Panel for JointsPanel {
         });
         Self::status_line(ui, ctx);
         ui.add_space(4.0);
-        for i in 0..self.edit.len() {
-            self.joint_row(ui, ctx, i);
-            ui.add_space(2.0);
-        }
+        // an open recording (or the latched E-stop) refuses motion: the rows show the recording
+        // and are off, the hover says why
+        let refused = ctx.motion_refused();
+        ui.add_enabled_ui(refused.is_none(), |ui| {
+            for i in 0..self.edit.len() {
+                self.joint_row(ui, ctx, i);
+                ui.add_space(2.0);
+            }
+        })
+        .response
+        .on_disabled_hover_text(refused.unwrap_or_default());
         ui.separator();
         ui.horizontal(|ui| {
             ui.label("Speed");
@@ -365,7 +377,7 @@ impl Panel for JointsPanel {
             }
         });
         ui.separator();
-        self.goto_ui(ui, ctx);
+        ui.add_enabled_ui(refused.is_none(), |ui| self.goto_ui(ui, ctx));
     }
 }
 

@@ -228,7 +228,14 @@ impl Panel for MeasurePanel {
         }
         let ok = matches!(self.preflight.as_ref().map(|p| &p.2), Some(Ok(())));
         ui.horizontal(|ui| {
-            if ui.add_enabled(ok && !running && !ctx.robot.moving, egui::Button::new("Run test")).clicked() {
+            let refused = ctx.motion_refused();
+            let run =
+                ui.add_enabled(ok && !running && !ctx.robot.moving && refused.is_none(), egui::Button::new("Run test"));
+            let run = match refused {
+                Some(why) => run.on_disabled_hover_text(why),
+                None => run,
+            };
+            if run.clicked() {
                 ctx.send(AppCommand::StartMeasurement(self.plan));
             }
             if ui.add_enabled(running, egui::Button::new("Abort")).clicked() {

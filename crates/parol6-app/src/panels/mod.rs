@@ -12,7 +12,6 @@ use parol6_core::RobotModel;
 pub use parol6_core::angles::{AbcConvention, AngleConvention};
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::MotionCommand;
-use parol6_core::profile::ProfileKind;
 use serde::{Deserialize, Serialize};
 
 pub mod cartesian_jog;
@@ -44,8 +43,8 @@ pub trait Panel {
     fn title(&self) -> &'static str;
     /// Draws the panel for this frame.
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>);
-    /// Whether the panel is shown now (default: always).
-    fn shown(&self, _settings: &Settings) -> bool {
+    /// Whether the panel is shown now (default: always), from the settings and the app's state.
+    fn shown(&self, _ctx: &PanelContext<'_>) -> bool {
         true
     }
 }
@@ -101,138 +100,7 @@ impl AngleUnit {
     }
 }
 
-/// UI settings that survive a restart (see [`crate::app::settings_path`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct Settings {
-    /// Angle unit.
-    pub unit: AngleUnit,
-    /// Left (joints) panel shown.
-    pub show_left: bool,
-    /// Right (TCP / Cartesian jog / target) panel shown.
-    pub show_right: bool,
-    /// Speed fraction (0–1] of profiled moves.
-    pub speed_fraction: f64,
-    /// Profile shape of profiled moves.
-    pub profile: ProfileKindSetting,
-    /// Last serial port connected to.
-    pub last_port: String,
-    /// 3D view display toggles.
-    pub view: crate::viewport::ViewportOptions,
-    /// Jog speed fraction (0–1] for the hardware jog buttons.
-    pub jog_speed_fraction: f64,
-    /// Cartesian jog speed fraction (0–1] of the 1–160 mm/s, 1–80 °/s range.
-    pub cartesian_jog_fraction: f64,
-    /// How TCP orientations are shown and typed: our roll/pitch/yaw or the official PAROL6
-    /// tools' RX/RY/RZ (so a user reads the same numbers as in the official GUI and API).
-    pub angle_convention: AngleConvention,
-    /// How G-code `A B C` are read (files without a `; parol6: abc=…` header) and written.
-    pub gcode_abc: AbcConvention,
-    /// Program files opened or saved, newest first (at most [`RECENT_PROGRAMS`]).
-    pub recent_programs: Vec<String>,
-    /// Plots panel shown (under the 3D view).
-    pub show_plots: bool,
-    /// Dynamics panel shown (under the 3D view).
-    pub show_dynamics: bool,
-    /// Height of the panel under the 3D view (plots, dynamics, replay timeline) as last
-    /// dragged, points.
-    pub lower_panel_height_pt: f32,
-    /// Tracking mode of motion on the robot and in the simulation (`parol6_core::motion::tracking`).
-    pub tracking: parol6_core::motion::tracking::TrackingMode,
-    /// Where File → Share live serves (Foxglove WebSocket; `crate::live::bind_address`). Sharing
-    /// itself is never remembered: it is off at every start.
-    pub share_live_address: String,
-    /// The Zenoh router File → *Share over ROS 2* connects to (`tcp/ADDRESS:PORT`; rmw_zenoh's
-    /// `rmw_zenohd` listens on tcp/127.0.0.1:7447). Off at every start, as sharing is.
-    pub ros2_router: String,
-    /// ROS domain id of the node (ROS_DOMAIN_ID of the other nodes), 0–232.
-    pub ros2_domain: u32,
-}
-
-/// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
-pub const LOWER_DEFAULT_HEIGHT: f32 = 360.0;
-
-/// Recent program files remembered.
-pub const RECENT_PROGRAMS: usize = 8;
-
-impl Settings {
-    /// A TCP orientation (URDF roll/pitch/yaw, rad) as shown in the chosen convention, rad.
-    pub fn shown_angles_rad(&self, rpy_rad: [f64; 3]) -> [f64; 3] {
-        self.angle_convention.from_rpy_deg(rpy_rad.map(f64::to_degrees)).map(f64::to_radians)
-    }
-
-    /// Angles typed in the chosen convention (rad) → URDF roll/pitch/yaw, rad.
-    pub fn rpy_from_shown_rad(&self, shown_rad: [f64; 3]) -> [f64; 3] {
-        self.angle_convention.to_rpy_deg(shown_rad.map(f64::to_degrees)).map(f64::to_radians)
-    }
-
-    /// Labels of the three orientation angles in the chosen convention.
-    pub fn angle_labels(&self) -> [&'static str; 3] {
-        self.angle_convention.labels()
-    }
-
-    /// Puts `path` first in the recent program files.
-    pub fn remember_program(&mut self, path: &str) {
-        self.recent_programs.retain(|p| p != path);
-        self.recent_programs.insert(0, path.to_string());
-        self.recent_programs.truncate(RECENT_PROGRAMS);
-    }
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Self {
-            unit: AngleUnit::Deg,
-            show_left: true,
-            show_right: true,
-            speed_fraction: 0.5,
-            profile: ProfileKindSetting::Trapezoidal,
-            last_port: String::new(),
-            view: crate::viewport::ViewportOptions::default(),
-            jog_speed_fraction: 0.2,
-            cartesian_jog_fraction: 0.25,
-            angle_convention: AngleConvention::UrdfRpy,
-            gcode_abc: AbcConvention::default(),
-            recent_programs: Vec::new(),
-            show_plots: false,
-            show_dynamics: false,
-            lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
-            tracking: parol6_core::motion::tracking::TrackingMode::default(),
-            share_live_address: format!("127.0.0.1:{}", crate::live::FOXGLOVE_DEFAULT_PORT),
-            ros2_router: "tcp/127.0.0.1:7447".into(),
-            ros2_domain: 0,
-        }
-    }
-}
-
-/// Serializable mirror of [`ProfileKind`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum ProfileKindSetting {
-    /// Trapezoidal velocity.
-    #[default]
-    Trapezoidal,
-    /// Jerk-limited (quintic).
-    JerkLimited,
-}
-
-impl ProfileKindSetting {
-    /// The core profile kind.
-    pub fn kind(self) -> ProfileKind {
-        match self {
-            ProfileKindSetting::Trapezoidal => ProfileKind::Trapezoidal,
-            ProfileKindSetting::JerkLimited => ProfileKind::JerkLimited,
-        }
-    }
-
-    /// Label for menus.
-    pub fn label(self) -> &'static str {
-        match self {
-            ProfileKindSetting::Trapezoidal => "trapezoidal",
-            ProfileKindSetting::JerkLimited => "jerk-limited",
-        }
-    }
-}
-
+pub use crate::app::settings::{LOWER_DEFAULT_HEIGHT, ProfileKindSetting, RECENT_PROGRAMS, Settings};
 pub use parol6_core::motion::{RobotState, StateSource};
 pub use parol6_core::program::runner::{RunOptions, RunProgress, RunnerControl};
 
@@ -272,8 +140,10 @@ pub enum AppCommand {
     OpenRecording(std::path::PathBuf),
     /// Close the open recording (back to live).
     CloseRecording,
-    /// Move the replay cursor to this motion time, s.
+    /// Move the replay cursor to this motion time, s, and pause.
     SeekReplay(f64),
+    /// Play, pause, change the speed of or scrub the open recording.
+    Replay(timeline::ReplayControl),
     /// Start writing the active backend to this MCAP file (`None`: stop writing).
     Record(Option<std::path::PathBuf>),
     /// Start (`true`) or stop sharing the active backend live (Foxglove WebSocket at
@@ -361,7 +231,8 @@ impl Notice {
 pub struct PanelContext<'a> {
     /// The robot.
     pub model: &'a RobotModel,
-    /// Shown state (live: sliders, LEDs, bars, the 3D view).
+    /// Shown state (sliders, LEDs, bars, the 3D view): the live backend's, or during replay
+    /// the recording at the cursor (`AppState::replayed_robot`).
     pub robot: &'a RobotState,
     /// The state for numeric readouts: `robot`, refreshed at [`READOUT_HZ`] while the arm
     /// moves and at once when it stops. Text that changes every frame costs a fresh text layout
@@ -375,12 +246,11 @@ pub struct PanelContext<'a> {
     pub notices: &'a mut Vec<Notice>,
     /// Performance figures (refreshed with [`PanelContext::readout`]).
     pub perf: &'a PerfStats,
-    /// Serial link status, when a hardware session is open.
-    pub link: Option<&'a connection::LinkView>,
     /// Ghost pose to preview in the 3D view (e.g. an IK solution); the app shows it this frame.
     pub preview: &'a mut Option<Vec<f64>>,
-    /// Progress of the running (or last) program.
-    pub program: Option<&'a RunProgress>,
+    /// What the app owns (the open recording, the program run, the file being written, the
+    /// serial link): read here, changed only through [`AppCommand`]s.
+    pub app: &'a crate::app::state::AppState,
     /// Live sharing: where clients connect while it is on, and whether remote control is on.
     pub live: &'a LiveStatus,
 }
@@ -399,6 +269,16 @@ pub struct LiveStatus {
 }
 
 impl PanelContext<'_> {
+    /// Why motion commands are refused now and the controls that send them are off (the
+    /// latched E-stop or an open recording), `None` when they are accepted.
+    pub fn motion_refused(&self) -> Option<&'static str> {
+        match self.robot.blocked.as_deref() {
+            Some(io_gripper::ESTOP_LATCHED) => Some(io_gripper::ESTOP_LATCHED),
+            _ if self.app.replaying() => Some(crate::app::state::REPLAY_OPEN),
+            _ => None,
+        }
+    }
+
     /// Queues a command.
     pub fn send(&mut self, command: AppCommand) {
         self.commands.push(command);

@@ -140,8 +140,14 @@ impl PlotsPanel {
         self.live.ingest_live(view)
     }
 
-    /// Shows the open recording (with its cursor, s) instead of the live data, or live again.
+    /// Shows the open recording (with its cursor, s) instead of the live data, or live again. A
+    /// newly opened recording is followed from its cursor.
     pub fn set_replay(&mut self, replay: Option<(Arc<ReplayData>, f64)>) {
+        if let Some((new, _)) = &replay
+            && self.replay.as_ref().is_none_or(|(old, _)| !Arc::ptr_eq(old, new))
+        {
+            self.follow = true;
+        }
         self.replay = replay;
     }
 
@@ -254,8 +260,8 @@ impl Panel for PlotsPanel {
         "Plots"
     }
 
-    fn shown(&self, settings: &super::Settings) -> bool {
-        settings.show_plots
+    fn shown(&self, ctx: &PanelContext<'_>) -> bool {
+        ctx.settings.show_plots
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {

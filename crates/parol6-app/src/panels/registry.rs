@@ -1,8 +1,16 @@
 //! The panel registry: every operator panel, where it is docked and in which order. The
-//! layout ([`crate::app`]) walks [`Panels::docked`]; adding a panel is a field here and one
-//! line in that list.
+//! layout ([`crate::app`]) walks [`Panels::docked`] (pure: it only lists them); adding a panel is
+//! a field here and one line in that list. What one panel takes from another or from the app's
+//! data (the program to analyse, the recording or live samples to plot) is handed over in
+//! [`Panels::prepare`], once per frame, before the layout.
+
+use std::sync::Arc;
 
 use parol6_core::RobotModel;
+use parol6_core::telemetry::LiveView;
+
+use crate::app::state::AppState;
+use crate::viewport::PathOverlay;
 
 use super::Panel;
 use super::cartesian_jog::CartesianJogPanel;
@@ -80,9 +88,26 @@ impl Panels {
         }
     }
 
+    /// Hands the panels what they follow, once per frame before the layout: the dynamics panel
+    /// the program panel's program, the plots the open recording and its cursor (or, with
+    /// `live`, the new live samples).
+    pub fn prepare(&mut self, state: &AppState, live: Option<&LiveView>) {
+        self.dynamics.set_program(self.program.program());
+        self.plots.set_replay(state.replay.as_ref().map(|r| (Arc::clone(&r.data), r.cursor_s)));
+        if let Some(view) = live {
+            self.plots.feed_live(view);
+        }
+    }
+
+    /// The path drawn in the 3D view: the measurement's cube (not during replay) or the loaded
+    /// program's planned path (kept during replay, to compare with the recorded motion).
+    pub fn planned_path(&self, replaying: bool) -> Option<Arc<PathOverlay>> {
+        let cube = if replaying { None } else { self.measure.overlay() };
+        cube.or_else(|| self.program.overlay())
+    }
+
     /// Every panel with its dock, top to bottom within a dock.
     pub fn docked(&mut self) -> Vec<(Dock, &mut dyn Panel)> {
-        self.dynamics.set_program(self.program.program());
         vec![
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.program),

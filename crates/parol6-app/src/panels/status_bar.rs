@@ -1,5 +1,5 @@
 //! Bottom status bar: FPS, CPU time of the UI pass, physics rate and step time, command
-//! latency, where the shown state comes from, the *Share live* toggle (with the address while
+//! latency, where the shown state comes from (SIM, ROBOT, or REPLAY while a recording is open), the *Share live* toggle (with the address while
 //! on) and the remote-control banner.
 
 use super::{AppCommand, Panel, PanelContext, StateSource};
@@ -19,14 +19,18 @@ impl Panel for StatusBar {
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         let p = ctx.perf;
         ui.horizontal(|ui| {
-            let (src, color) = match ctx.robot.source {
-                StateSource::Simulation => ("SIM", palette::rgb(palette::SOURCE_SIM)),
-                StateSource::Robot => ("ROBOT", palette::rgb(palette::SOURCE_ROBOT)),
+            let src = crate::app::state::source_label(ctx.app, ctx.robot.source);
+            let (color, hover) = match (ctx.app.replaying(), ctx.robot.source) {
+                (true, _) => (palette::rgb(palette::WARN_TEXT), crate::app::state::REPLAY_OPEN),
+                (false, StateSource::Simulation) => {
+                    (palette::rgb(palette::SOURCE_SIM), "the 3D arm shows the simulation")
+                }
+                (false, StateSource::Robot) => (
+                    palette::rgb(palette::SOURCE_ROBOT),
+                    "the 3D arm mirrors the measured robot pose; the ghost is the commanded pose",
+                ),
             };
-            ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(match ctx.robot.source {
-                StateSource::Simulation => "the 3D arm shows the simulation",
-                StateSource::Robot => "the 3D arm mirrors the measured robot pose; the ghost is the commanded pose",
-            });
+            ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(hover);
             ui.separator();
             ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
             ui.separator();
@@ -46,7 +50,7 @@ impl Panel for StatusBar {
                 ui.separator();
                 ui.label(egui::RichText::new("moving").color(palette::rgb(palette::MOVING_TEXT)));
             }
-            if let Some(link) = ctx.link {
+            if let Some(link) = &ctx.app.link {
                 ui.separator();
                 ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
             }

@@ -190,7 +190,7 @@ impl ProgramPanel {
     /// Teach / duplicate / delete / reorder / undo / redo / table.
     pub(super) fn edit_toolbar(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         let q = ctx.robot.q.clone();
-        let source = if ctx.link.is_some() { "measured robot" } else { "simulation" };
+        let source = if ctx.app.link.is_some() { "measured robot" } else { "simulation" };
         ui.horizontal_wrapped(|ui| {
             if ui
                 .button("Teach joints")

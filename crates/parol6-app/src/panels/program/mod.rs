@@ -295,7 +295,7 @@ impl Panel for ProgramPanel {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.heading(self.title());
-        let progress = ctx.program.cloned();
+        let progress = ctx.app.program.clone();
         let running = progress.as_ref().is_some_and(|p| !p.state.is_finished());
         ui.add_enabled_ui(!running, |ui| {
             self.picker(ui, ctx);
@@ -388,14 +388,19 @@ impl ProgramPanel {
         let clean = !checking && self.checked.as_ref().is_some_and(|r| r.ok);
         ui.horizontal(|ui| {
             let run_label = if paused { "Resume (F5)" } else { "Run (F5)" };
-            let can_run = (clean && !running) || paused;
-            let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(if running {
-                "running"
-            } else if checking {
-                "the pre-flight is still checking"
-            } else {
-                "the pre-flight must be clean"
-            });
+            let refused = ctx.motion_refused();
+            let can_run = ((clean && !running) || paused) && refused.is_none();
+            let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(
+                if let Some(why) = refused {
+                    why
+                } else if running {
+                    "running"
+                } else if checking {
+                    "the pre-flight is still checking"
+                } else {
+                    "the pre-flight must be clean"
+                },
+            );
             let f5 = shortcuts::pressed(ui.ctx(), Action::RunProgram);
             if f5 && checking && !running {
                 // never an unchecked program: F5 waits for the operator to press it again

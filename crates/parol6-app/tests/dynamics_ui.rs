@@ -17,6 +17,10 @@ use ui_support::{app_harness, has_label, type_into, until};
 #[test]
 fn the_dynamics_panel_shows_program_torques_and_runs_a_torque_on_the_simulation() {
     let mut h = app_harness(egui::vec2(1400.0, 1500.0));
+    // the panel under the 3D view tall enough to show the plots and the whole form (a shorter
+    // one scrolls inside)
+    h.state_mut().settings_mut().lower_panel_height_pt = 1200.0;
+    h.run_steps(2);
     assert!(!has_label(&h, "Run torques"), "the dynamics panel starts hidden");
     h.get_by_label("View").click();
     h.run_steps(2);
@@ -45,4 +49,41 @@ fn the_dynamics_panel_shows_program_torques_and_runs_a_torque_on_the_simulation(
     assert!(b.q[0] - q0[0] > 0.01, "J1 turned the way the torque pushed: {} → {}", q0[0], b.q[0]);
     assert!((b.q[0] - a.q[0]).abs() < 0.01, "J1 holds after the run: {} → {}", a.q[0], b.q[0]);
     assert!(h.state().notices().iter().all(|n| !n.error), "{:?}", h.state().notices());
+}
+
+/// Issue 32 major 10: forward dynamics said nothing of what it simulates and showed no
+/// progress or outcome; 0.2 N·m on J1 whipped every other joint about. The form now says what
+/// is simulated (free joints, no friction), shows the run's progress and its outcome, and
+/// "hold other joints" keeps the joints without a torque on their motors.
+#[test]
+fn forward_dynamics_explains_itself_shows_progress_and_outcome_and_can_hold_the_other_joints() {
+    let mut h = app_harness(egui::vec2(1400.0, 1500.0));
+    // the panel under the 3D view tall enough to show the plots and the whole form (a shorter
+    // one scrolls inside)
+    h.state_mut().settings_mut().lower_panel_height_pt = 1200.0;
+    h.run_steps(2);
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label("Dynamics").click();
+    h.run_steps(2);
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    assert!(has_label(&h, "no friction"), "what is simulated is said");
+    assert!(has_label(&h, "joints without a torque are free"), "free joints are said");
+    assert!(has_label(&h, "no torque run yet"));
+    h.get_by_label("hold other joints").click();
+    h.run_steps(2);
+    assert!(has_label(&h, "joints without a torque held on their motors"), "the explanation follows the switch");
+
+    let q0 = h.state().sim().snapshot().q.clone();
+    type_into(&mut h, "J1 torque", "0.2");
+    type_into(&mut h, "Run time", "1");
+    h.get_by_label("Run torques").click();
+    until(&mut h, "the progress bar", 5.0, |h| has_label(h, "torque run: "));
+    until(&mut h, "the outcome", 10.0, |h| has_label(h, "torque run done"));
+    let q = h.state().sim().snapshot().q.clone();
+    assert!(q[0] - q0[0] > 0.05, "J1 turned: {} → {}", q0[0], q[0]);
+    let others = q.iter().zip(&q0).skip(1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(others < 0.02, "the other joints held within 0.02 rad: {others:.4} rad, {q0:?} → {q:?}");
+    assert!(has_label(&h, "the motors hold there"), "the outcome says what happens next");
 }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use eframe::egui::{self, Key, Modifiers};
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 
 use parol6_app::app::{ConnectTarget, LaunchOptions, Parol6App};
 use parol6_app::panels::io_gripper::ESTOP_LATCHED;
@@ -98,6 +98,14 @@ fn the_estop_latches_and_refuses_a_jog_until_released() {
     until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
     assert!(h.state().estop_latched());
     until(&mut h, "the reason is shown", 5.0, |h| has_label(h, ESTOP_LATCHED));
+    // issue 32 minor: Run (F5) and Step (F10) are greyed while the E-stop is latched
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.run_steps(2);
+    assert!(h.get_by_label("Run (F5)").accesskit_node().is_disabled(), "Run (F5) greyed while the E-stop is latched");
+    assert!(
+        h.get_by_label("Step (F10)").accesskit_node().is_disabled(),
+        "Step (F10) greyed while the E-stop is latched"
+    );
     let before = emulator_positions(&h);
     focus_view(&mut h);
     hold_page_up(&mut h, 30);

@@ -54,3 +54,54 @@ fn a_measurement_runs_from_the_panel_with_progress_and_abort() {
     h.run_steps(5);
     assert!(!h.state_mut().measure_panel().running(), "aborted");
 }
+
+/// The rectangles a stale layout would move: the 3D view's (its placeholder here), the
+/// Measurement heading and the Cartesian jog's +X in the right column.
+fn layout_rects(h: &Harness<'_, Parol6App>) -> Vec<(&'static str, egui::Rect)> {
+    ["3D view unavailable", "Measurement (ISO 9283)", "+X"]
+        .into_iter()
+        .filter_map(|l| h.query_by_label_contains(l).map(|n| (l, n.rect())))
+        .collect()
+}
+
+/// Issue 32 major 4: after a GUI ISO 9283 test the figures table was wider than the right
+/// column; the column then gave the width it took beyond its edge to the 3D view and the plots,
+/// which painted over its left side (jog buttons, the Measurement title, the table). After a
+/// finished test the window is laid out as a fresh one of the same size draws it.
+#[test]
+fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
+    let size = egui::vec2(1280.0, 2400.0);
+    let mut fresh = app_harness(size);
+    fresh.run_steps(3);
+    let want = layout_rects(&fresh);
+    assert_eq!(want.len(), 3, "{want:?}");
+    drop(fresh);
+
+    let mut h = app_harness(size);
+    until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
+    h.state_mut().measure_panel().plan.cycles = 2;
+    h.run_steps(2);
+    until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
+    h.get_by_label("Run test").click();
+    h.run_steps(2);
+    assert!(h.state_mut().measure_panel().running(), "the test started");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while h.state_mut().measure_panel().running() {
+        assert!(std::time::Instant::now() < deadline, "timed out waiting for the test to finish");
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(15));
+    }
+    h.run_steps(5);
+    assert!(count(&h, "AD_p") >= 1 && count(&h, "AP_p mm") == 1, "the figures are shown");
+    let got = layout_rects(&h);
+    assert_eq!(got.len(), 3, "{got:?}");
+    // the 3D view and +X exactly; the heading across (the panels above it may change height)
+    for ((l, a), (_, b)) in want.iter().zip(&got) {
+        let same = if *l == "Measurement (ISO 9283)" {
+            (a.min.x - b.min.x).abs() < 0.5 && (a.max.x - b.max.x).abs() < 0.5
+        } else {
+            (a.min - b.min).length() < 0.5 && (a.max - b.max).length() < 0.5
+        };
+        assert!(same, "{l}: fresh {a:?}, after {b:?}");
+    }
+}

@@ -15,7 +15,7 @@ use ui_support::app_harness;
 
 use parol6_app::app::Parol6App;
 use parol6_app::panels::cartesian_target::CartesianTargetPanel;
-use parol6_app::panels::joints::{JointsPanel, limit_status_text};
+use parol6_app::panels::joints::{JointsPanel, limit_status_text, time_to_limit_shown_s};
 use parol6_app::panels::tcp::TcpPanel;
 use parol6_app::panels::{AngleUnit, AppCommand, Notice, Panel, PanelContext, PerfStats, Settings, StateSource};
 use parol6_core::RobotModel;
@@ -67,10 +67,18 @@ impl<P: Panel> Bench<P> {
     }
 
     /// Sets the state to `q` moving at `qd` (zones recomputed as the backends do).
+    /// The arm at `q` moving at `qd`, each moving joint planned to run into the limit it
+    /// moves toward (the time to the limit shows only then).
     fn set_motion(&mut self, q: &[f64], qd: &[f64]) {
         self.robot.q = q.to_vec();
         self.robot.qd = qd.to_vec();
-        self.robot.target_q = q.to_vec();
+        self.robot.target_q = (0..q.len())
+            .map(|i| match self.model.limits.get(i) {
+                Some(l) if qd[i] > 0.0 => l.max,
+                Some(l) if qd[i] < 0.0 => l.min,
+                _ => q[i],
+            })
+            .collect();
         self.robot.moving = qd.iter().any(|v| v.abs() > 0.0);
         self.robot.update_kinematics(&self.model, &ZoneThresholds::default());
     }
@@ -415,4 +423,40 @@ fn every_control_lies_inside_the_window_with_every_panel_shown() {
             .collect();
         assert!(outside.is_empty(), "at {size:?}: {outside:?}");
     }
+}
+
+/// Issue 32 minor: "limit in 0.0 s" showed for a joint at rest at its limit (a speed of noise),
+/// and "1.7 s" for a move that stops 77° short of the limit. The time shows only while the
+/// planned motion ends at the limit the joint moves toward.
+#[test]
+fn time_to_limit_shows_only_when_the_planned_motion_reaches_the_limit() {
+    let model = RobotModel::parol6();
+    let at = |q: Vec<f64>, qd: Vec<f64>, target: Vec<f64>| {
+        let mut s = RobotState::at_rest(&model, StateSource::Simulation, "test", &q);
+        s.zones = model.limits.zone_reports(&q, &qd, &ZoneThresholds::default());
+        s.qd = qd;
+        s.target_q = target;
+        s
+    };
+    let standby = parol6_core::parol6::standby_rad().to_vec();
+    let max1 = model.limits.get(0).expect("J1").max;
+    // at rest at its upper limit, with a speed of noise toward it
+    let mut q = standby.clone();
+    q[0] = max1;
+    let mut qd = vec![0.0; 6];
+    qd[0] = 1e-6;
+    assert_eq!(time_to_limit_shown_s(&model, &at(q.clone(), qd, q.clone()), 0), None, "at rest at the limit");
+    // moving toward the upper limit, 20° from it, but the move stops 15° short
+    let mut q = standby.clone();
+    q[0] = max1 - 20f64.to_radians();
+    let mut qd = vec![0.0; 6];
+    qd[0] = 0.2;
+    let mut short = q.clone();
+    short[0] = max1 - 15f64.to_radians();
+    assert_eq!(time_to_limit_shown_s(&model, &at(q.clone(), qd.clone(), short), 0), None, "stops short");
+    // the same motion planned to the limit: shown, the time at this speed
+    let mut to_limit = q.clone();
+    to_limit[0] = max1;
+    let t = time_to_limit_shown_s(&model, &at(q, qd, to_limit), 0).expect("reaches the limit");
+    assert!((t - 20f64.to_radians() / 0.2).abs() < 1e-6, "{t}");
 }

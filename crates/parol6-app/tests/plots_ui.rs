@@ -273,3 +273,41 @@ fn hovering_a_plot_reads_out_the_time_and_each_lines_value_with_its_unit() {
     let ticks = ["-50", "-40", "-20", "-10", "0", "10", "20", "40", "50"].iter().filter(|t| has_label(&h, t)).count();
     assert!(ticks >= 2, "{ticks} value-axis labels");
 }
+
+/// Issue 32 major 9: a remembered lower-panel height taller than the window (630 points in a
+/// 1024×700 window, with the plots and the dynamics shown) is clamped to the window: the
+/// replay timeline's buttons stay inside it, above the status bar, and the panel does not
+/// reach into the 3D view, which keeps room above it.
+#[test]
+fn a_remembered_lower_panel_taller_than_the_window_is_clamped_and_the_timeline_stays_reachable() {
+    let dir = temp_dir("clamp");
+    let path = dir.join("clamp.mcap");
+    let bytes =
+        parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), 0.2, 250.0).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+    let mut h = app_harness(egui::vec2(1024.0, 700.0));
+    {
+        let s = h.state_mut().settings_mut();
+        s.lower_panel_height_pt = 630.0;
+        s.show_dynamics = true;
+    }
+    h.run_steps(3);
+    open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: clamp.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(10);
+    let play = h.get_by_label("Play").rect();
+    let heading = h.get_by_label_contains("Replay: clamp.mcap").rect();
+    let menu_bottom = h.query_all_by_label("File").next().expect("the File menu").rect().bottom();
+    let view = h.get_by_label_contains("3D view unavailable").rect();
+    assert!(
+        play.top() >= 0.0 && play.bottom() <= 700.0 - 20.0,
+        "Play inside the window, above the status bar: {play:?}"
+    );
+    assert!(
+        heading.top() - menu_bottom >= 100.0,
+        "the 3D view keeps room: timeline at {heading:?}, menu at {menu_bottom}"
+    );
+    assert!(view.bottom() <= heading.top() + 1.0, "the 3D view ends above the lower panel: {view:?} vs {heading:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

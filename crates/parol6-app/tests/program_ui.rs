@@ -11,7 +11,7 @@ mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use ui_support::{app_harness, has_label, until};
 
 use parol6_app::app::Parol6App;
@@ -138,4 +138,22 @@ fn loading_a_large_program_does_not_block_the_ui() {
         "a frame took {longest:?} of the {total:?} the load took: the UI waited for the check"
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 32 minor: the step list (a few rows) did not follow the running step. Running Pick &
+/// place (12 steps), its running row comes into view when the run gets past the first rows.
+#[test]
+fn the_step_list_follows_the_running_step() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    assert!(has_label(&h, "12 steps"), "Pick & place is loaded");
+    h.get_by_label("Run (F5)").click();
+    let running_row_at_or_after = |h: &Harness<'_, Parol6App>, k: usize| {
+        h.query_all_by_label_contains("  ").filter_map(|n| n.accesskit_node().label()).any(|l| {
+            l.starts_with('>') && l.get(1..4).and_then(|n| n.trim().parse::<usize>().ok()).is_some_and(|n| n >= k)
+        })
+    };
+    until(&mut h, "the running step 9 or later in view", 60.0, |h| running_row_at_or_after(h, 9));
+    h.get_by_label("Stop program").click();
+    h.run_steps(2);
 }

@@ -241,6 +241,9 @@ impl Parol6App {
                 continue;
             }
             let r = panel.exact_size(width).resizable(false).show(ui, |ui| {
+                // nothing in a column may be wider than it (the ISO figures table scrolls
+                // sideways): a panel gives the width taken beyond it to the 3D view and the
+                // plots, which then paint over the column's left side
                 egui::ScrollArea::vertical().id_salt(id).auto_shrink([false, false]).show(ui, |ui| {
                     let mut first = true;
                     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == dock) {
@@ -360,17 +363,22 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
         .default_size(wanted_h.clamp(LOWER_MIN_HEIGHT, max_h))
         .size_range(LOWER_MIN_HEIGHT..=max_h)
         .show(ui, |ui| {
-            ui.set_min_height(ui.available_height());
-            let mut first = true;
-            for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
-                if p.shown(pctx) {
-                    if !first {
-                        ui.separator();
+            // in a box of the panel's height, scrolling inside: contents taller than the panel
+            // (timeline, plots and dynamics in a small window) are never reported to it, which
+            // would hand the 3D view the panel's place (drawn over it)
+            let h = ui.available_height();
+            crate::panels::fixed_box::fixed_height(ui, LOWER_PANEL_ID, h, |ui| {
+                let mut first = true;
+                for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
+                    if p.shown(pctx) {
+                        if !first {
+                            ui.separator();
+                        }
+                        first = false;
+                        p.ui(ui, pctx);
                     }
-                    first = false;
-                    p.ui(ui, pctx);
                 }
-            }
+            });
         });
     // remembered for the next start; a height the window's size forced is not
     let h = shown.response.rect.height();

@@ -151,11 +151,19 @@ fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines:
     ui.horizontal_wrapped(|ui| {
         for (j, peak) in t.peak_abs_nm.iter().enumerate() {
             let name = names.get(j).copied().unwrap_or("?");
-            let text = match t.limits_nm.as_ref().and_then(|l| l.get(j)) {
+            let limit = t.limits_nm.as_ref().and_then(|l| l.get(j));
+            let text = match limit {
                 Some(limit) => format!("{name} peak {peak:.2} / {limit:.2} N·m"),
                 None => format!("{name} peak {peak:.2} N·m"),
             };
-            ui.label(egui::RichText::new(text).color(joint_color(j)));
+            // a peak over its limit stands out: warning colour, bold, on a tinted background
+            if limit.is_some_and(|l| peak > l) {
+                let warn = palette::rgb(palette::WARN_TEXT);
+                let text = egui::RichText::new(format!("{text} OVER")).color(warn).strong();
+                ui.label(text.background_color(warn.gamma_multiply(0.2)));
+            } else {
+                ui.label(egui::RichText::new(text).color(joint_color(j)));
+            }
         }
     });
     match &t.limits_nm {
@@ -182,25 +190,19 @@ fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines:
         }
     }
     ui.weak("limits: motor holding torque × gear reduction (an upper bound at standstill)");
-    Plot::new("program_torques").height(PLOT_HEIGHT).legend(egui_plot::Legend::default()).x_axis_label("t (s)").show(
-        ui,
-        |pui| {
-            for (j, pts) in lines.iter().enumerate() {
-                let name = names.get(j).copied().unwrap_or("?").to_string();
-                pui.line(Line::new(name, PlotPoints::new(pts.clone())).color(joint_color(j)));
-                if let Some(limit) = t.limits_nm.as_ref().and_then(|l| l.get(j)) {
-                    for (side, y) in [("+", *limit), ("−", -*limit)] {
-                        pui.hline(
-                            HLine::new(format!("J{} limit {side}", j + 1), y)
-                                .color(joint_color(j))
-                                .style(LineStyle::dashed_loose())
-                                .width(0.8),
-                        );
-                    }
+    // the legend names the six joints only (the dashed limit lines share their joint's colour)
+    let plot = Plot::new("program_torques").height(PLOT_HEIGHT).legend(egui_plot::Legend::default());
+    plot.x_axis_label("t (s)").y_axis_label("torque (N·m)").show(ui, |pui| {
+        for (j, pts) in lines.iter().enumerate() {
+            let name = names.get(j).copied().unwrap_or("?").to_string();
+            pui.line(Line::new(name, PlotPoints::new(pts.clone())).color(joint_color(j)));
+            if let Some(limit) = t.limits_nm.as_ref().and_then(|l| l.get(j)) {
+                for y in [*limit, -*limit] {
+                    pui.hline(HLine::new("", y).color(joint_color(j)).style(LineStyle::dashed_loose()).width(0.8));
                 }
             }
-        },
-    );
+        }
+    });
 }
 
 #[cfg(test)]

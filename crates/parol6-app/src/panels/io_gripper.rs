@@ -189,9 +189,9 @@ impl Panel for IoGripperPanel {
                 }
             });
         });
-        if estop_latched(ctx) {
-            ui.colored_label(palette::rgb(palette::ERROR_TEXT), ESTOP_LATCHED);
-        }
+        // two lines, empty while the E-stop is not latched: nothing below moves when it latches
+        let latched = if estop_latched(ctx) { ESTOP_LATCHED } else { "" };
+        super::fixed_box::message_lines(ui, egui::RichText::new(latched).color(palette::rgb(palette::ERROR_TEXT)), 2);
         Self::io_ui(ui, ctx);
         ui.add_space(4.0);
         self.gripper_ui(ui, ctx);

@@ -4,7 +4,7 @@
 use eframe::egui;
 use parol6_core::limits::{JointLimit, LimitZone, ZoneThresholds};
 
-use parol6_core::motion::MotionCommand;
+use parol6_core::motion::{MotionCommand, RobotState};
 
 use super::entry::{self, EntryEvent};
 use super::{AngleUnit, Panel, PanelContext, ProfileKindSetting, zone_color};
@@ -14,6 +14,31 @@ use crate::palette;
 const UNBOUNDED_RANGE_RAD: f64 = std::f64::consts::PI;
 /// Time-to-limit values above this are not shown (s).
 const TTL_SHOW_MAX_S: f64 = 10.0;
+/// Smallest joint speed for which a time to a limit is shown, rad/s: below it the joint stands
+/// (a speed of noise showed "limit in 0.0 s" for a joint resting at its limit).
+const TTL_MIN_SPEED_RAD_S: f64 = 1e-3;
+/// How close the planned end of the motion must come to the limit for its time to show, rad.
+const TTL_TARGET_TOLERANCE_RAD: f64 = 0.0087;
+
+/// The time to joint `i`'s limit worth showing, s: the joint moves toward the limit it is
+/// nearest to, reaches it within [`TTL_SHOW_MAX_S`] at this speed, and its planned motion (the
+/// state's `target_q`) ends at that limit. A joint at rest at its limit, or a move that stops
+/// short of the limit, shows none (both showed a time: "limit in 0.0 s", "1.7 s" for a move
+/// ending 77° short).
+pub fn time_to_limit_shown_s(model: &parol6_core::RobotModel, state: &RobotState, i: usize) -> Option<f64> {
+    let t = state.zones.get(i)?.time_to_nearest_limit_s.filter(|t| *t < TTL_SHOW_MAX_S)?;
+    let qd = *state.qd.get(i)?;
+    let l = model.limits.get(i)?;
+    let target = *state.target_q.get(i)?;
+    let reaches = if qd > TTL_MIN_SPEED_RAD_S {
+        target >= l.max - TTL_TARGET_TOLERANCE_RAD
+    } else if qd < -TTL_MIN_SPEED_RAD_S {
+        target <= l.min + TTL_TARGET_TOLERANCE_RAD
+    } else {
+        false
+    };
+    reaches.then_some(t)
+}
 /// Height of the one-line limit status slot (points): always reserved, so nothing moves.
 const STATUS_LINE_HEIGHT: f32 = 24.0;
 /// Fixed widths of a joint row (points): LED, name, typed entry, unit after the entry.
@@ -161,7 +186,7 @@ impl JointsPanel {
         let mut typed = None;
         ui.horizontal(|ui| {
             let mut tip = format!("{name}: {}", zone.label());
-            if let Some(t) = report.and_then(|r| r.time_to_nearest_limit_s).filter(|t| *t < TTL_SHOW_MAX_S) {
+            if let Some(t) = time_to_limit_shown_s(ctx.model, ctx.robot, i) {
                 tip.push_str(&format!(" — limit in {t:.1} s"));
             }
             super::led(ui, zone_color(zone), tip);
@@ -201,13 +226,12 @@ impl JointsPanel {
         }
         // numeric text from the readout state (see `PanelContext::readout`)
         let q_text = ctx.readout.q.get(i).copied().unwrap_or(q);
-        let report_text = ctx.readout.zones.get(i).copied();
         ui.horizontal(|ui| {
             ui.add_space(LED_W + NAME_W + ui.spacing().item_spacing.x);
             let w = (row_w - LED_W - NAME_W - 150.0).max(40.0);
             protection_bar(ui, w, limit.as_ref(), q, self.edit[i]);
             ui.label(egui::RichText::new(unit.fmt(q_text)).monospace().small()).on_hover_text("measured position");
-            if let Some(t) = report_text.and_then(|r| r.time_to_nearest_limit_s).filter(|t| *t < TTL_SHOW_MAX_S) {
+            if let Some(t) = time_to_limit_shown_s(ctx.model, ctx.readout, i) {
                 ui.label(egui::RichText::new(format!("limit in {t:.1} s")).small().color(zone_color(zone)))
                     .on_hover_text("predicted time to reach the limit it is nearest to, at the current speed");
             }
@@ -247,7 +271,7 @@ pub fn limit_status_text(ctx: &PanelContext<'_>) -> (String, Option<LimitZone>) 
             }
             None => format!("{name} {}", report.zone.label()),
         };
-        if let Some(t) = report.time_to_nearest_limit_s.filter(|t| *t < TTL_SHOW_MAX_S) {
+        if let Some(t) = time_to_limit_shown_s(ctx.model, robot, i) {
             text.push_str(&format!(", reached in {t:.1} s at this speed"));
         }
         return (text, Some(report.zone));
@@ -258,7 +282,7 @@ pub fn limit_status_text(ctx: &PanelContext<'_>) -> (String, Option<LimitZone>) 
         .zones
         .iter()
         .enumerate()
-        .filter_map(|(i, z)| Some((i, z.time_to_nearest_limit_s.filter(|t| *t < TTL_SHOW_MAX_S)?)))
+        .filter_map(|(i, _)| Some((i, time_to_limit_shown_s(ctx.model, robot, i)?)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let nearest = (0..robot.q.len())
         .filter_map(|i| {

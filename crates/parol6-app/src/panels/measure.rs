@@ -186,6 +186,13 @@ pub fn cube_overlay(cube: &TestCube, status: PathPointStatus) -> PathOverlay {
 }
 
 fn figures_grid(ui: &mut egui::Ui, f: &PoseTestFigures) {
+    // scrolls sideways where the column is narrower than the table
+    egui::ScrollArea::horizontal().id_salt("iso9283-figures-scroll").show(ui, |ui| figures_table(ui, f));
+    let opt = |v: Option<f64>| v.map_or_else(|| "–".into(), |v| format!("{v:.4}"));
+    ui.label(format!("P2–P4: AD_p {} mm, RD {} mm", opt(f.ad_p_mm), opt(f.rd_mm)));
+}
+
+fn figures_table(ui: &mut egui::Ui, f: &PoseTestFigures) {
     egui::Grid::new("iso9283-figures").striped(true).show(ui, |ui| {
         for h in ["pose", "AP_p mm", "RP_l mm", "AP_a °", "AP_b °", "AP_c °", "n"] {
             ui.strong(h);
@@ -200,8 +207,6 @@ fn figures_grid(ui: &mut egui::Ui, f: &PoseTestFigures) {
             ui.end_row();
         }
     });
-    let opt = |v: Option<f64>| v.map_or_else(|| "–".into(), |v| format!("{v:.4}"));
-    ui.label(format!("P2–P4: AD_p {} mm, RD {} mm", opt(f.ad_p_mm), opt(f.rd_mm)));
 }
 
 impl Panel for MeasurePanel {

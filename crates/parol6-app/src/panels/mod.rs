@@ -19,6 +19,7 @@ pub mod cartesian_target;
 pub mod connection;
 pub mod dynamics;
 pub mod entry;
+pub mod fixed_box;
 pub mod help;
 pub mod io_gripper;
 pub mod joints;

@@ -29,7 +29,7 @@ use super::timeline::TimelinePanel;
 /// Where a panel sits in the window.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dock {
-    /// The left column (joints, HOME / STOP, program, connection).
+    /// The left column (joints, HOME / STOP, program, I/O and gripper, connection).
     Left,
     /// The right column (TCP, Cartesian jog, Cartesian target).
     Right,
@@ -111,8 +111,9 @@ impl Panels {
         vec![
             (Dock::Left, &mut self.joints),
             (Dock::Left, &mut self.program),
-            (Dock::Left, &mut self.connection),
             (Dock::Left, &mut self.io_gripper),
+            // last: it folds and unfolds, which moves nothing below it
+            (Dock::Left, &mut self.connection),
             (Dock::Right, &mut self.tcp),
             (Dock::Right, &mut self.cartesian_jog),
             (Dock::Right, &mut self.target),

@@ -1,6 +1,10 @@
 //! The forward-dynamics form of the dynamics panel: a torque profile per joint (constant, a
 //! step at a time, a sine), the run time and gravity compensation; Run sends it to the
-//! simulation as one [`TorqueRun`], STOP ends it.
+//! simulation as one [`TorqueRun`], STOP ends it. The form says what is simulated (rigid links,
+//! no friction, free or held joints), shows the run's progress and, at its end, its outcome
+//! (how far each joint turned, which ended at a limit, or that STOP ended it).
+
+use std::time::{Duration, Instant};
 
 use eframe::egui;
 use parol6_core::sim::torque_profile::{MAX_PROFILE_TORQUE_NM, MAX_RUN_S};
@@ -85,12 +89,38 @@ pub struct TorqueForm {
     pub duration_s: f64,
     /// Add the gravity torques of the current pose (zero torques then hold the arm).
     pub gravity_compensation: bool,
+    /// Keep the joints without a torque on their position motors (see [`TorqueRun::hold_others`]).
+    pub hold_others: bool,
+    /// The run sent last: when, for how long, from which joints.
+    active: Option<ActiveRun>,
+    /// What the last run did (shown under the form until the next run).
+    pub outcome: Option<String>,
 }
+
+/// A run the form sent and follows.
+#[derive(Debug, Clone, PartialEq)]
+struct ActiveRun {
+    started: Instant,
+    duration_s: f64,
+    start_q: Vec<f64>,
+    /// The simulation reported motion since the run was sent.
+    seen_moving: bool,
+}
+
+/// How long after sending a run the form waits for the simulation to report motion.
+const START_GRACE: Duration = Duration::from_millis(500);
 
 impl TorqueForm {
     /// All-zero constant torques for `joints` joints, 2 s, gravity compensated.
     pub fn new(joints: usize) -> Self {
-        Self { rows: vec![JointRow::default(); joints], duration_s: 2.0, gravity_compensation: true }
+        Self {
+            rows: vec![JointRow::default(); joints],
+            duration_s: 2.0,
+            gravity_compensation: true,
+            hold_others: false,
+            active: None,
+            outcome: None,
+        }
     }
 
     /// The run the form describes (checked by the core; the error names joint and field).
@@ -99,9 +129,28 @@ impl TorqueForm {
             joints: self.rows.iter().map(JointRow::profile).collect(),
             duration_s: self.duration_s,
             gravity_compensation: self.gravity_compensation,
+            hold_others: self.hold_others,
         };
         run.validate(self.rows.len())?;
         Ok(run)
+    }
+
+    /// What the simulation does in a run, in words (shown above the form).
+    pub fn explanation(&self) -> String {
+        let gravity = if self.gravity_compensation {
+            "gravity compensated (the pose's gravity torques added)"
+        } else {
+            "gravity acting"
+        };
+        let others = if self.hold_others {
+            "joints without a torque held on their motors"
+        } else {
+            "joints without a torque are free: they swing under the others' motion"
+        };
+        format!(
+            "Simulated: rigid links, {gravity}, no friction, motors off; {others}. Joint limits stay. After the run \
+             the motors hold where the arm is."
+        )
     }
 
     /// Draws the form; Run queues [`AppCommand::RunTorques`], Stop queues STOP.
@@ -111,8 +160,9 @@ impl TorqueForm {
              where the arm is. Joint limits stay enforced; STOP ends the run. |torque| ≤ {MAX_PROFILE_TORQUE_NM} \
              N·m, run ≤ {MAX_RUN_S} s."
         ));
+        ui.add(egui::Label::new(egui::RichText::new(self.explanation()).weak()).wrap());
         let mut invalid = None;
-        egui::Grid::new("torque_form").num_columns(5).spacing([6.0, 2.0]).show(ui, |ui| {
+        egui::Grid::new("torque_form").num_columns(7).spacing([6.0, 2.0]).show(ui, |ui| {
             for (i, row) in self.rows.iter_mut().enumerate() {
                 let j = i + 1;
                 ui.label(format!("J{j}"));
@@ -133,13 +183,19 @@ impl TorqueForm {
                     Some(EntryEvent::Invalid(e)) => invalid = Some(format!("{name}: {e}")),
                     None => {}
                 };
+                // every number named beside it: "torque", "after" / "at", "amplitude" / "period"
+                let first = if row.shape == ProfileShape::Sine { "offset" } else { "torque" };
+                ui.weak(first);
                 field(ui, format!("J{j} torque"), &mut row.torque_nm, "N·m");
                 let [(n2, u2), (n3, u3)] = row.shape.extra_fields();
                 if n2.is_empty() {
-                    ui.label("");
-                    ui.label("");
+                    for _ in 0..4 {
+                        ui.label("");
+                    }
                 } else {
+                    ui.weak(n2);
                     field(ui, format!("J{j} {n2}"), &mut row.second, u2);
+                    ui.weak(n3);
                     field(ui, format!("J{j} {n3}"), &mut row.third, u3);
                 }
                 ui.end_row();
@@ -153,9 +209,20 @@ impl TorqueForm {
             }
             ui.checkbox(&mut self.gravity_compensation, "gravity compensation")
                 .on_hover_text("add the gravity torques of the current pose at every step");
+            ui.checkbox(&mut self.hold_others, "hold other joints")
+                .on_hover_text("joints without a torque (constant 0 N·m) stay on their position motors");
             if ui.button("Run torques").clicked() {
                 match self.run() {
-                    Ok(run) => ctx.send(AppCommand::RunTorques(run)),
+                    Ok(run) => {
+                        self.active = Some(ActiveRun {
+                            started: Instant::now(),
+                            duration_s: run.duration_s,
+                            start_q: ctx.robot.q.clone(),
+                            seen_moving: false,
+                        });
+                        self.outcome = None;
+                        ctx.send(AppCommand::RunTorques(run));
+                    }
                     Err(e) => ctx.error(format!("torque run refused: {e}")),
                 }
             }
@@ -163,10 +230,63 @@ impl TorqueForm {
                 ctx.stop();
             }
         });
+        self.progress_ui(ui, ctx);
         if let Some(e) = invalid {
             ctx.error(e);
         }
     }
+
+    /// The running run's progress bar, or the last run's outcome (one line each, always there).
+    fn progress_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        if let Some(run) = &mut self.active {
+            run.seen_moving |= ctx.robot.moving;
+            let elapsed_s = run.started.elapsed().as_secs_f64();
+            let over = !ctx.robot.moving && (run.seen_moving || run.started.elapsed() > START_GRACE);
+            if over {
+                let stopped = elapsed_s + 0.05 < run.duration_s;
+                self.outcome = Some(outcome_text(ctx, &run.start_q, elapsed_s.min(run.duration_s), stopped));
+                self.active = None;
+            } else {
+                let fraction = (elapsed_s / run.duration_s).clamp(0.0, 1.0);
+                let text = format!("torque run: {elapsed_s:.1} of {:.1} s", run.duration_s);
+                ui.add(egui::ProgressBar::new(fraction as f32).text(text));
+                ui.ctx().request_repaint_after(Duration::from_millis(100));
+                return;
+            }
+        }
+        match &self.outcome {
+            Some(text) => ui.label(text),
+            None => ui.weak("no torque run yet"),
+        };
+    }
+}
+
+/// The end notice of a run: how long it ran, how far each joint turned, which ended at a limit.
+fn outcome_text(ctx: &PanelContext<'_>, start_q: &[f64], ran_s: f64, stopped: bool) -> String {
+    let unit = ctx.settings.unit;
+    let names = ctx.model.joint_names();
+    let moved: Vec<String> = start_q
+        .iter()
+        .zip(&ctx.robot.q)
+        .enumerate()
+        .map(|(i, (a, b))| {
+            let d = b - a;
+            let sign = if unit.from_rad(d) > 0.0 { "+" } else { "" };
+            format!("{} {sign}{}", names.get(i).copied().unwrap_or("?"), unit.fmt(d))
+        })
+        .collect();
+    let at_limit: Vec<&str> = ctx
+        .model
+        .limits
+        .iter()
+        .zip(&ctx.robot.q)
+        .enumerate()
+        .filter(|(_, (l, q))| (**q - l.min).abs() < 1e-3 || (l.max - **q).abs() < 1e-3)
+        .map(|(i, _)| names.get(i).copied().unwrap_or("?"))
+        .collect();
+    let how = if stopped { format!("stopped after {ran_s:.1} s") } else { format!("done ({ran_s:.1} s)") };
+    let limits = if at_limit.is_empty() { String::new() } else { format!("; at a limit: {}", at_limit.join(", ")) };
+    format!("torque run {how}: {}{limits}; the motors hold there", moved.join(", "))
 }
 
 #[cfg(test)]

@@ -314,7 +314,8 @@ impl Step {
             ),
             Step::TimeFunction { pieces, .. } => {
                 let total_s: f64 = pieces.iter().map(|p| p.duration_s).sum();
-                format!("time function, {} pieces, {total_s:.2} s", pieces.len())
+                let n = pieces.len();
+                format!("time function, {n} piece{}, {total_s:.2} s", if n == 1 { "" } else { "s" })
             }
             Step::Dwell { seconds } => format!("dwell {seconds:.2} s"),
             Step::Gripper { action, position, .. } => match action {
@@ -390,5 +391,23 @@ impl Program {
             steps: steps.into_iter().map(|step| SourcedStep { step, line: 0 }).collect(),
             ..Self::default()
         }
+    }
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::*;
+
+    /// Issue 32 minor: the step list said "1 pieces".
+    #[test]
+    fn a_time_function_of_one_piece_says_piece() {
+        let one =
+            Step::TimeFunction { sample_rate_hz: 100.0, pieces: vec![timefn::TimePiece::position(1.0, "0", "0", "0")] };
+        assert!(one.summary().starts_with("time function, 1 piece, "), "{}", one.summary());
+        let two = Step::TimeFunction {
+            sample_rate_hz: 100.0,
+            pieces: vec![timefn::TimePiece::position(1.0, "0", "0", "0"); 2],
+        };
+        assert!(two.summary().starts_with("time function, 2 pieces, "), "{}", two.summary());
     }
 }

@@ -238,7 +238,7 @@ fn inertials_merge_links_on_the_same_frame() {
 fn j1_push(torque_nm: f64, duration_s: f64) -> TorqueRun {
     let mut joints = vec![TorqueProfile::default(); 6];
     joints[0] = TorqueProfile::Step { before_nm: torque_nm, after_nm: -torque_nm, at_s: duration_s / 2.0 };
-    TorqueRun { joints, duration_s, gravity_compensation: true }
+    TorqueRun { joints, duration_s, gravity_compensation: true, hold_others: false }
 }
 
 #[test]
@@ -282,11 +282,38 @@ fn a_torque_run_cannot_drive_a_joint_past_its_limit() {
     let mut s = sim(SimMode::Dynamic);
     let mut joints = vec![TorqueProfile::default(); 6];
     joints[0] = TorqueProfile::Constant { torque_nm: 2.0 };
-    s.apply(SimCommand::RunJointTorques(TorqueRun { joints, duration_s: 3.0, gravity_compensation: true }))
-        .expect("dynamic mode");
+    s.apply(SimCommand::RunJointTorques(TorqueRun {
+        joints,
+        duration_s: 3.0,
+        gravity_compensation: true,
+        hold_others: false,
+    }))
+    .expect("dynamic mode");
     let max = s.model().limits.iter().next().map(|l| l.max).unwrap_or(0.0);
     for _ in 0..30 {
         run_s(&mut s, 0.1);
         assert!(s.q()[0] <= max + 0.02, "J1 {} past its limit {max}", s.q()[0]);
     }
+}
+
+/// Issue 32 major 10: 0.2 N·m on J1 with the other joints free whips them about; with
+/// `hold_others` they stay on their motors where they were and only J1 turns.
+#[test]
+fn a_torque_run_holding_the_other_joints_moves_only_the_driven_one() {
+    let q0 = vec![0.5, -1.2, 2.8, 0.2, 0.3, 1.0];
+    let mut joints = vec![TorqueProfile::default(); 6];
+    joints[0] = TorqueProfile::Constant { torque_nm: 0.2 };
+    let mut moved = Vec::new();
+    for hold_others in [false, true] {
+        let mut s = sim(SimMode::Dynamic);
+        s.apply(SimCommand::Teleport(q0.clone())).expect("free");
+        let run = TorqueRun { joints: joints.clone(), duration_s: 0.6, gravity_compensation: true, hold_others };
+        assert_eq!(run.held_joints(), vec![false, hold_others, hold_others, hold_others, hold_others, hold_others]);
+        s.apply(SimCommand::RunJointTorques(run)).expect("dynamic mode");
+        run_s(&mut s, 0.5);
+        assert!(s.q()[0] > q0[0] + 0.05, "J1 turns under 0.2 N·m (hold {hold_others}): {}", s.q()[0]);
+        moved.push(max_abs_diff(&s.q()[1..], &q0[1..]));
+    }
+    assert!(moved[1] < 0.01, "held joints stay within 0.01 rad: {:.4} rad", moved[1]);
+    assert!(moved[0] > 5.0 * moved[1].max(0.002), "free joints swing: {:.4} rad vs held {:.4}", moved[0], moved[1]);
 }

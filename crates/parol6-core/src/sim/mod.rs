@@ -424,6 +424,7 @@ impl Simulation {
                 }
                 run.validate(self.model.dof()).map_err(SimError::InvalidCommand)?;
                 self.physics.set_motors_enabled(false);
+                self.physics.hold_joints(&run.held_joints());
                 self.torque_control = true;
                 self.torque_run = Some((run, now));
                 self.update_run_torques();

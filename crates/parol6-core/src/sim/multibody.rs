@@ -416,6 +416,28 @@ impl Physics {
         }
     }
 
+    /// With the motors off (a torque run), puts the joints marked in `held` back on their
+    /// position motors, holding where they are now; the others stay free.
+    pub fn hold_joints(&mut self, held: &[bool]) {
+        if self.motors_enabled {
+            return;
+        }
+        let n = self.joints.len();
+        let (mut q, mut qd) = (vec![0.0; n], vec![0.0; n]);
+        self.read_state(&mut q, &mut qd);
+        let (kp, kd) = (self.gains.stiffness as f32, self.gains.damping as f32);
+        for (k, &h) in self.joints.iter().enumerate() {
+            if !held.get(k).copied().unwrap_or(false) {
+                continue;
+            }
+            if let Some((mb, link)) = self.world.multibody_joints.get_mut(h)
+                && let Some(l) = mb.link_mut(link)
+            {
+                l.joint.data.set_motor(free_axis(self.kinds[k]), q[k] as f32, 0.0, kp, kd);
+            }
+        }
+    }
+
     /// Sets the generalised joint forces (N·m for revolute joints, N for prismatic) applied
     /// during the next steps, as equal and opposite wrenches on each joint's two bodies.
     pub fn set_joint_torques(&mut self, tau: &[f64]) {

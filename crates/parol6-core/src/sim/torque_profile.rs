@@ -114,6 +114,10 @@ pub struct TorqueRun {
     /// Add the gravity torques of the current pose at every step, so that all-zero profiles
     /// hold the arm still and the entered torques only accelerate it.
     pub gravity_compensation: bool,
+    /// Keep the joints without a torque (a constant 0 N·m profile) on their position motors,
+    /// holding where they were when the run started; off, every joint is free.
+    #[serde(default)]
+    pub hold_others: bool,
 }
 
 impl TorqueRun {
@@ -132,6 +136,12 @@ impl TorqueRun {
     }
 
     /// The profile torques at `t_s` from the start, into `out`.
+    /// The joints the run holds on their motors: with [`TorqueRun::hold_others`], those
+    /// without a torque (a constant 0 N·m profile).
+    pub fn held_joints(&self) -> Vec<bool> {
+        self.joints.iter().map(|p| self.hold_others && *p == TorqueProfile::Constant { torque_nm: 0.0 }).collect()
+    }
+
     pub fn torques_into(&self, t_s: f64, out: &mut [f64]) {
         for (o, p) in out.iter_mut().zip(&self.joints) {
             *o = p.at(t_s);
@@ -155,7 +165,12 @@ mod tests {
 
     #[test]
     fn bad_numbers_are_refused_naming_the_joint_and_field() {
-        let ok = TorqueRun { joints: vec![TorqueProfile::default(); 2], duration_s: 1.0, gravity_compensation: true };
+        let ok = TorqueRun {
+            joints: vec![TorqueProfile::default(); 2],
+            duration_s: 1.0,
+            gravity_compensation: true,
+            hold_others: false,
+        };
         assert!(ok.validate(2).is_ok());
         assert!(ok.validate(3).is_err());
         let mut bad = ok.clone();

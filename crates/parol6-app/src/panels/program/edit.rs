@@ -93,6 +93,7 @@ impl ProgramPanel {
         let r = self.editor.insert(at, step);
         if self.edited(r, ctx).is_some() {
             self.selected = Some(at);
+            self.scroll_to = Some(at);
         }
     }
 
@@ -144,44 +145,57 @@ impl ProgramPanel {
             .interact_size
             .y
             .max(ui.text_style_height(&egui::TextStyle::Monospace) + 2.0 * ui.spacing().button_padding.y);
-        let steps = &self.program.steps;
-        egui::ScrollArea::vertical()
+        // follows the running step (and shows a newly taught one), never a clicked one: that
+        // row is under the pointer and stays there
+        let running = progress.filter(|p| !p.state.is_finished()).map(|p| p.step);
+        if running.is_some() && running != self.followed_step {
+            self.scroll_to = running;
+        }
+        self.followed_step = running;
+        let mut area = egui::ScrollArea::vertical()
             .id_salt("program-steps")
             .max_height(super::STEP_LIST_HEIGHT)
-            .auto_shrink([false, true])
-            .show_rows(ui, row_height, steps.len(), |ui, rows| {
-                for (i, s) in steps.iter().enumerate().skip(rows.start).take(rows.len()) {
-                    let (mark, strong) = match progress {
-                        Some(p) if !p.state.is_finished() && i == p.step => (">", true),
-                        Some(p) if i < p.steps_done => ("+", false),
-                        _ => (" ", false),
-                    };
-                    let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
-                    // the pre-flight's plan (in step order): the configuration the step ends in
-                    let at = plan.partition_point(|p| p.index + p.steps <= i);
-                    let planned = plan.get(at).filter(|p| (p.index..p.index + p.steps).contains(&i));
-                    let config = planned.filter(|p| p.end_tcp != p.start_tcp).and_then(|p| p.config.as_deref());
-                    let row = match config {
-                        Some(c) => format!("{mark}{:>3}  [{c}] {}", i + 1, s.step.summary()),
-                        None => format!("{mark}{:>3}  {}", i + 1, s.step.summary()),
-                    };
-                    let text = egui::RichText::new(row).monospace();
-                    let text = if strong { text.strong() } else { text };
-                    let text = match worst {
-                        Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
-                        Some(Severity::Warning) => text.color(palette::rgb(palette::PATH_WARNING)),
-                        None => text,
-                    };
-                    let selected = self.selected == Some(i);
-                    let mut r = ui.add(egui::Button::selectable(selected, text).truncate());
-                    if let Some(p) = planned {
-                        r = r.on_hover_text(plan_hover(p));
-                    }
-                    if r.clicked() {
-                        clicked = Some(if selected { None } else { Some(i) });
-                    }
+            .min_scrolled_height(super::STEP_LIST_HEIGHT)
+            .auto_shrink([false, false]);
+        if let Some(row) = self.scroll_to.take() {
+            let row_h = row_height + ui.spacing().item_spacing.y;
+            let centred = row as f32 * row_h - (super::STEP_LIST_HEIGHT - row_h) / 2.0;
+            area = area.vertical_scroll_offset(centred.max(0.0));
+        }
+        let steps = &self.program.steps;
+        area.show_rows(ui, row_height, steps.len(), |ui, rows| {
+            for (i, s) in steps.iter().enumerate().skip(rows.start).take(rows.len()) {
+                let (mark, strong) = match progress {
+                    Some(p) if !p.state.is_finished() && i == p.step => (">", true),
+                    Some(p) if i < p.steps_done => ("+", false),
+                    _ => (" ", false),
+                };
+                let worst = issues.iter().filter(|x| x.move_index == i).map(|x| x.severity).max();
+                // the pre-flight's plan (in step order): the configuration the step ends in
+                let at = plan.partition_point(|p| p.index + p.steps <= i);
+                let planned = plan.get(at).filter(|p| (p.index..p.index + p.steps).contains(&i));
+                let config = planned.filter(|p| p.end_tcp != p.start_tcp).and_then(|p| p.config.as_deref());
+                let row = match config {
+                    Some(c) => format!("{mark}{:>3}  [{c}] {}", i + 1, s.step.summary()),
+                    None => format!("{mark}{:>3}  {}", i + 1, s.step.summary()),
+                };
+                let text = egui::RichText::new(row).monospace();
+                let text = if strong { text.strong() } else { text };
+                let text = match worst {
+                    Some(Severity::Error) => text.color(palette::rgb(palette::PATH_ERROR)),
+                    Some(Severity::Warning) => text.color(palette::rgb(palette::PATH_WARNING)),
+                    None => text,
+                };
+                let selected = self.selected == Some(i);
+                let mut r = ui.add(egui::Button::selectable(selected, text).truncate());
+                if let Some(p) = planned {
+                    r = r.on_hover_text(plan_hover(p));
                 }
-            });
+                if r.clicked() {
+                    clicked = Some(if selected { None } else { Some(i) });
+                }
+            }
+        });
         if let Some(sel) = clicked {
             self.selected = sel;
         }
@@ -241,7 +255,10 @@ impl ProgramPanel {
 
     /// The selected step's numbers, each committed on Enter or focus loss (one undo entry).
     pub(super) fn step_editor(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let Some(i) = self.selected else { return };
+        let Some(i) = self.selected else {
+            ui.weak("Click a step to edit its numbers here.");
+            return;
+        };
         let Some(step) = self.editor.program().steps.get(i).map(|s| s.step.clone()) else { return };
         let fields = step_fields(&step, ctx.settings, &self.editor.program().speed);
         if fields.is_empty() {

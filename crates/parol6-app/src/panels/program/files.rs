@@ -257,10 +257,20 @@ impl ProgramPanel {
     }
 }
 
-/// A file name from a program name (letters, digits, `-`, `_`; others become `_`).
+/// A readable file name from a program name: letters, digits and `-` kept, `&` read as
+/// "and", any other run of characters one `_`, none at either end ("Pick & place" →
+/// "Pick_and_place", not "Pick___place").
 fn file_stem(name: &str) -> String {
-    let s: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' }).collect();
-    if s.trim_matches('_').is_empty() { "program".into() } else { s }
+    let mut s = String::new();
+    for c in name.replace('&', " and ").chars() {
+        if c.is_ascii_alphanumeric() || c == '-' {
+            s.push(c);
+        } else if !s.is_empty() && !s.ends_with('_') {
+            s.push('_');
+        }
+    }
+    let s = s.trim_matches('_');
+    if s.is_empty() { "program".into() } else { s.to_string() }
 }
 
 #[cfg(test)]
@@ -268,9 +278,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn file_stems_are_safe() {
-        assert_eq!(file_stem("Pick & place"), "Pick___place");
+    fn file_stems_are_safe_and_readable() {
+        assert_eq!(file_stem("Pick & place"), "Pick_and_place");
         assert_eq!(file_stem(""), "program");
-        assert_eq!(file_stem("../etc"), "___etc");
+        assert_eq!(file_stem("../etc"), "etc");
+        assert_eq!(file_stem("  a -- b  "), "a_--_b");
+        assert_eq!(file_stem("&"), "and");
     }
 }

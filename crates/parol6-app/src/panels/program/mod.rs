@@ -38,6 +38,7 @@ use parol6_core::program::{Program, builtin};
 
 pub use checker::{MAX_OVERLAY_POINTS, planned_path};
 
+use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
 use crate::palette;
@@ -47,6 +48,11 @@ use crate::viewport::PathOverlay;
 const STEP_LIST_HEIGHT: f32 = 120.0;
 /// Pre-flight problems listed in the panel (the rest are counted).
 const ISSUES_SHOWN: usize = 4;
+/// Height of the step editor's box, px: four rows of fields (more scroll inside); the same
+/// with no step selected, so the run buttons below it stay where they are.
+const STEP_EDITOR_HEIGHT: f32 = 88.0;
+/// Height of the pre-flight problems' box, px (longer lists scroll inside).
+const ISSUES_HEIGHT: f32 = 64.0;
 
 /// The program panel.
 pub struct ProgramPanel {
@@ -65,6 +71,10 @@ pub struct ProgramPanel {
     files: files::FileState,
     /// The point-table window is open.
     pub table_open: bool,
+    /// A row the step list scrolls into view next frame (a newly taught step, the running one).
+    scroll_to: Option<usize>,
+    /// The running step the list last followed.
+    followed_step: Option<usize>,
     /// Typed path of a program file to open.
     pub path_text: String,
     /// The program checked from the pose it was checked at (its pre-flight report).
@@ -95,6 +105,8 @@ impl ProgramPanel {
             source: "built-in".into(),
             file: None,
             selected: None,
+            scroll_to: None,
+            followed_step: None,
             files: files::FileState::default(),
             table_open: false,
             path_text: String::new(),
@@ -309,18 +321,20 @@ impl Panel for ProgramPanel {
             // the progress line moves while a worker loads or checks
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(50));
         }
-        self.summary_line(ui);
+        // each part that changes has a fixed height: nothing below it moves under the pointer
+        let line_h = ui.spacing().interact_size.y;
+        fixed_box::fixed_height(ui, "program-summary", line_h, |ui| self.summary_line(ui));
         self.step_list(ui, progress.as_ref());
         ui.add_enabled_ui(!running, |ui| {
             self.edit_toolbar(ui, ctx);
-            self.step_editor(ui, ctx);
+            fixed_box::fixed_height(ui, "program-step-editor-box", STEP_EDITOR_HEIGHT, |ui| self.step_editor(ui, ctx));
         });
         if !running {
             self.shortcuts(ui, ctx);
         }
         self.controls(ui, ctx, progress.as_ref());
-        progress_line(ui, progress.as_ref());
-        self.issue_lines(ui);
+        fixed_box::fixed_height(ui, "program-progress", line_h, |ui| progress_line(ui, progress.as_ref()));
+        fixed_box::fixed_height(ui, "program-issues", ISSUES_HEIGHT, |ui| self.issue_lines(ui));
         if running {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
@@ -388,19 +402,31 @@ impl ProgramPanel {
         let clean = !checking && self.checked.as_ref().is_some_and(|r| r.ok);
         ui.horizontal(|ui| {
             let run_label = if paused { "Resume (F5)" } else { "Run (F5)" };
+            // nothing starts while the E-stop is latched or a recording is replayed: Run is
+            // greyed, with the reason
             let refused = ctx.motion_refused();
             let can_run = ((clean && !running) || paused) && refused.is_none();
-            let run = ui.add_enabled(can_run, egui::Button::new(run_label)).on_disabled_hover_text(
-                if let Some(why) = refused {
-                    why
-                } else if running {
-                    "running"
-                } else if checking {
-                    "the pre-flight is still checking"
-                } else {
-                    "the pre-flight must be clean"
-                },
+            // tighter than elsewhere: the four buttons fit the column with "Resume (F5)"
+            ui.spacing_mut().button_padding.x = 1.0;
+            ui.spacing_mut().item_spacing.x = 3.0;
+            // as wide as its longest label: "Resume (F5)" does not widen the row
+            let widest = egui::WidgetText::from("Resume (F5)").into_galley(
+                ui,
+                Some(egui::TextWrapMode::Extend),
+                f32::INFINITY,
+                egui::TextStyle::Button,
             );
+            let run_w = widest.size().x + 2.0 * ui.spacing().button_padding.x;
+            let run_button = egui::Button::new(run_label).min_size(egui::vec2(run_w, 0.0));
+            let run = ui.add_enabled(can_run, run_button).on_disabled_hover_text(if let Some(why) = refused {
+                why
+            } else if running {
+                "running"
+            } else if checking {
+                "the pre-flight is still checking"
+            } else {
+                "the pre-flight must be clean"
+            });
             let f5 = shortcuts::pressed(ui.ctx(), Action::RunProgram);
             if f5 && checking && !running {
                 // never an unchecked program: F5 waits for the operator to press it again
@@ -420,7 +446,7 @@ impl ProgramPanel {
             if pause.clicked() || (running && !paused && shortcuts::pressed(ui.ctx(), Action::PauseProgram)) {
                 ctx.send(AppCommand::Program(RunnerControl::Pause));
             }
-            let can_step = paused || (!running && clean);
+            let can_step = (paused || (!running && clean)) && refused.is_none();
             let step = ui.add_enabled(can_step, egui::Button::new("Step (F10)"));
             if step.clicked() || (can_step && shortcuts::pressed(ui.ctx(), Action::SingleStep)) {
                 if paused {

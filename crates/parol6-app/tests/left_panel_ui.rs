@@ -1,0 +1,96 @@
+//! Issue 32 major 6: the left panel's widgets do not move under the pointer. The rectangles of
+//! the buttons below each changing part are recorded before and after the change (the
+//! pre-flight count, the step editor opening, STOP pressed during a run, the connection
+//! section unfolding) and must stay where they were.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::{has_label, until};
+
+use parol6_app::app::Parol6App;
+
+/// Width of the left column, points (`app::layout::LEFT_PANEL_WIDTH`).
+const LEFT_PANEL_WIDTH: f32 = 350.0;
+
+/// Buttons and headers of the left column below its first changing part.
+const WATCHED: [&str; 5] = ["Pause (F6)", "Step (F10)", "Stop program", "Clear error", "Robot connection"];
+
+fn rects(h: &Harness<'_, Parol6App>) -> Vec<(&'static str, egui::Rect)> {
+    WATCHED.iter().filter_map(|l| h.query_by_label(l).map(|n| (*l, n.rect()))).collect()
+}
+
+/// Adds to `moved` every watched widget that is not where it was in `before`.
+fn unmoved(moved: &mut Vec<String>, what: &str, before: &[(&str, egui::Rect)], after: &[(&str, egui::Rect)]) {
+    assert_eq!(before.len(), WATCHED.len(), "all watched widgets found before {what}: {before:?}");
+    assert_eq!(after.len(), before.len(), "all watched widgets found after {what}");
+    for ((l, a), (_, b)) in before.iter().zip(after) {
+        let d = (a.min - b.min).length();
+        if d >= 0.5 {
+            moved.push(format!("{l} moved by {d:.1} px when {what}"));
+        }
+    }
+}
+
+#[test]
+fn left_panel_widgets_do_not_move_when_contents_change() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1800.0));
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.run_steps(2);
+    let base = rects(&h);
+    let mut moved = Vec::new();
+
+    // the pre-flight count changes: a program with an error, its issue line under the buttons
+    let dir = std::env::temp_dir().join(format!("parol6-left-panel-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let far = dir.join("far.json");
+    std::fs::write(
+        &far,
+        "{\"format\": \"parol6-program\", \"version\": 1, \"name\": \"Too far\",\n \"steps\": [\n  {\"type\": \"move_l\", \
+         \"pose\": {\"position_mm\": [0, 900, 300], \"rpy_deg\": [180, 0, 90]}},\n  {\"type\": \"move_l\", \"pose\": \
+         {\"position_mm\": [0, 950, 300], \"rpy_deg\": [180, 0, 90]}}\n ]}",
+    )
+    .expect("write");
+    ui_support::open_program_file(&mut h, &far);
+    until(&mut h, "the pre-flight error", 10.0, |h| has_label(h, "error(s)"));
+    h.run_steps(2);
+    unmoved(&mut moved, "the pre-flight count changed", &base, &rects(&h));
+
+    // the step editor opens
+    h.query_all_by_label_contains("  1  ").next().expect("step row 1").click();
+    h.run_steps(3);
+    assert!(has_label(&h, "step 1 "), "the step editor is open");
+    unmoved(&mut moved, "the step editor opened", &base, &rects(&h));
+
+    // a run, then STOP
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "the run", 10.0, |h| has_label(h, "Draw: step 2"));
+    unmoved(&mut moved, "a run started", &base, &rects(&h));
+    // issue 32 minor: "Resume (F5)" is as wide as "Run (F5)" was: the row keeps "Stop program"
+    let run_w = h.get_by_label("Run (F5)").rect().width();
+    h.get_by_label("Pause (F6)").click();
+    until(&mut h, "paused", 10.0, |h| has_label(h, "paused at step"));
+    assert!((h.get_by_label("Resume (F5)").rect().width() - run_w).abs() < 0.5, "Resume (F5) as wide as Run (F5)");
+    let stop = h.get_by_label("Stop program").rect();
+    assert!(stop.max.x <= LEFT_PANEL_WIDTH, "Stop program inside the left column: {stop:?}");
+    unmoved(&mut moved, "the run paused", &base, &rects(&h));
+    h.get_by_label("STOP").click();
+    until(&mut h, "stopped", 10.0, |h| has_label(h, "stopped after") || has_label(h, "Draw: stopped"));
+    h.run_steps(3);
+    unmoved(&mut moved, "STOP was pressed", &base, &rects(&h));
+
+    // the connection section unfolds
+    h.get_by_label("Robot connection").click();
+    h.run_steps(4);
+    assert!(has_label(&h, "Rescan"), "the connection section is open; {moved:#?} {:?}", rects(&h));
+    unmoved(&mut moved, "the connection section unfolded", &base, &rects(&h));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(moved.is_empty(), "{moved:#?}");
+}

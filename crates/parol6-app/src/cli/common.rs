@@ -1,7 +1,7 @@
 //! Helpers shared by several subcommands, so that no subcommand's file imports another's for
 //! them: latency statistics ([`NsStats`]), comma-separated number lists ([`parse_list`]), the
 //! selected tool ([`tool_of`]), and the controller link of every subcommand that talks to one
-//! ([`RateArgs`], [`open`], [`Link`], [`hw_err`], [`not_connected`]).
+//! ([`RateArgs`], `open`, `Link`, `hw_err`, `not_connected`).
 
 use std::time::Duration;
 

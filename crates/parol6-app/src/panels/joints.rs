@@ -21,7 +21,7 @@ const TTL_MIN_SPEED_RAD_S: f64 = 1e-3;
 const TTL_TARGET_TOLERANCE_RAD: f64 = 0.0087;
 
 /// The time to joint `i`'s limit worth showing, s: the joint moves toward the limit it is
-/// nearest to, reaches it within [`TTL_SHOW_MAX_S`] at this speed, and its planned motion (the
+/// nearest to, reaches it within `TTL_SHOW_MAX_S` at this speed, and its planned motion (the
 /// state's `target_q`) ends at that limit. A joint at rest at its limit, or a move that stops
 /// short of the limit, shows none (both showed a time: "limit in 0.0 s", "1.7 s" for a move
 /// ending 77° short).

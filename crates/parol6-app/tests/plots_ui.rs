@@ -23,19 +23,6 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
-/// Types `path` into the File menu's recording field and presses Enter.
-fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
-    // the menu bar's File comes before the program panel's File field
-    h.query_all_by_label("File").next().expect("the File menu").click();
-    h.run_steps(2);
-    h.get_by_label("Recording").click();
-    h.run_steps(1);
-    h.get_by_label("Recording").type_text(&path.display().to_string());
-    h.run_steps(1);
-    h.key_press(egui::Key::Enter);
-    h.run_steps(1);
-}
-
 /// The app at `size`, replaying a synthetic recording (`minutes` at `rate_hz`, an event every
 /// 10 s) written as `file` into a temporary folder named after `name`; that folder.
 fn replaying(
@@ -51,7 +38,7 @@ fn replaying(
         parol6_app::cli::bench_replay::synthetic_recording(&RobotModel::parol6(), minutes, rate_hz).expect("recording");
     std::fs::write(&path, bytes).expect("write");
     let mut h = app_harness(size);
-    open_recording(&mut h, &path);
+    ui_support::open_recording(&mut h, &path);
     until(&mut h, "the replay", 10.0, |h| has_label(h, &format!("Replay: {file}")));
     (dir, h)
 }
@@ -169,7 +156,7 @@ fn an_empty_file_is_refused_with_a_clear_message() {
     let path = dir.join("empty.mcap");
     std::fs::write(&path, b"").expect("write");
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    open_recording(&mut h, &path);
+    ui_support::open_recording(&mut h, &path);
     until(&mut h, "the error notice", 10.0, |h| {
         h.state()
             .notices()
@@ -292,7 +279,7 @@ fn a_remembered_lower_panel_taller_than_the_window_is_clamped_and_the_timeline_s
         s.show_dynamics = true;
     }
     h.run_steps(3);
-    open_recording(&mut h, &path);
+    ui_support::open_recording(&mut h, &path);
     until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: clamp.mcap"));
     h.key_press(egui::Key::Escape);
     h.run_steps(10);

@@ -49,13 +49,7 @@ fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     assert!(shows(&h, "SIM"), "the status bar says SIM before replay");
 
     // open the recording from the File menu
-    h.query_all_by_label("File").next().expect("the File menu").click();
-    h.run_steps(2);
-    h.get_by_label("Recording").click();
-    h.run_steps(1);
-    h.get_by_label("Recording").type_text(&path.display().to_string());
-    h.run_steps(1);
-    h.key_press(egui::Key::Enter);
+    ui_support::open_recording(&mut h, &path);
     until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
     h.key_press(egui::Key::Escape);
     h.run_steps(2);

@@ -100,3 +100,16 @@ pub fn reopen_program_from(h: &mut Harness<'_, Parol6App>, path: &std::path::Pat
         .expect("write the program file");
     open_program_file(h, path);
 }
+
+/// Types `path` into the File menu's recording field and presses Enter.
+pub fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    // the menu bar's File comes before the program panel's File field
+    h.query_all_by_label("File").next().expect("the File menu").click();
+    h.run_steps(2);
+    h.get_by_label("Recording").click();
+    h.run_steps(1);
+    h.get_by_label("Recording").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(1);
+}

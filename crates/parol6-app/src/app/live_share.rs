@@ -135,6 +135,7 @@ impl Parol6App {
             }
             Err(e) => self.notice(format!("Share over ROS 2: {e}"), true),
         }
+        self.refresh_live_status();
     }
 
     /// What a live server serves: the active backend, its recorder and the URDF.
@@ -168,7 +169,9 @@ impl Parol6App {
         self.refresh_live_status();
     }
 
-    /// Each frame: a server follows the active backend; the panels' view of the sharing.
+    /// Each frame: a server follows the active backend. The panels' view of the sharing is
+    /// refreshed where it changes (start, stop, a ROS 2 start ending, the remote switch), not
+    /// per frame.
     pub(super) fn live_share_frame(&mut self) {
         let on_robot = self.hw.is_some();
         if self.live.server.as_ref().is_some_and(|(_, robot)| *robot != on_robot) {
@@ -182,7 +185,6 @@ impl Parol6App {
                 self.share_ros2(true);
             }
         }
-        self.refresh_live_status();
     }
 
     fn refresh_live_status(&mut self) {

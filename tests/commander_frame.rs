@@ -288,3 +288,10 @@ fn a_shown_pose_near_a_singular_wrist_may_leave_the_limits() {
     assert!(ik::solve_parol6(&model, &exact, &q).is_ok());
     assert_reaches(&q_deg, true).unwrap();
 }
+
+/// Regression (CI): joints at full stretch with the wrist singular. The commander's pose of
+/// them at full precision lay 0.2 µm beyond our reach, and IK refused it.
+#[test]
+fn a_commander_pose_at_full_stretch_reaches_its_joints() {
+    assert_reaches(&[0.0, -112.03894939811698, 256.21922221893874, 0.0, 0.0, 0.497193125], true).unwrap();
+}

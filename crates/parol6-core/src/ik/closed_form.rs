@@ -8,6 +8,13 @@ use nalgebra::{Isometry3, Matrix3};
 use super::{Branch, ElbowBranch, IkError, IkSolution, ShoulderBranch, WristBranch, check_input, pose_error};
 use crate::model::RobotModel;
 
+/// How far (m) a target may lie beyond the arm's full stretch or full fold and still be solved,
+/// at that boundary, with at most this position error. A pose read to 3 decimals, or from a
+/// table whose offsets differ from ours by 0.7 µm (the commander's), can land a fraction of a
+/// micrometre outside the reach of joints that are within their limits; refusing it as
+/// unreachable would refuse the pose those joints show.
+pub const REACH_SLACK_M: f64 = 1e-6;
+
 /// Picks `q + 2πk` inside `[min, max]` nearest to `seed`; None when no wrap fits.
 fn wrap_into(q: f64, min: f64, max: f64, seed: f64) -> Option<f64> {
     let eps = 1e-9;
@@ -97,7 +104,8 @@ pub fn solve_parol6_in(
 
     let rho = wc.x.hypot(wc.y);
     let shoulder_singular = rho < 1e-9;
-    let mut raw: Vec<([f64; 6], Branch, bool)> = Vec::with_capacity(8);
+    // (joints, branch, singular, allowed position error m)
+    let mut raw: Vec<([f64; 6], Branch, bool, f64)> = Vec::with_capacity(8);
     let mut any_reach = false;
     let mut reach_detail = String::new();
     for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
@@ -113,16 +121,20 @@ pub fn solve_parol6_in(
         let pz = wc.z;
         let d2 = px * px + pz * pz;
         let k = (d2 - a2 * a2 - l3 * l3) / (2.0 * a2 * l3);
-        if k.abs() > 1.0 + 1e-12 {
+        let d = d2.sqrt();
+        let beyond_reach_m = (d - (a2 + l3)).max((a2 - l3).abs() - d);
+        if k.abs() > 1.0 + 1e-12 && beyond_reach_m > REACH_SLACK_M {
             reach_detail = format!(
                 "wrist centre is {:.1} mm from the shoulder axis; reachable range {:.1}…{:.1} mm",
-                d2.sqrt() * 1e3,
+                d * 1e3,
                 (a2 - l3).abs() * 1e3,
                 (a2 + l3) * 1e3
             );
             continue;
         }
         any_reach = true;
+        // a target within the slack beyond the reach is solved at the boundary, this far off
+        let allowed_error_m = if k.abs() > 1.0 { beyond_reach_m + 1e-7 } else { 1e-7 };
         let k = k.clamp(-1.0, 1.0);
         let elbow_singular = (1.0 - k.abs()) < 1e-12;
         for elbow in [ElbowBranch::Up, ElbowBranch::Down] {
@@ -160,6 +172,7 @@ pub fn solve_parol6_in(
                     [q1, q2, q3, q4, q5, q6],
                     Branch { shoulder, elbow, wrist },
                     shoulder_singular || elbow_singular || wrist_singular,
+                    allowed_error_m,
                 ));
             }
         }
@@ -170,7 +183,7 @@ pub fn solve_parol6_in(
     let branches_reaching = raw.len();
     let mut out = Vec::with_capacity(raw.len());
     let mut first_violation = String::new();
-    for (q, branch, singular) in raw {
+    for (q, branch, singular, allowed_error_m) in raw {
         let mut wrapped = Vec::with_capacity(6);
         for (i, &v) in q.iter().enumerate() {
             let Some(l) = model.limits.get(i) else { break };
@@ -189,7 +202,7 @@ pub fn solve_parol6_in(
             continue;
         }
         let (ep, er) = pose_error(&model.tcp_isometry(&wrapped), target);
-        if ep > 1e-7 || er > 1e-7 {
+        if ep > allowed_error_m || er > 1e-7 {
             continue;
         }
         let distance_to_seed = wrapped.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();

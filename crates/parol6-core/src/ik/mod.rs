@@ -25,7 +25,7 @@ mod numeric;
 /// Chain recognition lives with the model (it runs while loading); re-exported here where
 /// callers of the closed form look for it.
 pub use crate::model::is_parol6_chain;
-pub use closed_form::{solve_parol6, solve_parol6_in};
+pub use closed_form::{REACH_SLACK_M, solve_parol6, solve_parol6_in};
 pub use config::{ConfigRule, configuration_of, solve_nearest};
 pub use numeric::solve_numeric;
 

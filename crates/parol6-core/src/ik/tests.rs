@@ -80,6 +80,42 @@ fn j6_wrap_prefers_the_seed_side() {
     assert!(ep < 1e-9 && er < 1e-9);
 }
 
+/// Regression (CI, commander_frame): a commander pose of joints at full stretch lay 0.2 µm
+/// beyond our reach (the two tables' offsets differ by 0.7 µm), and the only branch left needed
+/// J1 = 180°: "no solution within the limits" for joints that are within them.
+#[test]
+fn a_target_a_fraction_of_a_micrometre_beyond_full_stretch_is_solved_at_the_stretch() {
+    let m = RobotModel::parol6();
+    let o = m.joints[3].origin.translation;
+    // J3 at which the upper arm and the forearm are in line (k = 1)
+    let stretched_j3 = (-o.y.atan2(o.x)).rem_euclid(TAU);
+    let q = vec![0.0, -112f64.to_radians(), stretched_j3, 0.0, 0.5, 0.01];
+    assert!(m.limits.contains(&q), "{q:?}");
+    let base = m.tcp_isometry(&q);
+    let moved = |dir: usize, sign: f64, by_m: f64| {
+        let mut t = base;
+        t.translation.vector[dir] += sign * by_m;
+        t
+    };
+    let mut beyond = None;
+    for dir in 0..3 {
+        for sign in [1.0, -1.0] {
+            let t = moved(dir, sign, 0.5e-6);
+            let sols = solve_parol6(&m, &t, &q).expect("0.5 µm off full stretch is solved");
+            let (ep, er) = pose_error(&m.tcp_isometry(&sols[0].joints_rad), &t);
+            assert!(ep <= 0.6e-6 && er < 1e-9, "{dir} {sign}: {ep} m {er} rad");
+            assert!(dist(&sols[0].joints_rad, &q) < 0.01, "{dir} {sign}: {:?}", sols[0]);
+            if ep > 1e-7 {
+                beyond = Some((dir, sign));
+            }
+        }
+    }
+    // one of the six moves went outside the reach (else this test proves nothing) ...
+    let (dir, sign) = beyond.expect("a move beyond full stretch");
+    // ... and 5 µm that way is beyond the slack
+    assert!(solve_parol6(&m, &moved(dir, sign, 5e-6), &q).is_err());
+}
+
 #[test]
 fn numeric_success_rate_on_random_poses() {
     use rand::{Rng, SeedableRng};

@@ -293,6 +293,27 @@ impl JointMove {
         out
     }
 
+    /// Positions every `dt_s` from the start, the last one the goal: `ceil(duration / dt_s) + 1`
+    /// samples (at least 2). The one place a joint move becomes the sampled path a program or
+    /// the bench runs; check the count first where it may be huge ([`JointMove::sample_count`]).
+    pub fn positions_every(&self, dt_s: f64) -> Vec<Vec<f64>> {
+        let n = self.sample_count(dt_s) - 1;
+        let joints = self.start.len();
+        let (mut qd, mut qdd) = (vec![0.0; joints], vec![0.0; joints]);
+        (0..=n)
+            .map(|k| {
+                let mut q = vec![0.0; joints];
+                self.sample_into((k as f64 * dt_s).min(self.duration_s), &mut q, &mut qd, &mut qdd);
+                q
+            })
+            .collect()
+    }
+
+    /// How many samples [`JointMove::positions_every`] gives for `dt_s` (saturating; at least 2).
+    pub fn sample_count(&self, dt_s: f64) -> usize {
+        ((self.duration_s / dt_s).ceil().max(1.0) as usize).saturating_add(1)
+    }
+
     /// [`JointMove::sample`] into caller-owned slices (no allocation: the 1 kHz loops use it).
     /// Each slice must hold [`JointMove::joint_count`] values; extra entries are left alone.
     pub fn sample_into(&self, t_s: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
@@ -472,6 +493,27 @@ mod tests {
         assert_eq!(m.duration_s(), 0.0);
         assert_eq!(m.sample(0.0).q, q.to_vec());
         assert_eq!(m.sample(f64::NAN).q, q.to_vec());
+    }
+
+    #[test]
+    fn positions_every_starts_at_start_ends_at_goal_and_matches_sample() {
+        let (v, a, j) = caps();
+        let start = [0.1, -0.2, 0.3, 0.0, 0.5, -0.6];
+        let goal = [0.4, 0.1, -0.2, 0.3, 0.2, 0.0];
+        let m = JointMove::plan_with_jerk(&start, &goal, &v, &a, &j, 0.5, ProfileKind::JerkLimited).unwrap();
+        let dt = 0.01;
+        let q = m.positions_every(dt);
+        assert_eq!(q.len(), m.sample_count(dt));
+        assert_eq!(q.len(), (m.duration_s() / dt).ceil() as usize + 1);
+        assert_eq!(q[0], start.to_vec());
+        assert_eq!(q[q.len() - 1], goal.to_vec());
+        for k in [1, q.len() / 2, q.len() - 2] {
+            assert_eq!(q[k], m.sample(k as f64 * dt).q, "sample {k}");
+        }
+        // a move of no length is two samples, and an absurd period saturates instead of overflowing
+        let still = JointMove::plan_with_jerk(&start, &start, &v, &a, &j, 1.0, ProfileKind::JerkLimited).unwrap();
+        assert_eq!(still.positions_every(dt).len(), 2);
+        assert_eq!(m.sample_count(0.0), usize::MAX);
     }
 
     #[test]

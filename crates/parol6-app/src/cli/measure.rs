@@ -89,12 +89,9 @@ pub struct Iso9283Args {
     /// Write the attained poses to this CSV (the --measurements format).
     #[arg(long, value_name = "OUT.csv", value_parser = super::options::output_file)]
     pub raw: Option<PathBuf>,
-    /// Write the HTML report here.
-    #[arg(long, value_name = "OUT.html", value_parser = super::options::output_file)]
-    pub report: Option<PathBuf>,
-    /// Print the figures as JSON.
-    #[arg(long)]
-    pub json: bool,
+    /// The report and the printed figures.
+    #[command(flatten)]
+    pub out: TestOutputArgs,
     /// Compute the figures from this measurement CSV (laser tracker, camera, --raw) instead
     /// of running the test.
     #[arg(long, value_name = "FILE.csv", conflicts_with_all = ["raw", "center_mm", "edge_mm", "orientation_deg"])]
@@ -102,6 +99,27 @@ pub struct Iso9283Args {
     /// Session settings (robot only).
     #[command(flatten)]
     pub rate: RateArgs,
+}
+
+/// The outputs `iso9283` and `path-test` share.
+#[derive(Debug, Clone, clap::Args)]
+pub struct TestOutputArgs {
+    /// Write the HTML report here.
+    #[arg(long, value_name = "OUT.html", value_parser = super::options::output_file)]
+    pub report: Option<PathBuf>,
+    /// Print the figures as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl TestOutputArgs {
+    /// Writes the HTML report when one is asked for, building it only then.
+    fn write_report(&self, build: impl FnOnce() -> Result<Report, CliError>) -> CliResult {
+        match &self.report {
+            Some(path) => write_file(path, &report::html(&build()?)),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Which paths `path-test` runs.
@@ -138,12 +156,9 @@ pub struct PathTestArgs {
     /// Write the recorded paths to this CSV (path,tracking,cycle,t_s,cmd_x_mm,…,x_mm,…).
     #[arg(long, value_name = "OUT.csv", value_parser = super::options::output_file)]
     pub raw: Option<PathBuf>,
-    /// Write the HTML report here.
-    #[arg(long, value_name = "OUT.html", value_parser = super::options::output_file)]
-    pub report: Option<PathBuf>,
-    /// Print the figures as JSON.
-    #[arg(long)]
-    pub json: bool,
+    /// The report and the printed figures.
+    #[command(flatten)]
+    pub out: TestOutputArgs,
     /// Session settings (robot only).
     #[command(flatten)]
     pub rate: RateArgs,
@@ -184,15 +199,15 @@ pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs)
         let samples = read_measurements(file)?;
         let figures =
             pose_figures::compute(&samples).map_err(|e| CliError::usage(format!("{}: {e}", file.display())))?;
-        if let Some(path) = &args.report {
+        args.out.write_report(|| {
             let cycles = samples.iter().map(|s| s.cycle).max().unwrap_or(0) as usize;
             let cube = cube_of_measurements(&samples);
             let source = format!("measurement file {}", file.display());
             let setup = setup(&model, robot, &source, 0.0, cycles, cube);
             let pose = PoseReport { figures: figures.clone(), samples, simulation: None };
-            write_file(path, &report::html(&Report { setup, pose: Some(pose), paths: Vec::new() }))?;
-        }
-        return print_pose_figures(&figures, args.json);
+            Ok(Report { setup, pose: Some(pose), paths: Vec::new() })
+        })?;
+        return print_pose_figures(&figures, args.out.json);
     }
     let cube = args.cube.cube()?;
     let plan = PoseTestPlan { cube, cycles: args.cycles, speed_fraction: args.speed, settle_s: args.settle_s };
@@ -204,7 +219,7 @@ pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs)
     if let Some(path) = &args.raw {
         write_file(path, &measurements::write(&samples))?;
     }
-    if let Some(path) = &args.report {
+    args.out.write_report(|| {
         let simulation = if uses_robot(connect) {
             let sim = Opened::simulation(&model, false, args.rate.tracking.unwrap_or_default())?;
             let run = start_pose_test(sim.backend.clone(), model.clone(), plan)
@@ -216,9 +231,9 @@ pub fn run_iso9283(args: &Iso9283Args, robot: &RobotArgs, connect: &ConnectArgs)
         };
         let setup = setup(&model, robot, &opened.name, args.speed, args.cycles, cube);
         let pose = PoseReport { figures: figures.clone(), samples, simulation };
-        write_file(path, &report::html(&Report { setup, pose: Some(pose), paths: Vec::new() }))?;
-    }
-    print_pose_figures(&figures, args.json)
+        Ok(Report { setup, pose: Some(pose), paths: Vec::new() })
+    })?;
+    print_pose_figures(&figures, args.out.json)
 }
 
 fn read_measurements(file: &Path) -> Result<Vec<PoseSample>, CliError> {
@@ -346,12 +361,12 @@ pub fn run_path_test(args: &PathTestArgs, robot: &RobotArgs, connect: &ConnectAr
     if let Some(path) = &args.raw {
         write_file(path, &path_csv(&model, &recordings))?;
     }
-    if let Some(path) = &args.report {
+    args.out.write_report(|| {
         let setup = setup(&model, robot, &source, args.speed, args.cycles, cube);
-        write_file(path, &report::html(&Report { setup, pose: None, paths: reports }))?;
-    }
+        Ok(Report { setup, pose: None, paths: reports })
+    })?;
     let out = json!({ "paths": paths_json });
-    if args.json {
+    if args.out.json {
         print_json(&out)
     } else {
         let lines: Vec<String> = paths_json

@@ -36,7 +36,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::limits::LimitViolation;
 use crate::model::RobotModel;
-use crate::profile::{ProfileError, ProfileKind};
+use crate::profile::{JointMove, ProfileError, ProfileKind};
 
 mod backend;
 pub mod cartesian;
@@ -244,6 +244,26 @@ impl MotionCaps {
         let a: Vec<f64> = v.iter().map(|v| 3.0 * v).collect();
         let j = a.iter().map(|a| 10.0 * a).collect();
         Self { speed_rad_s: v, accel_rad_s2: a, jerk_rad_s3: j }
+    }
+
+    /// A synchronised joint move from `start` to `goal` (rad) under these caps scaled by
+    /// `speed_fraction`: the one place the caps meet the profile planner (jog, programs, bench).
+    pub fn plan_joint_move(
+        &self,
+        start: &[f64],
+        goal: &[f64],
+        speed_fraction: f64,
+        kind: ProfileKind,
+    ) -> Result<JointMove, ProfileError> {
+        JointMove::plan_with_jerk(
+            start,
+            goal,
+            &self.speed_rad_s,
+            &self.accel_rad_s2,
+            &self.jerk_rad_s3,
+            speed_fraction,
+            kind,
+        )
     }
 }
 

@@ -543,15 +543,7 @@ impl MotionPlanner {
         profile: crate::profile::ProfileKind,
         t_s: f64,
     ) -> Result<(), MotionError> {
-        let mv = JointMove::plan_with_jerk(
-            &start,
-            &goal,
-            &self.caps.speed_rad_s,
-            &self.caps.accel_rad_s2,
-            &self.caps.jerk_rad_s3,
-            speed_fraction,
-            profile,
-        )?;
+        let mv = self.caps.plan_joint_move(&start, &goal, speed_fraction, profile)?;
         self.goal = goal;
         self.motion = Motion::Move { t0: t_s, mv };
         Ok(())

@@ -109,17 +109,8 @@ pub enum CommanderError {
         message: String,
     },
     /// A step with no commander equivalent (export).
-    #[error("step {index} (line {line}, {kind}): {message}")]
-    Step {
-        /// 1-based step.
-        index: usize,
-        /// Its source line (0: unknown).
-        line: usize,
-        /// Its type.
-        kind: &'static str,
-        /// Why.
-        message: String,
-    },
+    #[error(transparent)]
+    Step(#[from] super::StepRefusal),
     /// The program as a whole.
     #[error("{0}")]
     File(String),
@@ -441,12 +432,7 @@ pub fn program_to_commander_with(program: &Program, options: &CommanderOptions) 
     let frame = CommanderFrame::new(&options.tool);
     let mut out = String::from("Begin()\n");
     for (i, s) in program.steps.iter().enumerate() {
-        let refuse = |message: &str| CommanderError::Step {
-            index: i + 1,
-            line: s.line,
-            kind: s.step.kind(),
-            message: message.into(),
-        };
+        let refuse = |message: &str| CommanderError::Step(super::StepRefusal::new(i, s, message));
         let num = |x: f64| number_text(x).ok_or_else(|| refuse(&format!("{x} is not a number the commander can read")));
         let six = |v: &[f64]| -> Result<String, CommanderError> {
             Ok(v.iter().map(|x| num(*x)).collect::<Result<Vec<_>, _>>()?.join(","))

@@ -19,7 +19,7 @@ use crate::motion::cartesian::{self, CartesianCaps, CartesianError};
 use crate::motion::path::TcpPath;
 use crate::motion::trajectory::SampledTrajectory;
 use crate::motion::{IoCommand, MotionCaps, home_position};
-use crate::profile::{JointMove, ProfileKind};
+use crate::profile::ProfileKind;
 
 /// The PAROL6's Cartesian speed limit (ROBOT.md §5), mm/s.
 pub const MAX_TCP_SPEED_MM_S: f64 = 200.0;
@@ -443,34 +443,15 @@ fn cartesian_move(
 }
 
 fn joint_move(start: &[f64], goal: &[f64], caps: &MotionCaps, fraction: f64, dt_s: f64) -> Result<StepAction, String> {
-    let mv = JointMove::plan_with_jerk(
-        start,
-        goal,
-        &caps.speed_rad_s,
-        &caps.accel_rad_s2,
-        &caps.jerk_rad_s3,
-        fraction,
-        ProfileKind::JerkLimited,
-    )
-    .map_err(|e| e.to_string())?;
-    let n = (mv.duration_s() / dt_s).ceil().max(1.0);
-    if n > cartesian::MAX_MOVE_SAMPLES as f64 {
+    let mv = caps.plan_joint_move(start, goal, fraction, ProfileKind::JerkLimited).map_err(|e| e.to_string())?;
+    if mv.sample_count(dt_s) - 1 > cartesian::MAX_MOVE_SAMPLES {
         return Err(format!(
             "the move would take {:.0} s (more than {} samples): raise its speed",
             mv.duration_s(),
             cartesian::MAX_MOVE_SAMPLES
         ));
     }
-    let n = n as usize;
-    let (mut qd, mut qdd) = (vec![0.0; start.len()], vec![0.0; start.len()]);
-    let samples = (0..=n)
-        .map(|k| {
-            let mut q = vec![0.0; start.len()];
-            mv.sample_into((k as f64 * dt_s).min(mv.duration_s()), &mut q, &mut qd, &mut qdd);
-            q
-        })
-        .collect();
-    Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, samples))))
+    Ok(StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, mv.positions_every(dt_s)))))
 }
 
 /// Program positions farther from the base than this are refused, mm.

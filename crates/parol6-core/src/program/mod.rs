@@ -361,6 +361,28 @@ pub struct SourcedStep {
     pub line: usize,
 }
 
+/// A step a writer cannot express in its format (commander text, a point table): which step,
+/// where it came from, and why. One type for every exporter.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("step {index} (line {line}, {kind}): {message}")]
+pub struct StepRefusal {
+    /// 1-based step.
+    pub index: usize,
+    /// Its source line (0: unknown).
+    pub line: usize,
+    /// Its type.
+    pub kind: &'static str,
+    /// Why.
+    pub message: String,
+}
+
+impl StepRefusal {
+    /// The refusal of step `i` (0-based) of a program.
+    pub fn new(i: usize, step: &SourcedStep, message: impl Into<String>) -> Self {
+        Self { index: i + 1, line: step.line, kind: step.step.kind(), message: message.into() }
+    }
+}
+
 /// A robot program.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Program {

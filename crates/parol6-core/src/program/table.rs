@@ -77,17 +77,8 @@ pub enum TableError {
         message: String,
     },
     /// A program step a table cannot hold (writing).
-    #[error("step {index} (line {line}, {kind}): {message}")]
-    Step {
-        /// 1-based step.
-        index: usize,
-        /// Its source line (0: unknown).
-        line: usize,
-        /// Its type.
-        kind: &'static str,
-        /// Why.
-        message: String,
-    },
+    #[error(transparent)]
+    Step(#[from] super::StepRefusal),
     /// The file as a whole (empty, too large, no rows).
     #[error("{0}")]
     File(String),
@@ -278,12 +269,7 @@ pub fn program_to_csv_with(program: &Program, angles: AngleConvention) -> Result
         return Err(TableError::File("the program has no steps to write as a table".into()));
     };
     let joints = matches!(first.step, Step::MoveJoints { .. });
-    let refuse = |i: usize, s: &SourcedStep, message: String| TableError::Step {
-        index: i + 1,
-        line: s.line,
-        kind: s.step.kind(),
-        message,
-    };
+    let refuse = |i: usize, s: &SourcedStep, message: String| TableError::Step(super::StepRefusal::new(i, s, message));
     let mut rows: Vec<(Vec<f64>, Option<f64>, Option<f64>)> = Vec::with_capacity(program.steps.len());
     for (i, s) in program.steps.iter().enumerate() {
         match (&s.step, joints) {

@@ -16,7 +16,7 @@ use crate::motion::MotionCaps;
 use crate::motion::cartesian::{self, CartesianCaps};
 use crate::motion::path::TcpPath;
 use crate::motion::trajectory::SampledTrajectory;
-use crate::profile::{JointMove, ProfileKind};
+use crate::profile::ProfileKind;
 use crate::scene::{KeepOut, KeepOutShape};
 
 /// Sample period of the bench program, s (pre-flight's usual 10 ms).
@@ -42,24 +42,11 @@ pub const STATIONS_DEG: [[f64; 6]; 4] = [
 #[error("bench program: {0}")]
 pub struct BenchProgramError(pub String);
 
-fn sampled(mv: &JointMove, dt_s: f64) -> SampledTrajectory {
-    let n = (mv.duration_s() / dt_s).ceil().max(1.0) as usize;
-    let q = (0..=n).map(|k| mv.sample((k as f64 * dt_s).min(mv.duration_s())).q).collect();
-    SampledTrajectory::new(dt_s, q)
-}
-
 fn joint_move(from: &[f64], to: &[f64], caps: &MotionCaps) -> Result<Arc<SampledTrajectory>, BenchProgramError> {
-    let mv = JointMove::plan_with_jerk(
-        from,
-        to,
-        &caps.speed_rad_s,
-        &caps.accel_rad_s2,
-        &caps.jerk_rad_s3,
-        JOINT_SPEED_FRACTION,
-        ProfileKind::JerkLimited,
-    )
-    .map_err(|e| BenchProgramError(e.to_string()))?;
-    Ok(Arc::new(sampled(&mv, BENCH_DT_S)))
+    let mv = caps
+        .plan_joint_move(from, to, JOINT_SPEED_FRACTION, ProfileKind::JerkLimited)
+        .map_err(|e| BenchProgramError(e.to_string()))?;
+    Ok(Arc::new(SampledTrajectory::new(BENCH_DT_S, mv.positions_every(BENCH_DT_S))))
 }
 
 fn line(

@@ -16,7 +16,7 @@ use crate::motion::MotionCaps;
 use crate::motion::cartesian::{self, CartesianError, MAX_MOVE_SAMPLES};
 use crate::motion::path::TcpPath;
 use crate::motion::trajectory::SampledTrajectory;
-use crate::profile::{JointMove, ProfileKind};
+use crate::profile::ProfileKind;
 use crate::program::SpeedSettings;
 use crate::program::timefn::{JOIN_TOLERANCE_DEG, JOIN_TOLERANCE_MM, TimedPose};
 
@@ -87,16 +87,7 @@ pub(super) fn joint_move_in(
     warnings: &mut Vec<String>,
 ) -> Result<StepAction, StepError> {
     let duration_s = checked_duration(duration_s)?;
-    let mv = JointMove::plan_with_jerk(
-        start,
-        goal,
-        &caps.speed_rad_s,
-        &caps.accel_rad_s2,
-        &caps.jerk_rad_s3,
-        1.0,
-        ProfileKind::JerkLimited,
-    )
-    .map_err(|e| e.to_string())?;
+    let mv = caps.plan_joint_move(start, goal, 1.0, ProfileKind::JerkLimited).map_err(|e| e.to_string())?;
     let fastest_s = mv.duration_s();
     let duration_s = feasible_duration(fastest_s, duration_s, "joint speed caps", warnings);
     let run_s = duration_s / opts.speed_override;

@@ -158,3 +158,23 @@ fn cli_files_import_no_circle() {
     let circled: Vec<&String> = files.iter().filter(|f| reaches(f).contains(f)).collect();
     assert!(circled.is_empty(), "cli files on an import circle: {circled:?}");
 }
+
+/// The app owns the runs a panel starts (issue 33 item 2): no panel holds a program runner or a
+/// measurement; a panel reads them through `PanelContext::app` and changes them by `AppCommand`.
+#[test]
+fn panels_hold_no_program_run_and_no_measurement() {
+    let mut files = Vec::new();
+    files_under(&root().join("crates/parol6-app/src/panels"), &mut files);
+    let mut checked = 0;
+    for f in files.iter().filter(|f| f.extension().is_some_and(|e| e == "rs")) {
+        let text = std::fs::read_to_string(f).expect("read panel file");
+        for (n, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for owned in ["MeasureRun", "ProgramRunner"] {
+                assert!(!code.contains(owned), "{}:{}: a panel holds a {owned}: {line}", f.display(), n + 1);
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 20, "panel files read: {checked}");
+}

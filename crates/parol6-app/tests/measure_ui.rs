@@ -30,7 +30,7 @@ fn the_pre_flight_passes_the_default_cube_and_names_an_unreachable_pose() {
     let before = h.state().backend().state().commands_applied;
     h.get_by_label("Run test").click();
     h.run_steps(5);
-    assert!(!h.state_mut().measure_panel().running(), "no run started");
+    assert!(!h.state().measurement().running(), "no run started");
     assert_eq!(h.state().backend().state().commands_applied, before, "nothing moved");
 }
 
@@ -47,12 +47,12 @@ fn a_measurement_runs_from_the_panel_with_progress_and_abort() {
     h.run_steps(2);
     let errors: Vec<String> = h.state().notices().iter().filter(|n| n.error).map(|n| n.text.clone()).collect();
     assert!(errors.is_empty(), "{errors:?}");
-    assert!(h.state_mut().measure_panel().running(), "the run started (a pointer click, as a user would)");
+    assert!(h.state().measurement().running(), "the run started (a pointer click, as a user would)");
     until(&mut h, "progress", 20.0, |h| count(h, "% ") >= 1 && h.state().backend().state().moving);
     h.get_by_label("Abort").click();
     until(&mut h, "the abort", 10.0, |h| !h.state().backend().state().moving);
     h.run_steps(5);
-    assert!(!h.state_mut().measure_panel().running(), "aborted");
+    assert!(!h.state().measurement().running(), "aborted");
 }
 
 /// The rectangles a stale layout would move: the 3D view's (its placeholder here), the
@@ -84,9 +84,9 @@ fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
     until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
     h.get_by_label("Run test").click();
     h.run_steps(2);
-    assert!(h.state_mut().measure_panel().running(), "the test started");
+    assert!(h.state().measurement().running(), "the test started");
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    while h.state_mut().measure_panel().running() {
+    while h.state().measurement().running() {
         assert!(std::time::Instant::now() < deadline, "timed out waiting for the test to finish");
         h.run_steps(1);
         std::thread::sleep(std::time::Duration::from_millis(15));

@@ -126,6 +126,11 @@ impl Parol6App {
         &mut self.panels.measure
     }
 
+    /// The ISO 9283 measurement the app runs (its progress and finished runs).
+    pub fn measurement(&self) -> &super::measurement::MeasurementState {
+        &self.state.measurement
+    }
+
     /// The figures of the last frame.
     pub fn perf(&self) -> &PerfStats {
         &self.perf

@@ -84,7 +84,7 @@ impl Parol6App {
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
                     self.stop_program();
-                    self.panels.measure.abort();
+                    self.state.measurement.abort();
                 }
                 if let Err(e) = self.backend().send(m) {
                     self.stop_program();
@@ -112,15 +112,16 @@ impl Parol6App {
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
                 }
             }
+            AppCommand::AbortMeasurement => self.state.measurement.abort(),
             AppCommand::StartMeasurement(plan) => {
-                if self.program_running() || self.panels.measure.running() {
+                if self.program_running() || self.state.measurement.running() {
                     self.notice("a program or measurement is running: stop it first".to_string(), true);
                     return;
                 }
                 let backend = self.backend();
                 let state = backend.state();
                 match parol6_core::measure::driver::start_pose_test(backend, self.model.clone(), plan) {
-                    Ok(run) => self.panels.measure.attach(run, state.source, state.backend.clone()),
+                    Ok(run) => self.state.measurement.attach(run, state.source, state.backend.clone()),
                     Err(e) => self.notice(format!("cannot start the measurement: {e}"), true),
                 }
             }
@@ -153,7 +154,7 @@ impl Parol6App {
     fn press_estop(&mut self) {
         self.estop = true;
         self.stop_program();
-        self.panels.measure.abort();
+        self.state.measurement.abort();
         self.jog_held = None;
         self.cartesian_jog_held = None;
         let backend = self.backend();

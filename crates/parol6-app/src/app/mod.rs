@@ -30,6 +30,7 @@ mod icon;
 mod layout;
 mod link;
 mod live_share;
+pub mod measurement;
 mod panel_groups;
 mod perf;
 mod quit;
@@ -397,6 +398,7 @@ impl Parol6App {
             }
             self.state.program = Some(p);
         }
+        self.state.measurement.collect();
         self.sweep_step(&ctx, t0, live_moving);
         self.soak_step(&ctx, t0);
         if self.release_memory_at.is_some_and(|at| t0 >= at) {

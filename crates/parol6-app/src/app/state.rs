@@ -1,6 +1,6 @@
 //! What the app owns and the panels only read ([`AppState`], handed to every panel as
-//! `PanelContext::app`): the open recording and its cursor, the program run's progress, the file
-//! being written, the serial link's figures. A panel changes it only by queuing an
+//! `PanelContext::app`): the open recording and its cursor, the program run's progress, the
+//! measurement, the file being written, the serial link's figures. A panel changes it only by queuing an
 //! [`AppCommand`](crate::panels::AppCommand), which `app/execute.rs` carries out after the UI pass.
 //!
 //! During replay the app hands the panels the recording at the cursor as the shown robot state
@@ -34,6 +34,8 @@ pub struct AppState {
     pub recording: Option<FileRecording>,
     /// Serial link status, when a hardware session is open (refreshed every frame).
     pub link: Option<LinkView>,
+    /// The ISO 9283 pose test: the running one and the last finished run on each backend.
+    pub measurement: super::measurement::MeasurementState,
 }
 
 /// A file being written.

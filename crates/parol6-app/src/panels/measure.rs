@@ -5,8 +5,9 @@
 //! figures grow with every cycle, save the HTML report, and compare the last simulation run
 //! with the last robot run in the plot (attained − commanded per pose visit).
 //!
-//! The measurement runs on the core's driver thread; the app starts it
-//! ([`AppCommand::StartMeasurement`]) and hands it to this panel, which reads its progress.
+//! The measurement runs on the core's driver thread; the app starts, aborts and collects it
+//! ([`AppCommand::StartMeasurement`], [`AppCommand::AbortMeasurement`]) and owns it
+//! (`AppState::measurement`); this panel reads its progress and finished runs.
 
 use std::sync::Arc;
 
@@ -14,23 +15,15 @@ use eframe::egui;
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use parol6_core::RobotModel;
-use parol6_core::measure::driver::{MeasureError, MeasureRun};
 use parol6_core::measure::pose_figures::{self, PoseSample, PoseTestFigures};
 use parol6_core::measure::{PoseTestPlan, TestCube};
 use parol6_core::motion::StateSource;
 
 use super::{AppCommand, Panel, PanelContext};
+use crate::app::measurement::FinishedMeasurement;
 use crate::palette;
 use crate::report::{self, PoseReport, Report, Setup};
 use crate::viewport::{PathOverlay, PathPointStatus};
-
-/// A finished run: where it ran and what it attained.
-#[derive(Debug, Clone)]
-struct Finished {
-    source: StateSource,
-    backend: String,
-    samples: Vec<PoseSample>,
-}
 
 /// The measurement panel.
 pub struct MeasurePanel {
@@ -42,9 +35,7 @@ pub struct MeasurePanel {
     pub report_path: String,
     preflight: Option<(PoseTestPlan, Vec<f64>, Result<(), String>)>,
     overlay: Option<Arc<PathOverlay>>,
-    run: Option<(MeasureRun<Vec<PoseSample>>, StateSource, String)>,
-    /// The last finished run on the simulation and on the robot.
-    finished: Vec<Finished>,
+    /// The outcome of "Save report" (text, true when an error), until the next run starts.
     message: Option<(String, bool)>,
 }
 
@@ -57,8 +48,6 @@ impl Default for MeasurePanel {
             report_path: "parol6-iso9283.html".into(),
             preflight: None,
             overlay: None,
-            run: None,
-            finished: Vec::new(),
             message: None,
         }
     }
@@ -68,24 +57,6 @@ impl MeasurePanel {
     /// The cube for the 3D view (coloured by the pre-flight), when shown.
     pub fn overlay(&self) -> Option<Arc<PathOverlay>> {
         if self.show_cube { self.overlay.clone() } else { None }
-    }
-
-    /// True while a measurement runs.
-    pub fn running(&self) -> bool {
-        self.run.as_ref().is_some_and(|(r, _, _)| !r.is_finished())
-    }
-
-    /// Takes over a measurement the app started on the backend `backend` (`source`).
-    pub fn attach(&mut self, run: MeasureRun<Vec<PoseSample>>, source: StateSource, backend: String) {
-        self.message = None;
-        self.run = Some((run, source, backend));
-    }
-
-    /// Aborts the running measurement (STOP does too).
-    pub fn abort(&self) {
-        if let Some((r, _, _)) = &self.run {
-            r.abort();
-        }
     }
 
     fn refresh_preflight(&mut self, model: &RobotModel, start_q: &[f64]) {
@@ -98,37 +69,8 @@ impl MeasurePanel {
         self.preflight = Some((self.plan, start_q.to_vec(), result));
     }
 
-    /// Collects a finished run.
-    fn collect(&mut self) {
-        if self.running() {
-            return;
-        }
-        let Some((run, source, backend)) = self.run.take() else { return };
-        let stop_failed = run.progress().stop_failed.clone();
-        match run.join() {
-            Ok(samples) => {
-                self.finished.retain(|f| f.source != source);
-                self.message = Some((format!("{} poses measured on the {backend}", samples.len()), false));
-                self.finished.push(Finished { source, backend, samples });
-            }
-            Err(MeasureError::Aborted) => self.message = Some(("measurement aborted".into(), true)),
-            Err(e) => self.message = Some((format!("measurement failed: {e}"), true)),
-        }
-        if let Some(failure) = stop_failed {
-            let text = match self.message.take() {
-                Some((text, _)) => format!("{text}; {failure}"),
-                None => failure,
-            };
-            self.message = Some((text, true));
-        }
-    }
-
-    fn latest(&self) -> Option<&Finished> {
-        self.finished.last()
-    }
-
-    fn save_report(&mut self, model: &RobotModel) {
-        let Some(last) = self.latest() else { return };
+    fn save_report(&mut self, model: &RobotModel, finished: &[FinishedMeasurement]) {
+        let Some(last) = finished.last() else { return };
         let figures = match pose_figures::compute(&last.samples) {
             Ok(f) => f,
             Err(e) => {
@@ -137,8 +79,7 @@ impl MeasurePanel {
             }
         };
         // the other backend's run, overlaid (simulation beside the robot)
-        let simulation = self
-            .finished
+        let simulation = finished
             .iter()
             .find(|f| f.source == StateSource::Simulation && last.source == StateSource::Robot)
             .and_then(|f| pose_figures::compute(&f.samples).ok().map(|fig| (fig, f.samples.clone())));
@@ -216,8 +157,8 @@ impl Panel for MeasurePanel {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.heading(self.title());
-        self.collect();
-        let running = self.running();
+        let measurement = &ctx.app.measurement;
+        let running = measurement.running();
         ui.add_enabled_ui(!running, |ui| self.setup_ui(ui));
         if !running && !ctx.robot.moving {
             self.refresh_preflight(ctx.model, &ctx.robot.commanded.q.clone());
@@ -241,20 +182,23 @@ impl Panel for MeasurePanel {
                 None => run,
             };
             if run.clicked() {
+                self.message = None;
                 ctx.send(AppCommand::StartMeasurement(self.plan));
             }
             if ui.add_enabled(running, egui::Button::new("Abort")).clicked() {
-                self.abort();
+                ctx.send(AppCommand::AbortMeasurement);
             }
-            if ui.add_enabled(!running && self.latest().is_some(), egui::Button::new("Save report")).clicked() {
-                self.save_report(ctx.model);
+            let finished = ctx.app.measurement.finished();
+            if ui.add_enabled(!running && !finished.is_empty(), egui::Button::new("Save report")).clicked() {
+                self.save_report(ctx.model, finished);
             }
         });
         ui.horizontal(|ui| {
             ui.label("Report");
             ui.add(egui::TextEdit::singleline(&mut self.report_path).desired_width(200.0));
         });
-        let live = self.run.as_ref().map(|(r, _, _)| r.progress());
+        let measurement = &ctx.app.measurement;
+        let live = measurement.progress().filter(|_| running);
         if let Some(p) = &live {
             ui.add(egui::ProgressBar::new(p.fraction as f32).text(format!(
                 "{:.0} % {}",
@@ -263,18 +207,18 @@ impl Panel for MeasurePanel {
             )));
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
-        if let Some((text, error)) = &self.message {
+        if let Some((text, error)) = self.message.as_ref().or(measurement.outcome()) {
             let color = if *error { palette::ERROR_TEXT } else { palette::PATH_OK };
             ui.colored_label(palette::rgb(color), text);
         }
         let samples: Option<&[PoseSample]> = match &live {
             Some(p) => Some(&p.attained),
-            None => self.latest().map(|f| f.samples.as_slice()),
+            None => measurement.finished().last().map(|f| f.samples.as_slice()),
         };
         if let Some(f) = samples.and_then(|s| pose_figures::compute(s).ok()) {
             figures_grid(ui, &f);
         }
-        self.plot(ui, live.as_ref().map(|p| p.attained.as_slice()));
+        self.plot(ui, live.as_ref().map(|p| p.attained.as_slice()), measurement.finished());
     }
 }
 
@@ -319,7 +263,7 @@ impl MeasurePanel {
 
     /// Attained − commanded position per pose visit, mm: the live run, and the last finished
     /// run on each backend (simulation and robot overlaid).
-    fn plot(&self, ui: &mut egui::Ui, live: Option<&[PoseSample]>) {
+    fn plot(&self, ui: &mut egui::Ui, live: Option<&[PoseSample]>, finished: &[FinishedMeasurement]) {
         let series = |s: &[PoseSample]| -> Vec<[f64; 2]> {
             s.iter()
                 .enumerate()
@@ -329,11 +273,11 @@ impl MeasurePanel {
                 })
                 .collect()
         };
-        if live.is_none() && self.finished.is_empty() {
+        if live.is_none() && finished.is_empty() {
             return;
         }
         Plot::new("iso9283-plot").height(140.0).legend(Legend::default()).show(ui, |plot| {
-            for f in &self.finished {
+            for f in finished {
                 let (name, color) = match f.source {
                     StateSource::Simulation => ("simulation", palette::MEASURE_SIMULATION),
                     StateSource::Robot => ("robot", palette::MEASURE_ATTAINED),

@@ -131,6 +131,8 @@ pub enum AppCommand {
     Program(RunnerControl),
     /// Start the ISO 9283 pose test on the active backend (the measurement panel follows it).
     StartMeasurement(parol6_core::measure::PoseTestPlan),
+    /// Abort the running ISO 9283 pose test (STOP and the E-stop abort it too).
+    AbortMeasurement,
     /// Clear the TCP trail of the 3D view.
     ClearTrail,
     /// Reset the 3D camera.

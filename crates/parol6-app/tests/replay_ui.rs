@@ -105,3 +105,92 @@ fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     assert_eq!(h.state().moves_sent().count(), 1, "HOME is sent once replay is closed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A robot recording of `n` samples 10 ms apart at standby whose link is lost at sample `lost_at`
+/// with the E-stop pressed.
+fn robot_recording(model: &RobotModel, n: u64, lost_at: u64) -> Vec<u8> {
+    use parol6_core::telemetry::writer::{McapSink, RecordingInfo};
+    use parol6_core::telemetry::{DriveKind, JointTelemetry, LinkHealth, TelemetrySample};
+    let info = RecordingInfo {
+        app_version: "test".into(),
+        tool: "none".into(),
+        program: String::new(),
+        urdf_text: parol6_core::model::PAROL6_URDF.into(),
+        tracking: String::new(),
+    };
+    let q = parol6_core::parol6::standby_rad();
+    let mut sink = McapSink::new(std::io::Cursor::new(Vec::new()), model, &info).expect("sink");
+    for k in 1..=n {
+        let joints = q
+            .iter()
+            .map(|&v| JointTelemetry {
+                cmd_q_rad: v,
+                cmd_qd_rad_s: 0.0,
+                cmd_qdd_rad_s2: 0.0,
+                q_rad: v,
+                qd_rad_s: 0.0,
+                qdd_rad_s2: 0.0,
+                drive: 0.0,
+                zone: parol6_core::limits::LimitZone::Safe,
+            })
+            .collect();
+        let lost = k >= lost_at;
+        let sample = TelemetrySample {
+            seq: k,
+            time_s: k as f64 * 0.01,
+            joints,
+            drive: DriveKind::StepsPerS,
+            tcp: model.fk(&q),
+            worst_zone: None,
+            program_step: None,
+            link: Some(LinkHealth {
+                state: if lost { "Lost".into() } else { "Connected".into() },
+                loop_rate_hz: 99.0,
+                missing_replies: 3,
+                link_losses: u64::from(lost),
+                estop_pressed: lost,
+            }),
+        };
+        sink.write_sample(&sample).expect("sample");
+    }
+    let event = parol6_core::telemetry::TelemetryEvent {
+        time_s: 4.0,
+        kind: parol6_core::telemetry::EventKind::Note,
+        message: "after the loss".into(),
+    };
+    sink.write_event(&event).expect("event");
+    let (_, cursor) = sink.finish_into_inner().expect("finish");
+    cursor.into_inner()
+}
+
+/// Issue 32 major 7: the link health of a robot recording is shown at the replay cursor.
+#[test]
+fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
+    let model = RobotModel::parol6();
+    let dir = std::env::temp_dir().join(format!("parol6-replay-link-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("robot.mcap");
+    std::fs::write(&path, robot_recording(&model, 500, 300)).expect("write");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.run_steps(2);
+    assert!(!shows(&h, "REPLAY link"), "no recorded link while live");
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: robot.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    // the cursor at the start: connected
+    until(&mut h, "the recorded link", 5.0, |h| {
+        h.query_all_by_label_contains("Connected  loop 99 Hz  missing 3  losses 0").next().is_some()
+    });
+    // the cursor after the loss: lost, with the E-stop
+    h.get_by_label_contains("after the loss").click();
+    until(&mut h, "the recorded loss", 5.0, |h| {
+        h.query_all_by_label_contains("Lost  loop 99 Hz  missing 3  losses 1").next().is_some()
+    });
+    h.get_by_label("Close recording").click();
+    until(&mut h, "replay closed", 5.0, |h| h.state().replay().is_none());
+    h.run_steps(2);
+    assert!(!shows(&h, "REPLAY link"), "no recorded link once closed");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -73,6 +73,13 @@ impl AppState {
         Some(s)
     }
 
+    /// The serial link's health the open recording holds at the cursor (robot recordings;
+    /// `None` live, for a simulation recording, or before the first record).
+    pub fn replayed_link(&self) -> Option<&parol6_core::telemetry::LinkHealth> {
+        let r = self.replay.as_ref()?;
+        r.data.link_at(r.cursor_s)
+    }
+
     /// True while a recording is open (the status bar says REPLAY, motion is refused).
     pub fn replaying(&self) -> bool {
         self.replay.is_some()

@@ -250,6 +250,21 @@ impl ConnectionPanel {
     }
 }
 
+/// The link's health in the open recording at the cursor: what the read-out showed then.
+fn recorded_link_ui(ui: &mut egui::Ui, h: &parol6_core::telemetry::LinkHealth) {
+    let green = zone_color(LimitZone::Safe);
+    let red = zone_color(LimitZone::Critical);
+    ui.horizontal(|ui| {
+        ui.label("REPLAY link").on_hover_text("the serial link's health as recorded, at the replay cursor");
+        on_off_led(ui, h.state == "Connected", green, "link").on_hover_text(&h.state);
+        on_off_led(ui, h.estop_pressed, red, "E-stop input");
+        ui.monospace(format!(
+            "{}  loop {:.0} Hz  missing {}  losses {}",
+            h.state, h.loop_rate_hz, h.missing_replies, h.link_losses
+        ));
+    });
+}
+
 impl Panel for ConnectionPanel {
     fn title(&self) -> &'static str {
         "Robot connection"
@@ -259,6 +274,9 @@ impl Panel for ConnectionPanel {
         let link = ctx.app.link.clone();
         if link.is_none() && self.jog.take().is_some() {
             ctx.send(AppCommand::Jog(None));
+        }
+        if let Some(h) = ctx.app.replayed_link() {
+            recorded_link_ui(ui, h);
         }
         // Folded while there is no robot; unfolds by itself when a link opens.
         let just_linked = link.is_some() && !self.was_linked;

@@ -38,7 +38,9 @@ pub use encode::{Channel, EncodeError, TelemetryEncoder};
 pub use event::{EventDetector, EventKind, TelemetryEvent};
 pub use reader::{Recording, RecordingError, read_recording};
 pub use recorder::{LiveItem, LiveOutlet, Recorder, RecorderConfig, RecorderEvents, RecorderStats};
-pub use replay::{ReadPath, ReplayData, ReplayError, ReplayEvent, load_replay, load_whole_replay, read_replay_file};
+pub use replay::{
+    ReadPath, ReplayData, ReplayError, ReplayEvent, ReplayLink, load_replay, load_whole_replay, read_replay_file,
+};
 pub use ring::{LiveRing, LiveView};
 pub use sample::{DriveKind, JointTelemetry, LinkHealth, SampleBuilder, TelemetrySample};
 pub use series::{Quantity, SeriesId, SeriesStore, WindowStats};

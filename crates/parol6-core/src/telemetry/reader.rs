@@ -83,6 +83,8 @@ pub struct Recording {
     pub commanded: Vec<JointStateMsg>,
     /// `/events` messages.
     pub events: Vec<LogMsg>,
+    /// `/link` messages (the serial link's health; robot recordings only), in file order.
+    pub link: Vec<schema::LinkHealthMsg>,
     /// `/tcp_pose` messages (the TCP path, at most 100 Hz), in file order.
     pub tcp_path: Vec<PoseInFrame>,
     /// The URDF text of `/robot_description` (empty when absent).
@@ -300,6 +302,10 @@ fn take_record(r: Record<'_>, ids: &mut Channels, rec: &mut Recording, visit: &m
                 },
                 "/events" => match serde_json::from_slice::<LogMsg>(&data) {
                     Ok(m) => rec.events.push(m),
+                    Err(e) => warn(rec, e),
+                },
+                "/link" => match serde_json::from_slice::<schema::LinkHealthMsg>(&data) {
+                    Ok(m) => rec.link.push(m),
                     Err(e) => warn(rec, e),
                 },
                 "/tcp_pose" => match serde_json::from_slice::<PoseInFrame>(&data) {

@@ -19,6 +19,7 @@ use crate::model::RobotModel;
 
 use super::chunked::{self, ChunkDecoder, FileSource, MessageRef, NotFast, RecordSource, SliceSource};
 use super::reader::{Recording, RecordingError, ScanFilter, scan_recording_filtered};
+use super::sample::LinkHealth;
 use super::schema::JointStateMsg;
 use super::series::SeriesStore;
 
@@ -43,6 +44,15 @@ pub struct ReplayEvent {
     pub message: String,
 }
 
+/// The serial link's health as recorded, on the motion clock (robot recordings).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayLink {
+    /// Motion time, s.
+    pub time_s: f64,
+    /// State, loop rate, missing replies, losses, E-stop.
+    pub health: LinkHealth,
+}
+
 /// How a recording was read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ReadPath {
@@ -64,6 +74,9 @@ pub struct ReplayData {
     pub store: SeriesStore,
     /// Events, oldest first.
     pub events: Vec<ReplayEvent>,
+    /// The serial link's health, oldest first (empty: a simulation recording, or one made
+    /// before the link was recorded).
+    pub link: Vec<ReplayLink>,
     /// Robot named in the file.
     pub robot: String,
     /// Program named in the file (empty: none).
@@ -76,6 +89,15 @@ pub struct ReplayData {
     pub truncated: bool,
     /// How it was read.
     pub read_path: ReadPath,
+}
+
+impl ReplayData {
+    /// The link's health as last recorded at or before motion time `t_s` (`None`: none yet, or
+    /// none in the file).
+    pub fn link_at(&self, t_s: f64) -> Option<&LinkHealth> {
+        let after = self.link.partition_point(|l| l.time_s <= t_s);
+        after.checked_sub(1).and_then(|i| self.link.get(i)).map(|l| &l.health)
+    }
 }
 
 /// Why a recording could not be replayed.
@@ -114,6 +136,10 @@ impl ChunkDecoder for ReplayDecoder<'_> {
                 self.rows.event(serde_json::from_slice(m.data).map_err(|e| e.to_string())?);
                 return Ok(());
             }
+            "/link" => {
+                self.rows.link(serde_json::from_slice(m.data).map_err(|e| e.to_string())?);
+                return Ok(());
+            }
             _ => return Ok(()),
         };
         let bucket = m.log_time_ns / REPLAY_BUCKET_NS;
@@ -140,18 +166,21 @@ fn finish(rows: RowJoiner, rec: &Recording, read_path: ReadPath) -> ReplayData {
     if let Some(kind) = rows.drive {
         store.set_drive(kind);
     }
-    let events = match rows.first {
-        Some((t0_s, stamp0_ns)) => rows
-            .events
-            .iter()
-            .map(|e| ReplayEvent {
-                time_s: t0_s + (e.timestamp.as_ns() as f64 - stamp0_ns as f64) * 1e-9,
-                level: e.level,
-                message: e.message.clone(),
-            })
-            .collect(),
-        None => Vec::new(),
-    };
+    // stamps to the motion clock, by the first row's pair (none: no rows, nothing to place)
+    let on_clock =
+        |stamp_ns: u64| rows.first.map(|(t0_s, stamp0_ns)| t0_s + (stamp_ns as f64 - stamp0_ns as f64) * 1e-9);
+    let events = rows
+        .events
+        .iter()
+        .filter_map(|e| {
+            Some(ReplayEvent { time_s: on_clock(e.timestamp.as_ns())?, level: e.level, message: e.message.clone() })
+        })
+        .collect();
+    let link = rows
+        .link
+        .iter()
+        .filter_map(|m| Some(ReplayLink { time_s: on_clock(m.header.stamp.as_ns())?, health: m.health.clone() }))
+        .collect();
     let mut warnings = rec.warnings.clone();
     if store.is_empty() {
         warnings.push("the recording holds no joint-state samples: nothing to replay".into());
@@ -159,6 +188,7 @@ fn finish(rows: RowJoiner, rec: &Recording, read_path: ReadPath) -> ReplayData {
     ReplayData {
         store,
         events,
+        link,
         robot: rec.robot().to_string(),
         program: rec.metadata.get("program").cloned().unwrap_or_default(),
         samples_in_file: rec.topics.get("/joint_states").map_or(0, |t| t.messages),
@@ -252,6 +282,9 @@ fn load_linear(bytes: &[u8], model: &RobotModel) -> Result<ReplayData, Recording
     rec.check_robot(model)?;
     for e in &rec.events {
         chunk.event(e.clone());
+    }
+    for m in &rec.link {
+        chunk.link(m.clone());
     }
     let mut rows = RowJoiner::new(model);
     rows.add(chunk);

@@ -10,7 +10,7 @@ use serde::Deserialize;
 
 use crate::model::RobotModel;
 use crate::telemetry::sample::DriveKind;
-use crate::telemetry::schema::{JointStateMsg, LogMsg, Time};
+use crate::telemetry::schema::{JointStateMsg, LinkHealthMsg, LogMsg, Time};
 use crate::telemetry::series::{Quantity, SeriesStore};
 
 /// Measured samples waiting for their command, at most.
@@ -129,6 +129,7 @@ pub(super) struct ChunkRows {
     last_measured_bucket: Option<u64>,
     saw_measured: bool,
     events: Vec<LogMsg>,
+    link: Vec<LinkHealthMsg>,
 }
 
 impl ChunkRows {
@@ -146,6 +147,7 @@ impl ChunkRows {
             last_measured_bucket: None,
             saw_measured: false,
             events: Vec::new(),
+            link: Vec::new(),
         }
     }
 
@@ -175,6 +177,11 @@ impl ChunkRows {
         self.events.push(e);
     }
 
+    /// A `/link` message (the serial link's health), in file order.
+    pub(super) fn link(&mut self, m: LinkHealthMsg) {
+        self.link.push(m);
+    }
+
     fn push(&mut self, m: MeasuredRow) {
         self.first.get_or_insert((m.time_s, m.stamp_ns));
         self.drive = Some(m.drive);
@@ -198,6 +205,7 @@ pub(super) struct RowJoiner {
     pub(super) first: Option<(f64, u64)>,
     pub(super) drive: Option<DriveKind>,
     pub(super) events: Vec<LogMsg>,
+    pub(super) link: Vec<LinkHealthMsg>,
 }
 
 impl RowJoiner {
@@ -209,6 +217,7 @@ impl RowJoiner {
             first: None,
             drive: None,
             events: Vec::new(),
+            link: Vec::new(),
         }
     }
 
@@ -248,6 +257,7 @@ impl RowJoiner {
             self.last_measured_bucket = chunk.last_measured_bucket;
         }
         self.events.append(&mut chunk.events);
+        self.link.append(&mut chunk.link);
     }
 }
 

@@ -109,3 +109,50 @@ fn bad_files_are_named_and_a_cut_file_replays_what_it_holds() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Issue 32 major 7: a robot recording replays its link health too (the connection read-out
+/// follows the cursor), on both reading paths.
+#[test]
+fn a_robot_recording_replays_its_link_health_at_the_cursor() {
+    use crate::model::PAROL6_URDF;
+    use crate::telemetry::reader::tests::sample;
+    use crate::telemetry::sample::LinkHealth;
+    use crate::telemetry::writer::{McapSink, RecordingInfo};
+    let model = RobotModel::parol6();
+    let info = RecordingInfo {
+        app_version: "test".into(),
+        tool: "none".into(),
+        program: String::new(),
+        urdf_text: PAROL6_URDF.into(),
+        tracking: String::new(),
+    };
+    let mut sink = McapSink::new(std::io::Cursor::new(Vec::new()), &model, &info).expect("sink");
+    for k in 1..=3000u64 {
+        let mut s = sample(k, 1e-3);
+        // connected, then the link is lost at 2 s with the E-stop pressed
+        let lost = k >= 2000;
+        s.link = Some(LinkHealth {
+            state: if lost { "Lost".into() } else { "Connected".into() },
+            loop_rate_hz: 100.0,
+            missing_replies: k / 100,
+            link_losses: u64::from(lost),
+            estop_pressed: lost,
+        });
+        sink.write_sample(&s).expect("sample");
+    }
+    let (_, cursor) = sink.finish_into_inner().expect("finish");
+    let bytes = cursor.into_inner();
+    let parallel = load_replay(&bytes, &model).expect("replay");
+    assert!(matches!(parallel.read_path, ReadPath::Parallel { .. }), "{:?}", parallel.read_path);
+    let linear = load_linear(&bytes, &model).expect("linear");
+    assert_eq!(parallel.link, linear.link, "both paths");
+    // at the first sample, once a second, and at the change: 0.001, 1.001, 2.0, 3.0 s
+    assert_eq!(parallel.link.len(), 4, "{:?}", parallel.link);
+    assert!(parallel.link_at(0.0).is_none(), "nothing recorded before the first sample");
+    let at = |t: f64| parallel.link_at(t).expect("recorded").clone();
+    assert_eq!((at(0.5).state.as_str(), at(0.5).estop_pressed), ("Connected", false));
+    assert_eq!((at(1.5).state.as_str(), at(1.5).missing_replies), ("Connected", 10));
+    assert_eq!((at(2.5).state.as_str(), at(2.5).link_losses, at(2.5).estop_pressed), ("Lost", 1, true));
+    // a simulation recording has none
+    assert!(load_replay(&recording_bytes(500), &model).expect("replay").link.is_empty());
+}

@@ -223,9 +223,12 @@ fn check_report(
     Some((kept, CheckReport { ok, moves: program.steps.len(), duration_s, issues, plan, path, torque_warnings }))
 }
 
-/// Moves compiled ahead of the pre-flight walk and of the torque pass (the channels between
-/// the threads).
-const PIPELINE_MOVES: usize = 256;
+/// Steps compiled ahead of the pre-flight walk and of the torque pass (the channels between
+/// the threads): about a minute of planned raster, a few MB at most (the steps share their
+/// trajectories with the compiled program, which is kept anyway). Deep enough that a thread the
+/// host takes away for a time slice does not stall the compile (256 held ~4 ms of work and,
+/// on a host loaded 9-fold, made the three threads wait on each other).
+const PIPELINE_MOVES: usize = 8192;
 
 /// What [`compile_and_walk`] found.
 struct Pipeline {

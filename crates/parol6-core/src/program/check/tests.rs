@@ -211,8 +211,8 @@ fn joint_torque_over_the_motor_limits_is_a_pre_flight_warning() {
 }
 
 /// Issue 33 item 1: the torque pass runs on its own thread beside the compile, fed step by
-/// step through a bounded channel (more steps here than the channel holds); its warnings are
-/// those of the pass over the whole compiled program after it, to the bit.
+/// step through a bounded channel; its warnings are those of the pass over the whole compiled
+/// program after it, to the bit.
 #[test]
 fn the_torque_pass_beside_the_compile_finds_the_same_warnings_as_after_it() {
     let mut heavy = RobotModel::parol6();
@@ -225,7 +225,7 @@ fn the_torque_pass_beside_the_compile_finds_the_same_warnings_as_after_it() {
     let start = standby();
     let deg = |q: &[f64]| q.iter().map(|v| v.to_degrees()).collect::<Vec<_>>();
     let mut steps = Vec::new();
-    for k in 0..(PIPELINE_MOVES + 40) {
+    for k in 0..300 {
         let mut q = start.clone();
         q[1] += if k % 2 == 0 { 0.6 } else { 0.1 };
         q[0] += 0.01 * (k % 7) as f64;

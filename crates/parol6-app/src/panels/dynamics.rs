@@ -3,17 +3,19 @@
 //! - inverse dynamics of the program panel's program from the current pose, before it runs:
 //!   the torque of every joint vs time (egui_plot) with each joint's limit as dashed lines, the
 //!   peaks against the limits, and every stretch over a limit listed (the core's
-//!   [`program_torques`]); recomputed when the program or the start pose changes while the
-//!   arm stands still;
+//!   [`program_torques`]); recomputed on a worker thread when the program or the start pose
+//!   changes while the arm stands still (a G-code file of 200 000 steps takes seconds to
+//!   plan: the window keeps drawing and says "computing…");
 //! - forward dynamics: torque profiles run on the simulation ([`super::torque_form`]).
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use eframe::egui;
 use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints};
 use parol6_core::RobotModel;
 use parol6_core::program::Program;
-use parol6_core::program::compile::{CompileOptions, compile};
+use parol6_core::program::compile::{CompileOptions, CompileStop, compile_observed};
 use parol6_core::program::torques::{ProgramTorques, program_torques, torque_limits_nm};
 
 use super::torque_form::TorqueForm;
@@ -36,10 +38,28 @@ struct Computed {
     lines: Vec<Vec<[f64; 2]>>,
 }
 
+/// An analysis running on a worker thread.
+struct Pending {
+    program: Arc<Program>,
+    start_q: Vec<f64>,
+    /// The worker's result (once).
+    result: crossbeam_channel::Receiver<Computed>,
+    /// Set when a newer analysis supersedes this one: the worker stops at its next step.
+    cancel: Arc<AtomicBool>,
+}
+
+impl Pending {
+    fn is_for(&self, program: &Arc<Program>, start_q: &[f64]) -> bool {
+        Arc::ptr_eq(&self.program, program) && self.start_q == start_q
+    }
+}
+
 /// The dynamics panel.
 pub struct DynamicsPanel {
     program: Arc<Program>,
     computed: Option<Computed>,
+    /// The analysis being computed, off the UI thread.
+    pending: Option<Pending>,
     /// The forward-dynamics form.
     pub form: TorqueForm,
 }
@@ -47,7 +67,7 @@ pub struct DynamicsPanel {
 impl DynamicsPanel {
     /// The panel for a robot of `joints` joints.
     pub fn new(joints: usize) -> Self {
-        Self { program: Arc::new(Program::default()), computed: None, form: TorqueForm::new(joints) }
+        Self { program: Arc::new(Program::default()), computed: None, pending: None, form: TorqueForm::new(joints) }
     }
 
     /// The program to analyse (the program panel's; cheap, compared by pointer).
@@ -62,19 +82,79 @@ impl DynamicsPanel {
         self.computed.as_ref().and_then(|c| c.result.as_ref().ok())
     }
 
+    /// True while an analysis runs on the worker.
+    pub fn computing(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Brings the analysis up to the program and `start_q`: takes a finished worker's result,
+    /// or starts a worker (never computes in the frame: a long program takes seconds).
     fn refresh(&mut self, model: &RobotModel, start_q: &[f64]) {
         if self.computed.as_ref().is_some_and(|c| Arc::ptr_eq(&c.program, &self.program) && c.start_q == start_q) {
             return;
         }
-        let result = compile(model, &self.program, start_q, CompileOptions::PREFLIGHT)
-            .map(|steps| program_torques(model, &steps, start_q, torque_limits_nm(model)))
-            .map_err(|e| e.to_string());
-        let lines = match &result {
-            Ok(t) => t.torques_nm.iter().map(|col| decimate(&t.time_s, col, MAX_POINTS_PER_LINE)).collect(),
-            Err(_) => Vec::new(),
+        if let Some(p) = self.pending.as_ref().filter(|p| p.is_for(&self.program, start_q)) {
+            match p.result.try_recv() {
+                Ok(computed) => {
+                    self.computed = Some(computed);
+                    self.pending = None;
+                }
+                Err(crossbeam_channel::TryRecvError::Empty) => {}
+                Err(crossbeam_channel::TryRecvError::Disconnected) => {
+                    let error = Err("the analysis stopped without a result".to_string());
+                    self.computed = Some(Computed {
+                        program: Arc::clone(&p.program),
+                        start_q: p.start_q.clone(),
+                        result: error,
+                        lines: Vec::new(),
+                    });
+                    self.pending = None;
+                }
+            }
+            return;
+        }
+        if let Some(old) = self.pending.take() {
+            old.cancel.store(true, Ordering::Relaxed);
+        }
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (program, start, stop) = (Arc::clone(&self.program), start_q.to_vec(), Arc::clone(&cancel));
+        let model = model.clone();
+        let work = move || {
+            if let Some(computed) = analyse(&model, program, start, &stop) {
+                // the panel may have moved on: nobody waits for this result then
+                if tx.send(computed).is_err() {
+                    tracing::debug!("a dynamics analysis finished after it was superseded");
+                }
+            }
         };
-        self.computed = Some(Computed { program: Arc::clone(&self.program), start_q: start_q.to_vec(), result, lines });
+        let pending = Pending { program: Arc::clone(&self.program), start_q: start_q.to_vec(), result: rx, cancel };
+        match std::thread::Builder::new().name("parol6-dynamics".into()).spawn(work) {
+            Ok(_) => self.pending = Some(pending),
+            Err(e) => {
+                let result = Err(format!("cannot start the analysis thread: {e}"));
+                self.computed =
+                    Some(Computed { program: pending.program, start_q: pending.start_q, result, lines: Vec::new() });
+            }
+        }
     }
+}
+
+/// The torques of `program` from `start_q` (on the worker); `None` once `cancel` is set.
+fn analyse(model: &RobotModel, program: Arc<Program>, start_q: Vec<f64>, cancel: &AtomicBool) -> Option<Computed> {
+    let compiled = compile_observed(model, &program, &start_q, CompileOptions::PREFLIGHT, &mut |_| {
+        !cancel.load(Ordering::Relaxed)
+    });
+    let result = match compiled {
+        Err(CompileStop::Cancelled) => return None,
+        Err(CompileStop::Error(e)) => Err(e.to_string()),
+        Ok(steps) => Ok(program_torques(model, &steps, &start_q, torque_limits_nm(model))),
+    };
+    let lines = match &result {
+        Ok(t) => t.torques_nm.iter().map(|col| decimate(&t.time_s, col, MAX_POINTS_PER_LINE)).collect(),
+        Err(_) => Vec::new(),
+    };
+    Some(Computed { program, start_q, result, lines })
 }
 
 /// `[t, v]` points of a series, at most about `max_points`: beyond that each bucket of samples
@@ -130,6 +210,13 @@ impl Panel for DynamicsPanel {
             ui.label(format!("— joint torques of \"{}\" from the current pose, before it runs", self.program.name));
         });
         match self.computed.as_ref().map(|c| (&c.result, &c.lines)) {
+            _ if self.pending.is_some() => {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.weak("computing the joint torques…");
+                });
+                ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+            }
             None => {
                 ui.weak("computed once the arm stands still");
             }
@@ -208,6 +295,49 @@ fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 33 item 1: the panel compiled and analysed the program in the frame (seconds for
+    /// a long G-code file, the window frozen). Now a refresh starts a worker and returns; the
+    /// result arrives in a later frame, equal to the analysis done in place.
+    #[test]
+    fn the_dynamics_panel_does_not_compile_a_long_program_in_the_frame() {
+        use parol6_core::program::Step;
+        use parol6_core::program::compile::compile;
+        let model = RobotModel::parol6();
+        let start = parol6_core::parol6::standby_rad().to_vec();
+        let steps = (0..600)
+            .map(|k| Step::MoveJoints {
+                joints_deg: start
+                    .iter()
+                    .enumerate()
+                    .map(|(j, v)| v.to_degrees() + if j == k % 6 { 5.0 } else { 0.0 })
+                    .collect(),
+                speed_fraction: None,
+                duration_s: None,
+            })
+            .collect();
+        let program = Arc::new(Program::from_steps("long", steps));
+        let mut panel = DynamicsPanel::new(6);
+        panel.set_program(&program);
+        let t0 = std::time::Instant::now();
+        panel.refresh(&model, &start);
+        let frame_s = t0.elapsed().as_secs_f64();
+        assert!(panel.torques().is_none() && panel.computing(), "the frame only starts the analysis");
+        assert!(frame_s < 0.05, "the frame took {frame_s:.3} s");
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+        while panel.computing() && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            panel.refresh(&model, &start);
+        }
+        let done = panel.torques().expect("the worker's result arrives").clone();
+        let compiled = compile(&model, &program, &start, CompileOptions::PREFLIGHT).expect("compiles");
+        assert_eq!(done, program_torques(&model, &compiled, &start, torque_limits_nm(&model)));
+        // a new start pose starts a new analysis, the old result stays until it is done
+        let mut other = start.clone();
+        other[0] += 0.1;
+        panel.refresh(&model, &other);
+        assert!(panel.computing());
+    }
 
     #[test]
     fn decimation_keeps_the_peaks_and_bounds_the_points() {

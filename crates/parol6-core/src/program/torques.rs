@@ -148,9 +148,17 @@ pub fn program_torques(
 /// without keeping the series (pre-flight of a long program). Empty for a robot without
 /// documented limits.
 pub fn torque_warnings(model: &RobotModel, steps: &[CompiledStep], start_q: &[f64]) -> (Vec<TorqueWarning>, usize) {
-    let Some(limits) = torque_limits_nm(model) else { return (Vec::new(), 0) };
-    let out = walk(model, steps, start_q, Some(limits), false);
-    (out.warnings, out.warnings_dropped)
+    let Some(mut stream) = torque_warning_stream(model, start_q) else { return (Vec::new(), 0) };
+    for step in steps {
+        stream.step(step);
+    }
+    stream.into_warnings()
+}
+
+/// [`torque_warnings`] fed one compiled step at a time ([`TorqueStream::step`], then
+/// [`TorqueStream::into_warnings`]); `None` for a robot without documented limits.
+pub(crate) fn torque_warning_stream<'m>(model: &'m RobotModel, start_q: &[f64]) -> Option<TorqueStream<'m>> {
+    torque_limits_nm(model).map(|limits| TorqueStream::new(model, start_q, Some(limits), false))
 }
 
 fn walk(
@@ -160,71 +168,129 @@ fn walk(
     limits_nm: Option<Vec<f64>>,
     keep_series: bool,
 ) -> ProgramTorques {
-    let n = model.dof();
-    let mut b = Builder {
-        model,
-        id: InverseDynamics::new(model),
-        out: ProgramTorques {
-            time_s: Vec::new(),
-            torques_nm: vec![Vec::new(); n],
-            peak_abs_nm: vec![0.0; n],
-            limits_nm: limits_nm.filter(|l| l.len() == n),
-            warnings: Vec::new(),
-            warnings_dropped: 0,
-        },
-        keep_series,
-        open: vec![None; n],
-        closed: vec![Vec::new(); n],
-        tau: vec![0.0; n],
-    };
-    let zeros = vec![0.0; n];
-    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
-    let mut t0 = 0.0;
-    let mut q_end = start_q.to_vec();
-    let first = Origin { line: steps.first().map_or(0, |s| s.line), step: 0, kind: "start" };
-    b.push(0.0, start_q, &zeros, &zeros, first);
+    let mut stream = TorqueStream::new(model, start_q, limits_nm, keep_series);
     for step in steps {
+        stream.step(step);
+    }
+    stream.finish()
+}
+
+/// The torque pass one compiled step at a time, in program order (what [`walk`] does over a
+/// slice): the pre-flight feeds it each step as soon as it is compiled, on its own thread, so
+/// the pass overlaps the planning instead of following it. The same samples in the same order
+/// as [`walk`]: the same result, to the bit.
+pub(crate) struct TorqueStream<'m> {
+    b: Builder<'m>,
+    zeros: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    /// Program time where the next step starts, s.
+    t0: f64,
+    /// Where the last step ended (the start pose before the first).
+    q_end: Vec<f64>,
+    /// The start sample is pushed (with the first step's line, as [`walk`] does).
+    started: bool,
+}
+
+impl<'m> TorqueStream<'m> {
+    /// A pass from joints `start_q` with warnings against `limits_nm` (one per joint; `None`:
+    /// no warnings), keeping every sample's torque when `keep_series`.
+    pub(crate) fn new(model: &'m RobotModel, start_q: &[f64], limits_nm: Option<Vec<f64>>, keep_series: bool) -> Self {
+        let n = model.dof();
+        let b = Builder {
+            model,
+            id: InverseDynamics::new(model),
+            out: ProgramTorques {
+                time_s: Vec::new(),
+                torques_nm: vec![Vec::new(); n],
+                peak_abs_nm: vec![0.0; n],
+                limits_nm: limits_nm.filter(|l| l.len() == n),
+                warnings: Vec::new(),
+                warnings_dropped: 0,
+            },
+            keep_series,
+            open: vec![None; n],
+            closed: vec![Vec::new(); n],
+            tau: vec![0.0; n],
+        };
+        Self {
+            b,
+            zeros: vec![0.0; n],
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+            t0: 0.0,
+            q_end: start_q.to_vec(),
+            started: false,
+        }
+    }
+
+    /// The start sample, at rest, once (named after the first step's line, 0 without steps).
+    fn start(&mut self, line: usize) {
+        if !self.started {
+            self.started = true;
+            let first = Origin { line, step: 0, kind: "start" };
+            self.b.push(0.0, &self.q_end, &self.zeros, &self.zeros, first);
+        }
+    }
+
+    /// The next compiled step.
+    pub(crate) fn step(&mut self, step: &CompiledStep) {
+        self.start(step.line);
+        let n = self.zeros.len();
         let origin = Origin { line: step.line, step: step.steps.start, kind: step.kind };
         match &step.action {
             StepAction::Motion(traj) => {
                 let s = traj.samples();
                 let dt = traj.dt_s();
                 if s.is_empty() || dt.is_nan() || dt <= 0.0 {
-                    continue;
+                    // as `walk` did: the step's end is not taken over
+                    return;
                 }
                 for k in 0..s.len() {
                     let (a, c) = (&s[k.saturating_sub(1)], s.get(k + 1).unwrap_or(&s[k]));
                     let b_ = &s[k];
                     for i in 0..n {
                         let at = |v: &Vec<f64>| v.get(i).copied().unwrap_or(0.0);
-                        qd[i] = (at(c) - at(a)) / (2.0 * dt);
-                        qdd[i] = (at(c) - 2.0 * at(b_) + at(a)) / (dt * dt);
+                        self.qd[i] = (at(c) - at(a)) / (2.0 * dt);
+                        self.qdd[i] = (at(c) - 2.0 * at(b_) + at(a)) / (dt * dt);
                     }
-                    b.push(t0 + k as f64 * dt, b_, &qd, &qdd, origin);
+                    self.b.push(self.t0 + k as f64 * dt, b_, &self.qd, &self.qdd, origin);
                 }
-                t0 += traj.duration_s();
+                self.t0 += traj.duration_s();
             }
             StepAction::Dwell(d) => {
-                b.push(t0, &q_end, &zeros, &zeros, origin);
-                t0 += d.max(0.0);
-                b.push(t0, &q_end, &zeros, &zeros, origin);
+                self.b.push(self.t0, &self.q_end, &self.zeros, &self.zeros, origin);
+                self.t0 += d.max(0.0);
+                self.b.push(self.t0, &self.q_end, &self.zeros, &self.zeros, origin);
             }
             StepAction::Io(_) | StepAction::WaitInput { .. } | StepAction::Pause { .. } => {}
         }
-        q_end.clone_from(&step.end_q);
+        self.q_end.clone_from(&step.end_q);
     }
-    for j in 0..n {
-        if let Some(w) = b.open[j].take() {
-            b.close(j, w);
+
+    /// The stretches over the limits and how many were left out ([`torque_warnings`]).
+    pub(crate) fn into_warnings(self) -> (Vec<TorqueWarning>, usize) {
+        let out = self.finish();
+        (out.warnings, out.warnings_dropped)
+    }
+
+    /// The torques, with every stretch still open closed at its last sample.
+    pub(crate) fn finish(mut self) -> ProgramTorques {
+        self.start(0);
+        let mut b = self.b;
+        for j in 0..self.zeros.len() {
+            if let Some(w) = b.open[j].take() {
+                b.close(j, w);
+            }
         }
+        let mut all: Vec<TorqueWarning> = b.closed.into_iter().flatten().collect();
+        // one warning per stretch over the limit, per joint, sorted by start time
+        all.sort_by(|a, b| a.start_s.total_cmp(&b.start_s).then(a.joint.cmp(&b.joint)));
+        b.out.warnings_dropped += all.len().saturating_sub(MAX_TORQUE_WARNINGS);
+        all.truncate(MAX_TORQUE_WARNINGS);
+        b.out.warnings = all;
+        b.out
     }
-    let mut all: Vec<TorqueWarning> = b.closed.into_iter().flatten().collect();
-    // one warning per stretch over the limit, per joint, sorted by start time
-    all.sort_by(|a, b| a.start_s.total_cmp(&b.start_s).then(a.joint.cmp(&b.joint)));
-    b.out.warnings_dropped += all.len().saturating_sub(MAX_TORQUE_WARNINGS);
-    all.truncate(MAX_TORQUE_WARNINGS);
-    b.out.warnings = all;
-    b.out
 }
 
 #[cfg(test)]

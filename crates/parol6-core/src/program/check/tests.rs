@@ -209,3 +209,37 @@ fn joint_torque_over_the_motor_limits_is_a_pre_flight_warning() {
     let bare = check_program(&RobotModel::parol6(), &program(steps), &standby(), CheckOptions::default());
     assert_eq!(bare.torque_warnings, 0, "{:?}", bare.issues);
 }
+
+/// Issue 33 item 1: the torque pass runs on its own thread beside the compile, fed step by
+/// step through a bounded channel; its warnings are those of the pass over the whole compiled
+/// program after it, to the bit.
+#[test]
+fn the_torque_pass_beside_the_compile_finds_the_same_warnings_as_after_it() {
+    let mut heavy = RobotModel::parol6();
+    for l in &mut heavy.links {
+        if let Some(i) = &mut l.inertial {
+            i.mass_kg *= 4.0;
+            i.inertia_kg_m2 *= 4.0;
+        }
+    }
+    let start = standby();
+    let deg = |q: &[f64]| q.iter().map(|v| v.to_degrees()).collect::<Vec<_>>();
+    let mut steps = Vec::new();
+    for k in 0..300 {
+        let mut q = start.clone();
+        q[1] += if k % 2 == 0 { 0.6 } else { 0.1 };
+        q[0] += 0.01 * (k % 7) as f64;
+        steps.push(Step::MoveJoints { joints_deg: deg(&q), speed_fraction: None, duration_s: None });
+        if k % 3 == 0 {
+            steps.push(Step::Dwell { seconds: 0.05 });
+        }
+    }
+    let r = check_program(&heavy, &program(steps), &start, CheckOptions::default());
+    assert!(r.ok, "warnings only: {:?}", r.issues.iter().find(|i| i.severity == Severity::Error));
+    let (warnings, dropped) = crate::program::torques::torque_warnings(&heavy, &r.compiled, &start);
+    assert!(warnings.len() > 100, "many stretches over the limit: {}", warnings.len());
+    let after = torque_issues(&warnings, dropped);
+    let beside: Vec<_> = r.issues.iter().filter(|i| i.message.contains("torque")).cloned().collect();
+    assert_eq!(beside.len(), r.torque_warnings);
+    assert_eq!(beside, after);
+}

@@ -98,6 +98,11 @@ impl Parol6App {
         self.estop
     }
 
+    /// True while the help window (F1) is open.
+    pub fn help_open(&self) -> bool {
+        self.show_help
+    }
+
     /// True while a controller (the robot or the built-in emulator) is connected.
     pub fn robot_connected(&self) -> bool {
         self.hw.is_some()

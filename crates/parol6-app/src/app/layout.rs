@@ -265,7 +265,7 @@ impl Parol6App {
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
-            egui::Window::new("Help")
+            egui::Window::new(super::escape::HELP_WINDOW)
                 .open(show_help)
                 .default_size([600.0, max_h.min(720.0)])
                 .max_height(max_h)
@@ -306,6 +306,7 @@ impl Parol6App {
     fn central(&mut self, ui: &mut egui::Ui, scene: &SceneFrame) {
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.max_rect();
+            self.view_rect = Some(rect);
             match &mut self.viewport {
                 Some(v) => {
                     v.ui(ui, scene);

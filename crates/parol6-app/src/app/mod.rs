@@ -24,6 +24,7 @@ use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, Rob
 use crate::viewport::Viewport;
 
 mod access;
+mod escape;
 mod execute;
 pub(crate) mod frame_reuse;
 mod icon;
@@ -154,6 +155,8 @@ pub struct Parol6App {
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
+    /// Where the 3D view was laid out last (Esc over it is STOP, see `escape`).
+    view_rect: Option<egui::Rect>,
     /// Telemetry of the simulation (its live view feeds the plots while no robot is connected).
     sim_recorder: Option<parol6_core::telemetry::Recorder>,
     /// Program step last passed to the recorder.
@@ -238,6 +241,7 @@ impl Parol6App {
             exit_code: Arc::new(AtomicI32::new(0)),
             started: opts.started,
             show_help: false,
+            view_rect: None,
             sim_recorder,
             last_program_step: None,
             recording_info: opts.recording_info,
@@ -329,16 +333,21 @@ impl Parol6App {
         }
     }
 
-    fn keyboard(&mut self, ctx: &egui::Context) {
+    fn keyboard(&mut self, ctx: &egui::Context, arm_moving: bool) {
         use crate::panels::shortcuts::{self, Action};
         // the held jog keys see this frame's key presses before any panel consumes one
         shortcuts::update_held(ctx);
+        // Esc closes the topmost dialog where nothing moves and the 3D view or a motion
+        // control does not have it (`escape`); else it is STOP
+        let closes = self.escape_closes(ctx, arm_moving);
         let esc = shortcuts::pressed(ctx, Action::Stop);
         let home = shortcuts::pressed(ctx, Action::Home);
         let quit = shortcuts::pressed(ctx, Action::Quit) || std::mem::take(&mut self.files.quit_clicked);
         let help = shortcuts::pressed(ctx, Action::ToggleHelp);
-        if esc {
-            self.commands.push(AppCommand::Motion(MotionCommand::Stop));
+        match (esc, closes) {
+            (true, Some(what)) => self.close_on_escape(ctx, what),
+            (true, None) => self.commands.push(AppCommand::Motion(MotionCommand::Stop)),
+            (false, _) => {}
         }
         if home {
             let (speed_fraction, profile) = (self.settings.speed_fraction, self.settings.profile.kind());
@@ -404,7 +413,7 @@ impl Parol6App {
             parol6_core::process::release_freed_memory();
         }
 
-        self.keyboard(&ctx);
+        self.keyboard(&ctx, live_moving);
         self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);
 
         let refresh = match &self.readout {

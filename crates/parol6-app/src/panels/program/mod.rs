@@ -38,6 +38,11 @@ use parol6_core::program::{Program, builtin};
 
 pub use checker::{MAX_OVERLAY_POINTS, planned_path};
 
+/// The id of the program's Open / Save-as dialog window (`egui::Id::unique` of it).
+pub const FILE_DIALOG_ID: &str = "program-file-dialog";
+/// The id of the point-table window (`egui::Id::unique` of it).
+pub const TABLE_ID: &str = "program-point-table";
+
 use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};

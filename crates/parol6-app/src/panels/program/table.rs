@@ -22,7 +22,7 @@ impl ProgramPanel {
         let mut select = None;
         let program = std::sync::Arc::clone(&self.program);
         egui::Window::new(format!("Point table: {}", program.name))
-            .id(egui::Id::unique("program-point-table"))
+            .id(egui::Id::unique(super::TABLE_ID))
             .open(&mut open)
             .default_size([640.0, 360.0])
             .resizable(true)

@@ -179,3 +179,46 @@ fn escape_closes_the_topmost_dialog_and_stays_stop_where_the_arm_moves_or_the_vi
     until(&mut h, "the run's end", 10.0, |h| !h.state().program_running());
     assert!(h.state().help_open(), "Esc over the 3D view is STOP, it closed nothing");
 }
+
+/// Issue 32 minor: "The point table accepts "1e9" (shown as "100000(") and silently reverts
+/// "abc". It has no add/remove-row controls, and its Save-as error hides behind the table
+/// window."
+#[test]
+fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors_in_front() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("table");
+    let path = table_program(&dir);
+    open_program_file(&mut h, &path);
+    h.get_by_label("Table").click();
+    h.run_steps(3);
+    let before = steps(&h);
+    type_into(&mut h, "table 1 X", "1e9");
+    assert_eq!(steps(&h), before, "1e9 mm is refused");
+    assert!(error_with(&h, "table row 1, X"), "the refusal names the cell: {:?}", h.state().notices());
+    type_into(&mut h, "table 1 X", "abc");
+    assert_eq!(steps(&h), before);
+    assert!(error_with(&h, "\"abc\" is not a number"), "{:?}", h.state().notices());
+    type_into(&mut h, "table 2 time", "1e9");
+    assert_eq!(steps(&h), before, "a dwell of 1e9 s is refused");
+
+    // add a row (a copy of the selected one, after it) and remove it again
+    h.get_by_label("Add row").click();
+    h.run_steps(3);
+    assert_eq!(steps(&h).len(), 3, "Add row adds a step");
+    assert_eq!(steps(&h)[2], before[1], "the new row copies the last one");
+    h.get_by_label("Remove row").click();
+    h.run_steps(3);
+    assert_eq!(steps(&h), before, "Remove row removes the selected step");
+
+    // a save that fails shows its error in front of the table window
+    type_into(&mut h, "table 2 time", "2");
+    std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::write(&dir, b"a file where the folder was").unwrap();
+    h.get_by_label("Save").click();
+    h.run_steps(3);
+    let notice = h.state().notices().iter().rev().find(|n| n.error).expect("the save's error").text.clone();
+    let at = h.get_by_label(&notice).rect().center();
+    let top = h.ctx.layer_id_at(at).expect("a layer at the notice");
+    assert!(top.order > egui::Order::Middle, "the notice is in front of every window, not under one: {top:?}");
+    std::fs::remove_file(&dir).unwrap();
+}

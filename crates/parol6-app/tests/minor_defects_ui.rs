@@ -222,3 +222,27 @@ fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors
     assert!(top.order > egui::Order::Middle, "the notice is in front of every window, not under one: {top:?}");
     std::fs::remove_file(&dir).unwrap();
 }
+
+/// Issue 32 minor: "Radians are not applied to the jog read-out, the angle increment or the
+/// Measurement tool RPY."
+#[test]
+fn radians_reach_the_jog_readout_the_angle_increment_and_the_measurement_rpy() {
+    let mut h = jog_harness();
+    h.state_mut().settings_mut().unit = parol6_app::panels::AngleUnit::Rad;
+    h.run_steps(3);
+    hold_button(&mut h, "+Rz", 0.6, |_| {});
+    let all: Vec<String> = h
+        .root()
+        .query_all_by_role(egui::accesskit::Role::Label)
+        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .collect();
+    let readout = label_with(&h, "released after").unwrap_or_else(|| panic!("the jog's read-out: {all:?}"));
+    assert!(readout.ends_with(" rad"), "the read-out is in rad: {readout}");
+    let tcp = label_with(&h, " mm · ").expect("the jog panel's TCP line");
+    assert!(tcp.ends_with(" rad"), "the jog panel's TCP line is in rad: {tcp}");
+    type_into(&mut h, "Step angle", "0.1");
+    let (_, step_deg) = h.state().cartesian_jog_panel().step_increments();
+    assert!((step_deg - 0.1f64.to_degrees()).abs() < 1e-9, "0.1 typed in rad is {step_deg}°");
+    assert!(h.query_by_label("Tool RPY rad").is_some(), "the measurement's tool orientation is in rad");
+    assert!(h.query_by_label("Tool RPY °").is_none());
+}

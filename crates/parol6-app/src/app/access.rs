@@ -78,6 +78,11 @@ impl Parol6App {
         &self.panels.program
     }
 
+    /// The Cartesian jog panel (its frame and increments).
+    pub fn cartesian_jog_panel(&self) -> &crate::panels::cartesian_jog::CartesianJogPanel {
+        &self.panels.cartesian_jog
+    }
+
     /// The dynamics panel (tests read its analysis).
     pub fn dynamics_panel(&self) -> &crate::panels::dynamics::DynamicsPanel {
         &self.panels.dynamics

@@ -19,7 +19,7 @@ use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, Mo
 
 use super::entry::{self, EntryEvent};
 use super::shortcuts::{self, Action};
-use super::{AppCommand, Panel, PanelContext};
+use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
 
 /// The step increments an operator may type, mm and degrees (a step is a jog: small, and
@@ -86,10 +86,10 @@ fn frame_name(f: JogFrame) -> &'static str {
     }
 }
 
-/// `v` of an axis in display units: mm for translations, degrees for rotations.
-fn display(axis: CartesianAxis, v: f64) -> String {
+/// `v` of an axis in display units: mm for translations, the angle unit for rotations.
+fn display(axis: CartesianAxis, v: f64, unit: AngleUnit) -> String {
     if axis.is_rotation() {
-        format!("{}°", entry::fmt_fixed(v.to_degrees(), 2))
+        unit.fmt(v)
     } else {
         format!("{} mm", entry::fmt_fixed(v * 1000.0, 2))
     }
@@ -193,7 +193,8 @@ impl CartesianJogPanel {
                 ui.add(egui::Label::new(text).truncate()).on_hover_text(e);
             }
             Ok(plan) => {
-                let travel = display(v.axis, plan.travel().abs());
+                let unit = ctx.settings.unit;
+                let travel = display(v.axis, plan.travel().abs(), unit);
                 if self.held.is_some() {
                     ui.label(format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason()));
                     return;
@@ -211,7 +212,7 @@ impl CartesianJogPanel {
                         format!("{what} stopped after {travel}: {}", plan.stop_reason()),
                     );
                 } else {
-                    ui.label(format!("{what} released after {}", display(v.axis, moved)));
+                    ui.label(format!("{what} released after {}", display(v.axis, moved, unit)));
                 }
             }
         }
@@ -268,19 +269,38 @@ impl Panel for CartesianJogPanel {
                     Err(e) => ctx.error(format!("Step mm: {e}; the increment stays {:.2} mm", self.step_mm)),
                 }
             }
-            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step deg", self.step_deg, 2, 56.0, "°") {
+            // the angle increment in the chosen unit, kept in degrees
+            let unit = ctx.settings.unit;
+            let shown = unit.from_rad(self.step_deg.to_radians());
+            let suffix = unit.suffix().trim();
+            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step angle", shown, unit.decimals(), 56.0, suffix) {
+                let in_unit = |deg: f64| entry::fmt_fixed(unit.from_rad(deg.to_radians()), unit.decimals());
+                let range = (in_unit(STEP_DEG_RANGE.0), in_unit(STEP_DEG_RANGE.1));
+                let ev = match ev {
+                    EntryEvent::Committed(v) => EntryEvent::Committed(unit.to_rad(v).to_degrees()),
+                    invalid => invalid,
+                };
                 match step_in_range(ev, STEP_DEG_RANGE, "°") {
                     Ok(v) => self.step_deg = v,
-                    Err(e) => ctx.error(format!("Step deg: {e}; the increment stays {:.2}°", self.step_deg)),
+                    Err(_) if unit == AngleUnit::Rad => ctx.error(format!(
+                        "Step angle: outside {}–{} rad; the increment stays {}",
+                        range.0,
+                        range.1,
+                        unit.fmt(self.step_deg.to_radians())
+                    )),
+                    Err(e) => ctx.error(format!("Step angle: {e}; the increment stays {}", unit.fmt(self.step_deg.to_radians()))),
                 }
             }
         });
         let tcp = ctx.readout.tcp;
         let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
         let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
-        let deg = |k: usize| entry::fmt_fixed(shown[k].to_degrees(), 1);
+        let unit = ctx.settings.unit;
+        let decimals = if unit == AngleUnit::Rad { 3 } else { 1 };
+        let ang = |k: usize| entry::fmt_fixed(unit.from_rad(shown[k]), decimals);
         let [a, b, c] = ctx.settings.angle_labels();
-        ui.label(format!("TCP {}, {}, {} mm · {a}/{b}/{c} {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
+        let (x, y, z, u) = (mm(0), mm(1), mm(2), unit.suffix());
+        ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2)))
             .on_hover_text(format!(
                 "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
                 ctx.settings.angle_convention.describe()

@@ -246,3 +246,40 @@ fn radians_reach_the_jog_readout_the_angle_increment_and_the_measurement_rpy() {
     assert!(h.query_by_label("Tool RPY rad").is_some(), "the measurement's tool orientation is in rad");
     assert!(h.query_by_label("Tool RPY °").is_none());
 }
+
+/// Issue 32 minors: "The jog readout "released after N mm" keeps changing during later
+/// motions." "The jog message grows from 1 to 4 lines and pushes the panels below it."
+#[test]
+fn the_jog_readout_is_frozen_at_release_and_its_message_keeps_one_height() {
+    let mut h = jog_harness();
+    let below = |h: &Harness<'_, Parol6App>| h.get_by_label("Cartesian target").rect().top();
+    let y0 = below(&h);
+    let mut y_held = 0.0;
+    hold_button(&mut h, "+X", 0.6, |h| y_held = below(h));
+    let released = label_with(&h, "released after").expect("the jog's read-out");
+    assert_eq!(y_held, y0, "the held jog's message moved the panel below");
+    assert_eq!(below(&h), y0, "the released jog's message moved the panel below");
+    // a later motion (HOME) does not change what the jog moved
+    pointer_on_panel(&mut h);
+    press(&mut h, Key::H);
+    until(&mut h, "HOME moving", 10.0, |h| h.state().backend().state().moving);
+    settle(&mut h, 0.3);
+    assert_eq!(label_with(&h, "released after").as_deref(), Some(released.as_str()), "read-out changed");
+    press(&mut h, Key::Escape);
+}
+
+/// Issue 32 minor: "During a held Cartesian jog the joint sliders show the jog's planned end
+/// instead of the arm."
+#[test]
+fn joint_read_outs_follow_the_arm_during_a_held_cartesian_jog() {
+    let mut h = jog_harness();
+    let mut seen = (0.0, 0.0, 0.0);
+    hold_button(&mut h, "+X", 1.0, |h| {
+        let s = h.state().backend().state();
+        let shown: f64 = h.get_by_label("J1 target").value().unwrap().parse().unwrap();
+        seen = (shown, s.q[0].to_degrees(), s.target_q[0].to_degrees());
+    });
+    let (shown, arm, planned_end) = seen;
+    assert!((planned_end - arm).abs() > 2.0, "the test needs a jog whose end is far: {seen:?}");
+    assert!((shown - arm).abs() < 1.0, "J1 shows {shown:.2}°, the arm is at {arm:.2}° (planned end {planned_end:.2}°)");
+}

@@ -18,6 +18,7 @@ use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog
 use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
 
 use super::entry::{self, EntryEvent};
+use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
@@ -47,7 +48,13 @@ struct JogView {
     plan: Result<CartesianJogPlan, String>,
     /// TCP at jog start (position m, rotation).
     start: parol6_core::na::Isometry3<f64>,
+    /// How far the jog moved (m or rad), fixed once the arm came to rest after the release: a
+    /// later motion does not change what this jog did.
+    moved: Option<f64>,
 }
+
+/// Text rows of the jog's message: its height never changes, so nothing below it moves.
+const MESSAGE_LINES: usize = 2;
 
 /// The Cartesian jog panel.
 #[derive(Debug)]
@@ -120,7 +127,7 @@ impl CartesianJogPanel {
         let kin = JogKinematics { model: Arc::new(ctx.model.clone()), obstacles };
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
-        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q) });
+        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q), moved: None });
     }
 
     fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
@@ -178,8 +185,15 @@ impl CartesianJogPanel {
             .find(|&(axis, dir)| shortcuts::held(ui.ctx(), Action::JogCartesian(axis, dir)))
     }
 
-    fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
-        let Some(v) = &self.view else { return };
+    /// The jog's message in [`MESSAGE_LINES`] rows (empty before the first jog).
+    fn status_ui(&mut self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+        let text = self.status_text(ctx);
+        fixed_box::message_lines(ui, text, MESSAGE_LINES);
+    }
+
+    fn status_text(&mut self, ctx: &PanelContext<'_>) -> egui::RichText {
+        let held = self.held.is_some();
+        let Some(v) = &mut self.view else { return egui::RichText::new("") };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
         match &v.plan {
@@ -188,31 +202,38 @@ impl CartesianJogPanel {
                 // "singularity: " prefixes (the whole text on hover)
                 let why = e.split_once(" frame: ").map_or(e.as_str(), |(_, w)| w);
                 let why = why.strip_prefix("singularity: ").unwrap_or(why);
-                let text =
-                    egui::RichText::new(format!("{what} refused: {why}")).color(palette::rgb(palette::ERROR_TEXT));
-                ui.add(egui::Label::new(text).truncate()).on_hover_text(e);
+                egui::RichText::new(format!("{what} refused: {why}")).color(palette::rgb(palette::ERROR_TEXT))
             }
             Ok(plan) => {
                 let unit = ctx.settings.unit;
                 let travel = display(v.axis, plan.travel().abs(), unit);
-                if self.held.is_some() {
-                    ui.label(format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason()));
-                    return;
+                if held {
+                    return egui::RichText::new(format!(
+                        "jogging {what}: stops after {travel} at the latest: {}",
+                        plan.stop_reason()
+                    ));
                 }
-                let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
-                let moved = if v.axis.is_rotation() {
-                    now.rotation.angle_to(&v.start.rotation)
-                } else {
-                    (now.translation.vector - v.start.translation.vector).norm()
+                let moved = match v.moved {
+                    Some(m) => m,
+                    None => {
+                        let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+                        let m = if v.axis.is_rotation() {
+                            now.rotation.angle_to(&v.start.rotation)
+                        } else {
+                            (now.translation.vector - v.start.translation.vector).norm()
+                        };
+                        if !ctx.robot.moving {
+                            v.moved = Some(m); // at rest after the release: what this jog did
+                        }
+                        m
+                    }
                 };
                 let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
                 if at_stop {
-                    ui.colored_label(
-                        palette::rgb(palette::WARN_TEXT),
-                        format!("{what} stopped after {travel}: {}", plan.stop_reason()),
-                    );
+                    egui::RichText::new(format!("{what} stopped after {travel}: {}", plan.stop_reason()))
+                        .color(palette::rgb(palette::WARN_TEXT))
                 } else {
-                    ui.label(format!("{what} released after {}", display(v.axis, moved, unit)));
+                    egui::RichText::new(format!("{what} released after {}", display(v.axis, moved, unit)))
                 }
             }
         }

@@ -283,3 +283,41 @@ fn joint_read_outs_follow_the_arm_during_a_held_cartesian_jog() {
     assert!((planned_end - arm).abs() > 2.0, "the test needs a jog whose end is far: {seen:?}");
     assert!((shown - arm).abs() < 1.0, "J1 shows {shown:.2}°, the arm is at {arm:.2}° (planned end {planned_end:.2}°)");
 }
+
+/// Issue 32 minor: "The run status is stale after opening another program."
+#[test]
+fn opening_another_program_clears_the_last_runs_status() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("stale");
+    let (a, b) = (dir.join("first.json"), dir.join("second.json"));
+    for (path, name) in [(&a, "first"), (&b, "second")] {
+        let program = Program::from_steps(name, vec![Step::Dwell { seconds: 0.1 }]);
+        std::fs::write(path, json::to_string(&program)).unwrap();
+    }
+    open_program_file(&mut h, &a);
+    pointer_on_panel(&mut h);
+    press(&mut h, Key::F5);
+    until(&mut h, "the run's end", 20.0, |h| {
+        h.state().program_progress().is_some_and(|p| p.state.is_finished()) && !h.state().program_running()
+    });
+    h.run_steps(2);
+    let all: Vec<String> = h
+        .root()
+        .query_all_by_role(egui::accesskit::Role::Label)
+        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .collect();
+    assert!(label_with(&h, "first: done").is_some(), "the run's outcome is shown: {all:?}");
+    h.state_mut().open_program_file(&b).unwrap();
+    until(&mut h, "the second program's load", 30.0, |h| !h.state().program_panel().checking());
+    h.run_steps(2);
+    assert_eq!(h.state().program_panel().program().name, "second");
+    let all: Vec<String> = h
+        .root()
+        .query_all_by_role(egui::accesskit::Role::Label)
+        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .filter(|t| t.contains("first"))
+        .collect();
+    assert!(label_with(&h, "first: done").is_none(), "the last program's outcome is gone: {all:?}");
+    assert!(label_with(&h, "Idle").is_some(), "the progress line is idle");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

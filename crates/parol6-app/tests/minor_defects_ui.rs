@@ -52,83 +52,6 @@ fn menu_open(h: &Harness<'_, Parol6App>) -> bool {
     egui::Popup::is_any_open(&h.ctx)
 }
 
-fn table_program(dir: &std::path::Path) -> std::path::PathBuf {
-    let path = dir.join("table.json");
-    let program = Program::from_steps(
-        "table",
-        vec![
-            Step::MoveL {
-                pose: PoseMm { position_mm: [200.0, 0.0, 300.0], rpy_deg: [180.0, 0.0, 0.0] },
-                speed_mm_s: None,
-                blend_mm: None,
-                duration_s: None,
-            },
-            Step::Dwell { seconds: 1.0 },
-        ],
-    );
-    std::fs::write(&path, json::to_string(&program)).unwrap();
-    path
-}
-
-fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
-    h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
-}
-
-fn error_with(h: &Harness<'_, Parol6App>, text: &str) -> bool {
-    h.state().notices().iter().any(|n| n.error && n.text.contains(text))
-}
-
-/// A pose away from the standby wrist singularity (J5 = 34°), where a jog moves freely.
-fn work_pose() -> Vec<f64> {
-    let mut q = parol6_core::parol6::standby_rad().to_vec();
-    q[1] += 0.2;
-    q[2] -= 0.3;
-    q[4] = 0.6;
-    q
-}
-
-fn jog_harness() -> Harness<'static, Parol6App> {
-    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
-    h.state_mut().teleport(work_pose()).expect("teleport");
-    h.run_steps(3);
-    settle(&mut h, 0.2);
-    h
-}
-
-/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
-fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
-    let until = std::time::Instant::now() + std::time::Duration::from_secs_f64(s);
-    while std::time::Instant::now() < until {
-        h.run_steps(1);
-        std::thread::sleep(std::time::Duration::from_millis(15));
-    }
-}
-
-fn pointer_button(h: &mut Harness<'_, Parol6App>, at: egui::Pos2, pressed: bool) {
-    h.hover_at(at);
-    let button = egui::PointerButton::Primary;
-    h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers: Default::default() });
-}
-
-/// Holds the jog button `name` for `s` seconds, calling `during` once half-way.
-fn hold_button(h: &mut Harness<'_, Parol6App>, name: &str, s: f64, during: impl FnOnce(&mut Harness<'_, Parol6App>)) {
-    let at = h.get_by_label(name).rect().center();
-    pointer_button(h, at, true);
-    settle(h, s / 2.0);
-    during(h);
-    settle(h, s / 2.0);
-    pointer_button(h, at, false);
-    ui_support::until(h, "the arm at rest", 10.0, |h| !h.state().backend().state().moving);
-    h.run_steps(2);
-}
-
-fn label_with(h: &Harness<'_, Parol6App>, text: &str) -> Option<String> {
-    h.root()
-        .query_all_by_role(egui::accesskit::Role::Label)
-        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
-        .find(|t| t.contains(text))
-}
-
 /// Issue 32 minor: "Escape closes nothing (menus, dialogs, help, table); today it only acts as
 /// STOP. Keep Esc = STOP where the 3D view or a motion control has focus, and let it close the
 /// topmost dialog otherwise."
@@ -180,6 +103,32 @@ fn escape_closes_the_topmost_dialog_and_stays_stop_where_the_arm_moves_or_the_vi
     assert!(h.state().help_open(), "Esc over the 3D view is STOP, it closed nothing");
 }
 
+fn table_program(dir: &std::path::Path) -> std::path::PathBuf {
+    let path = dir.join("table.json");
+    let program = Program::from_steps(
+        "table",
+        vec![
+            Step::MoveL {
+                pose: PoseMm { position_mm: [200.0, 0.0, 300.0], rpy_deg: [180.0, 0.0, 0.0] },
+                speed_mm_s: None,
+                blend_mm: None,
+                duration_s: None,
+            },
+            Step::Dwell { seconds: 1.0 },
+        ],
+    );
+    std::fs::write(&path, json::to_string(&program)).unwrap();
+    path
+}
+
+fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
+    h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
+}
+
+fn error_with(h: &Harness<'_, Parol6App>, text: &str) -> bool {
+    h.state().notices().iter().any(|n| n.error && n.text.contains(text))
+}
+
 /// Issue 32 minor: "The point table accepts "1e9" (shown as "100000(") and silently reverts
 /// "abc". It has no add/remove-row controls, and its Save-as error hides behind the table
 /// window."
@@ -221,6 +170,57 @@ fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors
     let top = h.ctx.layer_id_at(at).expect("a layer at the notice");
     assert!(top.order > egui::Order::Middle, "the notice is in front of every window, not under one: {top:?}");
     std::fs::remove_file(&dir).unwrap();
+}
+
+/// A pose away from the standby wrist singularity (J5 = 34°), where a jog moves freely.
+fn work_pose() -> Vec<f64> {
+    let mut q = parol6_core::parol6::standby_rad().to_vec();
+    q[1] += 0.2;
+    q[2] -= 0.3;
+    q[4] = 0.6;
+    q
+}
+
+fn jog_harness() -> Harness<'static, Parol6App> {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().teleport(work_pose()).expect("teleport");
+    h.run_steps(3);
+    settle(&mut h, 0.2);
+    h
+}
+
+/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
+fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
+    let until = std::time::Instant::now() + std::time::Duration::from_secs_f64(s);
+    while std::time::Instant::now() < until {
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(15));
+    }
+}
+
+fn pointer_button(h: &mut Harness<'_, Parol6App>, at: egui::Pos2, pressed: bool) {
+    h.hover_at(at);
+    let button = egui::PointerButton::Primary;
+    h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers: Default::default() });
+}
+
+/// Holds the jog button `name` for `s` seconds, calling `during` once half-way.
+fn hold_button(h: &mut Harness<'_, Parol6App>, name: &str, s: f64, during: impl FnOnce(&mut Harness<'_, Parol6App>)) {
+    let at = h.get_by_label(name).rect().center();
+    pointer_button(h, at, true);
+    settle(h, s / 2.0);
+    during(h);
+    settle(h, s / 2.0);
+    pointer_button(h, at, false);
+    ui_support::until(h, "the arm at rest", 10.0, |h| !h.state().backend().state().moving);
+    h.run_steps(2);
+}
+
+fn label_with(h: &Harness<'_, Parol6App>, text: &str) -> Option<String> {
+    h.root()
+        .query_all_by_role(egui::accesskit::Role::Label)
+        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .find(|t| t.contains(text))
 }
 
 /// Issue 32 minor: "Radians are not applied to the jog read-out, the angle increment or the
@@ -320,4 +320,30 @@ fn opening_another_program_clears_the_last_runs_status() {
     assert!(label_with(&h, "first: done").is_none(), "the last program's outcome is gone: {all:?}");
     assert!(label_with(&h, "Idle").is_some(), "the progress line is idle");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 32 minor: "Disconnect mid-program reports "halted: refused: link is Lost": say that
+/// the operator disconnected, once, in plain words."
+#[test]
+fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
+    use parol6_app::app::{ConnectTarget, LaunchOptions};
+    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == parol6_app::panels::StateSource::Robot && s.blocked.is_none()
+    });
+    assert!(h.state_mut().start_program("Draw", false));
+    until(&mut h, "the program moving the arm", 20.0, |h| {
+        h.state().program_running() && h.state().backend().state().moving
+    });
+    settle(&mut h, 0.3);
+    h.get_by_label("Disconnect").click();
+    settle(&mut h, 1.5);
+    let notices: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();
+    assert!(!notices.iter().any(|n| n.contains("link is")), "no link jargon: {notices:?}");
+    let said = notices.iter().filter(|n| n.contains("the operator disconnected")).count();
+    assert_eq!(said, 1, "said once: {notices:?}");
+    let line = label_with(&h, "Draw: the operator").unwrap_or_default();
+    assert!(line.contains("the operator disconnected"), "the progress line says so: {line:?}");
 }

@@ -59,6 +59,8 @@ pub use test_hooks::TestScript;
 /// Window title.
 pub const WINDOW_TITLE: &str = "PAROL6 Studio";
 /// Notices disappear after this long.
+/// A program's outcome when the operator disconnected the robot while it ran.
+const RUN_DISCONNECTED: &str = "the operator disconnected the robot";
 const NOTICE_TTL: Duration = Duration::from_secs(8);
 /// After any command, keep repainting this long so its effect (or refusal) shows up.
 const COMMAND_REPAINT_WINDOW: Duration = Duration::from_millis(600);
@@ -120,6 +122,9 @@ pub struct Parol6App {
     hw: Option<HwLink>,
     /// The running (or last) program, on the backend that was active when it started.
     program: Option<ProgramRunner>,
+    /// The running program was ended by the operator's Disconnect: its outcome says so, once,
+    /// instead of the refusals of the link going down.
+    run_disconnected: bool,
     /// What the panels read (the open recording, the program's progress, the file being
     /// written, the link): changed here only, on their [`AppCommand`]s.
     state: state::AppState,
@@ -215,6 +220,7 @@ impl Parol6App {
             sim,
             hw: None,
             program: None,
+            run_disconnected: false,
             state: state::AppState::default(),
             jog_held: None,
             cartesian_jog_held: None,
@@ -305,6 +311,9 @@ impl Parol6App {
     }
 
     fn disconnect(&mut self) {
+        if self.program_running() && self.hw.is_some() {
+            self.run_disconnected = true;
+        }
         self.stop_program();
         if self.state.recording.as_ref().is_some_and(|r| r.on_robot) {
             self.stop_file_recording();
@@ -393,7 +402,11 @@ impl Parol6App {
         };
         let robot: &RobotState = &robot_arc;
         if let Some(run) = &self.program {
-            let p = run.progress();
+            let mut p = run.progress();
+            if self.run_disconnected && p.state.is_finished() {
+                p.state = parol6_core::program::runner::RunState::Failed(RUN_DISCONNECTED.into());
+                p.stop_failed = None;
+            }
             if let parol6_core::program::runner::RunState::Failed(why) = &p.state
                 && self.state.program.as_ref().map(|q| &q.state) != Some(&p.state)
             {

@@ -187,13 +187,17 @@ impl CartesianJogPanel {
 
     /// The jog's message in [`MESSAGE_LINES`] rows (empty before the first jog).
     fn status_ui(&mut self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
-        let text = self.status_text(ctx);
-        fixed_box::message_lines(ui, text, MESSAGE_LINES);
+        let (text, rows) = self.status_text(ctx);
+        fixed_box::message_lines(ui, text, rows);
+        // a one-row refusal keeps the box's height: the rows left as space
+        let row_h = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        ui.add_space(row_h * MESSAGE_LINES.saturating_sub(rows) as f32);
     }
 
-    fn status_text(&mut self, ctx: &PanelContext<'_>) -> egui::RichText {
+    /// The message and its rows (a refusal on one row, cut with "…", whole on hover).
+    fn status_text(&mut self, ctx: &PanelContext<'_>) -> (egui::RichText, usize) {
         let held = self.held.is_some();
-        let Some(v) = &mut self.view else { return egui::RichText::new("") };
+        let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
         match &v.plan {
@@ -202,16 +206,15 @@ impl CartesianJogPanel {
                 // "singularity: " prefixes (the whole text on hover)
                 let why = e.split_once(" frame: ").map_or(e.as_str(), |(_, w)| w);
                 let why = why.strip_prefix("singularity: ").unwrap_or(why);
-                egui::RichText::new(format!("{what} refused: {why}")).color(palette::rgb(palette::ERROR_TEXT))
+                let text = format!("{what} refused: {why}");
+                (egui::RichText::new(text).color(palette::rgb(palette::ERROR_TEXT)), 1)
             }
             Ok(plan) => {
                 let unit = ctx.settings.unit;
                 let travel = display(v.axis, plan.travel().abs(), unit);
                 if held {
-                    return egui::RichText::new(format!(
-                        "jogging {what}: stops after {travel} at the latest: {}",
-                        plan.stop_reason()
-                    ));
+                    let text = format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason());
+                    return (egui::RichText::new(text), MESSAGE_LINES);
                 }
                 let moved = match v.moved {
                     Some(m) => m,
@@ -229,12 +232,13 @@ impl CartesianJogPanel {
                     }
                 };
                 let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
-                if at_stop {
+                let text = if at_stop {
                     egui::RichText::new(format!("{what} stopped after {travel}: {}", plan.stop_reason()))
                         .color(palette::rgb(palette::WARN_TEXT))
                 } else {
                     egui::RichText::new(format!("{what} released after {}", display(v.axis, moved, unit)))
-                }
+                };
+                (text, MESSAGE_LINES)
             }
         }
     }

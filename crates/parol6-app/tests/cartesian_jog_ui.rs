@@ -292,7 +292,8 @@ fn holding_plus_x_at_the_singular_wrist_says_why_and_does_not_swing() {
     settle(&mut h, 1.0);
     let q = h.state().backend().state().commanded.q.clone();
     // the panel's line (in the right column; the notice over the 3D view says it too)
-    let reason = h.query_all_by_label_contains("singular wrist").map(|n| n.rect()).max_by(|a, b| a.left().total_cmp(&b.left()));
+    let reason =
+        h.query_all_by_label_contains("singular wrist").map(|n| n.rect()).max_by(|a, b| a.left().total_cmp(&b.left()));
     h.event(egui::Event::PointerButton {
         pos: at,
         button: egui::PointerButton::Primary,

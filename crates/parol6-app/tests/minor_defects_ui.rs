@@ -41,7 +41,9 @@ fn pointer_on_view(h: &mut Harness<'_, Parol6App>) {
     let view = h.get_by_label_contains("3D view unavailable").rect();
     let free = (1..10)
         .flat_map(|i| (1..10).map(move |j| (i, j)))
-        .map(|(i, j)| egui::pos2(view.left() + view.width() * i as f32 / 10.0, view.top() + view.height() * j as f32 / 10.0))
+        .map(|(i, j)| {
+            egui::pos2(view.left() + view.width() * i as f32 / 10.0, view.top() + view.height() * j as f32 / 10.0)
+        })
         .find(|&p| h.ctx.layer_id_at(p).is_some_and(|l| l.order == egui::Order::Background))
         .expect("a part of the 3D view no window covers");
     h.hover_at(free);
@@ -84,9 +86,10 @@ fn escape_closes_the_topmost_dialog_and_stays_stop_where_the_arm_moves_or_the_vi
     // harness, which refuses tofu, so it is not opened here)
 
     // while a program runs, Esc is STOP first: the run ends, the help stays open
+    until(&mut h, "the program's check", 60.0, |h| !h.state().program_panel().checking());
     press(&mut h, Key::F1);
     press(&mut h, Key::F5);
-    until(&mut h, "the program moving the arm", 20.0, |h| h.state().program_running());
+    until(&mut h, "the program moving the arm", 60.0, |h| h.state().program_running());
     pointer_on_panel(&mut h);
     press(&mut h, Key::Escape);
     until(&mut h, "the run's end", 10.0, |h| !h.state().program_running());
@@ -94,7 +97,7 @@ fn escape_closes_the_topmost_dialog_and_stays_stop_where_the_arm_moves_or_the_vi
 
     // a paused program (nothing moves) with the pointer over the 3D view: Esc is STOP
     press(&mut h, Key::F5);
-    until(&mut h, "the program moving the arm", 20.0, |h| h.state().program_running());
+    until(&mut h, "the program moving the arm", 60.0, |h| h.state().program_running());
     press(&mut h, Key::F6);
     until(&mut h, "the arm at rest", 20.0, |h| !h.state().backend().state().moving);
     pointer_on_view(&mut h);
@@ -334,7 +337,7 @@ fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
         s.source == parol6_app::panels::StateSource::Robot && s.blocked.is_none()
     });
     assert!(h.state_mut().start_program("Draw", false));
-    until(&mut h, "the program moving the arm", 20.0, |h| {
+    until(&mut h, "the program moving the arm", 60.0, |h| {
         h.state().program_running() && h.state().backend().state().moving
     });
     settle(&mut h, 0.3);
@@ -346,4 +349,43 @@ fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
     assert_eq!(said, 1, "said once: {notices:?}");
     let line = label_with(&h, "Draw: the operator").unwrap_or_default();
     assert!(line.contains("the operator disconnected"), "the progress line says so: {line:?}");
+}
+
+/// Issue 32 minor: "The MCAP metadata has "program": "" although Draw ran." A recording
+/// started with a built-in program loaded names it.
+#[test]
+fn a_recording_names_the_program_loaded_when_it_started() {
+    let dir = temp_dir("mcap");
+    let path = dir.join("draw.mcap");
+    let opts = parol6_app::app::LaunchOptions { record: Some(path.clone()), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 1400.0));
+    let loaded = h.state().program_panel().program().name.clone();
+    assert!(!loaded.is_empty());
+    settle(&mut h, 0.3);
+    h.query_all_by_label("File").next().unwrap().click();
+    h.run_steps(2);
+    h.get_by_label("Stop recording").click();
+    h.run_steps(3);
+    let rec = parol6_core::telemetry::reader::read_recording(&std::fs::read(&path).unwrap()).unwrap();
+    assert_eq!(rec.metadata.get("program"), Some(&loaded), "{:?}", rec.metadata);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 32 minor: "There is no lasting recording indicator: show a red dot, the file name and
+/// the elapsed time in the status bar."
+#[test]
+fn the_status_bar_shows_the_recording_with_its_file_and_elapsed_time() {
+    let dir = temp_dir("rec");
+    let path = dir.join("shown.mcap");
+    let opts = parol6_app::app::LaunchOptions { record: Some(path.clone()), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 1400.0));
+    settle(&mut h, 1.2);
+    let shown = label_with(&h, "REC shown.mcap").expect("the recording in the status bar");
+    assert!(shown.starts_with("REC shown.mcap 0:") && !shown.ends_with("0:00"), "the elapsed time counts: {shown}");
+    h.query_all_by_label("File").next().unwrap().click();
+    h.run_steps(2);
+    h.get_by_label("Stop recording").click();
+    h.run_steps(3);
+    assert!(label_with(&h, "REC shown.mcap").is_none(), "gone once stopped");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

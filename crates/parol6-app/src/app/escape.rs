@@ -37,9 +37,7 @@ pub(super) enum Closable {
 
 /// True when Esc went down this frame (before the STOP shortcut consumes it).
 fn esc_pressed(ctx: &egui::Context) -> bool {
-    ctx.input(|i| {
-        i.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. }))
-    })
+    ctx.input(|i| i.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. })))
 }
 
 impl Parol6App {

@@ -95,11 +95,7 @@ fn frame_name(f: JogFrame) -> &'static str {
 
 /// `v` of an axis in display units: mm for translations, the angle unit for rotations.
 fn display(axis: CartesianAxis, v: f64, unit: AngleUnit) -> String {
-    if axis.is_rotation() {
-        unit.fmt(v)
-    } else {
-        format!("{} mm", entry::fmt_fixed(v * 1000.0, 2))
-    }
+    if axis.is_rotation() { unit.fmt(v) } else { format!("{} mm", entry::fmt_fixed(v * 1000.0, 2)) }
 }
 
 impl CartesianJogPanel {
@@ -313,7 +309,10 @@ impl Panel for CartesianJogPanel {
                         range.1,
                         unit.fmt(self.step_deg.to_radians())
                     )),
-                    Err(e) => ctx.error(format!("Step angle: {e}; the increment stays {}", unit.fmt(self.step_deg.to_radians()))),
+                    Err(e) => ctx.error(format!(
+                        "Step angle: {e}; the increment stays {}",
+                        unit.fmt(self.step_deg.to_radians())
+                    )),
                 }
             }
         });
@@ -325,11 +324,12 @@ impl Panel for CartesianJogPanel {
         let ang = |k: usize| entry::fmt_fixed(unit.from_rad(shown[k]), decimals);
         let [a, b, c] = ctx.settings.angle_labels();
         let (x, y, z, u) = (mm(0), mm(1), mm(2), unit.suffix());
-        ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2)))
-            .on_hover_text(format!(
+        ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2))).on_hover_text(
+            format!(
                 "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
                 ctx.settings.angle_convention.describe()
-            ));
+            ),
+        );
         if held != self.held
             && let Some((axis, dir)) = held
         {

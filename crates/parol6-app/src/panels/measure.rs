@@ -309,7 +309,8 @@ impl MeasurePanel {
                     .range(-half_turn..=half_turn)
                     .speed(unit.from_rad(1f64.to_radians()))
                     .max_decimals(unit.decimals());
-                let r = ui.add_sized([64.0, 18.0], drag).on_hover_text(format!("{axis}: drag, or click and type (Enter)"));
+                let r =
+                    ui.add_sized([64.0, 18.0], drag).on_hover_text(format!("{axis}: drag, or click and type (Enter)"));
                 if r.changed() {
                     *v = unit.to_rad(shown).to_degrees();
                 }

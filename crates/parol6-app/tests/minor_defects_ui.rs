@@ -283,8 +283,8 @@ fn joint_read_outs_follow_the_arm_during_a_held_cartesian_jog() {
         seen = (shown, s.q[0].to_degrees(), s.target_q[0].to_degrees());
     });
     let (shown, arm, planned_end) = seen;
-    assert!((planned_end - arm).abs() > 2.0, "the test needs a jog whose end is far: {seen:?}");
-    assert!((shown - arm).abs() < 1.0, "J1 shows {shown:.2}°, the arm is at {arm:.2}° (planned end {planned_end:.2}°)");
+    assert!((planned_end - arm).abs() > 10.0, "the test needs a jog whose end is far: {seen:?}");
+    assert!((shown - arm).abs() < 3.0, "J1 shows {shown:.2}°, the arm is at {arm:.2}° (planned end {planned_end:.2}°)");
 }
 
 /// Issue 32 minor: "The run status is stale after opening another program."

@@ -161,7 +161,7 @@ fn panel_harness() -> Harness<'static, Bench> {
 fn typed_decimals_and_negatives_survive_focus_loss() {
     let mut h = panel_harness();
     // (a negative increment is refused since issue 32: the test below)
-    for (name, text, want) in [("Step deg", "1.25", 1.25), ("Step mm", "0,75", 0.75)] {
+    for (name, text, want) in [("Step angle", "1.25", 1.25), ("Step mm", "0,75", 0.75)] {
         h.get_by_label(name).click();
         h.run_steps(2);
         h.get_by_label(name).type_text(text);
@@ -246,7 +246,7 @@ fn holding_a_button_queues_the_jog_until_released() {
 fn the_jog_increment_refuses_zero_negatives_and_absurd_values() {
     let mut h = panel_harness();
     for (field, typed) in
-        [("Step mm", "0"), ("Step mm", "-5"), ("Step mm", "100000"), ("Step deg", "-1"), ("Step deg", "720")]
+        [("Step mm", "0"), ("Step mm", "-5"), ("Step mm", "100000"), ("Step angle", "-1"), ("Step angle", "720")]
     {
         h.state_mut().notices.clear();
         h.get_by_label(field).click();
@@ -291,7 +291,9 @@ fn holding_plus_x_at_the_singular_wrist_says_why_and_does_not_swing() {
     });
     settle(&mut h, 1.0);
     let q = h.state().backend().state().commanded.q.clone();
-    let reason = h.query_by_label_contains("singular wrist").map(|n| n.rect());
+    // the panel's line (in the right column; the notice over the 3D view says it too)
+    let reason =
+        h.query_all_by_label_contains("singular wrist").map(|n| n.rect()).max_by(|a, b| a.left().total_cmp(&b.left()));
     h.event(egui::Event::PointerButton {
         pos: at,
         button: egui::PointerButton::Primary,

@@ -78,6 +78,11 @@ impl Parol6App {
         &self.panels.program
     }
 
+    /// The Cartesian jog panel (its frame and increments).
+    pub fn cartesian_jog_panel(&self) -> &crate::panels::cartesian_jog::CartesianJogPanel {
+        &self.panels.cartesian_jog
+    }
+
     /// The dynamics panel (tests read its analysis).
     pub fn dynamics_panel(&self) -> &crate::panels::dynamics::DynamicsPanel {
         &self.panels.dynamics
@@ -96,6 +101,11 @@ impl Parol6App {
     /// True while the E-stop button is latched.
     pub fn estop_latched(&self) -> bool {
         self.estop
+    }
+
+    /// True while the help window (F1) is open.
+    pub fn help_open(&self) -> bool {
+        self.show_help
     }
 
     /// True while a controller (the robot or the built-in emulator) is connected.

@@ -108,6 +108,8 @@ impl Parol6App {
                     Ok(r) => {
                         self.state.program = Some(r.progress());
                         self.program = Some(r);
+                        self.run_disconnected = false;
+                        self.note_program_start(&name);
                     }
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
                 }

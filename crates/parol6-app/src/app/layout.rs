@@ -265,7 +265,7 @@ impl Parol6App {
         }
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
-            egui::Window::new("Help")
+            egui::Window::new(super::escape::HELP_WINDOW)
                 .open(show_help)
                 .default_size([600.0, max_h.min(720.0)])
                 .max_height(max_h)
@@ -306,6 +306,7 @@ impl Parol6App {
     fn central(&mut self, ui: &mut egui::Ui, scene: &SceneFrame) {
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.max_rect();
+            self.view_rect = Some(rect);
             match &mut self.viewport {
                 Some(v) => {
                     v.ui(ui, scene);
@@ -317,24 +318,7 @@ impl Parol6App {
                     ui.put(rect, egui::Label::new(text));
                 }
             }
-            // Notices on top of the view, newest first.
-            let mut y = rect.top() + 8.0;
-            for n in self.notices.iter().rev().take(4) {
-                let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
-                let galley = ui.painter().layout(
-                    n.text.clone(),
-                    egui::FontId::proportional(14.0),
-                    palette::rgb(palette::NOTICE_TEXT),
-                    (rect.width() - 40.0).max(100.0),
-                );
-                let r = egui::Rect::from_min_size(
-                    egui::pos2(rect.left() + 10.0, y),
-                    galley.size() + egui::vec2(16.0, 10.0),
-                );
-                ui.painter().rect_filled(r, 4.0, color);
-                ui.painter().galley(r.min + egui::vec2(8.0, 5.0), galley, palette::rgb(palette::NOTICE_TEXT));
-                y = r.bottom() + 4.0;
-            }
+            notices_ui(ui.ctx(), rect, &self.notices);
         });
     }
 }
@@ -386,4 +370,28 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
         pctx.settings.lower_panel_height_pt = h;
     }
     shown.response.rect
+}
+
+/// The notices (newest first) in the top left corner of the 3D view (`view`), on a layer in front
+/// of every window and menu: an error raised from the point table or the File menu is never
+/// hidden behind them.
+fn notices_ui(ctx: &egui::Context, view: egui::Rect, notices: &[super::Notice]) {
+    if notices.is_empty() {
+        return;
+    }
+    let width = (view.width() - 40.0).max(100.0);
+    egui::Area::new(egui::Id::unique("parol6-notices"))
+        .order(egui::Order::Tooltip)
+        .fixed_pos(view.min + egui::vec2(10.0, 8.0))
+        .show(ctx, |ui| {
+            ui.set_max_width(width);
+            ui.spacing_mut().item_spacing.y = 4.0;
+            for n in notices.iter().rev().take(4) {
+                let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
+                egui::Frame::new().fill(color).corner_radius(4.0).inner_margin(egui::vec2(8.0, 5.0)).show(ui, |ui| {
+                    let text = egui::RichText::new(&n.text).size(14.0).color(palette::rgb(palette::NOTICE_TEXT));
+                    ui.add(egui::Label::new(text).wrap());
+                });
+            }
+        });
 }

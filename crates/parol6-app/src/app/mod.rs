@@ -24,6 +24,7 @@ use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, Rob
 use crate::viewport::Viewport;
 
 mod access;
+mod escape;
 mod execute;
 pub(crate) mod frame_reuse;
 mod icon;
@@ -59,6 +60,8 @@ pub use test_hooks::TestScript;
 /// Window title.
 pub const WINDOW_TITLE: &str = "PAROL6 Studio";
 /// Notices disappear after this long.
+/// A program's outcome when the operator disconnected the robot while it ran.
+const RUN_DISCONNECTED: &str = "the operator disconnected the robot";
 const NOTICE_TTL: Duration = Duration::from_secs(8);
 /// After any command, keep repainting this long so its effect (or refusal) shows up.
 const COMMAND_REPAINT_WINDOW: Duration = Duration::from_millis(600);
@@ -120,6 +123,9 @@ pub struct Parol6App {
     hw: Option<HwLink>,
     /// The running (or last) program, on the backend that was active when it started.
     program: Option<ProgramRunner>,
+    /// The running program was ended by the operator's Disconnect: its outcome says so, once,
+    /// instead of the refusals of the link going down.
+    run_disconnected: bool,
     /// What the panels read (the open recording, the program's progress, the file being
     /// written, the link): changed here only, on their [`AppCommand`]s.
     state: state::AppState,
@@ -155,6 +161,8 @@ pub struct Parol6App {
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
+    /// Where the 3D view was laid out last (Esc over it is STOP, see `escape`).
+    view_rect: Option<egui::Rect>,
     /// Telemetry of the simulation (its live view feeds the plots while no robot is connected).
     sim_recorder: Option<parol6_core::telemetry::Recorder>,
     /// Program step last passed to the recorder.
@@ -213,6 +221,7 @@ impl Parol6App {
             sim,
             hw: None,
             program: None,
+            run_disconnected: false,
             state: state::AppState::default(),
             jog_held: None,
             cartesian_jog_held: None,
@@ -239,6 +248,7 @@ impl Parol6App {
             exit_code: Arc::new(AtomicI32::new(0)),
             started: opts.started,
             show_help: false,
+            view_rect: None,
             sim_recorder,
             last_program_step: None,
             recording_info: opts.recording_info,
@@ -302,6 +312,9 @@ impl Parol6App {
     }
 
     fn disconnect(&mut self) {
+        if self.program_running() && self.hw.is_some() {
+            self.run_disconnected = true;
+        }
         self.stop_program();
         if self.state.recording.as_ref().is_some_and(|r| r.on_robot) {
             self.stop_file_recording();
@@ -330,16 +343,21 @@ impl Parol6App {
         }
     }
 
-    fn keyboard(&mut self, ctx: &egui::Context) {
+    fn keyboard(&mut self, ctx: &egui::Context, arm_moving: bool) {
         use crate::panels::shortcuts::{self, Action};
         // the held jog keys see this frame's key presses before any panel consumes one
         shortcuts::update_held(ctx);
+        // Esc closes the topmost dialog where nothing moves and the 3D view or a motion
+        // control does not have it (`escape`); else it is STOP
+        let closes = self.escape_closes(ctx, arm_moving);
         let esc = shortcuts::pressed(ctx, Action::Stop);
         let home = shortcuts::pressed(ctx, Action::Home);
         let quit = shortcuts::pressed(ctx, Action::Quit) || std::mem::take(&mut self.files.quit_clicked);
         let help = shortcuts::pressed(ctx, Action::ToggleHelp);
-        if esc {
-            self.commands.push(AppCommand::Motion(MotionCommand::Stop));
+        match (esc, closes) {
+            (true, Some(what)) => self.close_on_escape(ctx, what),
+            (true, None) => self.commands.push(AppCommand::Motion(MotionCommand::Stop)),
+            (false, _) => {}
         }
         if home {
             let (speed_fraction, profile) = (self.settings.speed_fraction, self.settings.profile.kind());
@@ -385,7 +403,11 @@ impl Parol6App {
         };
         let robot: &RobotState = &robot_arc;
         if let Some(run) = &self.program {
-            let p = run.progress();
+            let mut p = run.progress();
+            if self.run_disconnected && p.state.is_finished() {
+                p.state = parol6_core::program::runner::RunState::Failed(RUN_DISCONNECTED.into());
+                p.stop_failed = None;
+            }
             if let parol6_core::program::runner::RunState::Failed(why) = &p.state
                 && self.state.program.as_ref().map(|q| &q.state) != Some(&p.state)
             {
@@ -406,7 +428,7 @@ impl Parol6App {
             parol6_core::process::release_freed_memory();
         }
 
-        self.keyboard(&ctx);
+        self.keyboard(&ctx, live_moving);
         self.notices.retain(|n| n.at.elapsed() < NOTICE_TTL);
 
         let refresh = match &self.readout {

@@ -45,6 +45,8 @@ pub struct FileRecording {
     pub path: PathBuf,
     /// True when it records the serial link (it ends when the link closes).
     pub on_robot: bool,
+    /// When it started (the status bar shows the time since).
+    pub started: std::time::Instant,
 }
 
 impl AppState {

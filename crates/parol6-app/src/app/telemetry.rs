@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use parol6_core::RobotModel;
-use parol6_core::telemetry::{LinkHealth, LiveView, Recorder, RecorderConfig, RecordingInfo};
+use parol6_core::telemetry::{EventKind, LinkHealth, LiveView, Recorder, RecorderConfig, RecordingInfo};
 use parol6_hw::session::Snapshot;
 
 use super::Parol6App;
@@ -76,6 +76,32 @@ impl Parol6App {
         }
     }
 
+    /// The program a recording names in its metadata: the one running, else the one loaded in
+    /// the program panel ("Draw", or "pick (/path/pick.json)" for a file). A program started
+    /// later is logged to `/events` (see [`Self::note_program_start`]).
+    fn recorded_program(&self) -> String {
+        if let Some(p) = self.state.program.as_ref().filter(|_| self.program_running()) {
+            return p.name.clone();
+        }
+        let panel = &self.panels.program;
+        match panel.file() {
+            Some(f) => format!("{} ({})", panel.program().name, f.display()),
+            None => panel.program().name.clone(),
+        }
+    }
+
+    /// Logs a program's start to the recording being written, if any: the metadata names only
+    /// the program of the recording's start.
+    pub(super) fn note_program_start(&self, name: &str) {
+        if self.state.recording.is_none() {
+            return;
+        }
+        if let Some(rec) = self.active_recorder() {
+            let message = format!("program {name} started");
+            rec.event(parol6_core::telemetry::TelemetryEvent { time_s: f64::NAN, kind: EventKind::Note, message });
+        }
+    }
+
     /// Starts writing the active backend to `path`.
     pub(super) fn start_file_recording(&mut self, path: &Path) {
         if let Some(r) = &self.state.recording {
@@ -90,13 +116,17 @@ impl Parol6App {
         };
         let info = RecordingInfo {
             app_version: env!("CARGO_PKG_VERSION").to_string(),
-            program: self.state.program.as_ref().map(|p| p.name.clone()).unwrap_or_default(),
+            program: self.recorded_program(),
             tracking: self.hw.as_ref().map_or(self.sim_tracking, |h| h.tracking).name().to_string(),
             ..self.recording_info.clone()
         };
         match rec.start_recording(path, &info) {
             Ok(()) => {
-                self.state.recording = Some(super::state::FileRecording { path: path.to_path_buf(), on_robot });
+                self.state.recording = Some(super::state::FileRecording {
+                    path: path.to_path_buf(),
+                    on_robot,
+                    started: std::time::Instant::now(),
+                });
                 let what = if on_robot { "the robot" } else { "the simulation" };
                 self.notice(format!("recording {what} to {}", path.display()), false);
             }

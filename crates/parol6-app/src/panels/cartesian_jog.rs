@@ -18,8 +18,9 @@ use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog
 use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
 
 use super::entry::{self, EntryEvent};
+use super::fixed_box;
 use super::shortcuts::{self, Action};
-use super::{AppCommand, Panel, PanelContext};
+use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
 
 /// The step increments an operator may type, mm and degrees (a step is a jog: small, and
@@ -47,7 +48,13 @@ struct JogView {
     plan: Result<CartesianJogPlan, String>,
     /// TCP at jog start (position m, rotation).
     start: parol6_core::na::Isometry3<f64>,
+    /// How far the jog moved (m or rad), fixed once the arm came to rest after the release: a
+    /// later motion does not change what this jog did.
+    moved: Option<f64>,
 }
+
+/// Text rows of the jog's message: its height never changes, so nothing below it moves.
+const MESSAGE_LINES: usize = 2;
 
 /// The Cartesian jog panel.
 #[derive(Debug)]
@@ -86,13 +93,9 @@ fn frame_name(f: JogFrame) -> &'static str {
     }
 }
 
-/// `v` of an axis in display units: mm for translations, degrees for rotations.
-fn display(axis: CartesianAxis, v: f64) -> String {
-    if axis.is_rotation() {
-        format!("{}°", entry::fmt_fixed(v.to_degrees(), 2))
-    } else {
-        format!("{} mm", entry::fmt_fixed(v * 1000.0, 2))
-    }
+/// `v` of an axis in display units: mm for translations, the angle unit for rotations.
+fn display(axis: CartesianAxis, v: f64, unit: AngleUnit) -> String {
+    if axis.is_rotation() { unit.fmt(v) } else { format!("{} mm", entry::fmt_fixed(v * 1000.0, 2)) }
 }
 
 impl CartesianJogPanel {
@@ -120,7 +123,7 @@ impl CartesianJogPanel {
         let kin = JogKinematics { model: Arc::new(ctx.model.clone()), obstacles };
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
-        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q) });
+        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q), moved: None });
     }
 
     fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
@@ -178,8 +181,19 @@ impl CartesianJogPanel {
             .find(|&(axis, dir)| shortcuts::held(ui.ctx(), Action::JogCartesian(axis, dir)))
     }
 
-    fn status_ui(&self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
-        let Some(v) = &self.view else { return };
+    /// The jog's message in [`MESSAGE_LINES`] rows (empty before the first jog).
+    fn status_ui(&mut self, ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+        let (text, rows) = self.status_text(ctx);
+        fixed_box::message_lines(ui, text, rows);
+        // a one-row refusal keeps the box's height: the rows left as space
+        let row_h = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+        ui.add_space(row_h * MESSAGE_LINES.saturating_sub(rows) as f32);
+    }
+
+    /// The message and its rows (a refusal on one row, cut with "…", whole on hover).
+    fn status_text(&mut self, ctx: &PanelContext<'_>) -> (egui::RichText, usize) {
+        let held = self.held.is_some();
+        let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
         match &v.plan {
@@ -188,31 +202,39 @@ impl CartesianJogPanel {
                 // "singularity: " prefixes (the whole text on hover)
                 let why = e.split_once(" frame: ").map_or(e.as_str(), |(_, w)| w);
                 let why = why.strip_prefix("singularity: ").unwrap_or(why);
-                let text =
-                    egui::RichText::new(format!("{what} refused: {why}")).color(palette::rgb(palette::ERROR_TEXT));
-                ui.add(egui::Label::new(text).truncate()).on_hover_text(e);
+                let text = format!("{what} refused: {why}");
+                (egui::RichText::new(text).color(palette::rgb(palette::ERROR_TEXT)), 1)
             }
             Ok(plan) => {
-                let travel = display(v.axis, plan.travel().abs());
-                if self.held.is_some() {
-                    ui.label(format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason()));
-                    return;
+                let unit = ctx.settings.unit;
+                let travel = display(v.axis, plan.travel().abs(), unit);
+                if held {
+                    let text = format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason());
+                    return (egui::RichText::new(text), MESSAGE_LINES);
                 }
-                let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
-                let moved = if v.axis.is_rotation() {
-                    now.rotation.angle_to(&v.start.rotation)
-                } else {
-                    (now.translation.vector - v.start.translation.vector).norm()
+                let moved = match v.moved {
+                    Some(m) => m,
+                    None => {
+                        let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+                        let m = if v.axis.is_rotation() {
+                            now.rotation.angle_to(&v.start.rotation)
+                        } else {
+                            (now.translation.vector - v.start.translation.vector).norm()
+                        };
+                        if !ctx.robot.moving {
+                            v.moved = Some(m); // at rest after the release: what this jog did
+                        }
+                        m
+                    }
                 };
                 let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
-                if at_stop {
-                    ui.colored_label(
-                        palette::rgb(palette::WARN_TEXT),
-                        format!("{what} stopped after {travel}: {}", plan.stop_reason()),
-                    );
+                let text = if at_stop {
+                    egui::RichText::new(format!("{what} stopped after {travel}: {}", plan.stop_reason()))
+                        .color(palette::rgb(palette::WARN_TEXT))
                 } else {
-                    ui.label(format!("{what} released after {}", display(v.axis, moved)));
-                }
+                    egui::RichText::new(format!("{what} released after {}", display(v.axis, moved, unit)))
+                };
+                (text, MESSAGE_LINES)
             }
         }
     }
@@ -268,23 +290,46 @@ impl Panel for CartesianJogPanel {
                     Err(e) => ctx.error(format!("Step mm: {e}; the increment stays {:.2} mm", self.step_mm)),
                 }
             }
-            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step deg", self.step_deg, 2, 56.0, "°") {
+            // the angle increment in the chosen unit, kept in degrees
+            let unit = ctx.settings.unit;
+            let shown = unit.from_rad(self.step_deg.to_radians());
+            let suffix = unit.suffix().trim();
+            if let (_, Some(ev)) = entry::numeric_entry(ui, "Step angle", shown, unit.decimals(), 56.0, suffix) {
+                let in_unit = |deg: f64| entry::fmt_fixed(unit.from_rad(deg.to_radians()), unit.decimals());
+                let range = (in_unit(STEP_DEG_RANGE.0), in_unit(STEP_DEG_RANGE.1));
+                let ev = match ev {
+                    EntryEvent::Committed(v) => EntryEvent::Committed(unit.to_rad(v).to_degrees()),
+                    invalid => invalid,
+                };
                 match step_in_range(ev, STEP_DEG_RANGE, "°") {
                     Ok(v) => self.step_deg = v,
-                    Err(e) => ctx.error(format!("Step deg: {e}; the increment stays {:.2}°", self.step_deg)),
+                    Err(_) if unit == AngleUnit::Rad => ctx.error(format!(
+                        "Step angle: outside {}–{} rad; the increment stays {}",
+                        range.0,
+                        range.1,
+                        unit.fmt(self.step_deg.to_radians())
+                    )),
+                    Err(e) => ctx.error(format!(
+                        "Step angle: {e}; the increment stays {}",
+                        unit.fmt(self.step_deg.to_radians())
+                    )),
                 }
             }
         });
         let tcp = ctx.readout.tcp;
         let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
         let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
-        let deg = |k: usize| entry::fmt_fixed(shown[k].to_degrees(), 1);
+        let unit = ctx.settings.unit;
+        let decimals = if unit == AngleUnit::Rad { 3 } else { 1 };
+        let ang = |k: usize| entry::fmt_fixed(unit.from_rad(shown[k]), decimals);
         let [a, b, c] = ctx.settings.angle_labels();
-        ui.label(format!("TCP {}, {}, {} mm · {a}/{b}/{c} {}, {}, {}°", mm(0), mm(1), mm(2), deg(0), deg(1), deg(2)))
-            .on_hover_text(format!(
+        let (x, y, z, u) = (mm(0), mm(1), mm(2), unit.suffix());
+        ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2))).on_hover_text(
+            format!(
                 "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
                 ctx.settings.angle_convention.describe()
-            ));
+            ),
+        );
         if held != self.held
             && let Some((axis, dir)) = held
         {

@@ -101,7 +101,11 @@ impl JointsPanel {
         let n = ctx.model.dof();
         let held = self.editing || self.hold_until.is_some_and(|t| std::time::Instant::now() < t);
         if self.edit.len() != n || !held {
-            self.edit = if ctx.robot.target_q.len() == n { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
+            // a held Cartesian jog's target is where it would stop at the latest (a limit, the
+            // workspace edge), not where the operator moves it: the read-outs show the arm then
+            let jog = ctx.robot.mode == parol6_core::motion::PlannerMode::CartesianJog;
+            self.edit =
+                if ctx.robot.target_q.len() == n && !jog { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
             self.edit.resize(n, 0.0);
         }
         if self.goto.len() != n {

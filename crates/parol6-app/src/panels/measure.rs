@@ -159,7 +159,8 @@ impl Panel for MeasurePanel {
         ui.heading(self.title());
         let measurement = &ctx.app.measurement;
         let running = measurement.running();
-        ui.add_enabled_ui(!running, |ui| self.setup_ui(ui));
+        let unit = ctx.settings.unit;
+        ui.add_enabled_ui(!running, |ui| self.setup_ui(ui, unit));
         if !running && !ctx.robot.moving {
             self.refresh_preflight(ctx.model, &ctx.robot.commanded.q.clone());
         }
@@ -225,7 +226,7 @@ impl Panel for MeasurePanel {
 impl MeasurePanel {
     /// The cube and the run settings. Fixed-width fields in a grid: the panel keeps its width
     /// whatever the values (a wider panel would slide under the 3D view's pointer area).
-    fn setup_ui(&mut self, ui: &mut egui::Ui) {
+    fn setup_ui(&mut self, ui: &mut egui::Ui, unit: super::AngleUnit) {
         let c = &mut self.plan.cube;
         ui.spacing_mut().slider_width = 110.0;
         let field = |ui: &mut egui::Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str| {
@@ -243,9 +244,20 @@ impl MeasurePanel {
                 field(ui, v, -1000.0..=1000.0, axis);
             }
             ui.end_row();
-            ui.label("Tool RPY °");
+            // the tool orientation in the chosen angle unit, kept in degrees
+            ui.label(format!("Tool RPY {}", unit.suffix().trim()));
+            let half_turn = unit.from_rad(std::f64::consts::PI);
             for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["tool roll", "tool pitch", "tool yaw"]) {
-                field(ui, v, -180.0..=180.0, axis);
+                let mut shown = unit.from_rad(v.to_radians());
+                let drag = egui::DragValue::new(&mut shown)
+                    .range(-half_turn..=half_turn)
+                    .speed(unit.from_rad(1f64.to_radians()))
+                    .max_decimals(unit.decimals());
+                let r =
+                    ui.add_sized([64.0, 18.0], drag).on_hover_text(format!("{axis}: drag, or click and type (Enter)"));
+                if r.changed() {
+                    *v = unit.to_rad(shown).to_degrees();
+                }
             }
             ui.end_row();
             ui.label("Edge mm");

@@ -12,7 +12,9 @@
 //!   menu or popup takes the keyboard, or the window loses focus. A key pressed with Ctrl and
 //!   held on after Ctrl is let go therefore never jogs.
 //!
-//! Esc (STOP) is the exception: it acts whatever has the keyboard and whatever is held.
+//! Esc (STOP) is the exception: it acts whatever has the keyboard and whatever is held. Where
+//! nothing moves, the pointer is off the 3D view and no docked panel's control has the keyboard,
+//! it closes the topmost dialog, menu or window instead (`app::escape`).
 //! egui reports the Super key only on macOS (as Cmd); elsewhere the desktop usually keeps
 //! Super+key for itself.
 
@@ -167,10 +169,12 @@ const JOG_XYZ: &str = "Cartesian jog −X / +X, −Y / +Y, −Z / +Z while held"
 const JOG_RXYZ: &str = "Cartesian jog −Rx / +Rx, −Ry / +Ry, −Rz / +Rz while held";
 const SELECT: &str = "select the joint that Page Up / Page Down jog";
 const ORBIT: &str = "orbit the camera";
+const ESC: &str = "STOP (also cancels a demo). With nothing moving, the pointer off the 3D view and no panel \
+                   control typed into: closes the topmost question, menu, file dialog, point table or help instead";
 
 /// Every keyboard shortcut of the window.
 pub const SHORTCUTS: &[Shortcut] = &[
-    press(Key::Escape, Mods::Any, Action::Stop, Scope::Always, "STOP (also cancels a demo)"),
+    press(Key::Escape, Mods::Any, Action::Stop, Scope::Always, ESC),
     press(Key::H, NONE, Action::Home, Scope::NoField, "HOME (profiled move to standby)"),
     press(Key::H, CMD, Action::Home, Scope::NoField, "HOME (as H)"),
     press(Key::F1, NONE, Action::ToggleHelp, Scope::Always, "this help"),

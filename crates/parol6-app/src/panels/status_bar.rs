@@ -1,6 +1,7 @@
 //! Bottom status bar: FPS, CPU time of the UI pass, physics rate and step time, command
-//! latency, where the shown state comes from (SIM, ROBOT, or REPLAY while a recording is open), the *Share live* toggle (with the address while
-//! on) and the remote-control banner.
+//! latency, where the shown state comes from (SIM, ROBOT, or REPLAY while a recording is open), the
+//! recording being written (a red dot, its file name and the time since it started), the *Share live*
+//! toggle (with the address while on) and the remote-control banner.
 
 use super::{AppCommand, Panel, PanelContext, StateSource};
 use eframe::egui;
@@ -32,6 +33,7 @@ impl Panel for StatusBar {
             };
             ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(hover);
             ui.separator();
+            recording_ui(ui, ctx);
             ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
             ui.separator();
             ui.monospace(format!("UI {:.2} ms", p.ui_cpu_ms)).on_hover_text("CPU time of the last UI pass");
@@ -58,6 +60,22 @@ impl Panel for StatusBar {
             live_ui(ui, ctx);
         });
     }
+}
+
+/// While a file is written: a red dot, "REC", the file's name and the time since it started
+/// (m:ss), refreshed every second; the full path on hover.
+fn recording_ui(ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+    let Some(r) = &ctx.app.recording else { return };
+    let name = r.path.file_name().map_or_else(|| r.path.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let s = r.started.elapsed().as_secs();
+    let red = palette::rgb(palette::ERROR_TEXT);
+    let (dot, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+    ui.painter().circle_filled(dot.center(), 5.0, red);
+    let text = format!("REC {name} {}:{:02}", s / 60, s % 60);
+    ui.label(egui::RichText::new(text).strong().color(red))
+        .on_hover_text(format!("recording to {} (File → Stop recording)", r.path.display()));
+    ui.separator();
+    ui.ctx().request_repaint_after(std::time::Duration::from_millis(500));
 }
 
 /// The *Share live* toggle: the address while on (a click stops it); the *ROS 2* toggle; and

@@ -137,12 +137,46 @@ pub fn step_fields(step: &Step, settings: &Settings, defaults: &parol6_core::pro
     out
 }
 
+/// The largest |position| a step may be given, mm (far beyond any arm's reach; a typo such
+/// as 1e9 is refused).
+pub const POSITION_MAX_MM: f64 = 5000.0;
+/// The largest |joint angle| or |orientation angle| a step may be given, degrees.
+pub const ANGLE_MAX_DEG: f64 = 360.0;
+/// The largest TCP speed a step may be given, mm/s.
+pub const TCP_SPEED_MAX_MM_S: f64 = 10_000.0;
+/// The largest corner blend radius, mm.
+pub const BLEND_MAX_MM: f64 = 1000.0;
+/// The longest dwell, s (an hour).
+pub const DWELL_MAX_S: f64 = 3600.0;
+
+/// `value` inside `lo..=hi` (in `unit`), or why not.
+fn within(value: f64, (lo, hi): (f64, f64), unit: &str) -> Result<(), String> {
+    if (lo..=hi).contains(&value) {
+        return Ok(());
+    }
+    let range = if lo == -hi { format!("±{hi}") } else { format!("{lo}–{hi}") };
+    Err(format!("{value} {unit} is outside {range} {unit}"))
+}
+
 /// `step` with the field `slot` set to `value` (in the display unit of [`step_fields`]).
-/// Values the program would refuse (a speed fraction outside (0, 1], a negative time) are
-/// refused here with a message, so the edit never makes the program invalid.
+/// Values the program would refuse (a speed fraction outside (0, 1], a negative time) or that
+/// can only be typos (a position beyond ±[`POSITION_MAX_MM`], an angle beyond ±[`ANGLE_MAX_DEG`],
+/// a dwell over [`DWELL_MAX_S`]) are refused here with a message, so the edit never makes the
+/// program invalid.
 pub fn with_field(step: &Step, slot: FieldSlot, value: f64, settings: &Settings) -> Result<Step, String> {
     if !value.is_finite() {
         return Err("not a finite number".into());
+    }
+    let unit = settings.unit;
+    // rounded: 2π rad shows as ±6.2832 rad
+    let angle_max = (unit.from_rad(ANGLE_MAX_DEG.to_radians()) * 1e4).round() / 1e4;
+    match slot {
+        FieldSlot::Position(_) => within(value, (-POSITION_MAX_MM, POSITION_MAX_MM), "mm")?,
+        FieldSlot::Joint(_) | FieldSlot::Angle(_) => within(value, (-angle_max, angle_max), unit.suffix().trim())?,
+        FieldSlot::SpeedMmS => within(value, (0.0, TCP_SPEED_MAX_MM_S), "mm/s")?,
+        FieldSlot::BlendMm => within(value, (0.0, BLEND_MAX_MM), "mm")?,
+        FieldSlot::Seconds => within(value, (0.0, DWELL_MAX_S), "s")?,
+        FieldSlot::SpeedFraction => {}
     }
     let check_fraction = |v: f64| {
         if v > 0.0 && v <= 1.0 { Ok(Some(v)) } else { Err(format!("speed {v} is outside (0, 1]")) }

@@ -41,6 +41,11 @@ impl ProgramPanel {
         self.confirm_run.is_some()
     }
 
+    /// Closes the torque question without running (Esc).
+    pub fn cancel_run_confirmation(&mut self) {
+        self.confirm_run = None;
+    }
+
     /// The torque question, while it is open: "Run anyway" starts the run, "Cancel" (or a
     /// click outside) does not.
     pub(super) fn run_confirmation(&mut self, ui: &egui::Ui, ctx: &mut PanelContext<'_>) {

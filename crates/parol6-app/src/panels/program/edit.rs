@@ -109,7 +109,7 @@ impl ProgramPanel {
         }
     }
 
-    fn duplicate(&mut self, ctx: &mut PanelContext<'_>) {
+    pub(super) fn duplicate(&mut self, ctx: &mut PanelContext<'_>) {
         if let Some(i) = self.selected {
             let r = self.editor.duplicate(i);
             if let Some(j) = self.edited(r, ctx) {
@@ -118,7 +118,7 @@ impl ProgramPanel {
         }
     }
 
-    fn delete(&mut self, ctx: &mut PanelContext<'_>) {
+    pub(super) fn delete(&mut self, ctx: &mut PanelContext<'_>) {
         if let Some(i) = self.selected {
             let r = self.editor.delete(i);
             self.edited(r, ctx);

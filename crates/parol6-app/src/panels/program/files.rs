@@ -202,6 +202,16 @@ impl ProgramPanel {
         }
     }
 
+    /// True while the Open / Save-as file dialog is shown.
+    pub fn file_dialog_open(&self) -> bool {
+        self.files.dialog.is_some()
+    }
+
+    /// Closes the file dialog (Esc), choosing nothing.
+    pub fn close_file_dialog(&mut self) {
+        self.files.dialog = None;
+    }
+
     /// "Save": to the file it came from, else "Save as".
     pub(super) fn save(&mut self, ctx: &mut PanelContext<'_>) {
         match self.file.clone() {
@@ -226,7 +236,7 @@ impl ProgramPanel {
         };
         dialog = dialog
             .show_files_filter(Box::new(|p: &Path| is_program_file(p)))
-            .id(egui::Id::unique("program-file-dialog"));
+            .id(egui::Id::unique(super::FILE_DIALOG_ID));
         if let Some(dir) = start {
             dialog = dialog.initial_path(dir);
         }

@@ -38,6 +38,11 @@ use parol6_core::program::{Program, builtin};
 
 pub use checker::{MAX_OVERLAY_POINTS, planned_path};
 
+/// The id of the program's Open / Save-as dialog window (`egui::Id::unique` of it).
+pub const FILE_DIALOG_ID: &str = "program-file-dialog";
+/// The id of the point-table window (`egui::Id::unique` of it).
+pub const TABLE_ID: &str = "program-point-table";
+
 use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
@@ -91,6 +96,11 @@ pub struct ProgramPanel {
     pub looping: bool,
     /// A run waits for the torque question (`Some(single_step)`, see `confirm`).
     confirm_run: Option<bool>,
+    /// Another program was opened: the last run's outcome (of the program before) is no longer
+    /// shown; `hidden_run` is taken from the app's state on the next frame.
+    hide_last_run: bool,
+    /// The finished run the progress line no longer shows.
+    hidden_run: Option<RunProgress>,
 }
 
 impl ProgramPanel {
@@ -117,6 +127,8 @@ impl ProgramPanel {
             speed_override: 1.0,
             looping: false,
             confirm_run: None,
+            hide_last_run: false,
+            hidden_run: None,
         }
     }
 
@@ -191,6 +203,7 @@ impl ProgramPanel {
         self.source = source;
         self.file = file;
         self.selected = None;
+        self.hide_last_run = true;
         self.program_changed();
     }
 
@@ -247,6 +260,7 @@ impl ProgramPanel {
                 self.source = shown.clone();
                 self.file = Some(path.clone());
                 self.selected = None;
+                self.hide_last_run = true;
                 self.check_error = None;
                 self.path_text = shown.clone();
                 if let Some(ctx) = ctx {
@@ -307,7 +321,11 @@ impl Panel for ProgramPanel {
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.heading(self.title());
-        let progress = ctx.app.program.clone();
+        if std::mem::take(&mut self.hide_last_run) {
+            self.hidden_run = ctx.app.program.clone().filter(|p| p.state.is_finished());
+        }
+        // the run status of a program opened since is not shown
+        let progress = ctx.app.program.clone().filter(|p| self.hidden_run.as_ref() != Some(p));
         let running = progress.as_ref().is_some_and(|p| !p.state.is_finished());
         ui.add_enabled_ui(!running, |ui| {
             self.picker(ui, ctx);

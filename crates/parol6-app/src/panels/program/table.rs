@@ -20,9 +20,10 @@ impl ProgramPanel {
         let mut open = true;
         let mut change: Option<(usize, FieldSlot, f64, String)> = None;
         let mut select = None;
+        let (mut add_row, mut remove_row) = (false, false);
         let program = std::sync::Arc::clone(&self.program);
         egui::Window::new(format!("Point table: {}", program.name))
-            .id(egui::Id::unique("program-point-table"))
+            .id(egui::Id::unique(super::TABLE_ID))
             .open(&mut open)
             .default_size([640.0, 360.0])
             .resizable(true)
@@ -33,6 +34,18 @@ impl ProgramPanel {
                     ctx.settings.unit.suffix().trim(),
                     ctx.settings.angle_convention.describe()
                 ));
+                ui.horizontal(|ui| {
+                    add_row = ui
+                        .button("Add row")
+                        .on_hover_text("a copy of the selected row (or the last one), after it; edit its numbers")
+                        .clicked();
+                    let selected = self.selected.filter(|&i| i < program.steps.len());
+                    let remove = ui.add_enabled(selected.is_some(), egui::Button::new("Remove row"));
+                    remove_row = remove
+                        .on_hover_text("remove the selected row (Ctrl+Z undoes)")
+                        .on_disabled_hover_text("click a row's number to select it")
+                        .clicked();
+                });
                 egui::ScrollArea::both().auto_shrink([false, false]).show(ui, |ui| {
                     egui::Grid::new("program-point-table-grid").striped(true).spacing([4.0, 2.0]).show(ui, |ui| {
                         let mut header: Vec<String> = Vec::new();
@@ -79,6 +92,19 @@ impl ProgramPanel {
         }
         if let Some(i) = select {
             self.selected = Some(i);
+        }
+        if add_row {
+            if self.selected.is_none() {
+                self.selected = program.steps.len().checked_sub(1);
+            }
+            if self.selected.is_some() {
+                self.duplicate(ctx);
+            } else {
+                ctx.error("the program has no row to copy: teach a step first");
+            }
+        }
+        if remove_row {
+            self.delete(ctx);
         }
         if let Some((i, slot, v, label)) = change
             && let Some(step) = self.editor.program().steps.get(i).map(|s| s.step.clone())

@@ -52,6 +52,25 @@ pub fn check_goal(
     current_q: &[f64],
     now_ns: u64,
 ) -> Result<GoalPlan, GoalRefusal> {
+    let goal_tolerance_rad = goal_checks(model, goal, now_ns)?;
+    let plan = plan_trajectory(model, &goal.trajectory, current_q).map_err(|e| {
+        let code = if matches!(e, TrajectoryError::JointNames { .. }) { INVALID_JOINTS } else { INVALID_GOAL };
+        refuse(code, format!("trajectory: {e}"))
+    })?;
+    let final_q = match plan.program.steps.last().map(|s| &s.step) {
+        Some(Step::MoveJoints { joints_deg, .. }) => joints_deg.iter().map(|d| d.to_radians()).collect(),
+        _ => current_q.to_vec(),
+    };
+    Ok(GoalPlan { plan, final_q, goal_tolerance_rad })
+}
+
+/// The checks only a goal has (everything but its trajectory's): each robot joint's goal
+/// position tolerance, rad.
+pub fn goal_checks(
+    model: &RobotModel,
+    goal: &FollowJointTrajectoryGoal,
+    now_ns: u64,
+) -> Result<Vec<Option<f64>>, GoalRefusal> {
     let multi = &goal.multi_dof_trajectory;
     if !multi.joint_names.is_empty() || !multi.points.is_empty() {
         return Err(refuse(
@@ -85,15 +104,7 @@ pub fn check_goal(
         ));
     }
     check_stamp(goal, now_ns)?;
-    let plan = plan_trajectory(model, &goal.trajectory, current_q).map_err(|e| {
-        let code = if matches!(e, TrajectoryError::JointNames { .. }) { INVALID_JOINTS } else { INVALID_GOAL };
-        refuse(code, format!("trajectory: {e}"))
-    })?;
-    let final_q = match plan.program.steps.last().map(|s| &s.step) {
-        Some(Step::MoveJoints { joints_deg, .. }) => joints_deg.iter().map(|d| d.to_radians()).collect(),
-        _ => current_q.to_vec(),
-    };
-    Ok(GoalPlan { plan, final_q, goal_tolerance_rad })
+    Ok(goal_tolerance_rad)
 }
 
 /// Each robot joint's position tolerance from `list` (positive: checked), after checking it.

@@ -72,5 +72,5 @@ fn ros2_action_name_that_is_not_a_ros_name_is_refused_with_exit_2() {
     let run = cli_support::run_in(root, &["serve", "--ros2", "--seconds", "1", "--ros2-action", "a//b"], limit);
     run.assert_no_panic("--ros2-action a//b");
     assert_eq!(run.code(), Some(2), "{run:?}");
-    assert!(run.stderr.contains("--ros2-action"), "{run:?}");
+    assert!(run.stderr.contains("--ros2-action") && run.stderr.contains("not a ROS name"), "{run:?}");
 }

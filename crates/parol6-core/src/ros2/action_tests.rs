@@ -172,9 +172,15 @@ proptest! {
             let again = cdr::encode(&m).unwrap();
             prop_assert_eq!(cdr::encode(&cdr::decode::<SendGoalRequest>(&again).unwrap()).unwrap(), again);
         }
-        let _ = cdr::decode::<GetResultRequest>(&b).is_ok();
-        let _ = cdr::decode::<CancelGoalRequest>(&b).is_ok();
-        let _ = cdr::decode::<GoalStatusArray>(&b).is_ok();
+        let errors = [
+            cdr::decode::<GetResultRequest>(&b).err(),
+            cdr::decode::<CancelGoalRequest>(&b).err(),
+            cdr::decode::<GoalStatusArray>(&b).err(),
+            cdr::decode::<CancelGoalResponse>(&b).err(),
+        ];
+        for e in errors.into_iter().flatten() {
+            prop_assert!(!e.to_string().is_empty());
+        }
     }
 
     /// A goal with a J1 target anywhere: accepted within the limits and speed, else refused with

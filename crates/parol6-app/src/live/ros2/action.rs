@@ -10,7 +10,7 @@
 //! remote-control switch ([`RemoteControl::admit`](crate::live::RemoteControl::admit)), the
 //! goal's own checks and [`plan_trajectory`](parol6_core::ros2::plan_trajectory)'s (via
 //! [`check_goal`]), the pre-flight, the [`ProgramRunner`](parol6_core::program::runner::ProgramRunner)
-//! ([`Commands::launch`]). A refused goal is answered `accepted: false`, logged to `/events`
+//! (`Commands::launch`). A refused goal is answered `accepted: false`, logged to `/events`
 //! and `/parol6/trajectory_result`, and kept with status ABORTED and its error code, so that a
 //! `get_result` for it tells why (rcl_action would answer STATUS_UNKNOWN). A cancel stops the
 //! motion as the server's end does (runner aborted, STOP to the backend), whether or not

@@ -194,6 +194,29 @@ write("ros2_cdr", "trajectory_not_monotonic", trajectory([(moved, [], 1.0), (STA
 write("ros2_cdr", "trajectory_wrong_names", trajectory([(moved, [], 1.0)], names=("a", "b", "c", "d", "e", "f")))
 write("ros2_cdr", "trajectory_cut", trajectory([(moved, [], 1.0)])[:-7])
 write("ros2_cdr", "trajectory_huge_count", Cdr().i32(0).u32(0).string("").u32(0xFFFFFFFF).payload())
+
+
+def send_goal(points, names=("J1", "J2", "J3", "J4", "J5", "J6"), tolerance=(), multi_dof=False):
+    """FollowJointTrajectory SendGoal request: UUID (16 bytes), then the goal field by field."""
+    body = trajectory(points, names)[4:]
+    c = Cdr()
+    c.b += bytes(range(16)) + body
+    c.i32(0).u32(0).string("").u32(1 if multi_dof else 0)
+    if multi_dof:
+        c.string("base")
+    c.u32(0).u32(0).u32(0).u32(len(tolerance))
+    for name, pos in tolerance:
+        c.string(name).f64(pos).f64(0.0).f64(-1.0)
+    return c.u32(0).i32(0).u32(0).payload()
+
+
+write("ros2_cdr", "send_goal", send_goal([(STANDBY_RAD, [], 0.0), (moved, [], 1.0)], tolerance=[("J1", 0.01)]))
+write("ros2_cdr", "send_goal_multi_dof", send_goal([(moved, [], 1.0)], multi_dof=True))
+write("ros2_cdr", "send_goal_cut", send_goal([(moved, [], 1.0)])[:-9])
+write("ros2_cdr", "cancel_goal", Cdr().payload() + bytes(16) + bytes(8))
+status = Cdr().u32(1)
+status.b += bytes(range(16))
+write("ros2_cdr", "goal_status_array", status.i32(1).u32(2).payload() + b"\x02")
 js = Cdr().i32(1).u32(2).string("").u32(6)
 for n in ("J1", "J2", "J3", "J4", "J5", "J6"):
     js.string(n)

@@ -54,7 +54,7 @@ fn ros2_peer_sees_the_node_and_hostile_trajectories_are_refused_before_a_valid_o
         return;
     }
     let r = peer(true);
-    assert_eq!(r["tokens"], 6, "{r:#}");
+    assert_eq!(r["tokens"], 11, "{r:#}");
     assert!(r["tf_vs_fk_error_m"].as_f64().unwrap() < 1e-6);
     assert_eq!(r["refusals"].as_object().unwrap().len(), 6, "{r:#}");
     assert!(r["executed_peak_rad"].as_f64().unwrap() > 0.19, "{r:#}");

@@ -20,11 +20,27 @@ pub struct Ros2Args {
     /// ROS domain id (ROS_DOMAIN_ID of the other nodes), 0–232.
     #[arg(long = "ros2-domain", value_name = "ID", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=232))]
     pub domain: u32,
+    /// Name of the control_msgs/action/FollowJointTrajectory action served (MoveIt's
+    /// `<controller name>/<action_ns>`).
+    #[arg(long = "ros2-action", value_name = "NAME", default_value = parol6_core::ros2::action::DEFAULT_ACTION_NAME)]
+    pub action: String,
 }
 
 /// Refuses an endpoint this build cannot use (only TCP is built in).
 fn checked(flag: &str, endpoints: &[String]) -> Result<Vec<String>, CliError> {
     crate::live::tcp_endpoints(flag, endpoints).map_err(CliError::usage)
+}
+
+/// Refuses an action name that is not a ROS name.
+fn action_name(name: &str) -> Result<String, CliError> {
+    if parol6_core::ros2::action::valid_action_name(name) {
+        Ok(name.to_string())
+    } else {
+        Err(CliError::usage(format!(
+            "--ros2-action {name:?}: not a ROS name (letters, digits and _ in /-separated parts, e.g. \
+             /parol6_arm_controller/follow_joint_trajectory)"
+        )))
+    }
 }
 
 /// Starts the ROS 2 node.
@@ -35,6 +51,7 @@ pub fn start(args: &Ros2Args, source: &LiveSource<'_>) -> Result<Box<dyn LiveSer
         listen: checked("--ros2-listen", &args.listen)?,
         multicast_scouting: args.scouting,
         domain_id: args.domain,
+        action_name: action_name(&args.action)?,
     };
     crate::live::ros2::Ros2Server::start(source, &opts)
         .map(|s| Box::new(s) as Box<dyn LiveServer>)
@@ -45,5 +62,6 @@ pub fn start(args: &Ros2Args, source: &LiveSource<'_>) -> Result<Box<dyn LiveSer
 #[cfg(not(feature = "ros2"))]
 pub fn start(args: &Ros2Args, _source: &LiveSource<'_>) -> Result<Box<dyn LiveServer>, CliError> {
     checked("--ros2-connect", &args.connect)?;
+    action_name(&args.action)?;
     Err(CliError::usage("--ros2: this parol6 was built without the `ros2` feature"))
 }

@@ -32,6 +32,8 @@ pub enum EntityKind {
     Publisher,
     /// A subscription (`MS`).
     Subscription,
+    /// A service server (`SS`): a queryable on the service's key expression.
+    ServiceServer,
 }
 
 impl EntityKind {
@@ -41,6 +43,7 @@ impl EntityKind {
             EntityKind::Node => "NN",
             EntityKind::Publisher => "MP",
             EntityKind::Subscription => "MS",
+            EntityKind::ServiceServer => "SS",
         }
     }
 }
@@ -94,7 +97,8 @@ pub fn mangle(name: &str) -> String {
     name.replace('/', "%")
 }
 
-/// The data key expression of `topic` (e.g. `/joint_states`) of type `ty` in `domain_id`.
+/// The data key expression of `topic` (e.g. `/joint_states`) of type `ty` in `domain_id`; a
+/// service's (its queryable's) has the same form, with the service type.
 pub fn topic_key(domain_id: u32, topic: &str, ty: &super::TypeInfo) -> String {
     let name = topic.trim_matches('/');
     format!("{domain_id}/{name}/{}/{}", ty.dds_name, ty.hash)
@@ -106,7 +110,8 @@ impl NodeIdentity {
         self.token_head(self.node_id, EntityKind::Node)
     }
 
-    /// The liveliness token of publisher or subscription `entity_id` on `topic`.
+    /// The liveliness token of publisher, subscription or service server `entity_id` on
+    /// `topic` (a service's name for a server).
     pub fn topic_token(
         &self,
         entity_id: u32,

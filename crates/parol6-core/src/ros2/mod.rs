@@ -11,6 +11,9 @@
 //! - [`msgs`]: the message types (`sensor_msgs/msg/JointState`, `tf2_msgs/msg/TFMessage`,
 //!   `std_msgs/msg/String`, `trajectory_msgs/msg/JointTrajectory`) and builders from our state;
 //! - [`graph`]: key expressions, liveliness tokens, QoS strings, GIDs and attachments;
+//! - [`action`]: the `control_msgs/action/FollowJointTrajectory` action's services and topics
+//!   (types, names, hashes), [`goal`]: a goal's own checks before its trajectory takes the
+//!   [`trajectory`] path;
 //! - [`trajectory`]: validation of an incoming trajectory and its conversion to a [`Program`]
 //!   (`move_joints` steps with `duration_s`), pre-flight included.
 //!
@@ -24,11 +27,15 @@
 //!
 //! [`Program`]: crate::program::Program
 
+pub mod action;
 pub mod cdr;
+pub mod goal;
 pub mod graph;
 pub mod msgs;
 pub mod trajectory;
 
+#[cfg(test)]
+mod action_tests;
 #[cfg(test)]
 mod tests;
 

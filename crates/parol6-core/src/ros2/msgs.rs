@@ -165,17 +165,18 @@ pub struct JointTrajectory {
     pub points: Vec<JointTrajectoryPoint>,
 }
 
-const TIME: Shape = Shape::Struct(&[("sec", Shape::Leaf), ("nanosec", Shape::Leaf)]);
-const HEADER: Shape = Shape::Struct(&[("stamp", TIME), ("frame_id", Shape::Leaf)]);
-const VALUES: Shape = Shape::Seq(&Shape::Leaf);
-const XYZ: Shape = Shape::Struct(&[("x", Shape::Leaf), ("y", Shape::Leaf), ("z", Shape::Leaf)]);
-const XYZW: Shape = Shape::Struct(&[("x", Shape::Leaf), ("y", Shape::Leaf), ("z", Shape::Leaf), ("w", Shape::Leaf)]);
+pub(crate) const TIME: Shape = Shape::Struct(&[("sec", Shape::Leaf), ("nanosec", Shape::Leaf)]);
+pub(crate) const HEADER: Shape = Shape::Struct(&[("stamp", TIME), ("frame_id", Shape::Leaf)]);
+pub(crate) const VALUES: Shape = Shape::Seq(&Shape::Leaf);
+pub(crate) const XYZ: Shape = Shape::Struct(&[("x", Shape::Leaf), ("y", Shape::Leaf), ("z", Shape::Leaf)]);
+pub(crate) const XYZW: Shape =
+    Shape::Struct(&[("x", Shape::Leaf), ("y", Shape::Leaf), ("z", Shape::Leaf), ("w", Shape::Leaf)]);
 const STAMPED: Shape = Shape::Struct(&[
     ("header", HEADER),
     ("child_frame_id", Shape::Leaf),
     ("transform", Shape::Struct(&[("translation", XYZ), ("rotation", XYZW)])),
 ]);
-const POINT: Shape = Shape::Struct(&[
+pub(crate) const POINT: Shape = Shape::Struct(&[
     ("positions", VALUES),
     ("velocities", VALUES),
     ("accelerations", VALUES),

@@ -20,11 +20,13 @@ use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, TrySendError};
 use parol6_core::RobotModel;
 use parol6_core::motion::{MotionCommand, RobotBackend};
 use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
+use parol6_core::ros2::action::INVALID_GOAL;
 use parol6_core::ros2::cdr::{self, MAX_MESSAGE_BYTES};
 use parol6_core::ros2::msgs::{JointTrajectory, StringMsg};
-use parol6_core::ros2::{TOPIC_JOINT_TRAJECTORY, plan_trajectory};
+use parol6_core::ros2::{TOPIC_JOINT_TRAJECTORY, TrajectoryPlan, plan_trajectory};
 use serde_json::json;
 
+use super::action::{ActionState, GoalRun};
 use super::node::Publisher;
 use crate::live::RemoteControl;
 
@@ -38,13 +40,20 @@ pub fn source() -> String {
     format!("ros2 {TOPIC_JOINT_TRAJECTORY}")
 }
 
-/// A payload as the subscription's callback hands it over.
+/// A payload as the subscription's callback hands it over, or a request to the action's
+/// services ([`super::action`]).
 #[derive(Debug)]
 pub enum Incoming {
     /// The payload's bytes.
     Payload(Vec<u8>),
     /// A payload over [`MAX_MESSAGE_BYTES`] (not copied), its size.
     TooLarge(usize),
+    /// A `send_goal` request.
+    Goal(zenoh::query::Query),
+    /// A `get_result` request.
+    GetResult(zenoh::query::Query),
+    /// A `cancel_goal` request.
+    Cancel(zenoh::query::Query),
 }
 
 /// The command thread's counters.
@@ -89,22 +98,55 @@ pub struct Commands {
     pub result: Publisher,
     /// Counters.
     pub counters: Arc<CommandCounters>,
+    /// The `FollowJointTrajectory` action's goals and status topic.
+    pub action: Option<ActionState>,
 }
 
 /// A trajectory running on the backend.
-struct Active {
-    id: u64,
-    what: String,
-    runner: ProgramRunner,
-    points: usize,
-    duration_s: f64,
+pub(super) struct Active {
+    pub(super) id: u64,
+    pub(super) what: String,
+    /// Who sent it, as `/events` names them.
+    pub(super) source: String,
+    pub(super) runner: ProgramRunner,
+    pub(super) points: usize,
+    pub(super) duration_s: f64,
+    /// The action goal it runs, if it came as one.
+    pub(super) goal: Option<GoalRun>,
+}
+
+/// Why a checked trajectory is not started: control_msgs' error code and the reason.
+#[derive(Debug)]
+pub(super) struct Refusal {
+    pub(super) code: i32,
+    pub(super) reason: String,
 }
 
 /// Runs until `stop` is set; a trajectory still running then is stopped.
-pub fn run(c: Commands, rx: Receiver<Incoming>, stop: Arc<AtomicBool>) {
+pub fn run(mut c: Commands, rx: Receiver<Incoming>, stop: Arc<AtomicBool>) {
+    let mut action = c.action.take();
     let mut active: Option<Active> = None;
     while !stop.load(Ordering::Acquire) {
         match rx.recv_timeout(POLL) {
+            Ok(Incoming::GetResult(query)) => match action.as_mut() {
+                Some(st) => c.get_result(st, query),
+                None => tracing::warn!("ROS 2: a get_result request without the action"),
+            },
+            Ok(Incoming::Cancel(query)) => match action.as_mut() {
+                Some(st) => c.cancel(st, query, active.as_ref()),
+                None => tracing::warn!("ROS 2: a cancel_goal request without the action"),
+            },
+            Ok(Incoming::Goal(query)) => {
+                let id = c.counters.received.fetch_add(1, Ordering::Relaxed) + 1;
+                match action.as_mut() {
+                    Some(st) => {
+                        if let Some(a) = c.send_goal(st, id, query, active.is_some()) {
+                            active = Some(a);
+                        }
+                    }
+                    None => tracing::warn!("ROS 2: a send_goal request without the action"),
+                }
+            }
             Ok(item) => {
                 let id = c.counters.received.fetch_add(1, Ordering::Relaxed) + 1;
                 if let Some(a) = c.take(id, item, active.is_some()) {
@@ -117,17 +159,14 @@ pub fn run(c: Commands, rx: Receiver<Incoming>, stop: Arc<AtomicBool>) {
         if active.as_ref().is_some_and(|a| a.runner.is_finished())
             && let Some(a) = active.take()
         {
-            c.finish(a);
+            c.finish(a, action.as_mut());
         }
     }
     if let Some(a) = active {
         if !a.runner.is_finished() {
-            a.runner.abort();
-            if let Err(e) = c.backend.send(MotionCommand::Stop) {
-                tracing::warn!("ROS 2: STOP of the running trajectory: {e}");
-            }
+            c.stop_motion(&a);
         }
-        c.finish(a);
+        c.finish(a, action.as_mut());
     }
 }
 
@@ -139,6 +178,9 @@ impl Commands {
             Incoming::Payload(bytes) => cdr::decode::<JointTrajectory>(&bytes).map_err(|e| e.to_string()),
             Incoming::TooLarge(len) => {
                 Err(format!("the message is {len} bytes; at most {MAX_MESSAGE_BYTES} are accepted"))
+            }
+            Incoming::Goal(_) | Incoming::GetResult(_) | Incoming::Cancel(_) => {
+                Err("an action request is not a JointTrajectory".to_string())
             }
         };
         let what = match &decoded {
@@ -159,42 +201,82 @@ impl Commands {
             Err(e) => return refuse(format!("malformed JointTrajectory: {e}"), None),
         };
         let points = Some(traj.points.len());
+        let started = self.launch(busy, |q| {
+            plan_trajectory(&self.model, &traj, q)
+                .map(|p| (p, ()))
+                .map_err(|e| Refusal { code: INVALID_GOAL, reason: e.to_string() })
+        });
+        match started {
+            Ok((runner, plan, ())) => Some(self.running(id, what, &source, runner, &plan, None)),
+            Err(r) => refuse(r.reason, points),
+        }
+    }
+
+    /// The one way a checked trajectory starts, from the topic or the action: refused while
+    /// another runs, while the backend refuses motion or the arm moves; else `plan` (given the
+    /// commanded position, rad) checks and pre-flights it, and the program runner starts it.
+    pub(super) fn launch<X>(
+        &self,
+        busy: bool,
+        plan: impl FnOnce(&[f64]) -> Result<(TrajectoryPlan, X), Refusal>,
+    ) -> Result<(ProgramRunner, TrajectoryPlan, X), Refusal> {
+        let refuse = |reason: String| Refusal { code: INVALID_GOAL, reason };
         if busy {
-            return refuse("another trajectory is running".into(), points);
+            return Err(refuse("another trajectory is running".into()));
         }
         let state = self.backend.state();
         if let Some(why) = &state.blocked {
-            return refuse(format!("the backend does not accept motion: {why}"), points);
+            return Err(refuse(format!("the backend does not accept motion: {why}")));
         }
         if state.moving {
-            return refuse("the arm is moving".into(), points);
+            return Err(refuse("the arm is moving".into()));
         }
-        let plan = match plan_trajectory(&self.model, &traj, &state.commanded.q) {
-            Ok(p) => p,
-            Err(e) => return refuse(e.to_string(), points),
-        };
-        let warnings: Vec<String> = plan.report.issues.iter().map(|i| i.message.clone()).collect();
-        let runner = match ProgramRunner::start(
+        let (plan, extra) = plan(&state.commanded.q)?;
+        let runner = ProgramRunner::start(
             Arc::clone(&self.backend),
             self.model.clone(),
-            plan.program,
+            plan.program.clone(),
             RunOptions::default(),
-        ) {
-            Ok(r) => r,
-            Err(e) => return refuse(format!("cannot start the program thread: {e}"), points),
-        };
+        )
+        .map_err(|e| refuse(format!("cannot start the program thread: {e}")))?;
         self.counters.started.fetch_add(1, Ordering::Relaxed);
-        self.remote.outcome(&source, &what, true, &format!("running, {:.2} s planned", plan.report.duration_s));
+        Ok((runner, plan, extra))
+    }
+
+    /// Logs and publishes a started trajectory.
+    pub(super) fn running(
+        &self,
+        id: u64,
+        what: String,
+        source: &str,
+        runner: ProgramRunner,
+        plan: &TrajectoryPlan,
+        goal: Option<GoalRun>,
+    ) -> Active {
+        let warnings: Vec<String> = plan.report.issues.iter().map(|i| i.message.clone()).collect();
+        self.remote.outcome(source, &what, true, &format!("running, {:.2} s planned", plan.report.duration_s));
         self.publish(json!({
             "id": id, "state": "running", "reason": null, "points": plan.points,
             "duration_s": plan.duration_s, "warnings": warnings,
         }));
-        Some(Active { id, what, runner, points: plan.points, duration_s: plan.duration_s })
+        Active { id, what, source: source.to_string(), runner, points: plan.points, duration_s: plan.duration_s, goal }
+    }
+
+    /// Stops a running trajectory the way the server's end does: the runner aborts and the
+    /// backend gets STOP.
+    pub(super) fn stop_motion(&self, a: &Active) {
+        a.runner.abort();
+        if let Err(e) = self.backend.send(MotionCommand::Stop) {
+            tracing::warn!("ROS 2: STOP of the running trajectory: {e}");
+        }
     }
 
     /// Publishes how a run ended and logs it.
-    fn finish(&self, a: Active) {
+    fn finish(&self, a: Active, action: Option<&mut ActionState>) {
         let p = a.runner.join();
+        if let (Some(goal), Some(st)) = (&a.goal, action) {
+            self.goal_ended(st, goal, &p.state);
+        }
         let (state, reason) = match p.state {
             RunState::Done => ("done", None),
             RunState::Stopped => ("stopped", Some("stopped on the PC".to_string())),
@@ -208,14 +290,14 @@ impl Commands {
             Some(why) => format!("{state}: {why}"),
             None => state.to_string(),
         };
-        self.remote.outcome(&source(), &a.what, true, &detail);
+        self.remote.outcome(&a.source, &a.what, true, &detail);
         self.publish(json!({
             "id": a.id, "state": state, "reason": reason, "points": a.points,
             "duration_s": a.duration_s, "warnings": [],
         }));
     }
 
-    fn refused(&self, id: u64, reason: &str, points: Option<usize>) {
+    pub(super) fn refused(&self, id: u64, reason: &str, points: Option<usize>) {
         self.counters.refused.fetch_add(1, Ordering::Relaxed);
         tracing::info!("ROS 2 trajectory {id} refused: {reason}");
         self.publish(json!({

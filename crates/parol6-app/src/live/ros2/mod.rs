@@ -13,11 +13,15 @@
 //!   keeps);
 //! - `trajectory_msgs/msg/JointTrajectory` on `/parol6/joint_trajectory`, refused unless remote
 //!   control is on, else checked, pre-flighted and run; the result on
-//!   `/parol6/trajectory_result` ([`commands`]).
+//!   `/parol6/trajectory_result` ([`commands`]);
+//! - the `control_msgs/action/FollowJointTrajectory` action MoveIt's simple controller manager
+//!   sends to (default `/parol6_arm_controller/follow_joint_trajectory`), its goals on the same
+//!   path as those trajectories ([`action`]).
 //!
 //! The message encodings, names and checks are in `parol6_core::ros2`. Zenoh's runtime (tokio)
 //! stays inside this module: the rest of the app sees [`Ros2Server`] and [`Ros2Options`].
 
+pub mod action;
 pub mod commands;
 pub mod node;
 pub mod publish;
@@ -43,6 +47,7 @@ use publish::{PublishCounters, Telemetry};
 pub struct Ros2Server {
     node: Option<node::Node>,
     subscriber: Option<zenoh::pubsub::Subscriber<()>>,
+    action: Option<action::ActionEndpoints>,
     description: Option<node::Publisher>,
     stop: Arc<AtomicBool>,
     threads: Vec<JoinHandle<()>>,
@@ -141,8 +146,9 @@ impl Ros2Server {
             msgs::TOPIC_JOINT_TRAJECTORY,
             &msgs::JOINT_TRAJECTORY,
             Qos::reliable(10),
-            commands::on_sample(tx, Arc::clone(&commands)),
+            commands::on_sample(tx.clone(), Arc::clone(&commands)),
         )?;
+        let (endpoints, action_state) = action::declare(&mut node, &opts.action_name, &tx, &commands)?;
         let publish = Arc::new(PublishCounters::default());
         let telemetry = Telemetry {
             frames: TfFrames::new(&parts.model, Some(&parts.urdf_text)),
@@ -160,19 +166,22 @@ impl Ros2Server {
             remote: parts.remote,
             result,
             counters: Arc::clone(&commands),
+            action: Some(action_state),
         };
         let s = Arc::clone(&stop);
         threads.push(spawn("parol6-ros2-cmd", move || commands::run(cmd, rx, s))?);
         let address = format!(
-            "zenoh peer {} (domain {}, connect {}, listen {})",
+            "zenoh peer {} (domain {}, action {}, connect {}, listen {})",
             node.identity.zid,
             opts.domain_id,
+            opts.action_name,
             opts.connect.join(","),
             opts.listen.join(",")
         );
         Ok(Self {
             node: Some(node),
             subscriber: Some(subscriber),
+            action: Some(endpoints),
             description: Some(description),
             stop,
             threads,
@@ -225,6 +234,7 @@ impl LiveServer for Ros2Server {
         }
         let out = self.counters();
         drop(self.subscriber.take());
+        drop(self.action.take());
         drop(self.description.take());
         if let Some(node) = self.node.take()
             && let Err(e) = node.close()

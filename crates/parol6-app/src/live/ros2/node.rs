@@ -26,6 +26,8 @@ pub struct Ros2Options {
     pub multicast_scouting: bool,
     /// ROS domain id.
     pub domain_id: u32,
+    /// The `FollowJointTrajectory` action's name.
+    pub action_name: String,
 }
 
 impl Default for Ros2Options {
@@ -35,6 +37,7 @@ impl Default for Ros2Options {
             listen: vec!["tcp/127.0.0.1:0".into()],
             multicast_scouting: false,
             domain_id: 0,
+            action_name: parol6_core::ros2::action::DEFAULT_ACTION_NAME.into(),
         }
     }
 }
@@ -167,6 +170,31 @@ impl Node {
         Ok(sub)
     }
 
+    /// Declares a service server of `ty` on `service` (a queryable on its key expression, with
+    /// an `SS` token and the services' QoS, reliable keep-last 10); `on_query` runs on Zenoh's
+    /// thread for each request (it must not block: a query may be answered later, from
+    /// another thread).
+    pub fn service(
+        &mut self,
+        service: &str,
+        ty: &TypeInfo,
+        on_query: impl Fn(zenoh::query::Query) + Send + Sync + 'static,
+    ) -> Result<zenoh::query::Queryable<()>, String> {
+        let key = topic_key(self.identity.domain_id, service, ty);
+        let id = self.next_id;
+        self.next_id += 1;
+        let token = self.identity.topic_token(id, EntityKind::ServiceServer, service, ty, &Qos::reliable(10));
+        let queryable = self
+            .session
+            .declare_queryable(key.clone())
+            .complete(true)
+            .callback(on_query)
+            .wait()
+            .map_err(|e| format!("cannot declare the service {key}: {e}"))?;
+        self.declare_token(&token)?;
+        Ok(queryable)
+    }
+
     /// Undeclares the tokens (the node leaves the ROS graph) and closes the session.
     pub fn close(self) -> Result<(), String> {
         for t in self.tokens {
@@ -179,6 +207,23 @@ impl Node {
 /// Nanoseconds since the Unix epoch now.
 pub fn now_unix_ns() -> u64 {
     SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}
+
+/// Answers a service request with `payload` (CDR), its attachment carrying the request's
+/// sequence number and client GID (a request without a readable attachment is answered with
+/// sequence number 0 and a zero GID), as rmw_zenoh's service servers answer.
+pub fn reply(query: &zenoh::query::Query, payload: Vec<u8>) -> Result<(), String> {
+    let request = query.attachment().and_then(|a| Attachment::from_bytes(&a.to_bytes()));
+    let attachment = Attachment {
+        sequence_number: request.map_or(0, |a| a.sequence_number),
+        source_timestamp_ns: i64::try_from(now_unix_ns()).unwrap_or(i64::MAX),
+        source_gid: request.map_or([0; GID_BYTES], |a| a.source_gid),
+    };
+    query
+        .reply(query.key_expr().clone(), payload)
+        .attachment(attachment.to_bytes().to_vec())
+        .wait()
+        .map_err(|e| format!("cannot answer the request on {}: {e}", query.key_expr()))
 }
 
 impl Publisher {

@@ -13,44 +13,12 @@
 
 mod cli_support;
 
-use std::net::TcpListener;
-use std::process::Command;
-
-fn peer_available() -> bool {
-    let ok = Command::new("python3").args(["-c", "import zenoh, zenoh.ext"]).output().is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI: python3 with the eclipse-zenoh package is required (.ci/run installs it)"
-        );
-        eprintln!("SKIPPED: python3 with the `zenoh` module (pip install eclipse-zenoh==1.10.2) is not installed");
-    }
-    ok
-}
-
-/// Runs the action peer; its JSON report.
-fn action_peer(remote: bool) -> serde_json::Value {
-    let script = cli_support::workspace_root().join("crates/parol6-app/tests/ros2/action_peer.py");
-    let port = TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port().to_string();
-    let mut args = vec![script.to_str().unwrap(), "--exe", cli_support::exe(), "--port", &port];
-    if remote {
-        args.push("--remote");
-    }
-    let out = Command::new("python3").args(&args).output().expect("python3 runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let report: serde_json::Value = serde_json::from_str(stdout.trim().lines().last().unwrap_or("null"))
-        .unwrap_or_else(|e| panic!("the peer's report is not JSON ({e}): {stdout}\n{stderr}"));
-    assert!(out.status.success() && report["ok"] == true, "peer failed: {report:#}\n{stderr}");
-    report
-}
-
 #[test]
 fn ros2_follow_joint_trajectory_goal_runs_hostile_goals_are_rejected_with_codes_and_a_cancel_stops() {
-    if !peer_available() {
+    if !cli_support::zenoh_peer_available() {
         return;
     }
-    let r = action_peer(true);
+    let r = cli_support::run_zenoh_peer("action_peer.py", true);
     assert_eq!(r["action_tokens"], 5, "{r:#}");
     assert_eq!(r["refusals"].as_object().unwrap().len(), 8, "{r:#}");
     assert!(r["end_error_rad"].as_f64().unwrap().abs() < 0.005, "{r:#}");
@@ -58,10 +26,10 @@ fn ros2_follow_joint_trajectory_goal_runs_hostile_goals_are_rejected_with_codes_
 
 #[test]
 fn ros2_follow_joint_trajectory_goal_without_allow_remote_control_is_rejected() {
-    if !peer_available() {
+    if !cli_support::zenoh_peer_available() {
         return;
     }
-    let r = action_peer(false);
+    let r = cli_support::run_zenoh_peer("action_peer.py", false);
     assert!(r["refusal"].as_str().unwrap().contains("--allow-remote-control"), "{r:#}");
 }
 

@@ -12,48 +12,12 @@
 
 mod cli_support;
 
-use std::net::TcpListener;
-use std::process::Command;
-
-fn peer_available() -> bool {
-    let ok = Command::new("python3").args(["-c", "import zenoh, zenoh.ext"]).output().is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI: python3 with the eclipse-zenoh package is required (.ci/run installs it)"
-        );
-        eprintln!("SKIPPED: python3 with the `zenoh` module (pip install eclipse-zenoh==1.10.2) is not installed");
-    }
-    ok
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
-}
-
-/// Runs the peer script; its JSON report.
-fn peer(remote: bool) -> serde_json::Value {
-    let script = cli_support::workspace_root().join("crates/parol6-app/tests/ros2/peer.py");
-    let port = free_port().to_string();
-    let mut args = vec![script.to_str().unwrap(), "--exe", cli_support::exe(), "--port", &port];
-    if remote {
-        args.push("--remote");
-    }
-    let out = Command::new("python3").args(&args).output().expect("python3 runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let report: serde_json::Value = serde_json::from_str(stdout.trim().lines().last().unwrap_or("null"))
-        .unwrap_or_else(|e| panic!("the peer's report is not JSON ({e}): {stdout}\n{stderr}"));
-    assert!(out.status.success() && report["ok"] == true, "peer failed: {report:#}\n{stderr}");
-    report
-}
-
 #[test]
 fn ros2_peer_sees_the_node_and_hostile_trajectories_are_refused_before_a_valid_one_runs() {
-    if !peer_available() {
+    if !cli_support::zenoh_peer_available() {
         return;
     }
-    let r = peer(true);
+    let r = cli_support::run_zenoh_peer("peer.py", true);
     assert_eq!(r["tokens"], 11, "{r:#}");
     assert!(r["tf_vs_fk_error_m"].as_f64().unwrap() < 1e-6);
     assert_eq!(r["refusals"].as_object().unwrap().len(), 6, "{r:#}");
@@ -62,10 +26,10 @@ fn ros2_peer_sees_the_node_and_hostile_trajectories_are_refused_before_a_valid_o
 
 #[test]
 fn ros2_trajectory_without_allow_remote_control_is_refused() {
-    if !peer_available() {
+    if !cli_support::zenoh_peer_available() {
         return;
     }
-    let r = peer(false);
+    let r = cli_support::run_zenoh_peer("peer.py", false);
     assert!(r["refusal"].as_str().unwrap().contains("--allow-remote-control"), "{r:#}");
 }
 

@@ -120,3 +120,42 @@ pub fn no_adapter(run: &Run, test: &str) -> bool {
     }
     missing
 }
+
+/// True when python3 with the `eclipse-zenoh` package can run the ROS 2 peer scripts; otherwise
+/// says SKIPPED, and in CI (`CI=true`, where `.ci/run` installs it) fails.
+pub fn zenoh_peer_available() -> bool {
+    let ok = std::process::Command::new("python3")
+        .args(["-c", "import zenoh, zenoh.ext"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI: python3 with the eclipse-zenoh package is required (.ci/run installs it)"
+        );
+        eprintln!("SKIPPED: python3 with the `zenoh` module (pip install eclipse-zenoh==1.10.2) is not installed");
+    }
+    ok
+}
+
+/// Runs the peer script `crates/parol6-app/tests/ros2/SCRIPT` against `parol6 serve --ros2` on a
+/// free loopback port (`--remote`: with remote control allowed); its JSON report, which must say ok.
+pub fn run_zenoh_peer(script: &str, remote: bool) -> serde_json::Value {
+    let script = workspace_root().join("crates/parol6-app/tests/ros2").join(script);
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free loopback port")
+        .port()
+        .to_string();
+    let mut args = vec![script.to_str().expect("a UTF-8 path"), "--exe", exe(), "--port", &port];
+    if remote {
+        args.push("--remote");
+    }
+    let out = std::process::Command::new("python3").args(&args).output().expect("python3 runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let report: serde_json::Value = serde_json::from_str(stdout.trim().lines().last().unwrap_or("null"))
+        .unwrap_or_else(|e| panic!("the peer's report is not JSON ({e}): {stdout}\n{stderr}"));
+    assert!(out.status.success() && report["ok"] == true, "peer failed: {report:#}\n{stderr}");
+    report
+}

@@ -104,8 +104,10 @@ pub fn solve_parol6_in(
 
     let rho = wc.x.hypot(wc.y);
     let shoulder_singular = rho < 1e-9;
-    // (joints, branch, singular, allowed position error m)
-    let mut raw: Vec<([f64; 6], Branch, bool, f64)> = Vec::with_capacity(8);
+    // (joints, branch, singular, allowed position error m): at most the eight branches, on
+    // the stack (the Cartesian planner solves one per 1 ms sample)
+    let mut raw: [Option<([f64; 6], Branch, bool, f64)>; 8] = [None; 8];
+    let mut raw_len = 0;
     let mut any_reach = false;
     let mut reach_detail = String::new();
     for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
@@ -168,27 +170,34 @@ pub fn solve_parol6_in(
                 } else {
                     ((-m[(1, 2)]).atan2(-m[(0, 2)]), (-sb).atan2(m[(2, 2)]), (-m[(2, 1)]).atan2(m[(2, 0)]))
                 };
-                raw.push((
-                    [q1, q2, q3, q4, q5, q6],
-                    Branch { shoulder, elbow, wrist },
-                    shoulder_singular || elbow_singular || wrist_singular,
-                    allowed_error_m,
-                ));
+                if let Some(slot) = raw.get_mut(raw_len) {
+                    *slot = Some((
+                        [q1, q2, q3, q4, q5, q6],
+                        Branch { shoulder, elbow, wrist },
+                        shoulder_singular || elbow_singular || wrist_singular,
+                        allowed_error_m,
+                    ));
+                    raw_len += 1;
+                }
             }
         }
     }
     if !any_reach {
         return Err(IkError::Unreachable(reach_detail));
     }
-    let branches_reaching = raw.len();
-    let mut out = Vec::with_capacity(raw.len());
+    let branches_reaching = raw_len;
+    let mut out = Vec::with_capacity(raw_len);
     let mut first_violation = String::new();
-    for (q, branch, singular, allowed_error_m) in raw {
-        let mut wrapped = Vec::with_capacity(6);
+    for (q, branch, singular, allowed_error_m) in raw.into_iter().flatten() {
+        let mut wrapped = [0.0; 6];
+        let mut wrapped_len = 0;
         for (i, &v) in q.iter().enumerate() {
             let Some(l) = model.limits.get(i) else { break };
             match wrap_into(v, l.min, l.max, seed[i]) {
-                Some(w) => wrapped.push(w),
+                Some(w) => {
+                    wrapped[i] = w;
+                    wrapped_len += 1;
+                }
                 None => {
                     if first_violation.is_empty() {
                         first_violation =
@@ -198,7 +207,7 @@ pub fn solve_parol6_in(
                 }
             }
         }
-        if wrapped.len() != 6 {
+        if wrapped_len != 6 {
             continue;
         }
         let (ep, er) = pose_error(&model.tcp_isometry(&wrapped), target);
@@ -206,7 +215,7 @@ pub fn solve_parol6_in(
             continue;
         }
         let distance_to_seed = wrapped.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-        out.push(IkSolution { joints_rad: wrapped, branch: Some(branch), distance_to_seed, singular });
+        out.push(IkSolution { joints_rad: wrapped.to_vec(), branch: Some(branch), distance_to_seed, singular });
     }
     if out.is_empty() {
         return Err(IkError::NoSolutionWithinLimits { branches: branches_reaching, detail: first_violation });

@@ -154,15 +154,72 @@ pub fn on_wrist_border(q: &[f64]) -> bool {
     q.get(4).is_some_and(|q5| q5.abs() < WRIST_BORDER_RAD)
 }
 
+/// A solution this close to the joints (rad, Euclidean) reproduces them.
+const SAME_JOINTS_RAD: f64 = 1e-6;
+
 /// The configuration the joints `q` are in (PAROL6 closed form; `None` for other robots or
 /// joints the closed form does not reproduce).
+///
+/// Every Cartesian move asks this of its start, so it first solves one configuration, the
+/// one found last on this thread, then the others one by one ([`configuration_by_one`]), and
+/// solves all eight together only where that cannot decide: the answer is the same.
 pub fn configuration_of(model: &RobotModel, q: &[f64]) -> Option<Branch> {
     if !model.is_parol6 {
         return None;
     }
     let pose = model.tcp_isometry(q);
+    if let Some(found) = configuration_by_one(model, &pose, q) {
+        return found;
+    }
     let sols = super::solve_parol6(model, &pose, q).ok()?;
-    sols.into_iter().find(|s| s.distance_to_seed < 1e-6).and_then(|s| s.branch)
+    sols.into_iter().find(|s| s.distance_to_seed < SAME_JOINTS_RAD).and_then(|s| s.branch)
+}
+
+thread_local! {
+    /// The configuration [`configuration_by_one`] found last: consecutive moves of a program
+    /// are mostly in one configuration. Only the order of the tries; never the answer.
+    static LAST_CONFIGURATION: std::cell::Cell<Option<Branch>> = const { std::cell::Cell::new(None) };
+}
+
+/// The configuration of `q` (whose TCP is at `pose`) found by solving one configuration at a
+/// time, or `None` when this cannot decide and all eight must be solved together
+/// ([`super::solve_parol6`] then sorts them by distance to `q`).
+///
+/// It decides only where exactly one solution reproduces `q`. Solutions of two shoulder or two
+/// wrist configurations differ by π in J1 or J4 (the closed form gives the shoulder and the
+/// wrist only one solution where they are singular), so they cannot both lie within
+/// [`SAME_JOINTS_RAD`]; the two elbows meet at full stretch and full fold, so the other
+/// elbow of a match is solved too, and if it matches as well, all eight are solved.
+fn configuration_by_one(model: &RobotModel, pose: &Isometry3<f64>, q: &[f64]) -> Option<Option<Branch>> {
+    let matching = |branch: Branch| -> Option<Branch> {
+        let sols = super::solve_parol6_in(model, pose, q, Some(branch)).ok()?;
+        sols.into_iter().find(|s| s.distance_to_seed < SAME_JOINTS_RAD).and_then(|s| s.branch)
+    };
+    let wrist_of_q = if q.get(4).is_some_and(|q5| *q5 < 0.0) { WristBranch::Flip } else { WristBranch::NoFlip };
+    let mut tries: Vec<Branch> = Vec::with_capacity(9);
+    if let Some(last) = LAST_CONFIGURATION.with(std::cell::Cell::get) {
+        tries.push(last);
+    }
+    for wrist in [wrist_of_q, if wrist_of_q == WristBranch::Flip { WristBranch::NoFlip } else { WristBranch::Flip }] {
+        for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
+            for elbow in [ElbowBranch::Up, ElbowBranch::Down] {
+                let b = Branch { shoulder, elbow, wrist };
+                if !tries.contains(&b) {
+                    tries.push(b);
+                }
+            }
+        }
+    }
+    for b in tries {
+        let Some(found) = matching(b) else { continue };
+        let other_elbow = if found.elbow == ElbowBranch::Up { ElbowBranch::Down } else { ElbowBranch::Up };
+        if matching(Branch { elbow: other_elbow, ..found }).is_some() {
+            return None;
+        }
+        LAST_CONFIGURATION.with(|c| c.set(Some(found)));
+        return Some(Some(found));
+    }
+    None
 }
 
 /// The IK solution within the limits nearest `seed` among those `rule` admits.

@@ -177,3 +177,53 @@ proptest! {
         }
     }
 }
+
+/// What [`configuration_of`] answered before it tried one configuration at a time: all eight
+/// solved together, the nearest that reproduces the joints.
+fn configuration_of_all_eight(m: &RobotModel, q: &[f64]) -> Option<Branch> {
+    let pose = m.tcp_isometry(q);
+    let sols = super::super::solve_parol6(m, &pose, q).ok()?;
+    sols.into_iter().find(|s| s.distance_to_seed < SAME_JOINTS_RAD).and_then(|s| s.branch)
+}
+
+/// Joints on and near every border between configurations: the wrist (J5 = 0, and a hair off
+/// it), full stretch (the CI case of `commander_frame`) and the shoulder axis.
+fn border_joints() -> Vec<Vec<f64>> {
+    let stretch = vec![0.0, -112.04f64.to_radians(), 256.22f64.to_radians(), 0.0, 0.0, 0.497f64.to_radians()];
+    let mut out = vec![standby_rad().to_vec(), stretch.clone()];
+    for q5 in [0.0, 1e-7, -1e-7, 1e-5, -1e-5, 0.3, -0.3] {
+        let mut q = standby_rad().to_vec();
+        q[4] = q5;
+        out.push(q);
+        let mut s = stretch.clone();
+        s[4] = q5;
+        out.push(s);
+    }
+    out
+}
+
+/// One configuration at a time (first the one found last) gives what solving all eight gave,
+/// on the borders and after a different configuration was found last.
+#[test]
+fn configuration_of_one_at_a_time_agrees_with_all_eight_on_the_borders() {
+    let m = RobotModel::parol6();
+    let joints = border_joints();
+    // each pair in both orders: every answer found after every other one
+    for a in &joints {
+        for b in &joints {
+            assert_eq!(configuration_of(&m, a), configuration_of_all_eight(&m, a), "{a:?}");
+            assert_eq!(configuration_of(&m, b), configuration_of_all_eight(&m, b), "{b:?} after {a:?}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+    /// Anywhere within the limits, after any other joints were asked first.
+    #[test]
+    fn configuration_of_one_at_a_time_agrees_with_all_eight(q in in_limits(), before in in_limits()) {
+        let m = RobotModel::parol6();
+        prop_assert_eq!(configuration_of(&m, &before), configuration_of_all_eight(&m, &before));
+        prop_assert_eq!(configuration_of(&m, &q), configuration_of_all_eight(&m, &q));
+    }
+}

@@ -1,7 +1,8 @@
 //! Fuzz body `ros2_cdr` (issue 30): arbitrary bytes as a ROS 2 payload, decoded as every
 //! message type we read or send (`JointTrajectory`, `JointState`, `TFMessage`, `String`, and the
 //! `FollowJointTrajectory` action's `SendGoal` / `GetResult` / `CancelGoal` requests and responses,
-//! its `FeedbackMessage` and `GoalStatusArray`; a decoded goal goes through its own checks and the trajectory's).
+//! its `FeedbackMessage` and `GoalStatusArray`; a decoded goal goes through its own checks and the
+//! trajectory's).
 //! Nothing panics; the decoders allocate nothing ahead of the input (libFuzzer's malloc limit
 //! catches a huge allocation from a hostile count); whatever decodes re-encodes to bytes that
 //! decode to the same message (compared as encodings, so NaN compares equal to itself); every

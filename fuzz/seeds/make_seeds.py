@@ -213,6 +213,27 @@ def send_goal(points, names=("J1", "J2", "J3", "J4", "J5", "J6"), tolerance=(), 
 write("ros2_cdr", "send_goal", send_goal([(STANDBY_RAD, [], 0.0), (moved, [], 1.0)], tolerance=[("J1", 0.01)]))
 write("ros2_cdr", "send_goal_multi_dof", send_goal([(moved, [], 1.0)], multi_dof=True))
 write("ros2_cdr", "send_goal_cut", send_goal([(moved, [], 1.0)])[:-9])
+
+
+def feedback(goal_id, names, desired, actual):
+    """FollowJointTrajectory_FeedbackMessage (Jazzy): UUID, header, joint_names, desired / actual /
+    error points, multi_dof_joint_names and three empty multi-DOF points."""
+    c = Cdr()
+    c.b += goal_id
+    c.i32(1).u32(2).string("").u32(len(names))
+    for n in names:
+        c.string(n)
+    error = [d - a for d, a in zip(desired, actual)]
+    for q, t in ((desired, 0.25), (actual, 0.25), (error, 0.0)):
+        c.doubles(q).doubles([0.0] * len(q)).doubles([]).doubles([])
+        c.i32(int(t)).u32(int(round((t - int(t)) * 1e9)))
+    c.u32(0)
+    for _ in range(3):
+        c.u32(0).u32(0).u32(0).i32(0).u32(0)
+    return c.payload()
+
+
+write("ros2_cdr", "feedback", feedback(bytes(range(16)), ("J1", "J2", "J3", "J4", "J5", "J6"), moved, STANDBY_RAD))
 write("ros2_cdr", "cancel_goal", Cdr().payload() + bytes(16) + bytes(8))
 status = Cdr().u32(1)
 status.b += bytes(range(16))

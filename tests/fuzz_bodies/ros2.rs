@@ -1,7 +1,8 @@
 //! Fuzz body `ros2_cdr` (issue 30): arbitrary bytes as a ROS 2 payload, decoded as every
 //! message type we read or send (`JointTrajectory`, `JointState`, `TFMessage`, `String`, and the
-//! `FollowJointTrajectory` action's `SendGoal` / `GetResult` / `CancelGoal` requests and responses
-//! and `GoalStatusArray`; a decoded goal goes through its own checks and the trajectory's).
+//! `FollowJointTrajectory` action's `SendGoal` / `GetResult` / `CancelGoal` requests and responses,
+//! its `FeedbackMessage` and `GoalStatusArray`; a decoded goal goes through its own checks and the
+//! trajectory's).
 //! Nothing panics; the decoders allocate nothing ahead of the input (libFuzzer's malloc limit
 //! catches a huge allocation from a hostile count); whatever decodes re-encodes to bytes that
 //! decode to the same message (compared as encodings, so NaN compares equal to itself); every
@@ -19,6 +20,7 @@ use parol6_core::ros2::action::{
     INVALID_JOINTS, OLD_HEADER_TIMESTAMP, SendGoalRequest, SendGoalResponse,
 };
 use parol6_core::ros2::cdr::{self, MAX_JOINTS, MAX_POINTS, MAX_TRANSFORMS, Message};
+use parol6_core::ros2::feedback::FeedbackMessage;
 use parol6_core::ros2::goal::goal_checks;
 use parol6_core::ros2::msgs::{JointState, JointTrajectory, StringMsg, TfMessage};
 use parol6_core::ros2::trajectory::to_program;
@@ -46,12 +48,19 @@ fn action(data: &[u8]) {
         assert!(g.path_tolerance.len() <= MAX_JOINTS && g.multi_dof_trajectory.points.len() <= MAX_POINTS);
         match goal_checks(model(), g, 1_700_000_000_000_000_000) {
             Ok(tol) => {
-                assert_eq!(tol.len(), model().joints.len());
-                assert!(tol.iter().flatten().all(|t| t.is_finite() && *t > 0.0));
+                assert_eq!(tol.goal_rad.len(), model().joints.len());
+                assert_eq!(tol.path_rad.len(), model().joints.len());
+                assert!(tol.goal_rad.iter().chain(&tol.path_rad).flatten().all(|t| t.is_finite() && *t > 0.0));
+                assert!(tol.goal_time_s.is_finite() && tol.goal_time_s > 0.0);
                 trajectory(&g.trajectory);
             }
             Err(e) => assert!([INVALID_GOAL, INVALID_JOINTS, OLD_HEADER_TIMESTAMP].contains(&e.error_code), "{e}"),
         }
+    }
+    if let Some(f) = round_trip::<FeedbackMessage>(data) {
+        let f = &f.feedback;
+        assert!(f.joint_names.len() <= MAX_JOINTS && f.desired.positions.len() <= MAX_JOINTS);
+        assert!(f.multi_dof_actual.transforms.len() <= MAX_JOINTS);
     }
     round_trip::<SendGoalResponse>(data);
     round_trip::<GetResultRequest>(data);

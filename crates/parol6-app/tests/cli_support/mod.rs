@@ -141,6 +141,11 @@ pub fn zenoh_peer_available() -> bool {
 /// Runs the peer script `crates/parol6-app/tests/ros2/SCRIPT` against `parol6 serve --ros2` on a
 /// free loopback port (`--remote`: with remote control allowed); its JSON report, which must say ok.
 pub fn run_zenoh_peer(script: &str, remote: bool) -> serde_json::Value {
+    run_zenoh_peer_with(script, remote, &[])
+}
+
+/// [`run_zenoh_peer`] with more arguments for the script.
+pub fn run_zenoh_peer_with(script: &str, remote: bool, extra: &[&str]) -> serde_json::Value {
     let script = workspace_root().join("crates/parol6-app/tests/ros2").join(script);
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
@@ -151,6 +156,7 @@ pub fn run_zenoh_peer(script: &str, remote: bool) -> serde_json::Value {
     if remote {
         args.push("--remote");
     }
+    args.extend_from_slice(extra);
     let out = std::process::Command::new("python3").args(&args).output().expect("python3 runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -50,6 +50,10 @@ FEEDBACK = ("control_msgs::action::dds_::FollowJointTrajectory_FeedbackMessage_"
 STATUS = ("action_msgs::msg::dds_::GoalStatusArray_",
           "RIHS01_ffe5f95b22109dd7ef2199ccf443f5b6be19c157618c8fc12f4d9a2b5fc6c4dc")
 NAMES = ("J1", "J2", "J3", "J4", "J5", "J6")
+# path tolerances: one the simulation's tracking lag stays well within, one it exceeds
+PATH_TOLERANCE_OK_RAD = 0.05
+PATH_TOLERANCE_TIGHT_RAD = 1e-4
+GOAL_TIME_TOLERANCE_S = 0.3
 SUCCEEDED, CANCELED, ABORTED = 4, 5, 6
 GID = bytes(range(100, 116))
 
@@ -58,7 +62,8 @@ def skey(sub, ty, domain=0):
     return f"{domain}/{ACTION.strip('/')}/_action/{sub}/{ty[0]}/{ty[1]}"
 
 
-def goal_request(uuid, points, names=NAMES, stamp=(0, 0), multi_dof=False, tolerance=None):
+def goal_request(uuid, points, names=NAMES, stamp=(0, 0), multi_dof=False, tolerance=None, path_tolerance=None,
+                 goal_time=0.0):
     """SendGoal request: UUID, then FollowJointTrajectory_Goal field by field."""
     w = Writer()
     w.b += uuid
@@ -85,19 +90,77 @@ def goal_request(uuid, points, names=NAMES, stamp=(0, 0), multi_dof=False, toler
     if multi_dof:
         w.string("base_planar")
     w.u32(0)
-    w.u32(0)  # path_tolerance
+    tolerances(w, path_tolerance or [])  # path_tolerance
     w.u32(0)  # component_path_tolerance
-    tol = tolerance or []
-    w.u32(len(tol))  # goal_tolerance: name, position, velocity, acceleration
+    tolerances(w, tolerance or [])  # goal_tolerance
+    w.u32(0)  # component_goal_tolerance
+    w.i32(int(goal_time))  # goal_time_tolerance
+    w.u32(int(round((goal_time - int(goal_time)) * 1e9)))
+    return w.payload()
+
+
+def tolerances(w, tol):
+    """control_msgs/msg/JointTolerance[]: name, position, velocity, acceleration."""
+    w.u32(len(tol))
     for name, pos in tol:
         w.string(name)
         w.f64(pos)
         w.f64(0.0)
         w.f64(0.0)
-    w.u32(0)  # component_goal_tolerance
-    w.i32(0)  # goal_time_tolerance
-    w.u32(0)
-    return w.payload()
+
+
+def feedback_message(payload):
+    """FollowJointTrajectory_FeedbackMessage (Jazzy's control_msgs): goal_id, then the feedback:
+    header, joint_names, desired / actual / error JointTrajectoryPoint, multi_dof_joint_names and
+    three MultiDOFJointTrajectoryPoint. Every byte must be read."""
+    r = Reader(payload)
+    uuid = bytes(r.b[:16])
+    r.o = 16
+
+    def point():
+        return {"positions": r.seq(r.f64), "velocities": r.seq(r.f64), "accelerations": r.seq(r.f64),
+                "effort": r.seq(r.f64), "time_from_start": r.i32() + r.u32() * 1e-9}
+
+    def multi_dof_point():
+        return {"transforms": r.seq(lambda: [r.f64() for _ in range(7)]),
+                "velocities": r.seq(lambda: [r.f64() for _ in range(6)]),
+                "accelerations": r.seq(lambda: [r.f64() for _ in range(6)]),
+                "time_from_start": (r.i32(), r.u32())}
+
+    h = r.header()
+    msg = {"goal_id": uuid, "stamp": (h["sec"], h["nanosec"]), "joint_names": r.seq(r.string),
+           "desired": point(), "actual": point(), "error": point(), "multi_dof_joint_names": r.seq(r.string),
+           "multi_dof": [multi_dof_point() for _ in range(3)]}
+    check(r.o == len(r.b), f"the feedback message ends at byte {r.o} of {len(r.b)}")
+    return msg
+
+
+def check_feedback(fb, js_by_stamp, last):
+    """The goal's feedback: 20 Hz on the motion clock, actual = the joint state published with the
+    same stamp, error = desired - actual, desired on the way from the first desired position to
+    `last`. The largest |error| of J1, rad."""
+    check(len(fb) >= 10, f"feedback while the goal ran: {len(fb)} messages")
+    first = fb[0]["desired"]["positions"]
+    times = [m["desired"]["time_from_start"] for m in fb]
+    steps = [round(b - a, 6) for a, b in zip(times, times[1:])]
+    check(all(s == 0.05 for s in steps), f"feedback every 0.05 s of the goal: {steps}")
+    matched = 0
+    for m in fb:
+        check(m["joint_names"] == list(NAMES) and m["multi_dof_joint_names"] == [], f"joints: {m['joint_names']}")
+        check(all(not any(p[k] for k in ("transforms", "velocities", "accelerations")) and p["time_from_start"] == (0, 0)
+                  for p in m["multi_dof"]), "the multi-DOF points are empty")
+        d, a, e = m["desired"]["positions"], m["actual"]["positions"], m["error"]["positions"]
+        check(all(abs(e[j] - (d[j] - a[j])) < 1e-12 for j in range(6)), f"error = desired - actual: {m}")
+        check(all(min(first[j], last[j]) - 1e-6 <= d[j] <= max(first[j], last[j]) + 1e-6 for j in range(6)),
+              f"desired {d} between {first} and {last}")
+        if m["stamp"] in js_by_stamp:
+            check(js_by_stamp[m["stamp"]] == a, f"actual = /joint_states of the same stamp: {a} {js_by_stamp[m['stamp']]}")
+            matched += 1
+    check(matched >= len(fb) - 1, f"{matched} of {len(fb)} feedback stamps are /joint_states stamps")
+    desired = [m["desired"]["positions"][0] for m in fb]
+    sign = 1 if last[0] >= first[0] else -1
+    check(all(sign * (b - a) >= -1e-9 for a, b in zip(desired, desired[1:])), "desired J1 moves one way")
+    return max(abs(m["error"]["positions"][0]) for m in fb)
 
 
 def uuid_of(n):
@@ -109,6 +172,7 @@ def main():
     ap.add_argument("--exe", required=True)
     ap.add_argument("--port", type=int, required=True)
     ap.add_argument("--remote", action="store_true")
+    ap.add_argument("--tolerance", action="store_true", help="with --remote: the tolerance goals, not the hostile ones")
     args = ap.parse_args()
 
     conf = zenoh.Config()
@@ -118,12 +182,21 @@ def main():
     conf.insert_json5("scouting/multicast/enabled", "false")
     session = zenoh.open(conf)
     lock = threading.Lock()
-    got = {"js": [], "status": []}
+    got = {"js": [], "status": [], "js_by_stamp": {}, "feedback": []}
 
     def on_js(sample):
         msg = peer.joint_state(bytes(sample.payload.to_bytes()))
         with lock:
             got["js"].append(msg["position"])
+            got["js_by_stamp"][(msg["header"]["sec"], msg["header"]["nanosec"])] = msg["position"]
+
+    def on_feedback(sample):
+        try:
+            msg = feedback_message(bytes(sample.payload.to_bytes()))
+        except Exception as e:  # noqa: BLE001  (reported, not raised in Zenoh's thread)
+            msg = {"decode_error": repr(e)}
+        with lock:
+            got["feedback"].append(msg)
 
     def on_status(sample):
         r = Reader(bytes(sample.payload.to_bytes()))
@@ -140,7 +213,8 @@ def main():
             got["status"].append(items)
 
     subs = [session.declare_subscriber(peer.key("/joint_states", "sensor_msgs/msg/JointState"), on_js),
-            session.declare_subscriber(skey("status", STATUS), on_status)]
+            session.declare_subscriber(skey("status", STATUS), on_status),
+            session.declare_subscriber(skey("feedback", FEEDBACK), on_feedback)]
     seq = [0]
 
     def call(sub, ty, payload):
@@ -201,37 +275,40 @@ def main():
             check(all(max(abs(a - b) for a, b in zip(m, start)) < 1e-4 for m in during), "no motion")
             report["refusal"] = why
         else:
-            nan = list(moved)
-            nan[2] = float("nan")
-            far = list(start)
-            far[1] = 3.0
-            old = (int(time.time()) - 100, 0)
-            hostile = [
-                ("malformed CDR", b"\x00\x01\x00\x00" + uuid_of(20) + b"\xff\xff", None),
-                ("wrong joint names", goal_request(uuid_of(21), [(moved, 1.0)], names=("a", "b", "c", "d", "e", "f")), -2),
-                ("NaN", goal_request(uuid_of(22), [(start, 0.0), (nan, 1.0)]), -1),
-                ("out of limits", goal_request(uuid_of(23), [(start, 0.0), (far, 5.0)]), -1),
-                ("times not increasing", goal_request(uuid_of(24), [(moved, 1.0), (start, 1.0)]), -1),
-                ("multi-DOF", goal_request(uuid_of(25), [(moved, 1.0)], multi_dof=True), -1),
-                ("old header stamp", goal_request(uuid_of(26), [(moved, 1.0)], stamp=old), -3),
-                ("tolerance of an unknown joint", goal_request(uuid_of(27), [(moved, 1.0)], tolerance=[("J9", 0.1)]), -2),
-            ]
-            refusals = {}
-            for i, (name, payload, code) in enumerate(hostile):
-                ok, _ = send_goal(payload)
-                check(not ok, f"{name}: rejected")
-                status, got_code, why = get_result(uuid_of(20 + i))
-                if code is None:
-                    check(status == 0, f"{name}: no goal known: {status}")
-                else:
-                    check(status == ABORTED and got_code == code, f"{name}: result {status} {got_code} {why}")
-                refusals[name] = [got_code, why]
-            with lock:
-                during = got["js"][n_before:]
-            check(all(max(abs(a - b) for a, b in zip(m, start)) < 1e-4 for m in during), "no motion while refusing")
-            report["refusals"] = refusals
+            if not args.tolerance:
+                nan = list(moved)
+                nan[2] = float("nan")
+                far = list(start)
+                far[1] = 3.0
+                old = (int(time.time()) - 100, 0)
+                hostile = [
+                    ("malformed CDR", b"\x00\x01\x00\x00" + uuid_of(20) + b"\xff\xff", None),
+                    ("wrong joint names", goal_request(uuid_of(21), [(moved, 1.0)], names=("a", "b", "c", "d", "e", "f")), -2),
+                    ("NaN", goal_request(uuid_of(22), [(start, 0.0), (nan, 1.0)]), -1),
+                    ("out of limits", goal_request(uuid_of(23), [(start, 0.0), (far, 5.0)]), -1),
+                    ("times not increasing", goal_request(uuid_of(24), [(moved, 1.0), (start, 1.0)]), -1),
+                    ("multi-DOF", goal_request(uuid_of(25), [(moved, 1.0)], multi_dof=True), -1),
+                    ("old header stamp", goal_request(uuid_of(26), [(moved, 1.0)], stamp=old), -3),
+                    ("tolerance of an unknown joint", goal_request(uuid_of(27), [(moved, 1.0)], tolerance=[("J9", 0.1)]), -2),
+                ]
+                refusals = {}
+                for i, (name, payload, code) in enumerate(hostile):
+                    ok, _ = send_goal(payload)
+                    check(not ok, f"{name}: rejected")
+                    status, got_code, why = get_result(uuid_of(20 + i))
+                    if code is None:
+                        check(status == 0, f"{name}: no goal known: {status}")
+                    else:
+                        check(status == ABORTED and got_code == code, f"{name}: result {status} {got_code} {why}")
+                    refusals[name] = [got_code, why]
+                with lock:
+                    during = got["js"][n_before:]
+                check(all(max(abs(a - b) for a, b in zip(m, start)) < 1e-4 for m in during), "no motion while refusing")
+                report["refusals"] = refusals
 
-            ok, stamp = send_goal(goal_request(uuid_of(2), [(start, 0.0), (moved, 1.0)], tolerance=[("J1", 0.05)]))
+            path_ok = [(n, PATH_TOLERANCE_OK_RAD) for n in NAMES]
+            ok, stamp = send_goal(goal_request(uuid_of(2), [(start, 0.0), (moved, 1.0)], tolerance=[("J1", 0.05)],
+                                               path_tolerance=path_ok))
             check(ok and abs(stamp[0] - time.time()) < 5, f"the valid goal is accepted: {stamp}")
             status, code, why = get_result(uuid_of(2))
             check(status == SUCCEEDED and code == 0, f"the valid goal succeeded: {status} {code} {why}")
@@ -242,29 +319,76 @@ def main():
             check(abs(end[0] - moved[0]) < 0.005, f"J1 ends at the goal: {end[0]} vs {moved[0]}")
             check(2 in statuses and statuses[-1] == SUCCEEDED, f"status EXECUTING then SUCCEEDED: {statuses}")
             report["end_error_rad"] = end[0] - moved[0]
+            with lock:
+                fb = [m for m in got["feedback"] if m.get("goal_id") == uuid_of(2)]
+                bad = [m for m in got["feedback"] if "decode_error" in m]
+                by_stamp = dict(got["js_by_stamp"])
+            check(not bad, f"every feedback message decodes: {bad[:1]}")
+            report["feedback_messages"] = len(fb)
+            report["tracking_lag_rad"] = check_feedback(fb, by_stamp, moved)
 
-            ok, _ = send_goal(goal_request(uuid_of(3), [(moved, 0.0), (start, 3.0)]))
-            check(ok, "the slow goal is accepted")
-            time.sleep(0.8)
-            w = Writer()
-            w.b += uuid_of(3)
-            w.i32(0)
-            w.u32(0)
-            r = call("cancel_goal", CANCEL_GOAL, w.payload())
-            return_code = r.b[0]
-            r.o = 1
-            canceling = r.u32()
-            check(return_code == 0 and canceling == 1, f"the cancel is taken: {return_code} {canceling}")
-            status, code, why = get_result(uuid_of(3))
-            check(status == CANCELED, f"the slow goal is cancelled: {status} {code} {why}")
-            time.sleep(0.5)
-            with lock:
-                a = got["js"][-1][0]
-            time.sleep(0.5)
-            with lock:
-                b = got["js"][-1][0]
-            check(abs(a - b) < 1e-4 and abs(b - start[0]) > 0.02, f"the arm stopped short of the goal: {a} {b}")
-            report["cancelled_at_rad"] = b - start[0]
+            if not args.tolerance:
+                ok, _ = send_goal(goal_request(uuid_of(3), [(moved, 0.0), (start, 3.0)]))
+                check(ok, "the slow goal is accepted")
+                time.sleep(0.8)
+                w = Writer()
+                w.b += uuid_of(3)
+                w.i32(0)
+                w.u32(0)
+                r = call("cancel_goal", CANCEL_GOAL, w.payload())
+                return_code = r.b[0]
+                r.o = 1
+                canceling = r.u32()
+                check(return_code == 0 and canceling == 1, f"the cancel is taken: {return_code} {canceling}")
+                status, code, why = get_result(uuid_of(3))
+                check(status == CANCELED, f"the slow goal is cancelled: {status} {code} {why}")
+                time.sleep(0.5)
+                with lock:
+                    a = got["js"][-1][0]
+                time.sleep(0.5)
+                with lock:
+                    b = got["js"][-1][0]
+                check(abs(a - b) < 1e-4 and abs(b - start[0]) > 0.02, f"the arm stopped short of the goal: {a} {b}")
+                report["cancelled_at_rad"] = b - start[0]
+
+            if args.tolerance:
+                # a path tolerance the simulation's tracking lag exceeds: stopped, aborted with -4
+                with lock:
+                    here = list(got["js"][-1])
+                there = [here[0] + 0.2] + here[1:]
+                ok, _ = send_goal(goal_request(uuid_of(4), [(here, 0.0), (there, 1.0)],
+                                               path_tolerance=[("J1", PATH_TOLERANCE_TIGHT_RAD)]))
+                check(ok, "the goal with a tight path tolerance is accepted")
+                status, code, why = get_result(uuid_of(4))
+                check(status == ABORTED and code == -4 and "J1" in why and "path_tolerance" in why,
+                      f"the tight goal aborts with PATH_TOLERANCE_VIOLATED naming J1: {status} {code} {why}")
+                time.sleep(0.5)
+                with lock:
+                    a = got["js"][-1][0]
+                time.sleep(0.5)
+                with lock:
+                    b = got["js"][-1][0]
+                    statuses = [dict(s).get(uuid_of(4)) for s in got["status"]]
+                    fb = [m for m in got["feedback"] if m.get("goal_id") == uuid_of(4)]
+                check(abs(a - b) < 1e-4 and abs(b - there[0]) > 0.1, f"the arm stopped early: {a} {b} (goal {there[0]})")
+                check(statuses[-1] == ABORTED, f"status ABORTED: {statuses}")
+                check(fb, "feedback while the tight goal ran")
+                report["path_abort"] = {"error_string": why, "moved_rad": b - here[0], "feedback_messages": len(fb)}
+
+                # a goal tolerance the arm does not reach: GOAL_TOLERANCE_VIOLATED once goal_time_tolerance has passed
+                with lock:
+                    here = list(got["js"][-1])
+                there = [here[0] - 0.1] + here[1:]
+                sent_at = time.monotonic()
+                ok, _ = send_goal(goal_request(uuid_of(5), [(here, 0.0), (there, 0.5)], tolerance=[("J1", 1e-9)],
+                                               goal_time=GOAL_TIME_TOLERANCE_S))
+                check(ok, "the goal with an unreachable goal tolerance is accepted")
+                status, code, why = get_result(uuid_of(5))
+                took = time.monotonic() - sent_at
+                check(status == ABORTED and code == -5 and "J1" in why and "goal_tolerance" in why,
+                      f"it aborts with GOAL_TOLERANCE_VIOLATED naming J1: {status} {code} {why}")
+                check(took >= 0.5 + GOAL_TIME_TOLERANCE_S - 0.05, f"after its goal_time_tolerance: {took:.3f} s")
+                report["goal_abort"] = {"error_string": why, "result_after_s": took}
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)
         check(proc.returncode == 130, f"exit 130 after SIGINT, got {proc.returncode}: {err}")

@@ -81,7 +81,7 @@ pub const GET_RESULT: TypeInfo = TypeInfo {
     hash: "RIHS01_a42b878fc686578b092e626c27ba796dab419d9d5f3275920e4eca7769062539",
 };
 
-/// `control_msgs/action/FollowJointTrajectory_FeedbackMessage`.
+/// `control_msgs/action/FollowJointTrajectory_FeedbackMessage` ([`super::feedback::FeedbackMessage`]).
 pub const FEEDBACK_MESSAGE: TypeInfo = TypeInfo {
     ros_name: "control_msgs/action/FollowJointTrajectory_FeedbackMessage",
     dds_name: "control_msgs::action::dds_::FollowJointTrajectory_FeedbackMessage_",
@@ -332,10 +332,10 @@ pub struct GoalStatusArray {
     pub status_list: Vec<GoalStatus>,
 }
 
-const UUID: Shape = Shape::Struct(&[("uuid", Shape::Leaf)]);
+pub(crate) const UUID: Shape = Shape::Struct(&[("uuid", Shape::Leaf)]);
 const TRAJECTORY: Shape = Shape::Struct(&[("header", HEADER), ("joint_names", VALUES), ("points", Shape::Seq(&POINT))]);
 const TWIST: Shape = Shape::Struct(&[("linear", XYZ), ("angular", XYZ)]);
-const MULTI_DOF_POINT: Shape = Shape::Struct(&[
+pub(crate) const MULTI_DOF_POINT: Shape = Shape::Struct(&[
     ("transforms", Shape::Seq(&Shape::Struct(&[("translation", XYZ), ("rotation", XYZW)]))),
     ("velocities", Shape::Seq(&TWIST)),
     ("accelerations", Shape::Seq(&TWIST)),

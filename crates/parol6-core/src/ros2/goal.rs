@@ -8,10 +8,12 @@
 //! finite and either -1 (none) or not negative ([`INVALID_GOAL`]); `goal_time_tolerance` valid;
 //! a header stamp of zero starts on arrival, a stamp whose trajectory has ended before `now` is
 //! [`OLD_HEADER_TIMESTAMP`], one more than [`MAX_START_DELAY_S`] ahead is refused (a delayed
-//! start is not supported). The trajectory's refusals are [`INVALID_JOINTS`] for its joint names
+//! start is not supported). The tolerances kept ([`Tolerances`]) are enforced while the goal
+//! runs ([`super::tolerance`]). The trajectory's refusals are [`INVALID_JOINTS`] for its joint names
 //! and [`INVALID_GOAL`] for the rest.
 
 use super::action::{FollowJointTrajectoryGoal, INVALID_GOAL, INVALID_JOINTS, JointTolerance, OLD_HEADER_TIMESTAMP};
+use super::tolerance::goal_time_tolerance_s;
 use super::trajectory::{TrajectoryError, TrajectoryPlan, plan_trajectory};
 use crate::model::RobotModel;
 use crate::program::Step;
@@ -40,8 +42,22 @@ pub struct GoalPlan {
     pub plan: TrajectoryPlan,
     /// Where the arm must end, rad, robot joint order.
     pub final_q: Vec<f64>,
-    /// Each joint's goal position tolerance, rad (`None`: not checked).
-    pub goal_tolerance_rad: Vec<Option<f64>>,
+    /// Its tolerances.
+    pub tolerances: Tolerances,
+}
+
+/// A goal's position tolerances per robot joint (`None`: not checked) and its leeway after the
+/// trajectory's end ([`super::tolerance`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tolerances {
+    /// While moving, from the commanded position, rad.
+    pub path_rad: Vec<Option<f64>>,
+    /// At the end, from the last point, rad.
+    pub goal_rad: Vec<Option<f64>>,
+    /// How long after the trajectory's end the goal tolerance may still be reached, s (the
+    /// goal's `goal_time_tolerance`, 0 made
+    /// [`DEFAULT_GOAL_TIME_TOLERANCE_S`](super::tolerance::DEFAULT_GOAL_TIME_TOLERANCE_S)).
+    pub goal_time_s: f64,
 }
 
 /// Checks `goal` for `model` with the arm at `current_q` (rad) at `now_ns` (ns since the Unix
@@ -52,7 +68,7 @@ pub fn check_goal(
     current_q: &[f64],
     now_ns: u64,
 ) -> Result<GoalPlan, GoalRefusal> {
-    let goal_tolerance_rad = goal_checks(model, goal, now_ns)?;
+    let tolerances = goal_checks(model, goal, now_ns)?;
     let plan = plan_trajectory(model, &goal.trajectory, current_q).map_err(|e| {
         let code = if matches!(e, TrajectoryError::JointNames { .. }) { INVALID_JOINTS } else { INVALID_GOAL };
         refuse(code, format!("trajectory: {e}"))
@@ -61,16 +77,15 @@ pub fn check_goal(
         Some(Step::MoveJoints { joints_deg, .. }) => joints_deg.iter().map(|d| d.to_radians()).collect(),
         _ => current_q.to_vec(),
     };
-    Ok(GoalPlan { plan, final_q, goal_tolerance_rad })
+    Ok(GoalPlan { plan, final_q, tolerances })
 }
 
-/// The checks only a goal has (everything but its trajectory's): each robot joint's goal
-/// position tolerance, rad.
+/// The checks only a goal has (everything but its trajectory's); its tolerances.
 pub fn goal_checks(
     model: &RobotModel,
     goal: &FollowJointTrajectoryGoal,
     now_ns: u64,
-) -> Result<Vec<Option<f64>>, GoalRefusal> {
+) -> Result<Tolerances, GoalRefusal> {
     let multi = &goal.multi_dof_trajectory;
     if !multi.joint_names.is_empty() || !multi.points.is_empty() {
         return Err(refuse(
@@ -94,8 +109,8 @@ pub fn goal_checks(
         }
     }
     let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
-    tolerances("path_tolerance", &goal.path_tolerance, &names)?;
-    let goal_tolerance_rad = tolerances("goal_tolerance", &goal.goal_tolerance, &names)?;
+    let path_rad = tolerances("path_tolerance", &goal.path_tolerance, &names)?;
+    let goal_rad = tolerances("goal_tolerance", &goal.goal_tolerance, &names)?;
     let gtt = &goal.goal_time_tolerance;
     if gtt.as_secs_f64().is_none_or(|s| s < 0.0) {
         return Err(refuse(
@@ -104,7 +119,7 @@ pub fn goal_checks(
         ));
     }
     check_stamp(goal, now_ns)?;
-    Ok(goal_tolerance_rad)
+    Ok(Tolerances { path_rad, goal_rad, goal_time_s: goal_time_tolerance_s(gtt) })
 }
 
 /// Each robot joint's position tolerance from `list` (positive: checked), after checking it.

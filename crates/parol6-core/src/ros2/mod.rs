@@ -13,7 +13,8 @@
 //! - [`graph`]: key expressions, liveliness tokens, QoS strings, GIDs and attachments;
 //! - [`action`]: the `control_msgs/action/FollowJointTrajectory` action's services and topics
 //!   (types, names, hashes), [`goal`]: a goal's own checks before its trajectory takes the
-//!   [`trajectory`] path;
+//!   [`trajectory`] path, [`feedback`]: the feedback message a running goal gets,
+//!   [`tolerance`]: its path and goal tolerances (and `goal_time_tolerance`) while it runs;
 //! - [`trajectory`]: validation of an incoming trajectory and its conversion to a [`Program`]
 //!   (`move_joints` steps with `duration_s`), pre-flight included.
 //!
@@ -29,9 +30,11 @@
 
 pub mod action;
 pub mod cdr;
+pub mod feedback;
 pub mod goal;
 pub mod graph;
 pub mod msgs;
+pub mod tolerance;
 pub mod trajectory;
 
 #[cfg(test)]

@@ -2,8 +2,8 @@
 //! manager's `FollowJointTrajectory` controller type), as `rmw_zenoh` carries an action: the
 //! services `<name>/_action/send_goal`, `get_result` and `cancel_goal` (queryables with `SS`
 //! tokens, answered with the request's sequence number and client GID) and the topics
-//! `<name>/_action/status` (transient local) and `_action/feedback` (declared; no feedback is
-//! sent).
+//! `<name>/_action/status` (transient local) and `_action/feedback` (20 Hz while a goal runs,
+//! sent by the publishing thread: [`super::feedback`]).
 //!
 //! The queryables' callbacks hand each request to the command thread's inbox ([`Incoming`]);
 //! there a goal takes exactly the path of a trajectory on `/parol6/joint_trajectory`: the
@@ -15,6 +15,15 @@
 //! `get_result` for it tells why (rcl_action would answer STATUS_UNKNOWN). A cancel stops the
 //! motion as the server's end does (runner aborted, STOP to the backend), whether or not
 //! remote control is on (stopping is always allowed), and is logged.
+//!
+//! While a goal runs, its `path_tolerance` is checked on every telemetry sample
+//! ([`GoalWatch`]); a joint outside it stops the motion the way a cancel does, and the goal
+//! ends ABORTED with `PATH_TOLERANCE_VIOLATED` and the joint and deviation in its
+//! `error_string` (logged to `/events`). After the trajectory's end the goal waits up to its
+//! `goal_time_tolerance` (0: [`DEFAULT_GOAL_TIME_TOLERANCE_S`]) for every joint to be within
+//! its `goal_tolerance` of the last point, else it ends with `GOAL_TOLERANCE_VIOLATED`.
+//!
+//! [`DEFAULT_GOAL_TIME_TOLERANCE_S`]: parol6_core::ros2::tolerance::DEFAULT_GOAL_TIME_TOLERANCE_S
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -27,13 +36,15 @@ use parol6_core::ros2::action::{
     GetResultResponse, GoalInfo, GoalStatus, GoalStatusArray, SendGoalRequest, SendGoalResponse, Uuid, cancel, status,
 };
 use parol6_core::ros2::cdr::{self, MAX_MESSAGE_BYTES};
-use parol6_core::ros2::goal::check_goal;
+use parol6_core::ros2::goal::{Tolerances, check_goal};
 use parol6_core::ros2::graph::Qos;
 use parol6_core::ros2::msgs::Time;
+use parol6_core::ros2::tolerance::{GoalEnd, goal_end};
 use serde::Serialize;
 use zenoh::query::{Query, Queryable};
 
 use super::commands::{Active, CommandCounters, Commands, Incoming, Refusal};
+use super::feedback::GoalWatch;
 use super::node::{Node, Publisher, now_unix_ns, reply};
 
 /// Goals remembered for `get_result` and the status topic (the oldest finished ones go first).
@@ -41,15 +52,17 @@ pub const MAX_GOALS: usize = 64;
 /// `get_result` requests waiting for a running goal; more are answered at once with its status.
 pub const MAX_WAITING: usize = 64;
 
-/// A goal being run: what its end is checked against.
+/// A goal being run: what it is checked against.
 #[derive(Debug, Clone)]
 pub struct GoalRun {
     /// The goal.
     pub info: GoalInfo,
     /// Where the arm must end, rad.
     pub final_q: Vec<f64>,
-    /// Each joint's goal position tolerance, rad.
-    pub goal_tolerance_rad: Vec<Option<f64>>,
+    /// Its path and goal tolerances.
+    pub tolerances: Tolerances,
+    /// Why it is aborted (control_msgs' error code and the reason), once it is.
+    pub aborted: Option<(i32, String)>,
 }
 
 struct Record {
@@ -65,23 +78,24 @@ pub struct ActionState {
     status: Publisher,
     goals: VecDeque<Record>,
     waiting: Vec<(Uuid, Query)>,
+    /// The running goal as the publishing thread checks it and sends its feedback.
+    pub watch: Arc<GoalWatch>,
 }
 
 /// The action's Zenoh entities, kept alive by the server.
 pub struct ActionEndpoints {
     /// The three services.
     pub queryables: Vec<Queryable<()>>,
-    /// `_action/feedback` (declared so that clients see a complete action; nothing is sent).
-    pub feedback: Publisher,
 }
 
-/// Declares the action `name` on `node`: the three services feed `tx`.
+/// Declares the action `name` on `node`: the three services feed `tx`; the `_action/feedback`
+/// publisher is for the publishing thread.
 pub fn declare(
     node: &mut Node,
     name: &str,
     tx: &Sender<Incoming>,
     counters: &Arc<CommandCounters>,
-) -> Result<(ActionEndpoints, ActionState), String> {
+) -> Result<(ActionEndpoints, ActionState, Publisher), String> {
     let names = ActionNames::of(name);
     let forward = |wrap: fn(Query) -> Incoming| {
         let (tx, counters) = (tx.clone(), Arc::clone(counters));
@@ -100,8 +114,9 @@ pub fn declare(
     let status = node.publisher(&names.status, &fjt::GOAL_STATUS_ARRAY, Qos::LATCHED)?;
     let name = format!("/{}", name.trim_matches('/'));
     Ok((
-        ActionEndpoints { queryables, feedback },
-        ActionState { name, status, goals: VecDeque::new(), waiting: Vec::new() },
+        ActionEndpoints { queryables },
+        ActionState { name, status, goals: VecDeque::new(), waiting: Vec::new(), watch: Arc::default() },
+        feedback,
     ))
 }
 
@@ -218,17 +233,18 @@ impl Commands {
         }
         let started = self.launch(busy, |q| {
             check_goal(&self.model, &req.goal, q, now_unix_ns())
-                .map(|g| (g.plan, (g.final_q, g.goal_tolerance_rad)))
+                .map(|g| (g.plan, (g.final_q, g.tolerances)))
                 .map_err(|e| Refusal { code: e.error_code, reason: e.message })
         });
-        let (runner, plan, (final_q, goal_tolerance_rad)) = match started {
+        let (runner, plan, (final_q, tolerances)) = match started {
             Ok(s) => s,
             Err(r) => return reject(st, Some(req.goal_id), r.code, r.reason, true),
         };
         let info = GoalInfo { goal_id: req.goal_id, stamp };
         answer(&query, &SendGoalResponse { accepted: true, stamp });
         st.remember(info, status::EXECUTING, FollowJointTrajectoryResult::default());
-        let goal = GoalRun { info, final_q, goal_tolerance_rad };
+        st.watch.start(req.goal_id, tolerances.path_rad.clone());
+        let goal = GoalRun { info, final_q, tolerances, aborted: None };
         Some(self.running(id, what, &source, runner, &plan, Some(goal)))
     }
 
@@ -290,37 +306,78 @@ impl Commands {
         answer(&query, &response);
     }
 
-    /// A goal's run ended: its status and result, checked against its goal tolerance.
+    /// A joint of the running goal outside its `path_tolerance` (seen by the publishing
+    /// thread): the motion stops as on a cancel, and the goal is to end aborted.
+    pub(super) fn check_path(&self, st: &ActionState, a: &mut Active) {
+        let Some(g) = a.goal.as_mut().filter(|g| g.aborted.is_none()) else { return };
+        let Some(v) = st.watch.violation() else { return };
+        let names: Vec<&str> = self.model.joints.iter().map(|j| j.name.as_str()).collect();
+        let why = format!("path_tolerance violated: {}", v.describe(&names, "path_tolerance", "desired"));
+        g.aborted = Some((fjt::PATH_TOLERANCE_VIOLATED, why.clone()));
+        self.stop_motion(a);
+        self.remote.outcome(&a.source, &a.what, true, &format!("stopping the motion (STOP): {why}"));
+    }
+
+    /// True while the running goal's trajectory has ended and it waits for its goal tolerance
+    /// (up to its goal time tolerance after the end); when the wait is over, a miss is kept as
+    /// the goal's abort.
+    pub(super) fn goal_settling(&self, st: &ActionState, a: &mut Active) -> bool {
+        let Some(g) = a.goal.as_mut().filter(|g| g.aborted.is_none()) else { return false };
+        let canceling = st.goals.iter().any(|r| r.info.goal_id == g.info.goal_id && r.status == status::CANCELING);
+        let p = a.runner.progress();
+        if canceling || p.state != RunState::Done {
+            return false;
+        }
+        st.watch.trajectory_ended();
+        let state = self.backend.state();
+        let since_end_s = state.time_s - p.clock_s.1;
+        let t = &g.tolerances;
+        match goal_end(&t.goal_rad, &g.final_q, &state.q, since_end_s, t.goal_time_s) {
+            GoalEnd::Reached => false,
+            GoalEnd::Waiting => true,
+            GoalEnd::Violated(v) => {
+                let names: Vec<&str> = self.model.joints.iter().map(|j| j.name.as_str()).collect();
+                let why = format!(
+                    "goal_tolerance violated {since_end_s:.3} s after the trajectory's end (goal_time_tolerance {:.3} s): {}",
+                    t.goal_time_s,
+                    v.describe(&names, "goal_tolerance", "goal")
+                );
+                g.aborted = Some((fjt::GOAL_TOLERANCE_VIOLATED, why));
+                false
+            }
+        }
+    }
+
+    /// A goal's run ended: its status and result (an abort decided while it ran, or how the
+    /// run ended).
     pub(super) fn goal_ended(&self, st: &mut ActionState, goal: &GoalRun, ended: &RunState) {
         let id = goal.info.goal_id;
+        st.watch.end();
         let canceling = st.find(&id).is_some_and(|r| r.status == status::CANCELING);
         let result = |error_code, error_string: String| FollowJointTrajectoryResult { error_code, error_string };
         let (code, outcome) = match ended {
             _ if canceling => (status::CANCELED, result(fjt::SUCCESSFUL, "canceled: the motion was stopped".into())),
-            RunState::Done => match self.tolerance_miss(goal) {
-                Some(miss) => (status::ABORTED, result(fjt::GOAL_TOLERANCE_VIOLATED, miss)),
-                None => (status::SUCCEEDED, result(fjt::SUCCESSFUL, String::new())),
-            },
+            _ if goal.aborted.is_some() => {
+                let (code, why) = goal.aborted.clone().unwrap_or_default();
+                (status::ABORTED, result(code, why))
+            }
+            RunState::Done => {
+                // the last look (the wait may have been cut short by the server's end)
+                let (t, q) = (&goal.tolerances, self.backend.state().q.clone());
+                match goal_end(&t.goal_rad, &goal.final_q, &q, f64::INFINITY, t.goal_time_s) {
+                    GoalEnd::Violated(v) => {
+                        let names: Vec<&str> = self.model.joints.iter().map(|j| j.name.as_str()).collect();
+                        let why = format!("goal_tolerance violated: {}", v.describe(&names, "goal_tolerance", "goal"));
+                        (status::ABORTED, result(fjt::GOAL_TOLERANCE_VIOLATED, why))
+                    }
+                    _ => (status::SUCCEEDED, result(fjt::SUCCESSFUL, String::new())),
+                }
+            }
             RunState::Failed(why) => (status::ABORTED, result(fjt::PATH_TOLERANCE_VIOLATED, why.clone())),
             RunState::Stopped => (status::ABORTED, result(fjt::PATH_TOLERANCE_VIOLATED, "stopped on the PC".into())),
             _ => (status::ABORTED, result(fjt::PATH_TOLERANCE_VIOLATED, "the server stopped".into())),
         };
         st.set(&id, code, Some(outcome));
         st.release(&id);
-    }
-
-    /// The first joint outside its goal position tolerance (measured position), if one is.
-    fn tolerance_miss(&self, goal: &GoalRun) -> Option<String> {
-        let q = self.backend.state().q.clone();
-        goal.goal_tolerance_rad.iter().enumerate().find_map(|(j, tol)| {
-            let (tol, &want, &got) = ((*tol)?, goal.final_q.get(j)?, q.get(j)?);
-            ((got - want).abs() > tol).then(|| {
-                format!(
-                    "{} ended at {got:.5} rad, {:.5} rad from the goal's {want:.5} rad (goal_tolerance {tol} rad)",
-                    self.model.joints.get(j).map_or("?", |x| x.name.as_str()),
-                    (got - want).abs()
-                )
-            })
-        })
     }
 }

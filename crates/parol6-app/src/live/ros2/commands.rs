@@ -156,7 +156,11 @@ pub fn run(mut c: Commands, rx: Receiver<Incoming>, stop: Arc<AtomicBool>) {
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
         }
-        if active.as_ref().is_some_and(|a| a.runner.is_finished())
+        if let (Some(a), Some(st)) = (active.as_mut(), action.as_ref()) {
+            c.check_path(st, a);
+        }
+        let settling = |a: &mut Active| action.as_ref().is_some_and(|st| c.goal_settling(st, a));
+        if active.as_mut().is_some_and(|a| a.runner.is_finished() && !settling(a))
             && let Some(a) = active.take()
         {
             c.finish(a, action.as_mut());
@@ -277,7 +281,9 @@ impl Commands {
         if let (Some(goal), Some(st)) = (&a.goal, action) {
             self.goal_ended(st, goal, &p.state);
         }
+        let aborted = a.goal.as_ref().and_then(|g| g.aborted.clone());
         let (state, reason) = match p.state {
+            _ if aborted.is_some() => ("failed", aborted.map(|(_, why)| why)),
             RunState::Done => ("done", None),
             RunState::Stopped => ("stopped", Some("stopped on the PC".to_string())),
             RunState::Failed(why) => ("failed", Some(why)),

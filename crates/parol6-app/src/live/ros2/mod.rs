@@ -16,13 +16,15 @@
 //!   `/parol6/trajectory_result` ([`commands`]);
 //! - the `control_msgs/action/FollowJointTrajectory` action MoveIt's simple controller manager
 //!   sends to (default `/parol6_arm_controller/follow_joint_trajectory`), its goals on the same
-//!   path as those trajectories ([`action`]).
+//!   path as those trajectories ([`action`]); its feedback (20 Hz) and path tolerance from the
+//!   same telemetry samples as `/joint_states` ([`feedback`]).
 //!
 //! The message encodings, names and checks are in `parol6_core::ros2`. Zenoh's runtime (tokio)
 //! stays inside this module: the rest of the app sees [`Ros2Server`] and [`Ros2Options`].
 
 pub mod action;
 pub mod commands;
+pub mod feedback;
 pub mod node;
 pub mod publish;
 
@@ -148,13 +150,14 @@ impl Ros2Server {
             Qos::reliable(10),
             commands::on_sample(tx.clone(), Arc::clone(&commands)),
         )?;
-        let (endpoints, action_state) = action::declare(&mut node, &opts.action_name, &tx, &commands)?;
+        let (endpoints, action_state, feedback) = action::declare(&mut node, &opts.action_name, &tx, &commands)?;
         let publish = Arc::new(PublishCounters::default());
         let telemetry = Telemetry {
             frames: TfFrames::new(&parts.model, Some(&parts.urdf_text)),
             model: parts.model.clone(),
             joint_states,
             tf,
+            feedback: Some((feedback, Arc::clone(&action_state.watch))),
         };
         let mut threads = Vec::new();
         let (s, p) = (Arc::clone(&stop), Arc::clone(&publish));
@@ -196,6 +199,7 @@ impl Ros2Server {
         json!({
             "joint_states_sent": n(&self.publish.joint_states),
             "tf_sent": n(&self.publish.tf),
+            "action_feedback_sent": n(&self.publish.feedback),
             "samples_seen": n(&self.publish.samples),
             "samples_dropped": n(&self.publish.outlet_dropped),
             "publish_errors": n(&self.publish.errors),

@@ -1,7 +1,9 @@
 //! The publishing thread: takes the recorder's live outlet (bounded; the recorder never waits
 //! on it and counts what it drops) and publishes `/joint_states` and `/tf`, thinned to their
 //! rates on the backend's motion clock (the latest sample of each period; the simulation's
-//! 1 kHz samples become 100 Hz joint states and 50 Hz transforms).
+//! 1 kHz samples become 100 Hz joint states and 50 Hz transforms). While a
+//! `FollowJointTrajectory` goal runs, every sample also goes to its [`GoalWatch`] (path
+//! tolerance), and every fifth joint state is also sent as the goal's feedback.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -15,6 +17,7 @@ use parol6_core::telemetry::frames::TfFrames;
 use parol6_core::telemetry::recorder::{LiveItem, LiveOutlet};
 use parol6_core::telemetry::{DriveKind, TelemetrySample};
 
+use super::feedback::GoalWatch;
 use super::node::{Publisher, now_unix_ns};
 
 /// `/joint_states` period on the motion clock, s (100 Hz: the robot's control rate).
@@ -31,6 +34,8 @@ pub struct PublishCounters {
     pub joint_states: AtomicU64,
     /// `/tf` messages sent.
     pub tf: AtomicU64,
+    /// `FollowJointTrajectory` feedback messages sent.
+    pub feedback: AtomicU64,
     /// Samples taken from the outlet (sent or thinned).
     pub samples: AtomicU64,
     /// Publications Zenoh refused (the first is logged).
@@ -49,6 +54,8 @@ pub struct Telemetry {
     pub joint_states: Publisher,
     /// `/tf`.
     pub tf: Publisher,
+    /// The action's `_action/feedback` and the goal it reports on.
+    pub feedback: Option<(Publisher, Arc<GoalWatch>)>,
 }
 
 /// Runs until `stop` is set or the recorder goes away.
@@ -81,8 +88,14 @@ pub fn run(t: Telemetry, outlet: LiveOutlet, stop: Arc<AtomicBool>, counters: Ar
                 }
             };
             let stamp = Time::from_unix_ns(now_unix_ns());
-            if due(&mut next_js, s.time_s, JOINT_STATES_PERIOD_S) {
+            let joint_state = due(&mut next_js, s.time_s, JOINT_STATES_PERIOD_S);
+            if joint_state {
                 sent(publish_joint_state(&t, &names, &s, stamp), &counters.joint_states);
+            }
+            if let Some((publisher, watch)) = &t.feedback
+                && let Some(msg) = watch.observe(&s, &names, joint_state, stamp)
+            {
+                sent(cdr::encode(&msg).map_err(|e| e.to_string()).and_then(|p| publisher.put(p)), &counters.feedback);
             }
             if due(&mut next_tf, s.time_s, TF_PERIOD_S) {
                 sent(publish_tf(&t, &s, stamp), &counters.tf);

@@ -20,6 +20,7 @@ pub mod bench;
 pub mod bench_motion;
 pub mod bench_program;
 pub mod bench_replay;
+pub mod bench_ui;
 pub mod bench_seed;
 pub mod common;
 pub mod gui;

@@ -85,10 +85,9 @@ impl ProgramPanel {
                 let rows = table_rows(&program, ctx.settings);
                 let row_h = ui.spacing().interact_size.y + TABLE_ROW_SPACING;
                 egui::ScrollArea::both().auto_shrink([false, false]).show_rows(ui, row_h, rows.len(), |ui, range| {
-                    egui::Grid::new("program-point-table-grid")
-                        .striped(true)
-                        .spacing([4.0, TABLE_ROW_SPACING])
-                        .show(ui, |ui| {
+                    egui::Grid::new("program-point-table-grid").striped(true).spacing([4.0, TABLE_ROW_SPACING]).show(
+                        ui,
+                        |ui| {
                             // the columns' names stay in view: the header of the first row shown
                             let first_header = rows[..=range.start.min(rows.len().saturating_sub(1))]
                                 .iter()
@@ -133,7 +132,8 @@ impl ProgramPanel {
                                 }
                                 ui.end_row();
                             }
-                        });
+                        },
+                    );
                 });
             });
         if !open {

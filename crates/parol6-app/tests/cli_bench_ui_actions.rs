@@ -55,7 +55,7 @@ fn bench_ui_actions_reports_the_longest_frame_of_every_action() {
     let names: Vec<&str> = actions.iter().map(|a| a["action"].as_str().unwrap()).collect();
     assert_eq!(names, ACTIONS, "{v}");
     for a in actions {
-        for field in ["frame_ms_max", "app_ms_max", "call_ms", "settled_s"] {
+        for field in ["frame_ms_max", "app_ms_max", "ui_cpu_ms_max", "call_ms", "settled_s"] {
             assert!(a[field].as_f64().is_some_and(|x| x.is_finite() && x >= 0.0), "{field} of {a}");
         }
         assert!(a["frames"].as_u64().unwrap() >= 1, "{a}");

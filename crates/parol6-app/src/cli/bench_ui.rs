@@ -56,6 +56,9 @@ struct Measured {
     frames: usize,
     frame_ms_max: f64,
     app_ms_max: f64,
+    /// The UI pass (the app and egui's layout) and tessellation; the rest of a frame is drawing
+    /// and read-back (on a software rasterizer, most of a frame that redraws a large area), ms.
+    ui_cpu_ms_max: f64,
     /// The action's own call between frames (part of `frame_ms_max`'s first frame), ms.
     call_ms: f64,
     settled_s: f64,
@@ -80,12 +83,12 @@ fn key(key: egui::Key, modifiers: egui::Modifiers) -> Vec<egui::Event> {
 }
 
 impl Bench {
-    /// One frame paced at 60 Hz; its whole and app times, ms.
-    fn frame(&mut self, events: Vec<egui::Event>) -> Result<(f64, f64), CliError> {
+    /// One frame paced at 60 Hz; its whole, app and UI-pass times, ms.
+    fn frame(&mut self, events: Vec<egui::Event>) -> Result<(f64, f64, f64), CliError> {
         let start = Instant::now();
         let (_, t) = self.h.frame_with_input(events).map_err(CliError::from)?;
         std::thread::sleep(FRAME_PERIOD.saturating_sub(start.elapsed()));
-        Ok((t.frame_ms, t.app_ms))
+        Ok((t.frame_ms, t.app_ms, t.ui_cpu_ms))
     }
 
     /// Frames with nothing done until `done` holds (not measured).
@@ -111,8 +114,8 @@ impl Bench {
         let t0 = Instant::now();
         let events = call(&mut self.h)?;
         let call_ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (first, app) = self.frame(events)?;
-        let (mut frame_ms_max, mut app_ms_max, mut frames) = (call_ms + first, app, 1);
+        let (first, app, ui) = self.frame(events)?;
+        let (mut frame_ms_max, mut app_ms_max, mut ui_cpu_ms_max, mut frames) = (call_ms + first, app, ui, 1);
         let settled = loop {
             if frames >= min_frames && done(&self.h.app) {
                 break true;
@@ -120,13 +123,23 @@ impl Bench {
             if t0.elapsed() > SETTLE_LIMIT {
                 break false;
             }
-            let (f, a) = self.frame(Vec::new())?;
+            let (f, a, u) = self.frame(Vec::new())?;
             frame_ms_max = frame_ms_max.max(f);
             app_ms_max = app_ms_max.max(a);
+            ui_cpu_ms_max = ui_cpu_ms_max.max(u);
             frames += 1;
         };
         let settled_s = t0.elapsed().as_secs_f64();
-        self.out.push(Measured { action, frames, frame_ms_max, app_ms_max, call_ms, settled_s, settled });
+        self.out.push(Measured {
+            action,
+            frames,
+            frame_ms_max,
+            app_ms_max,
+            ui_cpu_ms_max,
+            call_ms,
+            settled_s,
+            settled,
+        });
         Ok(())
     }
 
@@ -304,18 +317,19 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
     // dragging the cursor from end to end: a new position every frame
     let scrub_frames = 60;
     let t = Instant::now();
-    let mut max = (0.0f64, 0.0f64);
+    let mut max = (0.0f64, 0.0f64, 0.0f64);
     for k in 0..=scrub_frames {
         let at = t0 + (t1 - t0) * f64::from(k) / f64::from(scrub_frames);
         b.h.app.queue_command(AppCommand::Replay(ReplayControl::Scrub(at)));
-        let (f, a) = b.frame(Vec::new())?;
-        max = (max.0.max(f), max.1.max(a));
+        let (f, a, u) = b.frame(Vec::new())?;
+        max = (max.0.max(f), max.1.max(a), max.2.max(u));
     }
     b.out.push(Measured {
         action: "replay_scrub",
         frames: scrub_frames as usize + 1,
         frame_ms_max: max.0,
         app_ms_max: max.1,
+        ui_cpu_ms_max: max.2,
         call_ms: 0.0,
         settled_s: t.elapsed().as_secs_f64(),
         settled: true,

@@ -8,7 +8,7 @@
 //!   plan: the window keeps drawing and says "computing…");
 //! - forward dynamics: torque profiles run on the simulation ([`super::torque_form`]);
 //! - during replay, instead of both: the joint torques along the recorded motion, with those at
-//!   the cursor ([`replay`]), headed REPLAY.
+//!   the cursor (`dynamics/replay.rs`), headed REPLAY.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -145,12 +145,31 @@ impl HeadlessApp {
 
     /// Runs and renders one frame; returns the image and the timings.
     pub fn frame(&mut self) -> anyhow::Result<(RgbaImage, FrameTiming)> {
+        self.frame_with_input(Vec::new())
+    }
+
+    /// The window's size now, px.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    /// Resizes the window (the next frame is laid out and drawn at the new size).
+    pub fn resize(&mut self, width: u32, height: u32) -> anyhow::Result<()> {
+        self.renderer.resize(width, height).map_err(|e| anyhow::anyhow!("{e}"))?;
+        self.size = (width, height);
+        Ok(())
+    }
+
+    /// Like [`Self::frame`], with `events` (key presses, modifier changes) as this frame's
+    /// input: what a user's keys do in the window.
+    pub fn frame_with_input(&mut self, events: Vec<egui::Event>) -> anyhow::Result<(RgbaImage, FrameTiming)> {
         let start = Instant::now();
         let (w, h) = self.size;
         let input = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(w as f32, h as f32))),
             time: Some(self.t0.elapsed().as_secs_f64()),
             focused: true,
+            events,
             ..Default::default()
         };
         let mut app_ms = 0.0;

@@ -194,3 +194,69 @@ fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
     assert!(!shows(&h, "REPLAY link"), "no recorded link once closed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The torques the Dynamics panel must show at the replay cursor: inverse dynamics of the
+/// recorded measured joints, velocities and accelerations there (a missing value read as 0).
+fn recorded_torques_at_cursor(h: &Harness<'_, Parol6App>, model: &RobotModel) -> Vec<f64> {
+    use parol6_core::telemetry::{Quantity, SeriesStore};
+    let r = h.state().replay().expect("open");
+    let (_, row) = r.data.store.row_at(r.cursor_s).expect("a sample at the cursor");
+    let n = model.dof();
+    let col = |q: Quantity| -> Vec<f64> {
+        let at = SeriesStore::offset_of(q, n);
+        (0..n)
+            .map(|j| row.get(at + j).map_or(0.0, |&v| f64::from(v)))
+            .map(|v| if v.is_finite() { v } else { 0.0 })
+            .collect()
+    };
+    let (q, qd, qdd) = (col(Quantity::Position), col(Quantity::Velocity), col(Quantity::Acceleration));
+    let mut id = parol6_core::dynamics::InverseDynamics::new(model);
+    let mut tau = vec![0.0; n];
+    id.compute_into(model, &q, &qd, &qdd, &mut tau);
+    tau
+}
+
+/// Issue 32, major 7 (last part): during replay the Dynamics panel analysed the program panel's
+/// program from the replayed pose, as if live. It now analyses the recording: the joint torques
+/// along the recorded motion (the same inverse dynamics), on a worker, with the torques at the
+/// cursor, and says REPLAY.
+#[test]
+fn the_dynamics_panel_analyses_the_recording_during_replay() {
+    let model = RobotModel::parol6();
+    let dir = std::env::temp_dir().join(format!("parol6-replay-dyn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("run.mcap");
+    let bytes = parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 50.0).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(2);
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    h.get_by_label_contains("20.0 s").click();
+    h.run_steps(3);
+
+    let heading = "REPLAY: joint torques along the recording run.mcap";
+    until(&mut h, "the recording's analysis", 60.0, |h| {
+        has_label(h, heading) && !h.state().dynamics_panel().computing()
+    });
+    h.run_steps(2);
+    assert!(!has_label(&h, "from the current pose, before it runs"), "not the program's analysis");
+    let names = model.joint_names();
+    let tau = recorded_torques_at_cursor(&h, &model);
+    for (j, t) in tau.iter().enumerate() {
+        let text = format!("{} {t:.2} N·m", names[j]);
+        assert!(shows(&h, &text), "the torque of {} at the cursor: {text}", names[j]);
+    }
+
+    // the cursor moves: the torques shown follow it
+    h.get_by_label_contains("10.0 s").click();
+    h.run_steps(3);
+    let tau = recorded_torques_at_cursor(&h, &model);
+    let text = format!("{} {:.2} N·m", names[1], tau[1]);
+    assert!(shows(&h, &text), "J2 at the new cursor: {text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -78,6 +78,17 @@ impl Parol6App {
         &self.panels.program
     }
 
+    /// The program panel, to act on it as its buttons do (benchmarks and tests).
+    pub fn program_panel_mut(&mut self) -> &mut crate::panels::program::ProgramPanel {
+        &mut self.panels.program
+    }
+
+    /// Queues `command` as a panel's button does; it is carried out after the next frame's UI
+    /// pass, inside that frame (`parol6 bench ui-actions` drives the app with it).
+    pub fn queue_command(&mut self, command: crate::panels::AppCommand) {
+        self.commands.push(command);
+    }
+
     /// The Cartesian jog panel (its frame and increments).
     pub fn cartesian_jog_panel(&self) -> &crate::panels::cartesian_jog::CartesianJogPanel {
         &self.panels.cartesian_jog

@@ -27,6 +27,21 @@ fn sets_arm_moving(cmd: &AppCommand) -> bool {
     }
 }
 
+/// How a command that sets the arm moving is kept in [`Parol6App::moves_sent`]: its `Debug` text,
+/// but a program run by its name and length (the `Debug` text of a 1 000-step program with its
+/// check is megabytes: writing it took 50 ms of the frame that pressed F5).
+fn move_text(cmd: &AppCommand) -> String {
+    match cmd {
+        AppCommand::RunProgram { program, checked, opts } => format!(
+            "RunProgram {{ program: {:?} ({} steps), checked: {}, opts: {opts:?} }}",
+            program.name,
+            program.steps.len(),
+            checked.is_some()
+        ),
+        other => format!("{other:?}"),
+    }
+}
+
 /// True for a command the latched E-stop (or an open recording) refuses: whatever sets the arm or
 /// the gripper moving, and ENABLE other than by releasing the E-stop.
 fn refused_by_estop(cmd: &AppCommand) -> bool {
@@ -58,7 +73,7 @@ impl Parol6App {
             if self.moves_sent.len() >= 256 {
                 self.moves_sent.pop_front();
             }
-            self.moves_sent.push_back(format!("{cmd:?}"));
+            self.moves_sent.push_back(move_text(&cmd));
         }
         match cmd {
             AppCommand::ClearTrail => {

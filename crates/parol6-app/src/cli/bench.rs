@@ -98,6 +98,23 @@ pub enum BenchTarget {
         #[arg(long, value_name = "OUT.gcode", value_parser = super::options::output_file)]
         keep: Option<std::path::PathBuf>,
     },
+    /// The window (headless) driven through a user's actions on a `--steps`-step program and a
+    /// `--minutes` recording: the longest frame during each action (`actions[].frame_ms_max`)
+    /// and the actions over 50 ms (`over_50ms`).
+    UiActions {
+        /// Steps of the generated program (a G-code raster), 10–200 000.
+        #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u64).range(10..=200_000))]
+        steps: u64,
+        /// Length of the synthetic recording, minutes, > 0 and ≤ 60.
+        #[arg(long, default_value_t = 10.0, value_parser = f64_above(0.0, 60.0))]
+        minutes: f64,
+        /// Sample rate of the recording, Hz, 10–2000 (1000: the simulation's).
+        #[arg(long, default_value_t = 1000.0, value_parser = f64_within(10.0, 2000.0))]
+        rate: f64,
+        /// Window size, WxH px.
+        #[arg(long, default_value = "1280x800")]
+        size: String,
+    },
     /// Command → applied latency with the 1 kHz thread running while another thread sends
     /// commands (`median_ns`, `p99_ns`).
     Latency {
@@ -123,6 +140,7 @@ impl BenchTarget {
             Self::Motion { .. } => "motion",
             Self::Replay { .. } => "replay",
             Self::ProgramLoad { .. } => "program-load",
+            Self::UiActions { .. } => "ui-actions",
         }
     }
 }
@@ -148,6 +166,14 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
         }
         BenchTarget::Motion { repeats, runner_seconds } => {
             super::bench_motion::bench_motion(count(*repeats)?, *runner_seconds)
+        }
+        BenchTarget::UiActions { steps, minutes, rate, size } => {
+            super::bench_ui::bench_ui_actions(&super::bench_ui::UiActionsArgs {
+                steps: count(*steps)?,
+                minutes: *minutes,
+                rate_hz: *rate,
+                size: super::render::parse_size(size)?,
+            })
         }
         BenchTarget::ProgramLoad { lines, blend_mm, size, keep } => super::bench_program::bench_program_load(
             count(*lines)?,

@@ -21,6 +21,7 @@ pub mod bench_motion;
 pub mod bench_program;
 pub mod bench_replay;
 pub mod bench_seed;
+pub mod bench_ui;
 pub mod common;
 pub mod gui;
 pub mod hw;

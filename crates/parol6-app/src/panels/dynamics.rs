@@ -6,13 +6,15 @@
 //!   [`program_torques`]); recomputed on a worker thread when the program or the start pose
 //!   changes while the arm stands still (a G-code file of 200 000 steps takes seconds to
 //!   plan: the window keeps drawing and says "computing…");
-//! - forward dynamics: torque profiles run on the simulation ([`super::torque_form`]).
+//! - forward dynamics: torque profiles run on the simulation ([`super::torque_form`]);
+//! - during replay, instead of both: the joint torques along the recorded motion, with those at
+//!   the cursor (`dynamics/replay.rs`), headed REPLAY.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use eframe::egui;
-use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints};
+use egui_plot::{HLine, Line, LineStyle, Plot, PlotPoints, VLine};
 use parol6_core::RobotModel;
 use parol6_core::program::Program;
 use parol6_core::program::compile::{CompileOptions, CompileStop, compile_observed};
@@ -21,6 +23,8 @@ use parol6_core::program::torques::{ProgramTorques, program_torques, torque_limi
 use super::torque_form::TorqueForm;
 use super::{Panel, PanelContext};
 use crate::palette;
+
+mod replay;
 
 /// Points drawn per joint at most (min / max per bucket beyond that).
 const MAX_POINTS_PER_LINE: usize = 2000;
@@ -62,12 +66,20 @@ pub struct DynamicsPanel {
     pending: Option<Pending>,
     /// The forward-dynamics form.
     pub form: TorqueForm,
+    /// The analysis of the open recording (replay).
+    replay: replay::ReplayAnalysis,
 }
 
 impl DynamicsPanel {
     /// The panel for a robot of `joints` joints.
     pub fn new(joints: usize) -> Self {
-        Self { program: Arc::new(Program::default()), computed: None, pending: None, form: TorqueForm::new(joints) }
+        Self {
+            program: Arc::new(Program::default()),
+            computed: None,
+            pending: None,
+            form: TorqueForm::new(joints),
+            replay: Default::default(),
+        }
     }
 
     /// The program to analyse (the program panel's; cheap, compared by pointer).
@@ -82,9 +94,9 @@ impl DynamicsPanel {
         self.computed.as_ref().and_then(|c| c.result.as_ref().ok())
     }
 
-    /// True while an analysis runs on the worker.
+    /// True while an analysis (of the program, or of the open recording) runs on a worker.
     pub fn computing(&self) -> bool {
-        self.pending.is_some()
+        self.pending.is_some() || self.replay.computing()
     }
 
     /// Brings the analysis up to the program and `start_q`: takes a finished worker's result,
@@ -200,6 +212,10 @@ impl Panel for DynamicsPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        match ctx.app.replay.as_ref() {
+            Some(r) => return self.replay_ui(ui, ctx.model, r),
+            None => self.replay.clear(),
+        }
         let running = ctx.app.program.as_ref().is_some_and(|p| !p.state.is_finished());
         if !running && !ctx.robot.moving {
             let start = ctx.robot.commanded.q.clone();
@@ -223,7 +239,7 @@ impl Panel for DynamicsPanel {
             Some((Err(e), _)) => {
                 ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("cannot plan the program: {e}"));
             }
-            Some((Ok(t), lines)) => torque_view(ui, ctx.model, t, lines),
+            Some((Ok(t), lines)) => torque_view(ui, ctx.model, t, lines, None),
         }
         ui.separator();
         self.form.ui(ui, ctx);
@@ -233,7 +249,55 @@ impl Panel for DynamicsPanel {
     }
 }
 
-fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines: &[Vec<[f64; 2]>]) {
+impl DynamicsPanel {
+    /// The panel during replay: the torques along the recording `r`, those at its cursor.
+    fn replay_ui(&mut self, ui: &mut egui::Ui, model: &RobotModel, r: &crate::app::state::Replay) {
+        self.replay.refresh(model, &r.data);
+        ui.horizontal(|ui| {
+            ui.heading(self.title());
+            ui.label(format!(
+                "— REPLAY: joint torques along the recording {} (inverse dynamics of the recorded joints, \
+                 velocities and accelerations)",
+                r.file_name()
+            ));
+        });
+        match self.replay.of(&r.data) {
+            None => {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.weak("computing the joint torques along the recording…");
+                });
+                ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+            }
+            Some(done) => match (&done.result, done.at(r.cursor_s)) {
+                (Err(e), _) => {
+                    ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("cannot analyse the recording: {e}"));
+                }
+                (Ok(t), at_cursor) => {
+                    let names = model.joint_names();
+                    ui.horizontal_wrapped(|ui| {
+                        ui.label(format!("at the cursor (t = {:.2} s):", r.cursor_s));
+                        for (j, tau) in at_cursor.unwrap_or_default().iter().enumerate() {
+                            let name = names.get(j).copied().unwrap_or("?");
+                            ui.label(egui::RichText::new(format!("{name} {tau:.2} N·m")).color(joint_color(j)));
+                        }
+                    });
+                    torque_view(ui, model, t, &done.lines, Some(r.cursor_s));
+                }
+            },
+        }
+        ui.separator();
+        ui.weak("forward dynamics: close the recording to run torques on the simulation");
+    }
+}
+
+fn torque_view(
+    ui: &mut egui::Ui,
+    model: &RobotModel,
+    t: &ProgramTorques,
+    lines: &[Vec<[f64; 2]>],
+    cursor_s: Option<f64>,
+) {
     let names = model.joint_names();
     ui.horizontal_wrapped(|ui| {
         for (j, peak) in t.peak_abs_nm.iter().enumerate() {
@@ -262,8 +326,16 @@ fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines:
                 ui.colored_label(
                     palette::rgb(palette::WARN_TEXT),
                     format!(
-                        "J{} over its limit: {:.2} N·m > {:.2} N·m at t = {:.2} s (line {}, {}; {:.2}–{:.2} s)",
-                        w.joint, w.peak_nm, w.limit_nm, w.peak_s, w.line, w.step_kind, w.start_s, w.end_s
+                        "J{} over its limit: {:.2} N·m > {:.2} N·m at t = {:.2} s ({}{}; {:.2}–{:.2} s)",
+                        w.joint,
+                        w.peak_nm,
+                        w.limit_nm,
+                        w.peak_s,
+                        // a recording's stretch has no program line
+                        if w.line > 0 { format!("line {}, ", w.line) } else { String::new() },
+                        w.step_kind,
+                        w.start_s,
+                        w.end_s
                     ),
                 );
             }
@@ -280,6 +352,9 @@ fn torque_view(ui: &mut egui::Ui, model: &RobotModel, t: &ProgramTorques, lines:
     // the legend names the six joints only (the dashed limit lines share their joint's colour)
     let plot = Plot::new("program_torques").height(PLOT_HEIGHT).legend(egui_plot::Legend::default());
     plot.x_axis_label("t (s)").y_axis_label("torque (N·m)").show(ui, |pui| {
+        if let Some(c) = cursor_s {
+            pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::WARN_TEXT)).width(1.0));
+        }
         for (j, pts) in lines.iter().enumerate() {
             let name = names.get(j).copied().unwrap_or("?").to_string();
             pui.line(Line::new(name, PlotPoints::new(pts.clone())).color(joint_color(j)));

@@ -161,6 +161,29 @@ pub(crate) fn torque_warning_stream<'m>(model: &'m RobotModel, start_q: &[f64]) 
     torque_limits_nm(model).map(|limits| TorqueStream::new(model, start_q, Some(limits), false))
 }
 
+/// Joint torques along a recorded motion (a replay): the same inverse dynamics and the same
+/// warnings as [`program_torques`], at every sample `next` gives. `next` fills the joints'
+/// positions (rad), velocities (rad/s) and accelerations (rad/s²) of the next sample and returns
+/// its time, s, or `None` at the end. A warning names the sample where its stretch starts as its
+/// `step`, line 0 and kind "recording".
+pub fn motion_torques(
+    model: &RobotModel,
+    limits_nm: Option<Vec<f64>>,
+    mut next: impl FnMut(&mut [f64], &mut [f64], &mut [f64]) -> Option<f64>,
+) -> ProgramTorques {
+    let n = model.dof();
+    let mut stream = TorqueStream::new(model, &vec![0.0; n], limits_nm, true);
+    // no start sample at rest: the recording's first sample is where it starts
+    stream.started = true;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut k = 0;
+    while let Some(t_s) = next(&mut q, &mut qd, &mut qdd) {
+        stream.b.push(t_s, &q, &qd, &qdd, Origin { line: 0, step: k, kind: "recording" });
+        k += 1;
+    }
+    stream.finish()
+}
+
 fn walk(
     model: &RobotModel,
     steps: &[CompiledStep],

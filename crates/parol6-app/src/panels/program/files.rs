@@ -207,6 +207,11 @@ impl ProgramPanel {
         self.files.dialog.is_some()
     }
 
+    /// Opens the Open-program file dialog, as Browse… does.
+    pub fn open_file_dialog(&mut self) {
+        self.show_dialog(DialogKind::Open);
+    }
+
     /// Closes the file dialog (Esc), choosing nothing.
     pub fn close_file_dialog(&mut self) {
         self.files.dialog = None;

@@ -132,6 +132,11 @@ impl ProgramPanel {
         }
     }
 
+    /// Selects step `index` (0-based), as a click on its row does (`None`: no step).
+    pub fn select_step(&mut self, index: Option<usize>) {
+        self.selected = index.filter(|&i| i < self.program.steps.len());
+    }
+
     /// The loaded program.
     pub fn program(&self) -> &Arc<Program> {
         &self.program

@@ -112,3 +112,28 @@ fn the_parol6_demo_programs_stay_finite_and_sample_every_motion() {
 fn a_robot_without_documented_limits_gets_none() {
     assert!(torque_limits_nm(&pendulum("0 0 1")).is_none());
 }
+
+/// A recording's torques (replay's Dynamics panel): the same inverse dynamics at every sample
+/// given, no start sample at rest added, and a stretch over the limit named by its sample.
+#[test]
+fn motion_torques_are_the_inverse_dynamics_of_every_recorded_sample() {
+    let model = pendulum("0 1 0");
+    let samples: Vec<(f64, f64, f64, f64)> = (0..50).map(|k| (k as f64 * 0.01, 0.02 * k as f64, 2.0, 0.0)).collect();
+    let mut it = samples.iter();
+    let t = motion_torques(&model, Some(vec![5.0]), |q, qd, qdd| {
+        let &(t_s, a, b, c) = it.next()?;
+        (q[0], qd[0], qdd[0]) = (a, b, c);
+        Some(t_s)
+    });
+    assert_eq!(t.time_s.len(), samples.len(), "one torque per sample");
+    let mut id = InverseDynamics::new(&model);
+    for (k, &(t_s, a, b, c)) in samples.iter().enumerate() {
+        let mut tau = [0.0];
+        id.compute_into(&model, &[a], &[b], &[c], &mut tau);
+        assert_eq!((t.time_s[k], t.torques_nm[0][k]), (t_s, tau[0]), "sample {k}");
+    }
+    // 2 kg at 0.3 m: ~5.9 N·m at q = 0, over the 5 N·m limit until cos(q) < 5 / 5.88
+    let w = t.warnings.first().expect("the stretch over the limit");
+    assert_eq!((w.joint, w.line, w.step, w.step_kind, w.start_s), (1, 0, 0, "recording", 0.0), "{w:?}");
+    assert!(w.end_s > 0.0 && w.end_s < 0.49, "{w:?}");
+}

@@ -28,3 +28,43 @@ pub fn clear_color() -> [f32; 4] {
     let [r, g, b] = PANEL_BG_SRGB;
     egui::Color32::from_rgb(r, g, b).to_normalized_gamma_f32()
 }
+
+/// The file dialog's icons (egui_file draws 🗀 🗋 ⟲ ⬆ 💾 and 📁 📂, which egui's default fonts
+/// lack, so they showed as boxes): two subsets of fonts egui itself ships, a few kB, used only
+/// as the last fallback. See `assets/fonts/README.md` for their source and licences.
+const DIALOG_ICON_FONTS: [(&str, &[u8]); 2] = [
+    ("parol6-file-dialog-icons", include_bytes!("../../../assets/fonts/file-dialog-icons.ttf")),
+    ("parol6-file-dialog-folders", include_bytes!("../../../assets/fonts/file-dialog-folders.ttf")),
+];
+
+/// Adds the app's fallback fonts (the file dialog's icons) to `ctx`. Cheap when they are
+/// already there, so the app calls it every frame: any host (window, screenshot, UI tests)
+/// gets the same glyphs.
+pub fn install_fonts(ctx: &egui::Context) {
+    for (name, data) in DIALOG_ICON_FONTS {
+        let families = [egui::FontFamily::Proportional, egui::FontFamily::Monospace]
+            .map(|family| egui::epaint::text::InsertFontFamily {
+                family,
+                priority: egui::epaint::text::FontPriority::Lowest,
+            })
+            .to_vec();
+        ctx.add_font(egui::epaint::text::FontInsert::new(name, egui::FontData::from_static(data), families));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 32 minor: "The file dialog shows tofu icons".
+    #[test]
+    fn the_file_dialog_glyphs_have_a_font() {
+        let ctx = egui::Context::default();
+        install_fonts(&ctx);
+        let _ = ctx.run_ui(Default::default(), |_| {});
+        for glyph in ['🗀', '🗋', '⟲', '⬆', '💾', '📁', '📂'] {
+            let has = ctx.fonts_mut(|f| f.has_glyph(&egui::FontId::proportional(14.0), glyph));
+            assert!(has, "no font has {glyph:?} (U+{:04X})", glyph as u32);
+        }
+    }
+}

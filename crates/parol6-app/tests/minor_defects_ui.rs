@@ -389,3 +389,33 @@ fn the_status_bar_shows_the_recording_with_its_file_and_elapsed_time() {
     assert!(label_with(&h, "REC shown.mcap").is_none(), "gone once stopped");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 32 minor: "The File menu stays open over an error." A File-menu action that fails
+/// closes the menu, so the error notice is seen, not hidden under it.
+#[test]
+fn a_file_menu_action_that_fails_closes_the_menu_over_its_error() {
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    let dir = temp_dir("file-menu");
+    // a recording that is not there
+    ui_support::open_recording(&mut h, &dir.join("no-such-run.mcap"));
+    until(&mut h, "the open's error", 20.0, |h| error_with(h, "no-such-run.mcap"));
+    h.run_steps(2);
+    assert!(!menu_open(&h), "the File menu closed over the error of Open recording");
+
+    // recording to a place that cannot be written (a path under a file)
+    h.query_all_by_label("File").next().unwrap().click();
+    h.run_steps(2);
+    assert!(menu_open(&h));
+    let blocker = dir.join("a-file");
+    std::fs::write(&blocker, "x").unwrap();
+    let target = blocker.join("out.mcap");
+    h.get_by_label("Record to").click();
+    h.run_steps(1);
+    h.get_by_label("Record to").type_text(&target.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Start recording").click();
+    h.run_steps(3);
+    assert!(error_with(&h, "out.mcap"), "the recording's error is shown: {:?}", h.state().notices());
+    assert!(!menu_open(&h), "the File menu closed over the error of Start recording");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

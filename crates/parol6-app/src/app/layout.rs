@@ -28,7 +28,8 @@ pub const LOWER_MIN_HEIGHT: f32 = 120.0;
 const LOWER_PANEL_ID: &str = "lower";
 
 /// The File menu: open a recording for replay, record to a file (typed paths: there is no
-/// file dialog).
+/// file dialog). Its one-shot actions close it, so their outcome (or error) is seen; a toggle
+/// keeps it open unless it fails (the app closes any menu over a new error).
 #[derive(Debug, Default)]
 pub struct FileMenu {
     /// Typed path of a recording to open.
@@ -49,10 +50,12 @@ impl FileMenu {
             let enter = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Open recording").clicked() || enter) && !self.open_path.trim().is_empty() {
                 pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
+                ui.close();
             }
         });
         if pctx.app.replaying() && ui.button("Close recording").clicked() {
             pctx.send(AppCommand::CloseRecording);
+            ui.close();
         }
         ui.separator();
         live_menu_ui(ui, pctx);
@@ -62,6 +65,7 @@ impl FileMenu {
                 ui.label(format!("recording to {}", r.path.display()));
                 if ui.button("Stop recording").clicked() {
                     pctx.send(AppCommand::Record(None));
+                    ui.close();
                 }
             }
             None => {
@@ -72,6 +76,7 @@ impl FileMenu {
                     ui.add(edit.hint_text("out.mcap")).labelled_by(label.id);
                     if ui.button("Start recording").clicked() && !self.record_path.trim().is_empty() {
                         pctx.send(AppCommand::Record(Some(self.record_path.trim().into())));
+                        ui.close();
                     }
                 });
             }

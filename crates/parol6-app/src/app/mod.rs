@@ -380,6 +380,7 @@ impl Parol6App {
         }
         let t0 = Instant::now();
         let ctx = ui.ctx().clone();
+        crate::theme::install_fonts(&ctx);
         let snap = self.sim.snapshot();
         self.update_perf(t0, &snap);
 
@@ -492,8 +493,15 @@ impl Parol6App {
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
         self.quit_prompt_ui(&ctx);
 
+        let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
+        let newest_error_before = newest_error(&self.notices);
         for c in &commands {
             self.execute(c.clone());
+        }
+        // an action that failed closes the menu it came from, so the error is seen, not hidden
+        // under the menu (issue 32: "The File menu stays open over an error")
+        if newest_error(&self.notices) != newest_error_before {
+            egui::Popup::close_all(&ctx);
         }
         self.commands.clear();
         if !commands.is_empty() {

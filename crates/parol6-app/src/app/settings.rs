@@ -37,6 +37,8 @@ pub struct Settings {
     pub gcode_abc: AbcConvention,
     /// Program files opened or saved, newest first (at most [`RECENT_PROGRAMS`]).
     pub recent_programs: Vec<String>,
+    /// The folder the program file dialog last showed (also after Cancel); it opens there next.
+    pub program_folder: Option<String>,
     /// Plots panel shown (under the 3D view).
     pub show_plots: bool,
     /// Dynamics panel shown (under the 3D view).
@@ -101,6 +103,7 @@ impl Default for Settings {
             angle_convention: AngleConvention::UrdfRpy,
             gcode_abc: AbcConvention::default(),
             recent_programs: Vec::new(),
+            program_folder: None,
             show_plots: false,
             show_dynamics: false,
             lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,

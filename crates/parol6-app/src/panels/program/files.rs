@@ -33,11 +33,36 @@ pub(super) struct FileState {
     dialog: Option<(DialogKind, egui_file::FileDialog)>,
     /// An open that waits for "discard unsaved edits?".
     pending: Option<OpenRequest>,
+    /// The folder the dialog last showed (browsed to, opened from, saved to, or left by
+    /// Cancel / Esc); `None` until the settings' folder is read at the first frame.
+    folder: Option<PathBuf>,
+    /// [`Self::folder`] was read from the settings.
+    folder_loaded: bool,
 }
 
-/// Files the dialogs list: the formats the program reads.
+/// How far into a `.json` file the dialog looks for the program header.
+const JSON_SNIFF_BYTES: u64 = 16 * 1024;
+
+/// Files the dialogs list: the formats the program reads and, for `.json`, only files whose
+/// beginning names the program format (`"format": "parol6-program"`), so the app's own
+/// `settings.json` or another tool's JSON is not offered as a program. The check reads at most
+/// [`JSON_SNIFF_BYTES`] once per listing of the folder; a file that cannot be read is listed
+/// (opening it then says why).
 fn is_program_file(path: &Path) -> bool {
-    ProgramFormat::from_path(path).is_ok()
+    match ProgramFormat::from_path(path) {
+        Ok(ProgramFormat::Json) => json_names_program_format(path).unwrap_or(true),
+        Ok(_) => true,
+        Err(_) => false,
+    }
+}
+
+/// `Some(true)` when the file's beginning holds the program format's name.
+fn json_names_program_format(path: &Path) -> Option<bool> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path).ok()?.take(JSON_SNIFF_BYTES).read_to_end(&mut head).ok()?;
+    let marker = format!("\"{}\"", parol6_core::program::json::FORMAT);
+    Some(head.windows(marker.len()).any(|w| w == marker.as_bytes()))
 }
 
 impl ProgramPanel {
@@ -212,9 +237,21 @@ impl ProgramPanel {
         self.show_dialog(DialogKind::Open);
     }
 
-    /// Closes the file dialog (Esc), choosing nothing.
+    /// Closes the file dialog (Esc), choosing nothing; the folder it showed is remembered.
     pub fn close_file_dialog(&mut self) {
-        self.files.dialog = None;
+        if let Some((_, dialog)) = self.files.dialog.take() {
+            self.files.folder = Some(dialog.directory().to_path_buf());
+        }
+    }
+
+    /// The folder the next file dialog opens in: the one the operator last browsed to (kept
+    /// after Cancel too, and across restarts in the settings), else the program file's folder.
+    pub fn dialog_folder(&self) -> Option<PathBuf> {
+        self.files
+            .folder
+            .clone()
+            .filter(|d| d.is_dir())
+            .or_else(|| self.file.as_ref().and_then(|f| f.parent().map(Path::to_path_buf)))
     }
 
     /// "Save": to the file it came from, else "Save as".
@@ -229,9 +266,12 @@ impl ProgramPanel {
     }
 
     fn show_dialog(&mut self, kind: DialogKind) {
-        let start = self.file.as_ref().and_then(|f| f.parent().map(Path::to_path_buf));
+        let start = self.dialog_folder();
         let mut dialog = match kind {
-            DialogKind::Open => egui_file::FileDialog::open_file().title("Open program"),
+            // opening changes no file: no Rename, no New Folder
+            DialogKind::Open => {
+                egui_file::FileDialog::open_file().title("Open program").show_rename(false).show_new_folder(false)
+            }
             DialogKind::SaveAs => {
                 let name = self.file.as_ref().and_then(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned());
                 egui_file::FileDialog::save_file()
@@ -250,12 +290,16 @@ impl ProgramPanel {
     }
 
     /// Shows the file dialog if open; opens or saves what the operator picked.
+    /// The folder it showed is remembered, whether a file was picked or not.
     pub(super) fn dialogs(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        self.sync_dialog_folder(ctx.settings);
         let Some((kind, dialog)) = &mut self.files.dialog else { return };
         let kind = *kind;
         let picked = dialog.show(ui.ctx()).selected().then(|| dialog.path().map(Path::to_path_buf)).flatten();
         if !dialog.visible() {
+            self.files.folder = Some(dialog.directory().to_path_buf());
             self.files.dialog = None;
+            self.sync_dialog_folder(ctx.settings);
         }
         let Some(path) = picked else { return };
         self.files.dialog = None;
@@ -268,6 +312,23 @@ impl ProgramPanel {
                     Err(e) => ctx.error(e),
                 }
             }
+        }
+    }
+}
+
+impl ProgramPanel {
+    /// Reads the remembered dialog folder from the settings once, then keeps the settings'
+    /// copy equal to the panel's (so it is saved with the other settings).
+    fn sync_dialog_folder(&mut self, settings: &mut crate::panels::Settings) {
+        if !self.files.folder_loaded {
+            self.files.folder_loaded = true;
+            if self.files.folder.is_none() {
+                self.files.folder = settings.program_folder.as_ref().map(PathBuf::from);
+            }
+        }
+        let shown = self.files.folder.as_ref().map(|d| d.display().to_string());
+        if shown.is_some() && settings.program_folder != shown {
+            settings.program_folder = shown;
         }
     }
 }

@@ -73,6 +73,9 @@ pub fn solve_parol6(model: &RobotModel, target: &Isometry3<f64>, seed: &[f64]) -
     solve_parol6_in(model, target, seed, None)
 }
 
+/// A closed-form candidate before the limits: joints, branch, singular, allowed position error (m).
+type Candidate = ([f64; 6], Branch, bool, f64);
+
 /// [`solve_parol6`] restricted to one branch when `only` is given (the Cartesian planner, which
 /// keeps the start pose's branch, solves only that one: an eighth of the work).
 pub fn solve_parol6_in(
@@ -106,7 +109,7 @@ pub fn solve_parol6_in(
     let shoulder_singular = rho < 1e-9;
     // (joints, branch, singular, allowed position error m): at most the eight branches, on
     // the stack (the Cartesian planner solves one per 1 ms sample)
-    let mut raw: [Option<([f64; 6], Branch, bool, f64)>; 8] = [None; 8];
+    let mut raw: [Option<Candidate>; 8] = [None; 8];
     let mut raw_len = 0;
     let mut any_reach = false;
     let mut reach_detail = String::new();

@@ -161,7 +161,7 @@ const SAME_JOINTS_RAD: f64 = 1e-6;
 /// joints the closed form does not reproduce).
 ///
 /// Every Cartesian move asks this of its start, so it first solves one configuration, the
-/// one found last on this thread, then the others one by one ([`configuration_by_one`]), and
+/// one found last on this thread, then the others one by one, and
 /// solves all eight together only where that cannot decide: the answer is the same.
 pub fn configuration_of(model: &RobotModel, q: &[f64]) -> Option<Branch> {
     if !model.is_parol6 {

@@ -79,31 +79,23 @@ pub fn iso_from_xyz_rpy(p: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     )
 }
 
-/// How close to pitch = ±90° (gimbal lock) [`rpy_from_matrix`] treats a rotation as locked:
-/// 0.05°, more than a motor step of every joint together (≤ 0.03° of pitch), so the standby
-/// pose reads the same whether it is the simulation's exact pose or one measured on the robot
-/// in whole motor steps.
-pub const GIMBAL_LOCK_TOLERANCE_RAD: f64 = 0.05 * std::f64::consts::PI / 180.0;
-
 /// URDF roll-pitch-yaw of a rotation matrix (`R = Rz(yaw)·Ry(pitch)·Rx(roll)`).
 ///
-/// At gimbal lock (pitch within [`GIMBAL_LOCK_TOLERANCE_RAD`] of ±90°, where only `yaw ∓ roll`
-/// is defined) there is one representation: **yaw = 0** and the whole rotation about the
-/// vertical is given to roll. At exactly ±90° the angles reproduce `R`; `d` away from it they
-/// reproduce it to within `2·d` (at most 0.1°). Every RPY the app shows, the simulation's and the
-/// robot's alike, comes from here.
+/// Gimbal lock (pitch = ±90°, where only `yaw ∓ roll` is defined): yaw is set to 0 and the
+/// whole rotation about the vertical is given to roll, so the angles still reproduce `R`.
 pub fn rpy_from_matrix(m: &Matrix3<f64>) -> [f64; 3] {
     let r20 = m[(2, 0)].clamp(-1.0, 1.0);
-    // atan2 rather than asin(−r20): accurate near ±90°
-    let pitch = (-r20).atan2(m[(0, 0)].hypot(m[(1, 0)]));
-    if std::f64::consts::FRAC_PI_2 - pitch.abs() > GIMBAL_LOCK_TOLERANCE_RAD {
+    if r20.abs() < 1.0 - 1e-12 {
+        let pitch = (-r20).asin();
         let roll = m[(2, 1)].atan2(m[(2, 2)]);
         let yaw = m[(1, 0)].atan2(m[(0, 0)]);
         [roll, pitch, yaw]
+    } else if r20 < 0.0 {
+        // pitch = +90°: R = [[0, sin(r−y), cos(r−y)], [0, cos(r−y), −sin(r−y)], [−1, 0, 0]]
+        [m[(0, 1)].atan2(m[(1, 1)]), std::f64::consts::FRAC_PI_2, 0.0]
     } else {
-        // yaw = 0: R = Ry(pitch)·Rx(roll), whose middle row is [0, cos roll, −sin roll]
-        // (at +90° that is [0, cos(r−y), −sin(r−y)], at −90° [0, cos(r+y), −sin(r+y)])
-        [(-m[(1, 2)]).atan2(m[(1, 1)]), pitch, 0.0]
+        // pitch = −90°: R = [[0, −sin(r+y), −cos(r+y)], [0, cos(r+y), −sin(r+y)], [1, 0, 0]]
+        [(-m[(0, 1)]).atan2(m[(1, 1)]), -std::f64::consts::FRAC_PI_2, 0.0]
     }
 }
 
@@ -258,66 +250,6 @@ mod tests {
             assert_eq!(rpy[2], 0.0);
             let back = UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]).to_rotation_matrix();
             assert!((back.matrix() - r.matrix()).norm() < 1e-9, "pitch {pitch}: {rpy:?}");
-        }
-    }
-
-    /// The angle between two rotations, rad.
-    fn rotation_gap_rad(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
-        // ‖A − B‖ = 2√2·sin(θ/2): accurate for small angles, where acos of the trace is not
-        2.0 * ((a - b).norm() / (2.0 * std::f64::consts::SQRT_2)).min(1.0).asin()
-    }
-
-    /// Issue 32 minor: "The same standby pose reads RPY (90, −90, 0) in simulation and (−180,
-    /// −90, −90) on the robot. Pick one representation at gimbal lock, and say so."
-    #[test]
-    fn the_standby_pose_reads_one_rpy_in_simulation_and_on_the_robot() {
-        let m = RobotModel::parol6();
-        let exact = crate::parol6::standby_rad();
-        let sim = m.fk(&exact).rpy_rad.map(f64::to_degrees);
-        assert!((sim[1] + 90.0).abs() < 1e-9 && sim[2] == 0.0, "standby is at gimbal lock: {sim:?}");
-        // the robot reports whole motor steps: every joint up to a step off, either way
-        let mut worst_pitch_off_rad: f64 = 0.0;
-        for signs in 0..3usize.pow(6) {
-            let q: Vec<f64> = (0..6)
-                .map(|j| {
-                    let k = (signs / 3usize.pow(j as u32)) % 3;
-                    exact[j] + (k as f64 - 1.0) * crate::parol6::rad_per_step(j)
-                })
-                .collect();
-            let pose = m.fk(&q);
-            let rpy = pose.rpy_rad;
-            worst_pitch_off_rad = worst_pitch_off_rad.max((rpy[1] + std::f64::consts::FRAC_PI_2).abs());
-            let shown = rpy.map(f64::to_degrees);
-            let gap = |a: f64, b: f64| (a - b + 540.0).rem_euclid(360.0) - 180.0;
-            for i in 0..3 {
-                assert!(gap(shown[i], sim[i]).abs() < 0.1, "robot {shown:?} vs simulation {sim:?} (q {q:?})");
-            }
-            // and the angles still give the arm's orientation (to within the tolerance)
-            let r = Matrix3::from_fn(|i, k| pose.rotation[i][k]);
-            let back = UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]).to_rotation_matrix();
-            assert!(rotation_gap_rad(&r, back.matrix()) <= 2.0 * (rpy[1] + std::f64::consts::FRAC_PI_2).abs() + 1e-9);
-        }
-        assert!(worst_pitch_off_rad < GIMBAL_LOCK_TOLERANCE_RAD, "{worst_pitch_off_rad} rad");
-        assert!(worst_pitch_off_rad > 0.0);
-    }
-
-    #[test]
-    fn rpy_near_gimbal_lock_puts_the_vertical_rotation_in_roll() {
-        for pitch in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
-            for off in [0.0, 1e-6, 0.5 * GIMBAL_LOCK_TOLERANCE_RAD, 0.99 * GIMBAL_LOCK_TOLERANCE_RAD] {
-                let p = pitch - pitch.signum() * off;
-                let r = UnitQuaternion::from_euler_angles(0.3, p, -0.4).to_rotation_matrix();
-                let rpy = rpy_from_matrix(r.matrix());
-                assert_eq!(rpy[2], 0.0, "pitch {p}: {rpy:?}");
-                assert!((rpy[1] - p).abs() < 1e-9);
-                let back = UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]).to_rotation_matrix();
-                assert!(rotation_gap_rad(r.matrix(), back.matrix()) <= 2.0 * off + 1e-9, "pitch {p}: {rpy:?}");
-            }
-            // just outside the band the general formula holds, exactly
-            let p = pitch - pitch.signum() * 1.01 * GIMBAL_LOCK_TOLERANCE_RAD;
-            let r = UnitQuaternion::from_euler_angles(0.3, p, -0.4).to_rotation_matrix();
-            let rpy = rpy_from_matrix(r.matrix());
-            assert!((rpy[0] - 0.3).abs() < 1e-6 && (rpy[2] + 0.4).abs() < 1e-6, "pitch {p}: {rpy:?}");
         }
     }
 

@@ -21,6 +21,8 @@ const LAG_LOOKBACK: Duration = Duration::from_millis(600);
 const LINK_REPORT_MAX: Duration = Duration::from_millis(100);
 /// Stalls at least this much longer than the status timeout must be reported as link loss.
 const STALL_MARGIN: Duration = Duration::from_millis(20);
+/// How often the link monitor polls the sessions' snapshots, with room for a late poll.
+const MONITOR_POLL: Duration = Duration::from_millis(5);
 /// Examples kept per kind of violation.
 const EXAMPLES: usize = 5;
 /// A late or missing link-loss report is the host's when the hypervisor took this much of a
@@ -71,6 +73,8 @@ pub struct LaneReport {
     pub uncommanded: Violations,
     pub stalls_checked: u64,
     pub stalls_skipped: u64,
+    /// Long stalls outside the monitor's watch (before it started or too close to its end).
+    pub stalls_unwatched: u64,
     pub link_missed: Violations,
     pub link_late: Violations,
     pub link_latency_max_ms: f64,
@@ -195,6 +199,7 @@ pub fn check_frames(frames: &[RecordedCommand], log: &DriverLog, period: Duratio
 pub fn check_link(
     stalls: &[StallRecord],
     events: &[LinkEvent],
+    watched: std::ops::Range<Instant>,
     timeout: Duration,
     steal: &StealLog,
     r: &mut LaneReport,
@@ -202,6 +207,12 @@ pub fn check_link(
     for st in stalls {
         let duration = st.ended.saturating_duration_since(st.started);
         if duration < timeout + STALL_MARGIN {
+            continue;
+        }
+        // The monitor saw link changes only within `watched`: a stall whose report could come
+        // after it stopped (the peer stalls on while the drivers wind down) is not checked.
+        if st.started < watched.start || st.ended + STALL_MARGIN + MONITOR_POLL > watched.end {
+            r.stalls_unwatched += 1;
             continue;
         }
         let before = events.iter().rev().find(|e| e.published_at <= st.started);

@@ -34,29 +34,38 @@ fn tcp_texts(model: &RobotModel, q: &[f64]) -> Vec<String> {
     (0..3).map(|k| format!("{:>9} mm", fmt_fixed(tcp.position_m[k] * 1000.0, 2))).collect()
 }
 
+/// Writes a synthetic 50 s recording to a fresh temporary folder named after `tag`.
+fn write_recording(model: &RobotModel, tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("run.mcap");
+    let bytes = parol6_app::cli::bench_replay::synthetic_recording(model, 0.5, 50.0).expect("recording");
+    std::fs::write(&path, bytes).expect("write");
+    path
+}
+
+/// Opens the recording from the File menu, closes the menu and moves the cursor to the event
+/// 20 s in.
+fn open_at_20_s(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
+    ui_support::open_recording(h, path);
+    until(h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    h.get_by_label_contains("20.0 s").click();
+    h.run_steps(3);
+}
+
 #[test]
 fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     let model = RobotModel::parol6();
-    let dir = std::env::temp_dir().join(format!("parol6-replay-ui-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let path = dir.join("run.mcap");
-    let bytes = parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 50.0).expect("recording");
-    std::fs::write(&path, bytes).expect("write");
+    let path = write_recording(&model, "parol6-replay-ui");
 
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.run_steps(2);
     let live_q = h.state().sim().state().q.clone();
     assert!(shows(&h, "SIM"), "the status bar says SIM before replay");
 
-    // open the recording from the File menu
-    ui_support::open_recording(&mut h, &path);
-    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
-    h.key_press(egui::Key::Escape);
-    h.run_steps(2);
-
-    // move the cursor: an event 20 s in
-    h.get_by_label_contains("20.0 s").click();
-    h.run_steps(3);
+    open_at_20_s(&mut h, &path);
     let cursor_s = h.state().replay().map(|r| r.cursor_s).expect("open");
     let (rec_q, _) = h.state().replay().and_then(|r| r.joints_at_cursor()).expect("a sample at the cursor");
     assert!(cursor_s > 10.0, "the cursor moved: {cursor_s}");
@@ -103,7 +112,7 @@ fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     h.get_by_label("HOME").click();
     h.run_steps(2);
     assert_eq!(h.state().moves_sent().count(), 1, "HOME is sent once replay is closed");
-    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
 
 /// A robot recording of `n` samples 10 ms apart at standby whose link is lost at sample `lost_at`
@@ -192,7 +201,7 @@ fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
     until(&mut h, "replay closed", 5.0, |h| h.state().replay().is_none());
     h.run_steps(2);
     assert!(!shows(&h, "REPLAY link"), "no recorded link once closed");
-    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
 
 /// The torques the Dynamics panel must show at the replay cursor: inverse dynamics of the
@@ -223,21 +232,12 @@ fn recorded_torques_at_cursor(h: &Harness<'_, Parol6App>, model: &RobotModel) ->
 #[test]
 fn the_dynamics_panel_analyses_the_recording_during_replay() {
     let model = RobotModel::parol6();
-    let dir = std::env::temp_dir().join(format!("parol6-replay-dyn-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
-    let path = dir.join("run.mcap");
-    let bytes = parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 50.0).expect("recording");
-    std::fs::write(&path, bytes).expect("write");
+    let path = write_recording(&model, "parol6-replay-dyn");
 
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.state_mut().settings_mut().show_dynamics = true;
     h.run_steps(2);
-    ui_support::open_recording(&mut h, &path);
-    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
-    h.key_press(egui::Key::Escape);
-    h.run_steps(2);
-    h.get_by_label_contains("20.0 s").click();
-    h.run_steps(3);
+    open_at_20_s(&mut h, &path);
 
     let heading = "REPLAY: joint torques along the recording run.mcap";
     until(&mut h, "the recording's analysis", 60.0, |h| {
@@ -258,5 +258,5 @@ fn the_dynamics_panel_analyses_the_recording_during_replay() {
     let tau = recorded_torques_at_cursor(&h, &model);
     let text = format!("{} {:.2} N·m", names[1], tau[1]);
     assert!(shows(&h, &text), "J2 at the new cursor: {text}");
-    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }

@@ -48,9 +48,12 @@ fn action(data: &[u8]) {
         assert!(g.path_tolerance.len() <= MAX_JOINTS && g.multi_dof_trajectory.points.len() <= MAX_POINTS);
         match goal_checks(model(), g, 1_700_000_000_000_000_000) {
             Ok(tol) => {
-                assert_eq!(tol.goal_rad.len(), model().joints.len());
-                assert_eq!(tol.path_rad.len(), model().joints.len());
-                assert!(tol.goal_rad.iter().chain(&tol.path_rad).flatten().all(|t| t.is_finite() && *t > 0.0));
+                let n = model().joints.len();
+                for list in [&tol.goal, &tol.path] {
+                    assert_eq!((list.position_rad.len(), list.velocity_rad_s.len()), (n, n));
+                    let all = list.position_rad.iter().chain(&list.velocity_rad_s).flatten();
+                    assert!(all.clone().all(|t| t.is_finite() && *t > 0.0));
+                }
                 assert!(tol.goal_time_s.is_finite() && tol.goal_time_s > 0.0);
                 trajectory(&g.trajectory);
             }

@@ -8,7 +8,9 @@
 //! `--allow-remote-control` has a valid goal rejected. With `--tolerance`: a goal whose
 //! `path_tolerance` the simulation's tracking lag exceeds (stopped early, ABORTED with
 //! PATH_TOLERANCE_VIOLATED naming the joint), and one whose `goal_tolerance` is not reached
-//! within its `goal_time_tolerance` (GOAL_TOLERANCE_VIOLATED after that time).
+//! within its `goal_time_tolerance` (GOAL_TOLERANCE_VIOLATED after that time), and one whose
+//! velocity `path_tolerance` the tracking exceeds (stopped early, PATH_TOLERANCE_VIOLATED naming
+//! the joint's velocity).
 //!
 //! Without python3 or its `zenoh` module the tests say SKIPPED, except in CI (`CI=true`), where
 //! `.ci/run` installs it and they fail.
@@ -46,6 +48,13 @@ fn ros2_action_feedback_is_the_joint_states_path_tolerance_violation_aborts_with
     let goal = r["goal_abort"]["error_string"].as_str().unwrap();
     assert!(goal.contains("goal_time_tolerance 0.300 s") && goal.contains("J1 is "), "{r:#}");
     assert!(r["goal_abort"]["result_after_s"].as_f64().unwrap() >= 0.75, "{r:#}");
+    // a velocity path tolerance is enforced too (it was validated and ignored before)
+    let velocity = r["velocity_abort"]["error_string"].as_str().unwrap();
+    assert!(
+        velocity.starts_with("path_tolerance violated: J1 is ") && velocity.contains("rad/s from its desired velocity"),
+        "{r:#}"
+    );
+    assert!(r["velocity_abort"]["moved_rad"].as_f64().unwrap().abs() < 0.1, "{r:#}");
 }
 
 #[test]

@@ -53,6 +53,8 @@ NAMES = ("J1", "J2", "J3", "J4", "J5", "J6")
 # path tolerances: one the simulation's tracking lag stays well within, one it exceeds
 PATH_TOLERANCE_OK_RAD = 0.05
 PATH_TOLERANCE_TIGHT_RAD = 1e-4
+# a velocity path tolerance any tracking exceeds while the arm speeds up
+PATH_VELOCITY_TOLERANCE_TIGHT_RAD_S = 1e-6
 GOAL_TIME_TOLERANCE_S = 0.3
 SUCCEEDED, CANCELED, ABORTED = 4, 5, 6
 GID = bytes(range(100, 116))
@@ -100,12 +102,13 @@ def goal_request(uuid, points, names=NAMES, stamp=(0, 0), multi_dof=False, toler
 
 
 def tolerances(w, tol):
-    """control_msgs/msg/JointTolerance[]: name, position, velocity, acceleration."""
+    """control_msgs/msg/JointTolerance[]: name, position, velocity, acceleration; `tol` holds
+    (name, position) or (name, position, velocity)."""
     w.u32(len(tol))
-    for name, pos in tol:
+    for name, pos, *vel in tol:
         w.string(name)
         w.f64(pos)
-        w.f64(0.0)
+        w.f64(vel[0] if vel else 0.0)
         w.f64(0.0)
 
 
@@ -240,6 +243,15 @@ def main():
         r.o = 1
         return status, r.i32(), r.string()
 
+    def j1_half_a_second_apart():
+        """J1 from /joint_states 0.5 s and 1.0 s from now: equal when the arm has stopped."""
+        samples = []
+        for _ in range(2):
+            time.sleep(0.5)
+            with lock:
+                samples.append(got["js"][-1][0])
+        return samples[0], samples[1]
+
     cmd = [args.exe, "serve", "--ros2", "--ros2-connect", f"tcp/127.0.0.1:{args.port}", "--seconds", "90"]
     if args.remote:
         cmd.append("--allow-remote-control")
@@ -342,12 +354,7 @@ def main():
                 check(return_code == 0 and canceling == 1, f"the cancel is taken: {return_code} {canceling}")
                 status, code, why = get_result(uuid_of(3))
                 check(status == CANCELED, f"the slow goal is cancelled: {status} {code} {why}")
-                time.sleep(0.5)
-                with lock:
-                    a = got["js"][-1][0]
-                time.sleep(0.5)
-                with lock:
-                    b = got["js"][-1][0]
+                a, b = j1_half_a_second_apart()
                 check(abs(a - b) < 1e-4 and abs(b - start[0]) > 0.02, f"the arm stopped short of the goal: {a} {b}")
                 report["cancelled_at_rad"] = b - start[0]
 
@@ -362,12 +369,8 @@ def main():
                 status, code, why = get_result(uuid_of(4))
                 check(status == ABORTED and code == -4 and "J1" in why and "path_tolerance" in why,
                       f"the tight goal aborts with PATH_TOLERANCE_VIOLATED naming J1: {status} {code} {why}")
-                time.sleep(0.5)
+                a, b = j1_half_a_second_apart()
                 with lock:
-                    a = got["js"][-1][0]
-                time.sleep(0.5)
-                with lock:
-                    b = got["js"][-1][0]
                     statuses = [dict(s).get(uuid_of(4)) for s in got["status"]]
                     fb = [m for m in got["feedback"] if m.get("goal_id") == uuid_of(4)]
                 check(abs(a - b) < 1e-4 and abs(b - there[0]) > 0.1, f"the arm stopped early: {a} {b} (goal {there[0]})")
@@ -389,6 +392,21 @@ def main():
                       f"it aborts with GOAL_TOLERANCE_VIOLATED naming J1: {status} {code} {why}")
                 check(took >= 0.5 + GOAL_TIME_TOLERANCE_S - 0.05, f"after its goal_time_tolerance: {took:.3f} s")
                 report["goal_abort"] = {"error_string": why, "result_after_s": took}
+
+                # a velocity path tolerance (position unchecked) the tracking exceeds: stopped, -4
+                time.sleep(0.5)
+                with lock:
+                    here = list(got["js"][-1])
+                there = [here[0] + 0.2] + here[1:]
+                ok, _ = send_goal(goal_request(uuid_of(6), [(here, 0.0), (there, 1.0)],
+                                               path_tolerance=[("J1", 0.0, PATH_VELOCITY_TOLERANCE_TIGHT_RAD_S)]))
+                check(ok, "the goal with a tight velocity path tolerance is accepted")
+                status, code, why = get_result(uuid_of(6))
+                check(status == ABORTED and code == -4 and "J1" in why and "rad/s" in why and "velocity" in why,
+                      f"it aborts with PATH_TOLERANCE_VIOLATED naming J1's velocity: {status} {code} {why}")
+                a, b = j1_half_a_second_apart()
+                check(abs(a - b) < 1e-4 and abs(b - there[0]) > 0.1, f"the arm stopped early: {a} {b} (goal {there[0]})")
+                report["velocity_abort"] = {"error_string": why, "moved_rad": b - here[0]}
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)
         check(proc.returncode == 130, f"exit 130 after SIGINT, got {proc.returncode}: {err}")

@@ -111,7 +111,7 @@ fn a_valid_goal_is_planned_to_its_last_point() {
     let g = check_goal(&model, &small_goal(), &standby(), NOW_NS).unwrap();
     assert!((g.final_q[0] - (standby()[0] + 0.2)).abs() < 1e-9);
     assert_eq!(g.plan.points, 2);
-    assert!(g.tolerances.goal_rad.iter().chain(&g.tolerances.path_rad).all(Option::is_none));
+    assert!(g.tolerances.goal.is_empty() && g.tolerances.path.is_empty());
     assert_eq!(g.tolerances.goal_time_s, crate::ros2::tolerance::DEFAULT_GOAL_TIME_TOLERANCE_S);
 }
 
@@ -158,7 +158,7 @@ fn goal_refusals_carry_control_msgs_error_codes() {
     g.trajectory.header.stamp = Time::from_unix_ns(NOW_NS);
     g.goal_tolerance = vec![JointTolerance { name: "J1".into(), position: 0.01, velocity: -1.0, acceleration: 0.0 }];
     let plan = check_goal(&model, &g, &q, NOW_NS).unwrap();
-    assert_eq!(plan.tolerances.goal_rad[0], Some(0.01));
+    assert_eq!(plan.tolerances.goal.position_rad[0], Some(0.01));
 }
 
 #[test]
@@ -168,10 +168,12 @@ fn path_tolerance_and_goal_time_tolerance_of_a_goal_are_kept() {
         JointTolerance { name: "J3".into(), position: 0.02, velocity: 0.0, acceleration: 0.0 },
         JointTolerance { name: "J1".into(), position: -1.0, velocity: 0.0, acceleration: 0.0 },
         JointTolerance { name: "J2".into(), position: 0.0, velocity: 0.0, acceleration: 0.0 },
+        JointTolerance { name: "J5".into(), position: 0.0, velocity: 0.3, acceleration: 2.0 },
     ];
     g.goal_time_tolerance = Duration { sec: 1, nanosec: 500_000_000 };
     let plan = check_goal(&RobotModel::parol6(), &g, &standby(), NOW_NS).unwrap();
-    assert_eq!(plan.tolerances.path_rad, vec![None, None, Some(0.02), None, None, None]);
+    assert_eq!(plan.tolerances.path.position_rad, vec![None, None, Some(0.02), None, None, None]);
+    assert_eq!(plan.tolerances.path.velocity_rad_s, vec![None, None, None, None, Some(0.3), None]);
     assert_eq!(plan.tolerances.goal_time_s, 1.5);
 }
 

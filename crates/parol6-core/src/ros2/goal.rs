@@ -13,7 +13,7 @@
 //! and [`INVALID_GOAL`] for the rest.
 
 use super::action::{FollowJointTrajectoryGoal, INVALID_GOAL, INVALID_JOINTS, JointTolerance, OLD_HEADER_TIMESTAMP};
-use super::tolerance::goal_time_tolerance_s;
+use super::tolerance::{JointTolerances, goal_time_tolerance_s};
 use super::trajectory::{TrajectoryError, TrajectoryPlan, plan_trajectory};
 use crate::model::RobotModel;
 use crate::program::Step;
@@ -46,14 +46,14 @@ pub struct GoalPlan {
     pub tolerances: Tolerances,
 }
 
-/// A goal's position tolerances per robot joint (`None`: not checked) and its leeway after the
-/// trajectory's end ([`super::tolerance`]).
+/// A goal's tolerances per robot joint and its leeway after the trajectory's end
+/// ([`super::tolerance`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tolerances {
-    /// While moving, from the commanded position, rad.
-    pub path_rad: Vec<Option<f64>>,
-    /// At the end, from the last point, rad.
-    pub goal_rad: Vec<Option<f64>>,
+    /// While moving, from the commanded position and velocity.
+    pub path: JointTolerances,
+    /// At the end, from the last point, at rest.
+    pub goal: JointTolerances,
     /// How long after the trajectory's end the goal tolerance may still be reached, s (the
     /// goal's `goal_time_tolerance`, 0 made
     /// [`DEFAULT_GOAL_TIME_TOLERANCE_S`](super::tolerance::DEFAULT_GOAL_TIME_TOLERANCE_S)).
@@ -109,8 +109,8 @@ pub fn goal_checks(
         }
     }
     let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
-    let path_rad = tolerances("path_tolerance", &goal.path_tolerance, &names)?;
-    let goal_rad = tolerances("goal_tolerance", &goal.goal_tolerance, &names)?;
+    let path = tolerances("path_tolerance", &goal.path_tolerance, &names)?;
+    let goal_list = tolerances("goal_tolerance", &goal.goal_tolerance, &names)?;
     let gtt = &goal.goal_time_tolerance;
     if gtt.as_secs_f64().is_none_or(|s| s < 0.0) {
         return Err(refuse(
@@ -119,12 +119,13 @@ pub fn goal_checks(
         ));
     }
     check_stamp(goal, now_ns)?;
-    Ok(Tolerances { path_rad, goal_rad, goal_time_s: goal_time_tolerance_s(gtt) })
+    Ok(Tolerances { path, goal: goal_list, goal_time_s: goal_time_tolerance_s(gtt) })
 }
 
-/// Each robot joint's position tolerance from `list` (positive: checked), after checking it.
-fn tolerances(field: &str, list: &[JointTolerance], names: &[&str]) -> Result<Vec<Option<f64>>, GoalRefusal> {
-    let mut out = vec![None; names.len()];
+/// Each robot joint's position and velocity tolerances from `list` (positive: checked), after
+/// checking them.
+fn tolerances(field: &str, list: &[JointTolerance], names: &[&str]) -> Result<JointTolerances, GoalRefusal> {
+    let mut out = JointTolerances::none(names.len());
     for (i, t) in list.iter().enumerate() {
         let Some(j) = names.iter().position(|n| *n == t.name) else {
             return Err(refuse(
@@ -140,7 +141,8 @@ fn tolerances(field: &str, list: &[JointTolerance], names: &[&str]) -> Result<Ve
                 ));
             }
         }
-        out[j] = (t.position > 0.0).then_some(t.position);
+        out.position_rad[j] = (t.position > 0.0).then_some(t.position);
+        out.velocity_rad_s[j] = (t.velocity > 0.0).then_some(t.velocity);
     }
     Ok(out)
 }

@@ -17,11 +17,12 @@
 //! remote control is on (stopping is always allowed), and is logged.
 //!
 //! While a goal runs, its `path_tolerance` is checked on every telemetry sample
-//! ([`GoalWatch`]); a joint outside it stops the motion the way a cancel does, and the goal
-//! ends ABORTED with `PATH_TOLERANCE_VIOLATED` and the joint and deviation in its
-//! `error_string` (logged to `/events`). After the trajectory's end the goal waits up to its
-//! `goal_time_tolerance` (0: [`DEFAULT_GOAL_TIME_TOLERANCE_S`]) for every joint to be within
-//! its `goal_tolerance` of the last point, else it ends with `GOAL_TOLERANCE_VIOLATED`.
+//! ([`GoalWatch`]: positions and velocities); a joint outside it stops the motion the way a
+//! cancel does, and the goal ends ABORTED with `PATH_TOLERANCE_VIOLATED` and the joint and
+//! deviation in its `error_string` (logged to `/events`). After the trajectory's end the goal
+//! waits up to its `goal_time_tolerance` (0: [`DEFAULT_GOAL_TIME_TOLERANCE_S`]) for every joint
+//! to be within its `goal_tolerance` of the last point, at rest, else it ends with
+//! `GOAL_TOLERANCE_VIOLATED`.
 //!
 //! [`DEFAULT_GOAL_TIME_TOLERANCE_S`]: parol6_core::ros2::tolerance::DEFAULT_GOAL_TIME_TOLERANCE_S
 
@@ -39,7 +40,7 @@ use parol6_core::ros2::cdr::{self, MAX_MESSAGE_BYTES};
 use parol6_core::ros2::goal::{Tolerances, check_goal};
 use parol6_core::ros2::graph::Qos;
 use parol6_core::ros2::msgs::Time;
-use parol6_core::ros2::tolerance::{GoalEnd, goal_end};
+use parol6_core::ros2::tolerance::{GoalEnd, JointMotion, goal_end};
 use serde::Serialize;
 use zenoh::query::{Query, Queryable};
 
@@ -243,7 +244,7 @@ impl Commands {
         let info = GoalInfo { goal_id: req.goal_id, stamp };
         answer(&query, &SendGoalResponse { accepted: true, stamp });
         st.remember(info, status::EXECUTING, FollowJointTrajectoryResult::default());
-        st.watch.start(req.goal_id, tolerances.path_rad.clone());
+        st.watch.start(req.goal_id, tolerances.path.clone());
         let goal = GoalRun { info, final_q, tolerances, aborted: None };
         Some(self.running(id, what, &source, runner, &plan, Some(goal)))
     }
@@ -332,7 +333,8 @@ impl Commands {
         let state = self.backend.state();
         let since_end_s = state.time_s - p.clock_s.1;
         let t = &g.tolerances;
-        match goal_end(&t.goal_rad, &g.final_q, &state.q, since_end_s, t.goal_time_s) {
+        let actual = JointMotion { q_rad: &state.q, qd_rad_s: &state.qd };
+        match goal_end(&t.goal, &g.final_q, actual, since_end_s, t.goal_time_s) {
             GoalEnd::Reached => false,
             GoalEnd::Waiting => true,
             GoalEnd::Violated(v) => {
@@ -363,8 +365,9 @@ impl Commands {
             }
             RunState::Done => {
                 // the last look (the wait may have been cut short by the server's end)
-                let (t, q) = (&goal.tolerances, self.backend.state().q.clone());
-                match goal_end(&t.goal_rad, &goal.final_q, &q, f64::INFINITY, t.goal_time_s) {
+                let (t, state) = (&goal.tolerances, self.backend.state());
+                let actual = JointMotion { q_rad: &state.q, qd_rad_s: &state.qd };
+                match goal_end(&t.goal, &goal.final_q, actual, f64::INFINITY, t.goal_time_s) {
                     GoalEnd::Violated(v) => {
                         let names: Vec<&str> = self.model.joints.iter().map(|j| j.name.as_str()).collect();
                         let why = format!("goal_tolerance violated: {}", v.describe(&names, "goal_tolerance", "goal"));

@@ -1,6 +1,7 @@
 //! A running `FollowJointTrajectory` goal as the publishing thread sees it ([`GoalWatch`]):
 //! every telemetry sample of the recorder's live outlet (the ones `/joint_states` is thinned
-//! from) is checked against the goal's `path_tolerance` (measured against commanded position),
+//! from) is checked against the goal's `path_tolerance` (measured against commanded position and
+//! velocity),
 //! and every [`FEEDBACK_EVERY_JOINT_STATES`]th `/joint_states` sample also goes out as the
 //! goal's `FollowJointTrajectory_FeedbackMessage` on `<name>/_action/feedback`, with the same
 //! header stamp as that joint state (20 Hz on the simulation and the robot).
@@ -14,7 +15,7 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 use parol6_core::ros2::action::Uuid;
 use parol6_core::ros2::feedback::{FeedbackMessage, JointsState};
 use parol6_core::ros2::msgs::Time;
-use parol6_core::ros2::tolerance::{Violation, worst_violation};
+use parol6_core::ros2::tolerance::{JointMotion, JointTolerances, Violation, worst_violation};
 use parol6_core::telemetry::TelemetrySample;
 
 /// One feedback message per this many `/joint_states` messages (100 Hz / 5 = 20 Hz).
@@ -30,7 +31,7 @@ pub struct GoalWatch {
 #[derive(Debug)]
 struct Watched {
     goal_id: Uuid,
-    path_tolerance_rad: Vec<Option<f64>>,
+    path_tolerance: JointTolerances,
     /// Path tolerance checked (until the trajectory's end).
     checking: bool,
     /// Motion clock of the first sample seen, s.
@@ -46,15 +47,9 @@ impl GoalWatch {
     }
 
     /// Goal `goal_id` starts: feedback from now on, its path tolerance checked.
-    pub fn start(&self, goal_id: Uuid, path_tolerance_rad: Vec<Option<f64>>) {
-        *self.lock() = Some(Watched {
-            goal_id,
-            path_tolerance_rad,
-            checking: true,
-            start_s: None,
-            joint_states: 0,
-            violation: None,
-        });
+    pub fn start(&self, goal_id: Uuid, path_tolerance: JointTolerances) {
+        *self.lock() =
+            Some(Watched { goal_id, path_tolerance, checking: true, start_s: None, joint_states: 0, violation: None });
     }
 
     /// Its trajectory has ended: the path tolerance is no longer checked (the goal tolerance
@@ -87,10 +82,15 @@ impl GoalWatch {
         let mut guard = self.lock();
         let w = guard.as_mut()?;
         let start_s = *w.start_s.get_or_insert(s.time_s);
-        let q_cmd: Vec<f64> = s.joints.iter().map(|j| j.cmd_q_rad).collect();
-        let q: Vec<f64> = s.joints.iter().map(|j| j.q_rad).collect();
+        let col = |f: fn(&parol6_core::telemetry::JointTelemetry) -> f64| s.joints.iter().map(f).collect::<Vec<f64>>();
+        let (q_cmd, qd_cmd, q, qd) =
+            (col(|j| j.cmd_q_rad), col(|j| j.cmd_qd_rad_s), col(|j| j.q_rad), col(|j| j.qd_rad_s));
         if w.checking && w.violation.is_none() {
-            w.violation = worst_violation(&w.path_tolerance_rad, &q_cmd, &q);
+            w.violation = worst_violation(
+                &w.path_tolerance,
+                JointMotion { q_rad: &q_cmd, qd_rad_s: &qd_cmd },
+                JointMotion { q_rad: &q, qd_rad_s: &qd },
+            );
         }
         if !joint_state {
             return None;
@@ -99,9 +99,7 @@ impl GoalWatch {
         if (w.joint_states - 1) % FEEDBACK_EVERY_JOINT_STATES != 0 {
             return None;
         }
-        let col = |f: fn(&parol6_core::telemetry::JointTelemetry) -> f64| s.joints.iter().map(f).collect::<Vec<f64>>();
-        let (qd_cmd, qdd_cmd, qd, qdd) =
-            (col(|j| j.cmd_qd_rad_s), col(|j| j.cmd_qdd_rad_s2), col(|j| j.qd_rad_s), col(|j| j.qdd_rad_s2));
+        let (qdd_cmd, qdd) = (col(|j| j.cmd_qdd_rad_s2), col(|j| j.qdd_rad_s2));
         Some(FeedbackMessage::new(
             w.goal_id,
             stamp,
@@ -155,7 +153,9 @@ mod tests {
     fn feedback_every_fifth_joint_state_and_path_tolerance_until_the_trajectory_ends() {
         let watch = GoalWatch::default();
         assert!(watch.observe(&sample(0.0, 0.0), &names(), true, Time::default()).is_none());
-        watch.start(Uuid { uuid: [3; 16] }, vec![Some(0.01), None, None, None, None, None]);
+        let mut tol = JointTolerances::none(6);
+        tol.position_rad[0] = Some(0.01);
+        watch.start(Uuid { uuid: [3; 16] }, tol);
         let sent: Vec<FeedbackMessage> = (0..10)
             .filter_map(|k| watch.observe(&sample(1.0 + k as f64 * 0.01, 0.001), &names(), true, Time::default()))
             .collect();
@@ -166,11 +166,14 @@ mod tests {
         watch.trajectory_ended();
         watch.observe(&sample(2.0, 0.5), &names(), false, Time::default());
         assert_eq!(watch.violation(), None, "after the trajectory's end the goal tolerance applies");
-        watch.start(Uuid::default(), vec![Some(0.01); 6]);
+        watch.start(
+            Uuid::default(),
+            JointTolerances { position_rad: vec![Some(0.01); 6], velocity_rad_s: vec![None; 6] },
+        );
         watch.observe(&sample(3.0, 0.02), &names(), false, Time::default());
         watch.observe(&sample(3.001, 0.5), &names(), false, Time::default());
         let v = watch.violation().unwrap();
-        assert!((v.deviation_rad + 0.02).abs() < 1e-12, "the first violation is kept: {v:?}");
+        assert!((v.deviation + 0.02).abs() < 1e-12, "the first violation is kept: {v:?}");
         watch.end();
         assert!(watch.observe(&sample(4.0, 0.0), &names(), true, Time::default()).is_none());
     }

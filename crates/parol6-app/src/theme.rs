@@ -29,6 +29,17 @@ pub fn clear_color() -> [f32; 4] {
     egui::Color32::from_rgb(r, g, b).to_normalized_gamma_f32()
 }
 
+/// Corner radius of a progress or level bar, pt. egui rounds a bar's ends by half its height by
+/// default and then fills at least a full circle, so a bar at or near 0 showed a grey disc over
+/// the start of its text (the Manipulability bar at a singular pose); with this radius the
+/// least fill is a 4 pt sliver.
+pub const BAR_CORNER_RADIUS: u8 = 2;
+
+/// A progress or level bar at `fraction` (0…1) in the app's style ([`BAR_CORNER_RADIUS`]).
+pub fn bar(fraction: f32) -> egui::ProgressBar {
+    egui::ProgressBar::new(fraction).corner_radius(BAR_CORNER_RADIUS)
+}
+
 /// The file dialog's icons (egui_file draws 🗀 🗋 ⟲ ⬆ 💾 and 📁 📂, which egui's default fonts
 /// lack, so they showed as boxes): two subsets of fonts egui itself ships, a few kB, used only
 /// as the last fallback. See `assets/fonts/README.md` for their source and licences.
@@ -55,6 +66,35 @@ pub fn install_fonts(ctx: &egui::Context) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fill of each bar [`bar`] paints at `fraction`, as (width, height), pt.
+    fn bar_fill(fraction: f32) -> (f32, f32) {
+        let ctx = egui::Context::default();
+        ctx.set_visuals(visuals());
+        let out = ctx.run_ui(Default::default(), |ui| {
+            ui.add(bar(fraction).fill(egui::Color32::RED).desired_width(200.0));
+        });
+        let fills: Vec<egui::Rect> = out
+            .shapes
+            .iter()
+            .filter_map(|c| match &c.shape {
+                egui::Shape::Rect(r) if r.fill == egui::Color32::RED => Some(r.rect),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(fills.len(), 1, "one fill: {fills:?}");
+        (fills[0].width(), fills[0].height())
+    }
+
+    /// Hand trial, 1024×700 on the fake robot at standby (J5 = 0, a singular wrist): the
+    /// Manipulability bar at 0 drew a full grey disc over "wrist singular".
+    #[test]
+    fn a_bar_at_zero_fills_a_sliver_not_a_disc() {
+        let (w0, h) = bar_fill(0.0);
+        assert!(w0 <= 2.0 * f32::from(BAR_CORNER_RADIUS) + 1e-3 && w0 < h / 2.0, "fill {w0} of a {h} pt bar");
+        let (w_half, _) = bar_fill(0.5);
+        assert!((w_half - 100.0).abs() < 1.0, "half of 200 pt: {w_half}");
+    }
 
     /// Issue 32 minor: "The file dialog shows tofu icons".
     #[test]

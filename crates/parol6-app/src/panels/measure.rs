@@ -201,11 +201,7 @@ impl Panel for MeasurePanel {
         let measurement = &ctx.app.measurement;
         let live = measurement.progress().filter(|_| running);
         if let Some(p) = &live {
-            ui.add(egui::ProgressBar::new(p.fraction as f32).text(format!(
-                "{:.0} % {}",
-                100.0 * p.fraction,
-                p.describe()
-            )));
+            ui.add(crate::theme::bar(p.fraction as f32).text(format!("{:.0} % {}", 100.0 * p.fraction, p.describe())));
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
         if let Some((text, error)) = self.message.as_ref().or(measurement.outcome()) {

@@ -124,7 +124,7 @@ impl Panel for TcpPanel {
         };
         ui.horizontal(|ui| {
             ui.label("Manipulability");
-            ui.add(egui::ProgressBar::new(frac).fill(color).text(text.as_str()).desired_width(ui.available_width()))
+            ui.add(crate::theme::bar(frac).fill(color).text(text.as_str()).desired_width(ui.available_width()))
                 .on_hover_text(format!(
                     "σ_min = {:.2e}, σ_max = {:.2e}, Yoshikawa w = {:.3e}\nbar: σ_min relative to the home pose; \
                      singular below σ_min = {SINGULARITY_SIGMA_MIN:e}",

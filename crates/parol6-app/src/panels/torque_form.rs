@@ -249,7 +249,7 @@ impl TorqueForm {
             } else {
                 let fraction = (elapsed_s / run.duration_s).clamp(0.0, 1.0);
                 let text = format!("torque run: {elapsed_s:.1} of {:.1} s", run.duration_s);
-                ui.add(egui::ProgressBar::new(fraction as f32).text(text));
+                ui.add(crate::theme::bar(fraction as f32).text(text));
                 ui.ctx().request_repaint_after(Duration::from_millis(100));
                 return;
             }

@@ -20,6 +20,12 @@ impl Parol6App {
         self.exit_code = slot;
     }
 
+    /// Watches the Super key on the window's X server (the window only; [`super::super_key`]).
+    #[cfg(target_os = "linux")]
+    pub fn watch_super_key(&mut self) {
+        self.super_key = super::super_key::SuperKeyProbe::connect();
+    }
+
     /// The simulation (the bench drives it).
     pub fn sim(&self) -> &SimHandle {
         &self.sim

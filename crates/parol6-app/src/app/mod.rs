@@ -41,6 +41,7 @@ pub mod settings;
 mod settings_store;
 mod soak;
 pub mod state;
+pub mod super_key;
 mod telemetry;
 mod test_hooks;
 #[cfg(test)]
@@ -158,6 +159,9 @@ pub struct Parol6App {
     repaint_until: Instant,
     /// The test, sweep or soak script run in the window (`PAROL6_TEST_SCRIPT`), if any.
     hook: Option<Hook>,
+    /// The Super key's state on X11, in the window only ([`super_key`]).
+    #[cfg(target_os = "linux")]
+    super_key: Option<super_key::SuperKeyProbe>,
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
@@ -231,6 +235,8 @@ impl Parol6App {
             viewport_error,
             sim_tracking: settings.tracking,
             window_title: None,
+            #[cfg(target_os = "linux")]
+            super_key: None,
             autosave: opts.settings_path.clone().and_then(|p| {
                 settings_store::SettingsAutosave::start(p, &settings)
                     .map_err(|e| tracing::warn!("settings will be saved at exit only: {e}"))
@@ -557,6 +563,20 @@ impl eframe::App for Parol6App {
 
     fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
         crate::theme::clear_color()
+    }
+
+    #[cfg_attr(not(target_os = "linux"), allow(unused_variables))]
+    fn raw_input_hook(&mut self, ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        #[cfg(target_os = "linux")]
+        if let Some(probe) = &self.super_key {
+            match probe.held() {
+                Ok(held) => super_key::apply_super(raw_input, held, ctx.input(|i| i.modifiers)),
+                Err(e) => {
+                    tracing::warn!("Super key no longer watched (X server: {e})");
+                    self.super_key = None;
+                }
+            }
+        }
     }
 
     fn on_exit(&mut self) {

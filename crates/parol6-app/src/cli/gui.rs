@@ -107,6 +107,8 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
             }
             let mut app = Parol6App::new(opts, cc.wgpu_render_state.as_ref())?;
             app.set_exit_code(exit_slot);
+            #[cfg(target_os = "linux")]
+            app.watch_super_key();
             // Ctrl-C / SIGTERM close the window as its close button does (recording closed)
             super::interrupt::close_window_on_signal(&cc.egui_ctx);
             Ok(Box::new(app))

@@ -15,8 +15,9 @@
 //! Esc (STOP) is the exception: it acts whatever has the keyboard and whatever is held. Where
 //! nothing moves, the pointer is off the 3D view and no docked panel's control has the keyboard,
 //! it closes the topmost dialog, menu or window instead (`app::escape`).
-//! egui reports the Super key only on macOS (as Cmd); elsewhere the desktop usually keeps
-//! Super+key for itself.
+//! egui reports the Super key only on macOS (as Cmd); on X11 the window reads it from the X
+//! server and passes it on as `mac_cmd` (`app::super_key`), so Super counts as a modifier here
+//! too (Super+D jogged +X before).
 
 use std::collections::HashSet;
 

@@ -1,0 +1,110 @@
+//! The Super (Windows / Meta) key on X11. egui reports Super only on macOS (as Cmd), so on
+//! Linux Super+D reached the jog keys as a bare D and jogged +X (hand trial under Xvfb, where no
+//! desktop keeps Super+key for itself). In the window, the app asks the X server for the
+//! keyboard's modifier state once per frame ([`SuperKeyProbe::held`]: one round trip on the local
+//! socket) and, while Super is down, marks it as egui's `mac_cmd` in the frame's raw input
+//! ([`apply_super`]); every shortcut rule in `panels::shortcuts` treats `mac_cmd` as a modifier, so
+//! no jog key acts and a key pressed with Super never arms a jog.
+//!
+//! Super is the X server's `Mod4`, as every stock keymap maps it. Under Wayland (no `DISPLAY`)
+//! the compositor keeps Super+key for itself, and on Windows the system takes Win+key.
+
+use eframe::egui;
+
+/// Passes Super's state (`held`) into one frame's input as egui's `mac_cmd`, with egui's
+/// modifiers at `current` (last frame's): while held, the frame's modifiers and every key
+/// event's carry it; when it is let go, the modifiers drop it again.
+pub fn apply_super(raw: &mut egui::RawInput, held: bool, current: egui::Modifiers) {
+    if !held && !current.mac_cmd {
+        return;
+    }
+    raw.events.insert(0, egui::Event::ModifiersChanged(egui::Modifiers { mac_cmd: held, ..current }));
+    if held {
+        for e in &mut raw.events {
+            match e {
+                egui::Event::Key { modifiers, .. } | egui::Event::ModifiersChanged(modifiers) => {
+                    modifiers.mac_cmd = true
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// A connection to the X server the window is on, to read the Super key's state.
+#[cfg(target_os = "linux")]
+pub struct SuperKeyProbe {
+    conn: x11rb::rust_connection::RustConnection,
+    root: u32,
+}
+
+#[cfg(target_os = "linux")]
+impl SuperKeyProbe {
+    /// Connects to `$DISPLAY`; `None` without one (Wayland) or when it cannot be reached (said
+    /// in the log).
+    pub fn connect() -> Option<Self> {
+        let display = std::env::var("DISPLAY").ok()?;
+        Self::connect_to(&display).map_err(|e| tracing::info!("Super key not watched: {e}")).ok()
+    }
+
+    /// Connects to the X server at `display` (e.g. `:0`).
+    pub fn connect_to(display: &str) -> Result<Self, String> {
+        let (conn, screen) = x11rb::connect(Some(display)).map_err(|e| format!("X server at {display:?}: {e}"))?;
+        let root = x11rb::connection::Connection::setup(&conn)
+            .roots
+            .get(screen)
+            .ok_or_else(|| format!("X server at {display:?} has no screen {screen}"))?
+            .root;
+        Ok(SuperKeyProbe { conn, root })
+    }
+
+    /// True while Super (`Mod4`) is held on the X server's keyboard.
+    pub fn held(&self) -> Result<bool, String> {
+        use x11rb::protocol::xproto::{ConnectionExt, KeyButMask};
+        let reply =
+            self.conn.query_pointer(self.root).map_err(|e| e.to_string())?.reply().map_err(|e| e.to_string())?;
+        Ok(reply.mask.contains(KeyButMask::MOD4))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(key: egui::Key) -> egui::Event {
+        egui::Event::Key { key, physical_key: None, pressed: true, repeat: false, modifiers: egui::Modifiers::NONE }
+    }
+
+    /// The modifiers egui sees after one frame of `events` from `before`.
+    fn after(ctx: &egui::Context, events: Vec<egui::Event>) -> egui::Modifiers {
+        let raw = egui::RawInput { events, ..Default::default() };
+        let mut seen = egui::Modifiers::NONE;
+        let _ = ctx.run_ui(raw, |ui| seen = ui.input(|i| i.modifiers));
+        seen
+    }
+
+    #[test]
+    fn super_is_mac_cmd_on_every_key_event_while_held_and_dropped_when_let_go() {
+        let ctx = egui::Context::default();
+        let mut raw =
+            egui::RawInput { events: vec![key(egui::Key::D), egui::Event::Text("d".into())], ..Default::default() };
+        apply_super(&mut raw, true, egui::Modifiers::NONE);
+        assert!(matches!(raw.events[1], egui::Event::Key { modifiers, .. } if modifiers.mac_cmd));
+        assert!(after(&ctx, raw.events).mac_cmd, "held: egui's modifiers say so");
+        // Ctrl pressed while Super is held: winit's event says ctrl only; Super stays
+        let mut raw =
+            egui::RawInput { events: vec![egui::Event::ModifiersChanged(egui::Modifiers::CTRL)], ..Default::default() };
+        apply_super(&mut raw, true, egui::Modifiers { mac_cmd: true, ..Default::default() });
+        let m = after(&ctx, raw.events);
+        assert!(m.mac_cmd && m.ctrl);
+        // let go
+        let mut raw = egui::RawInput::default();
+        apply_super(&mut raw, false, m);
+        let m = after(&ctx, raw.events);
+        assert!(!m.mac_cmd && m.ctrl, "{m:?}");
+        // never held: nothing added
+        let mut raw = egui::RawInput::default();
+        apply_super(&mut raw, false, egui::Modifiers::NONE);
+        assert!(raw.events.is_empty());
+    }
+}

@@ -94,3 +94,25 @@ fn left_panel_widgets_do_not_move_when_contents_change() {
     let _ = std::fs::remove_dir_all(&dir);
     assert!(moved.is_empty(), "{moved:#?}");
 }
+
+/// Hand trial under Xvfb: the program's Run / Pause / Step / Stop buttons sat below the step
+/// list and the step editor, under the fold of the left panel at 1024×700, 1280×800 and
+/// 1600×1000 (reachable only by scrolling). At 1280×800 and 1600×1000 they are now in view as
+/// the window opens, above the status bar (at 1024×700 the left panel still scrolls to them).
+#[test]
+fn the_program_run_controls_are_in_view_at_every_window_size() {
+    const STATUS_BAR_HEIGHT: f32 = 24.0;
+    for (w, height) in [(1280.0, 800.0), (1600.0, 1000.0)] {
+        let mut h = ui_support::app_harness(egui::vec2(w, height));
+        h.get_by_label("Draw").click();
+        until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+        h.run_steps(2);
+        for label in ["Run (F5)", "Pause (F6)", "Step (F10)", "Stop program"] {
+            let r = h.get_by_label(label).rect();
+            assert!(
+                r.min.y >= 0.0 && r.max.y <= height - STATUS_BAR_HEIGHT && r.max.x <= LEFT_PANEL_WIDTH,
+                "{label} at {r:?}: not in view in a {w}x{height} window"
+            );
+        }
+    }
+}

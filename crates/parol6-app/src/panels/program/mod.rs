@@ -347,6 +347,11 @@ impl Panel for ProgramPanel {
         // each part that changes has a fixed height: nothing below it moves under the pointer
         let line_h = ui.spacing().interact_size.y;
         fixed_box::fixed_height(ui, "program-summary", line_h, |ui| self.summary_line(ui));
+        // Run / Pause / Step / Stop right under the verdict, above the step list and the editor:
+        // below them they were under the fold of the left panel at 1024x700, 1280x800 and
+        // 1600x1000 (hand trial), reachable only by scrolling
+        self.controls(ui, ctx, progress.as_ref());
+        fixed_box::fixed_height(ui, "program-progress", line_h, |ui| progress_line(ui, progress.as_ref()));
         self.step_list(ui, progress.as_ref());
         ui.add_enabled_ui(!running, |ui| {
             self.edit_toolbar(ui, ctx);
@@ -355,8 +360,6 @@ impl Panel for ProgramPanel {
         if !running {
             self.shortcuts(ui, ctx);
         }
-        self.controls(ui, ctx, progress.as_ref());
-        fixed_box::fixed_height(ui, "program-progress", line_h, |ui| progress_line(ui, progress.as_ref()));
         fixed_box::fixed_height(ui, "program-issues", ISSUES_HEIGHT, |ui| self.issue_lines(ui));
         if running {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));

@@ -179,3 +179,23 @@ fn f1_help_lists_every_shortcut_of_the_table() {
         assert!(h.query_all_by_label_contains(&chord).next().is_some(), "help does not list {chord}");
     }
 }
+
+/// Hand trial at 1024×700: the help's key table did not wrap, so its longest rows ran past the
+/// window's right edge ("… no panel control type" cut off). Every row's text now ends inside
+/// the window.
+#[test]
+fn f1_help_keys_fit_a_1024_px_window() {
+    let width = 1024.0;
+    let mut h = ui_support::app_harness(egui::vec2(width, 700.0));
+    h.key_press(Key::F1);
+    h.run_steps(3);
+    let rows = parol6_app::panels::shortcuts::help_rows();
+    for (keys, what, scope) in &rows {
+        for text in [keys.as_str(), *what, *scope] {
+            for node in h.query_all_by_label(text) {
+                let r = node.rect();
+                assert!(r.max.x <= width, "{text:?} ends at x = {:.0}, past the {width} px window", r.max.x);
+            }
+        }
+    }
+}

@@ -98,14 +98,15 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     ui.heading("Mouse and keys");
     ui.label(
         "Keys that move the arm act only while no text field, menu or popup has the keyboard, and never \
-         while Ctrl, Alt or Cmd is held unless the table names it (Ctrl+H). A jog key counts only when \
+         while Ctrl, Alt, Cmd or Super is held unless the table names it (Ctrl+H). A jog key counts only when \
          pressed on its own: let it go and press it again after using a modifier. Esc always stops.",
     );
     egui::Grid::new("help_keys").num_columns(3).spacing([12.0, 2.0]).striped(true).show(ui, |ui| {
+        // both text columns wrap: at 1024 px the longest rows ran past the window's edge
         for (keys, what, scope) in super::shortcuts::help_rows() {
             ui.monospace(keys);
-            ui.label(what);
-            ui.weak(scope);
+            ui.add(egui::Label::new(what).wrap());
+            ui.add(egui::Label::new(egui::RichText::new(scope).weak()).wrap());
             ui.end_row();
         }
     });
@@ -138,9 +139,9 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     match settings_path {
         Some(p) => {
             ui.label(format!(
-                "Units, panel and 3D view toggles, the height of the panel under the 3D view, speed, profile \
-                 and the last port are saved on exit to {} \
-                 (set PAROL6_SETTINGS to use another file).",
+                "Units, panel and 3D view toggles, the height of the panel under the 3D view, speeds, profile, \
+                 tracking mode, the recent programs and their folder, and the last port are saved half a \
+                 second after each change, and on exit, to {} (set PAROL6_SETTINGS to use another file).",
                 p.display()
             ));
         }

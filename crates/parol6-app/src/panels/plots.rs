@@ -233,7 +233,8 @@ impl PlotsPanel {
     }
 
     fn export_row(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        ui.horizontal(|ui| {
+        // wrapped: at 1024 px the row ran under the right panel ("SVG of the plots" out of reach)
+        ui.horizontal_wrapped(|ui| {
             let label = ui.label("Export to");
             ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(220.0).hint_text("plots.csv"))
                 .labelled_by(label.id);

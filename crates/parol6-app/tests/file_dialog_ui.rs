@@ -109,3 +109,36 @@ fn save_as_proposes_a_readable_file_name_for_pick_and_place() {
     assert!(proposed("Pick_and_place.json"), "the proposed name reads as the program's name");
     assert!(!proposed("Pick___place.json"));
 }
+
+/// Issue 32 minor: "The File menu has no Quit and no Browse for recordings." File → Browse
+/// recordings…
+/// opens a dialog in the typed path's folder that lists recordings only; picking one opens it
+/// for replay.
+#[test]
+fn file_menu_browse_opens_a_recording_picked_in_a_dialog() {
+    let dir = temp_dir("recording");
+    let model = parol6_core::RobotModel::parol6();
+    let bytes = parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 5.0).expect("recording");
+    std::fs::write(dir.join("run.mcap"), bytes).unwrap();
+    write_program(&dir.join("not-a-recording.json"));
+
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 800.0));
+    h.query_all_by_label("File").next().expect("the File menu").click();
+    h.run_steps(2);
+    h.get_by_label("Recording").click();
+    h.run_steps(1);
+    h.get_by_label("Recording").type_text(&format!("{}/", dir.display()));
+    h.run_steps(1);
+    h.get_by_label("Browse recordings…").click();
+    h.run_steps(3);
+    assert!(h.state().file_menu().dialog_open(), "Browse recordings… opens the recording dialog");
+    assert!(has_label(&h, "run.mcap"), "the dialog opens in the typed folder and lists the recording");
+    assert!(!has_label(&h, "not-a-recording.json"), "only recordings are listed");
+    assert!(h.query_by_label("Rename").is_none() && h.query_by_label("New Folder").is_none());
+    h.get_by_label_contains("run.mcap").click();
+    h.run_steps(2);
+    // the dialog's Open (the program panel has one too; the dialog's window comes later)
+    h.query_all_by_label("Open").last().expect("the dialog's Open").click();
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
+    assert!(!h.state().file_menu().dialog_open(), "the dialog closed");
+}

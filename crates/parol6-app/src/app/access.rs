@@ -79,6 +79,11 @@ impl Parol6App {
         self.panels.plots.show_only(quantity);
     }
 
+    /// The File menu (its recording dialog).
+    pub fn file_menu(&self) -> &super::FileMenu {
+        &self.files
+    }
+
     /// The program panel (its program, dirty state).
     pub fn program_panel(&self) -> &crate::panels::program::ProgramPanel {
         &self.panels.program

@@ -27,6 +27,8 @@ pub(super) enum Closable {
     Menu,
     /// The program panel's Open / Save-as dialog.
     FileDialog,
+    /// The File menu's recording dialog.
+    RecordingDialog,
     /// The point-table window.
     PointTable,
     /// The help window.
@@ -69,6 +71,7 @@ impl Parol6App {
         let program_shown = !self.program_running();
         let windows = [
             (Closable::FileDialog, self.panels.program.file_dialog_open(), crate::panels::program::FILE_DIALOG_ID),
+            (Closable::RecordingDialog, self.files.dialog_open(), super::file_menu::RECORDING_DIALOG_ID),
             (Closable::PointTable, program_shown && self.panels.program.table_open, crate::panels::program::TABLE_ID),
             (Closable::Help, self.show_help, HELP_WINDOW),
         ];
@@ -89,6 +92,7 @@ impl Parol6App {
             Closable::RunConfirmation => self.panels.program.cancel_run_confirmation(),
             Closable::Menu => egui::Popup::close_all(ctx),
             Closable::FileDialog => self.panels.program.close_file_dialog(),
+            Closable::RecordingDialog => self.files.close_dialog(),
             Closable::PointTable => self.panels.program.table_open = false,
             Closable::Help => self.show_help = false,
             Closable::Field(id) => ctx.memory_mut(|m| m.surrender_focus(id)),

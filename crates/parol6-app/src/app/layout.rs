@@ -27,71 +27,9 @@ pub const LOWER_MIN_HEIGHT: f32 = 120.0;
 /// egui id salt of that area.
 const LOWER_PANEL_ID: &str = "lower";
 
-/// The File menu: open a recording for replay, record to a file (typed paths: there is no
-/// file dialog). Its one-shot actions close it, so their outcome (or error) is seen; a toggle
-/// keeps it open unless it fails (the app closes any menu over a new error).
-#[derive(Debug, Default)]
-pub struct FileMenu {
-    /// Typed path of a recording to open.
-    pub open_path: String,
-    /// Typed path of a recording to write.
-    pub record_path: String,
-    /// *Quit* was clicked (taken by the app, which asks first over unsaved edits, as Ctrl+Q).
-    pub quit_clicked: bool,
-}
-
-impl FileMenu {
-    fn ui(&mut self, ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
-        ui.label("Open recording (.mcap)");
-        ui.horizontal(|ui| {
-            let label = ui.label("Recording");
-            let edit = egui::TextEdit::singleline(&mut self.open_path).desired_width(240.0).hint_text("run.mcap");
-            let r = ui.add(edit).labelled_by(label.id);
-            let enter = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-            if (ui.button("Open recording").clicked() || enter) && !self.open_path.trim().is_empty() {
-                pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
-                ui.close();
-            }
-        });
-        if pctx.app.replaying() && ui.button("Close recording").clicked() {
-            pctx.send(AppCommand::CloseRecording);
-            ui.close();
-        }
-        ui.separator();
-        live_menu_ui(ui, pctx);
-        ui.separator();
-        match &pctx.app.recording {
-            Some(r) => {
-                ui.label(format!("recording to {}", r.path.display()));
-                if ui.button("Stop recording").clicked() {
-                    pctx.send(AppCommand::Record(None));
-                    ui.close();
-                }
-            }
-            None => {
-                ui.label("Record the active backend (.mcap)");
-                ui.horizontal(|ui| {
-                    let label = ui.label("Record to");
-                    let edit = egui::TextEdit::singleline(&mut self.record_path).desired_width(240.0);
-                    ui.add(edit.hint_text("out.mcap")).labelled_by(label.id);
-                    if ui.button("Start recording").clicked() && !self.record_path.trim().is_empty() {
-                        pctx.send(AppCommand::Record(Some(self.record_path.trim().into())));
-                        ui.close();
-                    }
-                });
-            }
-        }
-        ui.separator();
-        if ui.button("Quit (Ctrl+Q)").clicked() {
-            self.quit_clicked = true;
-            ui.close();
-        }
-    }
-}
-
 /// File menu: *Share live* (Foxglove WebSocket) with its address, *Share over ROS 2* with its
 /// router and domain, and the remote-control switch.
-fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
+pub(super) fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
     let mut on = pctx.live.sharing.is_some();
     if ui.checkbox(&mut on, "Share live (Foxglove WebSocket)").changed() {
         pctx.send(AppCommand::ShareLive(on));
@@ -146,7 +84,7 @@ pub(super) struct MenuTargets<'a> {
     /// The help window is open.
     pub show_help: &'a mut bool,
     /// The File menu's fields.
-    pub files: &'a mut FileMenu,
+    pub files: &'a mut super::file_menu::FileMenu,
 }
 
 impl Parol6App {
@@ -268,6 +206,7 @@ impl Parol6App {
         } else if lower_shown && lays_out(PanelGroup::Lower) {
             rects.set(PanelGroup::Lower, lower_dock(ui, pctx, &mut docked));
         }
+        files.dialog_ui(ui.ctx(), pctx);
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
             egui::Window::new(super::escape::HELP_WINDOW)

@@ -26,6 +26,7 @@ use crate::viewport::Viewport;
 mod access;
 mod escape;
 mod execute;
+pub mod file_menu;
 pub(crate) mod frame_reuse;
 mod icon;
 mod layout;
@@ -47,8 +48,8 @@ mod test_hooks;
 #[cfg(test)]
 mod tests;
 
+pub use file_menu::FileMenu;
 pub use icon::window_icon;
-pub use layout::FileMenu;
 use link::HwLink;
 pub use link::TITLE_SIMULATION;
 pub use replay::read_replay;

@@ -309,3 +309,17 @@ fn holding_plus_x_at_the_singular_wrist_says_why_and_does_not_swing() {
     let bound = parol6_core::limits::swing::MAX_SWING_DEG_PER_MM;
     assert!(j4_deg <= bound * travel_mm + 1e-6, "J4 turned {j4_deg:.1}° over {travel_mm:.2} mm");
 }
+
+/// Hand trial in radians: the jog's turning speed still read "20.8 °/s" (20.75°/s at the
+/// default 25 %). It follows the chosen
+/// unit now.
+#[test]
+fn the_jog_speed_is_shown_in_the_chosen_angle_unit() {
+    let mut h = app_harness();
+    h.run_steps(2);
+    assert!(h.query_all_by_label_contains("mm/s, 20.75°/s").next().is_some(), "degrees: 20.75°/s");
+    h.state_mut().settings_mut().unit = parol6_app::panels::AngleUnit::Rad;
+    h.run_steps(2);
+    assert!(h.query_all_by_label_contains("mm/s, 0.3622 rad/s").next().is_some(), "radians: 0.3622 rad/s");
+    assert!(h.query_all_by_label_contains("°/s").next().is_none(), "no °/s left in radians");
+}

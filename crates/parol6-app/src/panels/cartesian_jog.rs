@@ -276,10 +276,11 @@ impl Panel for CartesianJogPanel {
                 ctx.settings.cartesian_jog_fraction = (pct / 100.0).clamp(0.01, 1.0);
             }
             let f = ctx.settings.cartesian_jog_fraction;
+            // the turning speed in the chosen angle unit (it stayed in °/s in radians)
             ui.label(format!(
-                "{:.1} mm/s, {:.1} °/s",
+                "{:.1} mm/s, {}/s",
                 jog_speed(CartesianAxis::X, f) * 1000.0,
-                jog_speed(CartesianAxis::Rx, f).to_degrees()
+                ctx.settings.unit.fmt(jog_speed(CartesianAxis::Rx, f))
             ));
         });
         ui.horizontal(|ui| {

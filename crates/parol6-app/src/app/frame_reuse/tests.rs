@@ -244,11 +244,13 @@ fn after_a_wave_the_frame_shows_and_hits_what_a_full_frame_does() {
     }
     // the same panels, drawn from the shapes the wave kept; the view's own drawn anew. Some
     // panels show live values (the nearest limit), laid out a few frames apart here: so each
-    // shape's kind, clip rectangle and place, not its text or its length
+    // shape's kind, clip rectangle and place, not its text or its length; a shape clipped to
+    // nothing (below the left panel's fold) draws nothing, wherever it sits in the list
     let outside = |o: &egui::FullOutput| -> Vec<String> {
         o.shapes
             .iter()
             .filter(|s| !central.expand(0.5).contains_rect(s.clip_rect))
+            .filter(|s| s.clip_rect.is_positive())
             .map(|s| {
                 let place = match &s.shape {
                     Shape::Text(t) => format!("text at {:?}", t.pos),

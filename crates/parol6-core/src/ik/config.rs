@@ -68,12 +68,15 @@ impl ConfigRule {
     /// True when `sol` is in a configuration this rule allows (a solution on the wrist border
     /// is in both wrist configurations).
     pub fn admits(&self, sol: &IkSolution) -> bool {
-        let Some(b) = sol.branch else {
-            return true;
-        };
+        sol.branch.is_none_or(|b| self.admits_branch(b, &sol.joints_rad))
+    }
+
+    /// True when joints `q` in branch `b` are in a configuration this rule allows
+    /// ([`ConfigRule::admits`]).
+    fn admits_branch(&self, b: Branch, q: &[f64]) -> bool {
         self.shoulder.is_none_or(|s| s == b.shoulder)
             && self.elbow.is_none_or(|e| e == b.elbow)
-            && (self.wrist.is_none_or(|w| w == b.wrist) || on_wrist_border(&sol.joints_rad))
+            && (self.wrist.is_none_or(|w| w == b.wrist) || on_wrist_border(q))
     }
 
     /// This rule with its free parts fixed by the solution `sol` where it is off their border
@@ -246,8 +249,10 @@ pub fn solve_nearest(
         return super::solve_numeric(model, target, seed, &NumericIkOptions::default());
     }
     let only = rule.branch();
-    let first_error = match super::solve_parol6_in(model, target, seed, only) {
-        Ok(sols) => match sols.into_iter().find(|s| rule.admits(s)) {
+    let first_error = match super::closed_form::nearest_parol6_in(model, target, seed, only, |b, q| {
+        rule.admits_branch(b, q)
+    }) {
+        Ok(found) => match found {
             Some(best) => return Ok(best),
             None => IkError::NoSolutionWithinLimits {
                 branches: 0,

@@ -249,20 +249,19 @@ pub fn solve_nearest(
         return super::solve_numeric(model, target, seed, &NumericIkOptions::default());
     }
     let only = rule.branch();
-    let first_error = match super::closed_form::nearest_parol6_in(model, target, seed, only, |b, q| {
-        rule.admits_branch(b, q)
-    }) {
-        Ok(found) => match found {
-            Some(best) => return Ok(best),
-            None => IkError::NoSolutionWithinLimits {
-                branches: 0,
-                detail: format!("no solution in configuration {rule} lies within the limits"),
+    let first_error =
+        match super::closed_form::nearest_parol6_in(model, target, seed, only, |b, q| rule.admits_branch(b, q)) {
+            Ok(found) => match found {
+                Some(best) => return Ok(best),
+                None => IkError::NoSolutionWithinLimits {
+                    branches: 0,
+                    detail: format!("no solution in configuration {rule} lies within the limits"),
+                },
             },
-        },
-        Err(e @ (IkError::InvalidInput(_) | IkError::NotParol6)) => return Err(e),
-        Err(e) if rule == ConfigRule::ANY => return Err(e),
-        Err(e) => e,
-    };
+            Err(e @ (IkError::InvalidInput(_) | IkError::NotParol6)) => return Err(e),
+            Err(e) if rule == ConfigRule::ANY => return Err(e),
+            Err(e) => e,
+        };
     // say which configurations would reach it
     let all = super::solve_parol6(model, target, seed).unwrap_or_default();
     let mut reachable: Vec<String> = all.iter().filter_map(|s| s.branch.map(|b| b.label())).collect();

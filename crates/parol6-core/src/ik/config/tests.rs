@@ -230,7 +230,12 @@ proptest! {
 
 /// [`solve_nearest`] as it was before it stopped building the list: the closed form's whole
 /// list (sorted nearest the seed first), then the first solution the rule admits.
-fn nearest_from_the_list(m: &RobotModel, target: &Isometry3<f64>, seed: &[f64], rule: ConfigRule) -> Option<IkSolution> {
+fn nearest_from_the_list(
+    m: &RobotModel,
+    target: &Isometry3<f64>,
+    seed: &[f64],
+    rule: ConfigRule,
+) -> Option<IkSolution> {
     let sols = super::super::solve_parol6_in(m, target, seed, rule.branch()).ok()?;
     sols.into_iter().find(|s| rule.admits(s))
 }

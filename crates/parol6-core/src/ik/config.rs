@@ -194,9 +194,11 @@ thread_local! {
 /// [`SAME_JOINTS_RAD`]; the two elbows meet at full stretch and full fold, so the other
 /// elbow of a match is solved too, and if it matches as well, all eight are solved.
 fn configuration_by_one(model: &RobotModel, pose: &Isometry3<f64>, q: &[f64]) -> Option<Option<Branch>> {
+    // the nearest solution of the branch, when it reproduces `q` (what the sorted list's first
+    // entry was), without building the list
     let matching = |branch: Branch| -> Option<Branch> {
-        let sols = super::solve_parol6_in(model, pose, q, Some(branch)).ok()?;
-        sols.into_iter().find(|s| s.distance_to_seed < SAME_JOINTS_RAD).and_then(|s| s.branch)
+        let nearest = super::closed_form::nearest_parol6_in(model, pose, q, Some(branch), |_, _| true).ok()??;
+        (nearest.distance_to_seed < SAME_JOINTS_RAD).then_some(nearest.branch).flatten()
     };
     let wrist_of_q = if q.get(4).is_some_and(|q5| *q5 < 0.0) { WristBranch::Flip } else { WristBranch::NoFlip };
     let mut tries: Vec<Branch> = Vec::with_capacity(9);

@@ -98,6 +98,20 @@ pub enum BenchTarget {
         #[arg(long, value_name = "OUT.gcode", value_parser = super::options::output_file)]
         keep: Option<std::path::PathBuf>,
     },
+    /// `parol6 program check` of the generated G-code raster `program-load` opens, without the
+    /// window: reading, planning, pre-flight walk and torque pass, `--repeats` times
+    /// (`check_s_median`; ≤ 5 s for 200 000 lines on a quiet 2-core host).
+    ProgramCheck {
+        /// Lines of the file, 10–1 000 000.
+        #[arg(long, default_value_t = 200_000, value_parser = clap::value_parser!(u64).range(10..=1_000_000))]
+        lines: u64,
+        /// Round the corners between lines with this radius, mm (`G64 P…`; default: exact stops).
+        #[arg(long, value_parser = f64_above(0.0, 100.0))]
+        blend_mm: Option<f64>,
+        /// Timed checks, 1–100.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
+        repeats: u64,
+    },
     /// The window (headless) driven through a user's actions on a `--steps`-step program and a
     /// `--minutes` recording: the longest frame during each action (`actions[].frame_ms_max`)
     /// and the actions over 50 ms (`over_50ms`).
@@ -140,6 +154,7 @@ impl BenchTarget {
             Self::Motion { .. } => "motion",
             Self::Replay { .. } => "replay",
             Self::ProgramLoad { .. } => "program-load",
+            Self::ProgramCheck { .. } => "program-check",
             Self::UiActions { .. } => "ui-actions",
         }
     }
@@ -174,6 +189,9 @@ pub fn run(args: &BenchArgs, robot: &RobotArgs) -> CliResult {
                 rate_hz: *rate,
                 size: super::render::parse_size(size)?,
             })
+        }
+        BenchTarget::ProgramCheck { lines, blend_mm, repeats } => {
+            super::bench_program::bench_program_check(count(*lines)?, *blend_mm, count(*repeats)?)
         }
         BenchTarget::ProgramLoad { lines, blend_mm, size, keep } => super::bench_program::bench_program_load(
             count(*lines)?,

@@ -5,11 +5,16 @@
 //! output with `G64` does). Reports the longest frame while loading (`frame_ms_max`, the app's
 //! own part `app_ms_max`), the frames over 50 ms, and the time until the pre-flight result is
 //! shown (`checked_in_s`).
+//!
+//! `parol6 bench program-check`: the same file through `parol6 program check` without the
+//! window (`check_s_median`).
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde_json::json;
+
+use parol6_core::program::check::{CheckOptions, CheckedProgram, check_program};
 
 use super::{CliError, CliResult, print_json};
 use crate::ui_screenshot::HeadlessApp;
@@ -69,6 +74,62 @@ pub fn bench_program_load(
         eprintln!("warning: cannot remove {}: {e}", path.display());
     }
     print_json(&result?)
+}
+
+/// The check of a 200 000-line raster must take at most this, s (issue 33).
+const CHECK_LIMIT_S: f64 = 5.0;
+
+/// Runs `parol6 bench program-check`: the generated raster read and checked from the home
+/// pose as `parol6 program check FILE` does it, `repeats` times.
+pub fn bench_program_check(lines: usize, blend_mm: Option<f64>, repeats: usize) -> CliResult {
+    let path = std::env::temp_dir().join(format!("parol6-bench-check-{}.gcode", std::process::id()));
+    write_raster_gcode(&path, lines, blend_mm)?;
+    let result = time_checks(&path, repeats);
+    if let Err(e) = std::fs::remove_file(&path) {
+        eprintln!("warning: cannot remove {}: {e}", path.display());
+    }
+    let (times_s, report) = result?;
+    let mut sorted = times_s.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median_s = parol6_core::stats::percentile(&sorted, 0.5);
+    print_json(&json!({
+        "target": "program-check",
+        "lines": lines,
+        "blend_mm": blend_mm,
+        "steps": report.moves,
+        "ok": report.ok,
+        "issues": report.issues.len(),
+        "program_duration_s": report.duration_s,
+        "repeats": repeats,
+        "check_s": times_s,
+        "check_s_median": median_s,
+        "check_s_min": sorted.first(),
+        "limit_s": CHECK_LIMIT_S,
+        "within_limit": median_s.is_some_and(|m| m <= CHECK_LIMIT_S),
+        "load_average": load_average(),
+    }))
+}
+
+/// Wall times of `repeats` reads and checks of `path`, s, and the last report.
+fn time_checks(path: &Path, repeats: usize) -> Result<(Vec<f64>, CheckedProgram), CliError> {
+    let model = parol6_core::RobotModel::parol6();
+    let start = parol6_core::motion::home_position(&model);
+    let mut times_s = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats {
+        let t0 = Instant::now();
+        let program = super::program::load(path, &model, &start)?;
+        let report = check_program(&model, &program, &start, CheckOptions::default());
+        times_s.push(t0.elapsed().as_secs_f64());
+        last = Some(report);
+    }
+    last.map(|r| (times_s, r)).ok_or_else(|| CliError::usage("at least one repeat"))
+}
+
+/// The host's 1-minute load average (Linux), for reading the times.
+fn load_average() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    text.split_whitespace().next()?.parse().ok()
 }
 
 fn measure(path: &Path, lines: usize, blend_mm: Option<f64>, size: (u32, u32)) -> Result<serde_json::Value, CliError> {

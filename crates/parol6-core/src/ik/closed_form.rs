@@ -84,6 +84,71 @@ pub fn solve_parol6_in(
     seed: &[f64],
     only: Option<Branch>,
 ) -> Result<Vec<IkSolution>, IkError> {
+    let found = solutions_in(model, target, seed, only)?;
+    let mut out: Vec<IkSolution> = found.iter().map(Found::solution).collect();
+    out.sort_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed));
+    Ok(out)
+}
+
+/// The solution [`solve_parol6_in`] would list first among those `admits` takes (`None` when
+/// it takes none), without building the list: the Cartesian planner asks this once per sample.
+pub(crate) fn nearest_parol6_in(
+    model: &RobotModel,
+    target: &Isometry3<f64>,
+    seed: &[f64],
+    only: Option<Branch>,
+    admits: impl Fn(Branch, &[f64]) -> bool,
+) -> Result<Option<IkSolution>, IkError> {
+    let found = solutions_in(model, target, seed, only)?;
+    // the first of the least distance: what a stable sort by distance puts first
+    let mut best: Option<&Found> = None;
+    for f in found.iter().filter(|f| admits(f.branch, &f.joints_rad)) {
+        if best.is_none_or(|b| f.distance_to_seed.total_cmp(&b.distance_to_seed).is_lt()) {
+            best = Some(f);
+        }
+    }
+    Ok(best.map(Found::solution))
+}
+
+/// A solution within the limits, before it becomes an [`IkSolution`] (on the stack).
+#[derive(Debug, Clone, Copy)]
+struct Found {
+    joints_rad: [f64; 6],
+    branch: Branch,
+    distance_to_seed: f64,
+    singular: bool,
+}
+
+impl Found {
+    fn solution(&self) -> IkSolution {
+        IkSolution {
+            joints_rad: self.joints_rad.to_vec(),
+            branch: Some(self.branch),
+            distance_to_seed: self.distance_to_seed,
+            singular: self.singular,
+        }
+    }
+}
+
+/// Every branch (or only `only`) within the limits that reaches `target`, in the order the
+/// branches are solved (at most eight, on the stack).
+struct FoundList {
+    items: [Option<Found>; 8],
+}
+
+impl FoundList {
+    fn iter(&self) -> impl Iterator<Item = &Found> {
+        self.items.iter().flatten()
+    }
+}
+
+/// The closed form's solutions within the limits ([`solve_parol6_in`], unsorted).
+fn solutions_in(
+    model: &RobotModel,
+    target: &Isometry3<f64>,
+    seed: &[f64],
+    only: Option<Branch>,
+) -> Result<FoundList, IkError> {
     check_input(model, target, seed)?;
     if !model.is_parol6 {
         return Err(IkError::NotParol6);
@@ -189,7 +254,8 @@ pub fn solve_parol6_in(
         return Err(IkError::Unreachable(reach_detail));
     }
     let branches_reaching = raw_len;
-    let mut out = Vec::with_capacity(raw_len);
+    let mut out = FoundList { items: [None; 8] };
+    let mut out_len = 0;
     let mut first_violation = String::new();
     for (q, branch, singular, allowed_error_m) in raw.into_iter().flatten() {
         let mut wrapped = [0.0; 6];
@@ -218,11 +284,13 @@ pub fn solve_parol6_in(
             continue;
         }
         let distance_to_seed = wrapped.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-        out.push(IkSolution { joints_rad: wrapped.to_vec(), branch: Some(branch), distance_to_seed, singular });
+        if let Some(slot) = out.items.get_mut(out_len) {
+            *slot = Some(Found { joints_rad: wrapped, branch, distance_to_seed, singular });
+            out_len += 1;
+        }
     }
-    if out.is_empty() {
+    if out_len == 0 {
         return Err(IkError::NoSolutionWithinLimits { branches: branches_reaching, detail: first_violation });
     }
-    out.sort_by(|a, b| a.distance_to_seed.total_cmp(&b.distance_to_seed));
     Ok(out)
 }

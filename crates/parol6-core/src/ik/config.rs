@@ -68,12 +68,15 @@ impl ConfigRule {
     /// True when `sol` is in a configuration this rule allows (a solution on the wrist border
     /// is in both wrist configurations).
     pub fn admits(&self, sol: &IkSolution) -> bool {
-        let Some(b) = sol.branch else {
-            return true;
-        };
+        sol.branch.is_none_or(|b| self.admits_branch(b, &sol.joints_rad))
+    }
+
+    /// True when joints `q` in branch `b` are in a configuration this rule allows
+    /// ([`ConfigRule::admits`]).
+    fn admits_branch(&self, b: Branch, q: &[f64]) -> bool {
         self.shoulder.is_none_or(|s| s == b.shoulder)
             && self.elbow.is_none_or(|e| e == b.elbow)
-            && (self.wrist.is_none_or(|w| w == b.wrist) || on_wrist_border(&sol.joints_rad))
+            && (self.wrist.is_none_or(|w| w == b.wrist) || on_wrist_border(q))
     }
 
     /// This rule with its free parts fixed by the solution `sol` where it is off their border
@@ -191,9 +194,11 @@ thread_local! {
 /// [`SAME_JOINTS_RAD`]; the two elbows meet at full stretch and full fold, so the other
 /// elbow of a match is solved too, and if it matches as well, all eight are solved.
 fn configuration_by_one(model: &RobotModel, pose: &Isometry3<f64>, q: &[f64]) -> Option<Option<Branch>> {
+    // the nearest solution of the branch, when it reproduces `q` (what the sorted list's first
+    // entry was), without building the list
     let matching = |branch: Branch| -> Option<Branch> {
-        let sols = super::solve_parol6_in(model, pose, q, Some(branch)).ok()?;
-        sols.into_iter().find(|s| s.distance_to_seed < SAME_JOINTS_RAD).and_then(|s| s.branch)
+        let nearest = super::closed_form::nearest_parol6_in(model, pose, q, Some(branch), |_, _| true).ok()??;
+        (nearest.distance_to_seed < SAME_JOINTS_RAD).then_some(nearest.branch).flatten()
     };
     let wrist_of_q = if q.get(4).is_some_and(|q5| *q5 < 0.0) { WristBranch::Flip } else { WristBranch::NoFlip };
     let mut tries: Vec<Branch> = Vec::with_capacity(9);
@@ -246,18 +251,19 @@ pub fn solve_nearest(
         return super::solve_numeric(model, target, seed, &NumericIkOptions::default());
     }
     let only = rule.branch();
-    let first_error = match super::solve_parol6_in(model, target, seed, only) {
-        Ok(sols) => match sols.into_iter().find(|s| rule.admits(s)) {
-            Some(best) => return Ok(best),
-            None => IkError::NoSolutionWithinLimits {
-                branches: 0,
-                detail: format!("no solution in configuration {rule} lies within the limits"),
+    let first_error =
+        match super::closed_form::nearest_parol6_in(model, target, seed, only, |b, q| rule.admits_branch(b, q)) {
+            Ok(found) => match found {
+                Some(best) => return Ok(best),
+                None => IkError::NoSolutionWithinLimits {
+                    branches: 0,
+                    detail: format!("no solution in configuration {rule} lies within the limits"),
+                },
             },
-        },
-        Err(e @ (IkError::InvalidInput(_) | IkError::NotParol6)) => return Err(e),
-        Err(e) if rule == ConfigRule::ANY => return Err(e),
-        Err(e) => e,
-    };
+            Err(e @ (IkError::InvalidInput(_) | IkError::NotParol6)) => return Err(e),
+            Err(e) if rule == ConfigRule::ANY => return Err(e),
+            Err(e) => e,
+        };
     // say which configurations would reach it
     let all = super::solve_parol6(model, target, seed).unwrap_or_default();
     let mut reachable: Vec<String> = all.iter().filter_map(|s| s.branch.map(|b| b.label())).collect();

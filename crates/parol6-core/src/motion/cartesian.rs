@@ -91,6 +91,9 @@ pub struct CartesianMove {
     /// border keeps the wrist it leaves the border in), `None` for numeric IK or a move that
     /// stays on the border.
     pub branch: Option<Branch>,
+    /// The configuration rule of the start joints ([`ConfigRule::of_start`]), which the move
+    /// keeps: a caller that needs the configuration of those joints reuses it.
+    pub start_rule: ConfigRule,
 }
 
 /// The most samples one Cartesian move may plan to (1 000 s at 1 kHz): a bound on memory and
@@ -195,7 +198,11 @@ pub fn plan(
         if worst <= 1.0 + 1e-9 {
             check_continuity(&samples, joint, dt_s)?;
             let branch = rule.branch();
-            return Ok(CartesianMove { trajectory: Arc::new(SampledTrajectory::new(dt_s, samples)), branch });
+            return Ok(CartesianMove {
+                trajectory: Arc::new(SampledTrajectory::new(dt_s, samples)),
+                branch,
+                start_rule,
+            });
         }
         stretch *= worst * 1.02;
     }

@@ -359,26 +359,39 @@ fn tcp_of(model: &RobotModel, q: &[f64]) -> PoseMm {
 }
 
 /// The plan's steps with their configuration and TCP poses at both ends.
+///
+/// A step's configuration is that of its end joints, which are where the next step starts: a
+/// Cartesian next step worked it out while planning ([`CompiledStep::start_config`]), and a
+/// step that does not move ends where the step before did; only the rest are solved here.
 fn planned_steps(model: &RobotModel, start_q: &[f64], compiled: &[CompiledStep]) -> Vec<PlannedStep> {
     let mut from = start_q;
     let mut from_tcp = tcp_of(model, start_q);
+    // the configuration of `from`, once known
+    let mut from_config: Option<ConfigRule> = compiled.first().and_then(|c| c.start_config);
     compiled
         .iter()
-        .map(|c| {
-            let end_tcp = if c.end_q == from { from_tcp } else { PoseMm::from_isometry(&model.tcp_isometry(&c.end_q)) };
-            let config = model.is_parol6.then(|| ConfigRule::of_start(model, &c.end_q).to_string());
+        .enumerate()
+        .map(|(i, c)| {
+            let still = c.end_q == from;
+            let end_tcp = if still { from_tcp } else { PoseMm::from_isometry(&model.tcp_isometry(&c.end_q)) };
+            let end_config = model.is_parol6.then(|| {
+                let next = compiled.get(i + 1).and_then(|next| next.start_config);
+                let known = if still { from_config.or(next) } else { next };
+                known.unwrap_or_else(|| ConfigRule::of_start(model, &c.end_q))
+            });
             let step = PlannedStep {
                 index: c.steps.start,
                 steps: c.steps.len(),
                 line: c.line,
                 kind: c.kind,
-                config,
+                config: end_config.map(|r| r.to_string()),
                 start_tcp: from_tcp,
                 end_tcp,
                 duration_s: c.duration_s(),
             };
             from = &c.end_q;
             from_tcp = end_tcp;
+            from_config = end_config;
             step
         })
         .collect()

@@ -76,6 +76,19 @@ pub struct CompiledStep {
     /// What was changed to make the step feasible (a time too short or a speed too high for
     /// the caps, stretched to the fastest the caps allow), in words naming both values.
     pub warnings: Vec<String>,
+    /// The configuration rule of the joints it starts from ([`ConfigRule::of_start`]) where its
+    /// planning worked it out (a Cartesian move keeps it; `None` for the other steps): the
+    /// configuration the step before ends in, without solving it again.
+    pub start_config: Option<ConfigRule>,
+}
+
+/// What compiling one step noted beside its action.
+#[derive(Debug, Default)]
+struct StepNotes {
+    /// [`CompiledStep::warnings`].
+    warnings: Vec<String>,
+    /// [`CompiledStep::start_config`].
+    start_config: Option<ConfigRule>,
 }
 
 impl CompiledStep {
@@ -164,13 +177,13 @@ pub fn compile_observed(
     while i < program.steps.len() {
         let (first, line) = (&program.steps[i].step, program.steps[i].line);
         let blend_end = blended_chain_end(program, i);
-        let mut warnings = Vec::new();
+        let mut notes = StepNotes::default();
         let (action, covers) = if blend_end > i {
-            let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut warnings)
+            let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut notes)
                 .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
-            let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut warnings)
+            let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut notes)
                 .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
             (action, i..i + 1)
         };
@@ -190,7 +203,15 @@ pub fn compile_observed(
                 }));
             }
         }
-        let step = CompiledStep { steps: covers.clone(), line, kind: first.kind(), action, end_q: q.clone(), warnings };
+        let step = CompiledStep {
+            steps: covers.clone(),
+            line,
+            kind: first.kind(),
+            action,
+            end_q: q.clone(),
+            warnings: notes.warnings,
+            start_config: notes.start_config,
+        };
         if !observe(&step) {
             return Err(CompileStop::Cancelled);
         }
@@ -233,7 +254,7 @@ fn compile_one(
     q: &[f64],
     caps: &MotionCaps,
     opts: CompileOptions,
-    warnings: &mut Vec<String>,
+    notes: &mut StepNotes,
 ) -> Result<StepAction, StepError> {
     let joint_fraction = |f: Option<f64>| -> Result<f64, String> {
         let f = f.unwrap_or(speed.joint_fraction);
@@ -257,7 +278,7 @@ fn compile_one(
             let goal: Vec<f64> = joints_deg.iter().map(|d| d.to_radians()).collect();
             model.limits.check(&goal).map_err(|e| e.to_string())?;
             match duration_s {
-                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, warnings)?,
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, &mut notes.warnings)?,
                 None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
             }
         }
@@ -269,7 +290,7 @@ fn compile_one(
                 .joints_rad;
             model.limits.check(&goal).map_err(|e| e.to_string())?;
             match duration_s {
-                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, warnings)?,
+                Some(d) => timed::joint_move_in(q, &goal, caps, *d, opts, &mut notes.warnings)?,
                 None => joint_move(q, &goal, caps, joint_fraction(*speed_fraction)?, opts.dt_s)?,
             }
         }
@@ -279,8 +300,8 @@ fn compile_one(
                 Some(_) if blend_mm.is_some_and(|b| b > 0.0) => {
                     return Err("a line with duration_s cannot blend into the next one (blend_mm)".to_string().into());
                 }
-                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, warnings)?,
-                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?,
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, notes)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, notes)?,
             }
         }
         Step::MoveRelTool { offset_mm, rotation_deg, speed_mm_s, duration_s } => {
@@ -290,19 +311,19 @@ fn compile_one(
             }
             let path = TcpPath::line(&from, &timed::tool_frame_goal(&from, offset_mm, rotation_deg));
             match duration_s {
-                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, warnings)?,
-                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?,
+                Some(d) => timed::cartesian_move_in(model, q, &path, speed, *d, caps, opts, notes)?,
+                None => cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, notes)?,
             }
         }
         Step::TimeFunction { sample_rate_hz, pieces } => {
             let function = super::timefn::TimeFunction::new(pieces, *sample_rate_hz).map_err(|e| e.to_string())?;
             let points = function.sample(&from).map_err(|e| e.to_string())?;
-            timed::follow(model, q, &points, caps, opts)?
+            timed::follow(model, q, &points, caps, opts, notes)?
         }
         Step::MoveC { via_mm, pose, speed_mm_s } => {
             let via = Point3::from(checked_mm(via_mm, "via_mm")?);
             let path = TcpPath::arc_through(&from, &via, &checked_pose(pose)?).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, notes)?
         }
         Step::MoveCircle { center_mm, normal, angle_deg, speed_mm_s } => {
             let center = Point3::from(checked_mm(center_mm, "center_mm")?);
@@ -311,7 +332,7 @@ fn compile_one(
                 return Err(format!("angle_deg must be a number, got {angle_deg}").into());
             }
             let path = TcpPath::arc_about(&from, &center, &n, angle_deg.to_radians()).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, notes)?
         }
         Step::Spline { waypoints, speed_mm_s } => {
             let mut pts = vec![from];
@@ -319,7 +340,7 @@ fn compile_one(
                 pts.push(checked_pose(w)?);
             }
             let path = TcpPath::spline(&pts).map_err(|e| e.to_string())?;
-            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, warnings)?
+            cartesian_move(model, q, &path, speed, *speed_mm_s, caps, opts, notes)?
         }
         Step::Dwell { seconds } => StepAction::Dwell(checked_wait(*seconds, "seconds")?),
         Step::Gripper { action, position, speed, current_ma } => {
@@ -360,7 +381,7 @@ fn compile_blended(
     q: &[f64],
     caps: &MotionCaps,
     opts: CompileOptions,
-    warnings: &mut Vec<String>,
+    notes: &mut StepNotes,
 ) -> Result<Arc<SampledTrajectory>, StepError> {
     let mut pts = vec![model.tcp_isometry(q)];
     let (mut radius_mm, mut speed_mm_s) = (f64::INFINITY, f64::INFINITY);
@@ -377,7 +398,7 @@ fn compile_blended(
         return Err(StepError::Message("blend_mm must be a finite number".into()));
     }
     let path = TcpPath::blended_polyline(&pts, radius_mm / 1000.0).map_err(|e| StepError::Message(e.to_string()))?;
-    match cartesian_move(model, q, &path, &program.speed, Some(speed_mm_s), caps, opts, warnings)? {
+    match cartesian_move(model, q, &path, &program.speed, Some(speed_mm_s), caps, opts, notes)? {
         StepAction::Motion(t) => Ok(t),
         _ => Err(StepError::Message("a blended path gave no motion".into())),
     }
@@ -409,7 +430,7 @@ fn cartesian_move(
     speed_mm_s: Option<f64>,
     caps: &MotionCaps,
     opts: CompileOptions,
-    warnings: &mut Vec<String>,
+    notes: &mut StepNotes,
 ) -> Result<StepAction, StepError> {
     let asked = speed_mm_s.unwrap_or(speed.tcp_speed_mm_s);
     if !(asked.is_finite() && asked >= MIN_TCP_SPEED_MM_S) {
@@ -420,7 +441,7 @@ fn cartesian_move(
     // faster than the arm can go: as fast as it can, and said so (official programs run)
     let v = asked.min(MAX_TCP_SPEED_MM_S);
     if asked > MAX_TCP_SPEED_MM_S {
-        warnings.push(format!(
+        notes.warnings.push(format!(
             "speed {asked} mm/s is above the PAROL6's {MAX_TCP_SPEED_MM_S} mm/s: the move runs at \
              {MAX_TCP_SPEED_MM_S} mm/s"
         ));
@@ -439,6 +460,7 @@ fn cartesian_move(
     };
     let mv =
         cartesian::plan(model, q, path, &tcp, caps, opts.speed_override, opts.dt_s).map_err(StepError::Cartesian)?;
+    notes.start_config = Some(mv.start_rule);
     Ok(StepAction::Motion(mv.trajectory))
 }
 

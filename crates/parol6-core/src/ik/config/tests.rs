@@ -227,3 +227,64 @@ proptest! {
         prop_assert_eq!(configuration_of(&m, &q), configuration_of_all_eight(&m, &q));
     }
 }
+
+/// [`solve_nearest`] as it was before it stopped building the list: the closed form's whole
+/// list (sorted nearest the seed first), then the first solution the rule admits.
+fn nearest_from_the_list(
+    m: &RobotModel,
+    target: &Isometry3<f64>,
+    seed: &[f64],
+    rule: ConfigRule,
+) -> Option<IkSolution> {
+    let sols = super::super::solve_parol6_in(m, target, seed, rule.branch()).ok()?;
+    sols.into_iter().find(|s| rule.admits(s))
+}
+
+/// Every rule: any configuration, each of the eight, each with the wrist left free.
+fn every_rule() -> Vec<ConfigRule> {
+    let mut rules = vec![ConfigRule::ANY];
+    for shoulder in [ShoulderBranch::Front, ShoulderBranch::Back] {
+        for elbow in [ElbowBranch::Up, ElbowBranch::Down] {
+            for wrist in [WristBranch::NoFlip, WristBranch::Flip] {
+                let rule = ConfigRule::exactly(Branch { shoulder, elbow, wrist });
+                rules.push(rule);
+                rules.push(ConfigRule { wrist: None, ..rule });
+            }
+        }
+    }
+    rules
+}
+
+/// The same solution, bit for bit, as the list gave (or none where it gave none), for `q`'s
+/// pose from seeds at `q`, near it and at `other`.
+fn assert_nearest_as_from_the_list(m: &RobotModel, q: &[f64], other: &[f64]) {
+    let target = m.tcp_isometry(q);
+    let near: Vec<f64> = q.iter().enumerate().map(|(i, v)| v + 0.01 * (i as f64 - 2.5)).collect();
+    for seed in [q, near.as_slice(), other] {
+        for rule in every_rule() {
+            let fast = solve_nearest(m, &target, seed, rule).ok();
+            assert_eq!(fast, nearest_from_the_list(m, &target, seed, rule), "{q:?} from {seed:?} in {rule}");
+        }
+    }
+}
+
+/// On the borders between configurations (ties and singular branches included).
+#[test]
+fn solve_nearest_picks_what_the_sorted_list_gave_on_the_borders() {
+    let m = RobotModel::parol6();
+    let joints = border_joints();
+    for q in &joints {
+        for other in &joints {
+            assert_nearest_as_from_the_list(&m, q, other);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// Anywhere within the limits.
+    #[test]
+    fn solve_nearest_picks_what_the_sorted_list_gave(q in in_limits(), other in in_limits()) {
+        assert_nearest_as_from_the_list(&RobotModel::parol6(), &q, &other);
+    }
+}

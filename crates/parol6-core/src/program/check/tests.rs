@@ -243,3 +243,53 @@ fn the_torque_pass_beside_the_compile_finds_the_same_warnings_as_after_it() {
     assert_eq!(beside.len(), r.torque_warnings);
     assert_eq!(beside, after);
 }
+
+/// A G-code raster like `parol6 bench program-load`'s: exact stops (`G61`) or corners rounded
+/// with `G64 P…`, a joint move to its start first.
+fn raster_gcode(lines: usize, blend_mm: Option<f64>) -> Program {
+    let mut text = String::from("G21 G90\nG0 X0 Y220 Z250 A90 B0 C90\n");
+    text.push_str(&blend_mm.map_or("G61\n".to_string(), |b| format!("G64 P{b}\n")));
+    text.push_str("G1 F6000\nG4 P100\n");
+    let (mut x, mut y, mut dir) = (0.0f64, 220.0f64, 1.0f64);
+    for _ in 0..lines {
+        x += dir * 0.2;
+        if x.abs() >= 2.0 {
+            dir = -dir;
+            y += 0.5;
+        }
+        text.push_str(&format!("G1 X{x:.3} Y{y:.3}\n"));
+    }
+    text.push_str("G4 P100\nG0 X100 Y200 Z200\nM30\n");
+    let home = tcp_of(&RobotModel::parol6(), &standby());
+    let opts = crate::program::gcode::GcodeImportOptions::new(home, home);
+    crate::program::gcode::parse_gcode(&text, &opts).expect("the raster parses")
+}
+
+/// The plan's configurations reuse what the compile worked out (a Cartesian step's
+/// `start_config`, the start of a step that does not move) instead of solving them again: each
+/// is the configuration solved afresh from the step's end joints, as before, on the built-in
+/// programs and G-code rasters.
+#[test]
+fn the_plan_configurations_equal_those_solved_afresh() {
+    let model = RobotModel::parol6();
+    let mut programs = crate::program::builtin::programs(&model);
+    programs.push(raster_gcode(60, None));
+    programs.push(raster_gcode(60, Some(0.1)));
+    let mut reused = 0;
+    for p in &programs {
+        let checked = check_program(&model, p, &standby(), CheckOptions::default());
+        assert!(!checked.compiled.is_empty(), "{}: {:?}", p.name, checked.report.issues);
+        assert_eq!(checked.compiled.len(), checked.report.plan.len());
+        let mut from = standby();
+        for (c, planned) in checked.compiled.iter().zip(&checked.report.plan) {
+            if let Some(rule) = c.start_config {
+                assert_eq!(rule, ConfigRule::of_start(&model, &from), "{}: step {}", p.name, c.steps.start);
+                reused += 1;
+            }
+            let afresh = ConfigRule::of_start(&model, &c.end_q).to_string();
+            assert_eq!(planned.config.as_deref(), Some(afresh.as_str()), "{}: step {}", p.name, c.steps.start);
+            from.clone_from(&c.end_q);
+        }
+    }
+    assert!(reused >= 60, "the Cartesian steps carry their start configuration ({reused})");
+}

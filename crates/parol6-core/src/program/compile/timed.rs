@@ -121,7 +121,7 @@ pub(super) fn cartesian_move_in(
     duration_s: f64,
     caps: &MotionCaps,
     opts: super::CompileOptions,
-    warnings: &mut Vec<String>,
+    notes: &mut super::StepNotes,
 ) -> Result<StepAction, StepError> {
     let duration_s = checked_duration(duration_s)?;
     let fastest = match cartesian_move(
@@ -132,13 +132,13 @@ pub(super) fn cartesian_move_in(
         Some(MAX_TCP_SPEED_MM_S),
         caps,
         super::CompileOptions { speed_override: 1.0, ..opts },
-        warnings,
+        notes,
     )? {
         StepAction::Motion(t) => t,
         _ => return Err(StepError::Message("a Cartesian move gave no motion".into())),
     };
     let fastest_s = fastest.duration_s();
-    let duration_s = feasible_duration(fastest_s, duration_s, "TCP and joint caps", warnings);
+    let duration_s = feasible_duration(fastest_s, duration_s, "TCP and joint caps", &mut notes.warnings);
     let traj = stretch(&fastest, duration_s / opts.speed_override, opts.dt_s)?;
     Ok(StepAction::Motion(Arc::new(traj)))
 }
@@ -153,6 +153,7 @@ pub(super) fn follow(
     points: &[TimedPose],
     caps: &MotionCaps,
     opts: super::CompileOptions,
+    notes: &mut super::StepNotes,
 ) -> Result<StepAction, StepError> {
     let Some((_, first)) = points.first() else {
         return Err(StepError::Message("the time function has no points".into()));
@@ -186,6 +187,7 @@ pub(super) fn follow(
     }
     let n = n as usize;
     let mut rule = cartesian::start_branch(model, q);
+    notes.start_config = Some(rule);
     let mut samples = Vec::with_capacity(n + 1);
     samples.push(q.to_vec());
     let mut seed = q.to_vec();

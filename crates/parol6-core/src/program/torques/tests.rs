@@ -30,6 +30,7 @@ fn motion_step(dt_s: f64, q: Vec<Vec<f64>>) -> CompiledStep {
         action: StepAction::Motion(Arc::new(SampledTrajectory::new(dt_s, q))),
         end_q,
         warnings: Vec::new(),
+        start_config: None,
     }
 }
 
@@ -81,6 +82,7 @@ fn a_dwell_holds_gravity_and_extends_the_time_axis() {
         action: StepAction::Dwell(2.0),
         end_q: vec![0.0],
         warnings: Vec::new(),
+        start_config: None,
     };
     let out = program_torques(&model, &[dwell], &[0.0], Some(vec![1.0]));
     assert!((out.time_s.last().copied().unwrap_or(0.0) - 2.0).abs() < 1e-12);

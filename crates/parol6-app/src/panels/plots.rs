@@ -81,6 +81,15 @@ pub fn series_name(id: SeriesId) -> String {
     }
 }
 
+/// The name and colour of the backend the live rows come from after a switch mark.
+fn source_mark(robot: bool) -> (&'static str, egui::Color32) {
+    if robot {
+        ("robot from here", palette::rgb(palette::SOURCE_ROBOT))
+    } else {
+        ("simulation from here", palette::rgb(palette::SOURCE_SIM))
+    }
+}
+
 fn series_color(index: usize) -> egui::Color32 {
     palette::rgb(palette::PLOT_SERIES[index % palette::PLOT_SERIES.len()])
 }
@@ -104,6 +113,12 @@ pub struct PlotsPanel {
     /// Decimated lines kept while data and window stay the same.
     lines: DecimationCache,
     svg_pending: Option<std::path::PathBuf>,
+    /// Whose live view the live rows come from now (`Some(true)`: the robot's).
+    live_on_robot: Option<bool>,
+    /// Added to the active backend's times: its clock started elsewhere than the first one's.
+    live_shift_s: f64,
+    /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot).
+    switches: Vec<(f64, bool)>,
 }
 
 impl PlotsPanel {
@@ -120,6 +135,9 @@ impl PlotsPanel {
             visible_s: None,
             lines: DecimationCache::default(),
             svg_pending: None,
+            live_on_robot: None,
+            live_shift_s: 0.0,
+            switches: Vec::new(),
         }
     }
 
@@ -135,9 +153,31 @@ impl PlotsPanel {
             Quantity::ALL.into_iter().filter(|&o| if o == q { on } else { self.quantities.contains(&o) }).collect();
     }
 
-    /// Takes the new samples of the active backend's live view.
-    pub fn feed_live(&mut self, view: &LiveView) -> usize {
-        self.live.ingest_live(view)
+    /// Takes the new samples of the active backend's live view (`on_robot`: the robot's, else
+    /// the simulation's). A switch of backend keeps the history: the new backend's rows
+    /// continue it from the switch on (its clock shifted onto the plots' own), and the switch
+    /// is marked on every plot.
+    pub fn feed_live(&mut self, view: &LiveView, on_robot: bool) -> usize {
+        if self.live_on_robot != Some(on_robot) {
+            // a backend with no rows yet (a connection's first moments) waits for its first
+            let Some(latest) = view.latest_time_s() else { return 0 };
+            match (self.live_on_robot, self.live.time_range_s()) {
+                (Some(_), Some((_, last))) => {
+                    self.live_shift_s = last - latest;
+                    self.switches.push((last, on_robot));
+                }
+                _ => self.live_shift_s = 0.0,
+            }
+            self.live_on_robot = Some(on_robot);
+        }
+        self.live.ingest_live_shifted(view, self.live_shift_s)
+    }
+
+    /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot),
+    /// those still in the kept history.
+    pub fn switches(&self) -> Vec<(f64, bool)> {
+        let first = self.live.time_range_s().map_or(f64::INFINITY, |(first, _)| first);
+        self.switches.iter().copied().filter(|(t, _)| *t >= first).collect()
     }
 
     /// Shows the open recording (with its cursor, s) instead of the live data, or live again. A
@@ -309,6 +349,7 @@ impl Panel for PlotsPanel {
         let mut interacted = false;
         let mut seek = None;
         let cursor = self.replay.as_ref().map(|(_, c)| *c);
+        let switches = if self.replay.is_some() { Vec::new() } else { self.switches() };
         let id_lists: Vec<Vec<SeriesId>> = shown.iter().map(|q| self.selected(*q)).collect();
         egui::ScrollArea::vertical().id_salt("plots_scroll").auto_shrink([false, false]).show(ui, |ui| {
             for (k, (q, ids)) in shown.iter().zip(&id_lists).enumerate() {
@@ -363,6 +404,14 @@ impl Panel for PlotsPanel {
                     }
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
+                    }
+                    let top = pui.plot_bounds().max()[1];
+                    for &(t, robot) in switches.iter().filter(|(t, _)| (x0..=x1).contains(t)) {
+                        let (name, color) = source_mark(robot);
+                        pui.vline(VLine::new(name, t).color(color).width(1.5));
+                        let at = egui_plot::PlotPoint::new(t, top);
+                        let text = egui::RichText::new(format!(" {name}")).color(color).small();
+                        pui.text(egui_plot::Text::new(name, at, text).anchor(egui::Align2::LEFT_TOP));
                     }
                     let clicked_at = pui.response().clicked().then(|| pui.pointer_coordinate()).flatten();
                     let b = pui.plot_bounds();

@@ -119,7 +119,12 @@ pub struct PlotsPanel {
     live_shift_s: f64,
     /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot).
     switches: Vec<(f64, bool)>,
+    /// Width of the joint toggles' group last frame, points.
+    joint_toggles_width: Option<f32>,
 }
+
+/// The joint toggles' width before it is measured, points (six toggles take about 220).
+const JOINT_TOGGLES_GUESS_PT: f32 = 240.0;
 
 impl PlotsPanel {
     /// The panel for `joints` joints: the position of every joint.
@@ -138,6 +143,7 @@ impl PlotsPanel {
             live_on_robot: None,
             live_shift_s: 0.0,
             switches: Vec::new(),
+            joint_toggles_width: None,
         }
     }
 
@@ -261,11 +267,21 @@ impl PlotsPanel {
                 Some((q, false)) => self.show_only(q),
                 None => {}
             }
-            ui.separator();
-            for (i, on) in self.joints.iter_mut().enumerate() {
-                let text = egui::RichText::new(format!("J{}", i + 1)).color(series_color(i));
-                ui.toggle_value(on, text);
+            // the joint toggles wrap as one group: J1 never stays behind at the end of a row
+            // (its width is last frame's, or a generous guess on the first)
+            let group_width = self.joint_toggles_width.unwrap_or(JOINT_TOGGLES_GUESS_PT);
+            if ui.available_size_before_wrap().x < group_width + ui.spacing().item_spacing.x * 2.0 {
+                ui.end_row();
+            } else {
+                ui.separator();
             }
+            let group = ui.horizontal(|ui| {
+                for (i, on) in self.joints.iter_mut().enumerate() {
+                    let text = egui::RichText::new(format!("J{}", i + 1)).color(series_color(i));
+                    ui.toggle_value(on, text);
+                }
+            });
+            self.joint_toggles_width = Some(group.response.rect.width());
             ui.separator();
             let shown = WINDOWS_S.iter().find(|(s, _)| *s == self.window_s).map_or("?", |(_, l)| *l);
             egui::ComboBox::from_id_salt("plot_window").selected_text(shown).width(64.0).show_ui(ui, |ui| {

@@ -84,9 +84,9 @@ pub fn series_name(id: SeriesId) -> String {
 /// The name and colour of the backend the live rows come from after a switch mark.
 fn source_mark(robot: bool) -> (&'static str, egui::Color32) {
     if robot {
-        ("robot from here", palette::rgb(palette::SOURCE_ROBOT))
+        ("robot", palette::rgb(palette::SOURCE_ROBOT))
     } else {
-        ("simulation from here", palette::rgb(palette::SOURCE_SIM))
+        ("simulation", palette::rgb(palette::SOURCE_SIM))
     }
 }
 
@@ -421,13 +421,9 @@ impl Panel for PlotsPanel {
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
                     }
-                    let top = pui.plot_bounds().max()[1];
                     for &(t, robot) in switches.iter().filter(|(t, _)| (x0..=x1).contains(t)) {
                         let (name, color) = source_mark(robot);
                         pui.vline(VLine::new(name, t).color(color).width(1.5));
-                        let at = egui_plot::PlotPoint::new(t, top);
-                        let text = egui::RichText::new(format!(" {name}")).color(color).small();
-                        pui.text(egui_plot::Text::new(name, at, text).anchor(egui::Align2::LEFT_TOP));
                     }
                     let clicked_at = pui.response().clicked().then(|| pui.pointer_coordinate()).flatten();
                     let b = pui.plot_bounds();
@@ -437,6 +433,14 @@ impl Panel for PlotsPanel {
                     ((x0, x1), group, clicked_at.map(|p| p.x), hover)
                 });
                 let ((x0, x1), group, clicked_at, hover) = resp.inner;
+                // the switches' names over the plot (a text item would widen its auto bounds)
+                let frame = *resp.transform.frame();
+                for &(t, robot) in switches.iter().filter(|(t, _)| (x0..=x1).contains(t)) {
+                    let (name, color) = source_mark(robot);
+                    let at = egui::pos2(resp.transform.position_from_point_x(t) + 3.0, frame.top() + 1.0);
+                    let font = egui::TextStyle::Small.resolve(ui.style());
+                    ui.painter_at(frame).text(at, egui::Align2::LEFT_TOP, name, font, color);
+                }
                 if let (Some(text), Some(pointer)) = (hover, resp.response.hover_pos()) {
                     let id = ui.make_persistent_id(("plot_readout", k));
                     plot_axis::show_readout(ui.ctx(), id, pointer, resp.response.rect, text);

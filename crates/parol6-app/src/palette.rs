@@ -18,6 +18,14 @@ pub const fn rgb(c: [u8; 3]) -> egui::Color32 {
 /// Panel background (egui's dark theme panel colour); the window is cleared to it.
 pub const PANEL_BG: [u8; 3] = [27, 27, 27];
 
+/// The ring around the widget that has the keyboard (Tab): a saturated yellow no widget, text
+/// or alarm uses, 12:1 against [`PANEL_BG`].
+pub const FOCUS_RING: [u8; 3] = [255, 214, 10];
+/// Its line width, points (drawn outside the widget, [`FOCUS_RING_GAP_PT`] away from it).
+pub const FOCUS_RING_WIDTH_PT: f32 = 2.0;
+/// Gap between the widget and its focus ring, points.
+pub const FOCUS_RING_GAP_PT: f32 = 1.0;
+
 // ---------------------------------------------------------------------------------------------
 // Operator UI: text, badges, notices, LEDs that are not limit zones
 // ---------------------------------------------------------------------------------------------
@@ -198,6 +206,21 @@ pub fn hex(c: [u8; 3]) -> String {
 #[cfg(test)]
 mod view_colour_tests {
     use super::*;
+
+    /// WCAG 2 relative luminance of an sRGB colour.
+    fn luminance(c: [u8; 3]) -> f32 {
+        let [r, g, b] = linear_rgb(c);
+        0.2126 * r + 0.7152 * g + 0.0722 * b
+    }
+
+    /// Issue 32 minor: "The Tab focus highlight is nearly invisible". WCAG 2.2 asks 3:1 of a
+    /// focus indicator against what is beside it; the ring has far more.
+    #[test]
+    fn the_focus_ring_stands_out_of_the_panels() {
+        let ratio = (luminance(FOCUS_RING) + 0.05) / (luminance(PANEL_BG) + 0.05);
+        assert!(ratio > 7.0, "focus ring contrast {ratio:.1}:1");
+        const { assert!(FOCUS_RING_WIDTH_PT >= 2.0) };
+    }
 
     #[test]
     fn srgb_conversion_end_points_and_mid_grey() {

@@ -17,6 +17,28 @@ pub fn visuals() -> egui::Visuals {
     v
 }
 
+/// Draws a ring ([`crate::palette::FOCUS_RING`]) around the widget that has the keyboard (a
+/// button reached by Tab, a field being typed in), over everything, so that where Enter, Space
+/// and typing go is plain to see: egui's own hint is a 1-point grey outline. Called once per
+/// frame after the layout.
+pub fn paint_focus_ring(ctx: &egui::Context) {
+    use crate::palette::{FOCUS_RING, FOCUS_RING_GAP_PT, FOCUS_RING_WIDTH_PT};
+    let Some(id) = ctx.memory(|m| m.focused()) else { return };
+    let Some(widget) = ctx.read_response(id) else { return };
+    // the part of the widget that is on screen (a scrolled list cuts it)
+    let rect = widget.interact_rect;
+    if !rect.is_positive() {
+        return;
+    }
+    let layer = egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("parol6_focus_ring"));
+    ctx.layer_painter(layer).rect_stroke(
+        rect.expand(FOCUS_RING_GAP_PT),
+        3.0,
+        egui::Stroke::new(FOCUS_RING_WIDTH_PT, crate::palette::rgb(FOCUS_RING)),
+        egui::StrokeKind::Outside,
+    );
+}
+
 /// The colour under every panel ([`PANEL_BG_SRGB`]).
 pub fn panel_background() -> egui::Color32 {
     let [r, g, b] = PANEL_BG_SRGB;

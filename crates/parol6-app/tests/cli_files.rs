@@ -261,3 +261,26 @@ fn a_recording_over_an_existing_one_lost_it_on_a_crash() {
     assert!(std::fs::metadata(dir.join("full.mcap")).unwrap().file_type().is_char_device());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 32 minor: "Save as `.gcode` of Pick & place refers to an option ("export with the
+/// electric gripper") that the dialog lacks. Save as `.txt` silently writes electric-gripper
+/// commands." The `.txt` conversion says what it wrote; the `.gcode` refusal names what to
+/// change (the program's tool), an option that exists.
+#[test]
+fn converting_pick_and_place_says_what_it_made_of_the_gripper_steps() {
+    let dir = scratch("gripper-words");
+    let pick = workspace_root().join("assets/programs/pick_place.json");
+    let pick = pick.to_str().unwrap();
+    let r = run_in(&dir, &["program", "convert", pick, "pick.txt"], LIMIT);
+    assert_eq!(r.code(), Some(0), "{r:?}");
+    assert!(std::fs::read_to_string(dir.join("pick.txt")).unwrap().contains("Gripper("));
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    let notes = v["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{v}");
+    assert!(notes[0].as_str().unwrap().contains("commands for the electric gripper"), "{v}");
+    let r = run_in(&dir, &["program", "convert", pick, "pick.gcode"], LIMIT);
+    assert_ne!(r.code(), Some(0), "{r:?}");
+    assert!(!r.stderr.contains("export with the electric gripper"), "an option nobody offers: {r:?}");
+    assert!(r.stderr.contains("program's tool") && r.stderr.contains("\"Ssg48\""), "{r:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

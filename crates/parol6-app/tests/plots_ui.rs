@@ -298,3 +298,60 @@ fn a_remembered_lower_panel_taller_than_the_window_is_clamped_and_the_timeline_s
     assert!(view.bottom() <= heading.top() + 1.0, "the 3D view ends above the lower panel: {view:?} vs {heading:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 32 minor: "Switching robot ↔ simulation clears the plot history." The simulation's
+/// rows stay over a connection to the robot (here the built-in emulator) and back; the robot's
+/// rows continue them, and each switch is marked with the backend it switched to.
+#[test]
+fn switching_between_the_simulation_and_the_robot_keeps_the_plot_history() {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+    until(&mut h, "rows of the simulation", 15.0, |h| h.state().plots_panel().store().len() > 50);
+    let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
+    });
+    let p = h.state().plots_panel();
+    assert_eq!(p.store().time_range_s().unwrap().0, first, "the simulation's rows are kept");
+    let (at, robot) = p.switches()[0];
+    assert!(robot && at >= sim_last, "marked where the robot's rows start: {:?}", p.switches());
+    let robot_last = p.store().time_range_s().unwrap().1;
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    until(&mut h, "rows of the simulation after the robot's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 2 && p.store().time_range_s().is_some_and(|(_, last)| last > robot_last + 0.3)
+    });
+    let p = h.state().plots_panel();
+    assert_eq!(p.store().time_range_s().unwrap().0, first, "the history is kept over both switches");
+    assert!(!p.switches()[1].1, "the second mark says simulation: {:?}", p.switches());
+}
+
+/// Issue 32 minor: "The J1 plot toggle is misaligned." The plots' joint toggles wrap as one
+/// group: at every window size J1 … J6 lie on one row, in order, evenly spaced (at 1280 px J1
+/// stayed at the end of the quantities' row, J2 … J6 on the next).
+#[test]
+fn the_plots_joint_toggles_lie_on_one_row_at_every_window_size() {
+    for width in [1024.0, 1280.0, 1600.0] {
+        let mut h = app_harness(egui::vec2(width, 800.0));
+        h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+        until(&mut h, "rows to plot", 15.0, |h| h.state().plots_panel().store().len() > 50);
+        h.run_steps(3);
+        // the plots' toggles come after the joints panel's labels and entries of the same name
+        let rects: Vec<egui::Rect> =
+            (1..=6).map(|j| h.query_all_by_label(&format!("J{j}")).last().expect("a toggle").rect()).collect();
+        for (j, r) in rects.iter().enumerate().skip(1) {
+            let first = rects[0];
+            assert_eq!((r.top(), r.height()), (first.top(), first.height()), "{width} px: J{} vs J1: {rects:?}", j + 1);
+            let gap = r.left() - rects[j - 1].right();
+            let first_gap = rects[1].left() - rects[0].right();
+            assert!(gap > 0.0 && (gap - first_gap).abs() < 0.5, "{width} px: uneven toggles {rects:?}");
+        }
+        let panel = h.ctx.content_rect();
+        assert!(rects[5].right() <= panel.right(), "{width} px: J6 inside the window");
+    }
+}

@@ -84,6 +84,11 @@ impl Parol6App {
         &self.files
     }
 
+    /// The plots panel (tests read its series and the backend switches it marks).
+    pub fn plots_panel(&self) -> &crate::panels::plots::PlotsPanel {
+        &self.panels.plots
+    }
+
     /// The program panel (its program, dirty state).
     pub fn program_panel(&self) -> &crate::panels::program::ProgramPanel {
         &self.panels.program

@@ -499,6 +499,7 @@ impl Parol6App {
         let scene = self.scene(robot, preview);
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
         self.quit_prompt_ui(&ctx);
+        crate::theme::paint_focus_ring(&ctx);
 
         let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
         let newest_error_before = newest_error(&self.notices);

@@ -11,7 +11,9 @@ use parol6_core::RobotModel;
 use parol6_core::motion::{RobotBackend, RobotState};
 use parol6_core::program::Program;
 use parol6_core::program::check::{CheckOptions, CheckReport, Severity, check_program};
-use parol6_core::program::files::{FormatContext, ProgramIoError, read_program, write_program};
+use parol6_core::program::files::{
+    FormatContext, ProgramFormat, ProgramIoError, export_notes, read_program, write_program,
+};
 use parol6_core::program::gcode::{AbcChoice, AbcConvention};
 use parol6_core::program::runner::{ProgramRunner, RunOptions, RunState};
 use parol6_core::sim::{SimConfig, SimHandle, SimMode};
@@ -267,6 +269,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
                 "output": output.display().to_string(),
                 "name": program.name,
                 "steps": program.steps.len(),
+                "notes": ProgramFormat::from_path(output).map(|f| export_notes(&program, f)).unwrap_or_default(),
             }))
         }
     }

@@ -81,6 +81,15 @@ pub fn series_name(id: SeriesId) -> String {
     }
 }
 
+/// The name and colour of the backend the live rows come from after a switch mark.
+fn source_mark(robot: bool) -> (&'static str, egui::Color32) {
+    if robot {
+        ("robot", palette::rgb(palette::SOURCE_ROBOT))
+    } else {
+        ("simulation", palette::rgb(palette::SOURCE_SIM))
+    }
+}
+
 fn series_color(index: usize) -> egui::Color32 {
     palette::rgb(palette::PLOT_SERIES[index % palette::PLOT_SERIES.len()])
 }
@@ -104,7 +113,18 @@ pub struct PlotsPanel {
     /// Decimated lines kept while data and window stay the same.
     lines: DecimationCache,
     svg_pending: Option<std::path::PathBuf>,
+    /// Whose live view the live rows come from now (`Some(true)`: the robot's).
+    live_on_robot: Option<bool>,
+    /// Added to the active backend's times: its clock started elsewhere than the first one's.
+    live_shift_s: f64,
+    /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot).
+    switches: Vec<(f64, bool)>,
+    /// Width of the joint toggles' group last frame, points.
+    joint_toggles_width: Option<f32>,
 }
+
+/// The joint toggles' width before it is measured, points (six toggles take about 220).
+const JOINT_TOGGLES_GUESS_PT: f32 = 240.0;
 
 impl PlotsPanel {
     /// The panel for `joints` joints: the position of every joint.
@@ -120,6 +140,10 @@ impl PlotsPanel {
             visible_s: None,
             lines: DecimationCache::default(),
             svg_pending: None,
+            live_on_robot: None,
+            live_shift_s: 0.0,
+            switches: Vec::new(),
+            joint_toggles_width: None,
         }
     }
 
@@ -135,9 +159,31 @@ impl PlotsPanel {
             Quantity::ALL.into_iter().filter(|&o| if o == q { on } else { self.quantities.contains(&o) }).collect();
     }
 
-    /// Takes the new samples of the active backend's live view.
-    pub fn feed_live(&mut self, view: &LiveView) -> usize {
-        self.live.ingest_live(view)
+    /// Takes the new samples of the active backend's live view (`on_robot`: the robot's, else
+    /// the simulation's). A switch of backend keeps the history: the new backend's rows
+    /// continue it from the switch on (its clock shifted onto the plots' own), and the switch
+    /// is marked on every plot.
+    pub fn feed_live(&mut self, view: &LiveView, on_robot: bool) -> usize {
+        if self.live_on_robot != Some(on_robot) {
+            // a backend with no rows yet (a connection's first moments) waits for its first
+            let Some(latest) = view.latest_time_s() else { return 0 };
+            match (self.live_on_robot, self.live.time_range_s()) {
+                (Some(_), Some((_, last))) => {
+                    self.live_shift_s = last - latest;
+                    self.switches.push((last, on_robot));
+                }
+                _ => self.live_shift_s = 0.0,
+            }
+            self.live_on_robot = Some(on_robot);
+        }
+        self.live.ingest_live_shifted(view, self.live_shift_s)
+    }
+
+    /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot),
+    /// those still in the kept history.
+    pub fn switches(&self) -> Vec<(f64, bool)> {
+        let first = self.live.time_range_s().map_or(f64::INFINITY, |(first, _)| first);
+        self.switches.iter().copied().filter(|(t, _)| *t >= first).collect()
     }
 
     /// Shows the open recording (with its cursor, s) instead of the live data, or live again. A
@@ -203,7 +249,15 @@ impl PlotsPanel {
             let mut picked = None;
             for q in Quantity::ALL {
                 let on = self.quantities.contains(&q);
-                let r = ui.selectable_label(on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
+                let hover = match q {
+                    // always URDF roll / pitch / yaw, whatever the Units menu's convention
+                    Quantity::TcpOrientation => format!(
+                        "Ctrl+click: add to the plots shown\nURDF roll/pitch/yaw. {}",
+                        parol6_core::kinematics::GIMBAL_LOCK_RULE
+                    ),
+                    _ => "Ctrl+click: add to the plots shown".to_string(),
+                };
+                let r = ui.selectable_label(on, toggle_label(q)).on_hover_text(hover);
                 if r.clicked() {
                     picked = Some((q, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
                 }
@@ -213,11 +267,21 @@ impl PlotsPanel {
                 Some((q, false)) => self.show_only(q),
                 None => {}
             }
-            ui.separator();
-            for (i, on) in self.joints.iter_mut().enumerate() {
-                let text = egui::RichText::new(format!("J{}", i + 1)).color(series_color(i));
-                ui.toggle_value(on, text);
+            // the joint toggles wrap as one group: J1 never stays behind at the end of a row
+            // (its width is last frame's, or a generous guess on the first)
+            let group_width = self.joint_toggles_width.unwrap_or(JOINT_TOGGLES_GUESS_PT);
+            if ui.available_size_before_wrap().x < group_width + ui.spacing().item_spacing.x * 2.0 {
+                ui.end_row();
+            } else {
+                ui.separator();
             }
+            let group = ui.horizontal(|ui| {
+                for (i, on) in self.joints.iter_mut().enumerate() {
+                    let text = egui::RichText::new(format!("J{}", i + 1)).color(series_color(i));
+                    ui.toggle_value(on, text);
+                }
+            });
+            self.joint_toggles_width = Some(group.response.rect.width());
             ui.separator();
             let shown = WINDOWS_S.iter().find(|(s, _)| *s == self.window_s).map_or("?", |(_, l)| *l);
             egui::ComboBox::from_id_salt("plot_window").selected_text(shown).width(64.0).show_ui(ui, |ui| {
@@ -302,6 +366,7 @@ impl Panel for PlotsPanel {
         let mut interacted = false;
         let mut seek = None;
         let cursor = self.replay.as_ref().map(|(_, c)| *c);
+        let switches = if self.replay.is_some() { Vec::new() } else { self.switches() };
         let id_lists: Vec<Vec<SeriesId>> = shown.iter().map(|q| self.selected(*q)).collect();
         egui::ScrollArea::vertical().id_salt("plots_scroll").auto_shrink([false, false]).show(ui, |ui| {
             for (k, (q, ids)) in shown.iter().zip(&id_lists).enumerate() {
@@ -357,6 +422,10 @@ impl Panel for PlotsPanel {
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
                     }
+                    for &(t, robot) in switches.iter().filter(|(t, _)| (x0..=x1).contains(t)) {
+                        let (name, color) = source_mark(robot);
+                        pui.vline(VLine::new(name, t).color(color).width(1.5));
+                    }
                     let clicked_at = pui.response().clicked().then(|| pui.pointer_coordinate()).flatten();
                     let b = pui.plot_bounds();
                     let value_step = (b.max()[1] - b.min()[1]) / f64::from(pui.transform().frame().height().max(1.0))
@@ -365,6 +434,14 @@ impl Panel for PlotsPanel {
                     ((x0, x1), group, clicked_at.map(|p| p.x), hover)
                 });
                 let ((x0, x1), group, clicked_at, hover) = resp.inner;
+                // the switches' names over the plot (a text item would widen its auto bounds)
+                let frame = *resp.transform.frame();
+                for &(t, robot) in switches.iter().filter(|(t, _)| (x0..=x1).contains(t)) {
+                    let (name, color) = source_mark(robot);
+                    let at = egui::pos2(resp.transform.position_from_point_x(t) + 3.0, frame.top() + 1.0);
+                    let font = egui::TextStyle::Small.resolve(ui.style());
+                    ui.painter_at(frame).text(at, egui::Align2::LEFT_TOP, name, font, color);
+                }
                 if let (Some(text), Some(pointer)) = (hover, resp.response.hover_pos()) {
                     let id = ui.make_persistent_id(("plot_readout", k));
                     plot_axis::show_readout(ui.ctx(), id, pointer, resp.response.rect, text);

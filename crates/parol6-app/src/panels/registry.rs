@@ -95,7 +95,8 @@ impl Panels {
         self.dynamics.set_program(self.program.program());
         self.plots.set_replay(state.replay.as_ref().map(|r| (Arc::clone(&r.data), r.cursor_s)));
         if let Some(view) = live {
-            self.plots.feed_live(view);
+            // the live view is the robot's while connected (`AppState::link`), else the simulation's
+            self.plots.feed_live(view, state.link.is_some());
         }
     }
 

@@ -205,6 +205,40 @@ pub fn format_program(
     }
 }
 
+/// What writing `program` in `format` made of its gripper and output steps, in words, for the
+/// message after a save or a conversion: the commander's `Gripper(position, speed, current)`
+/// drives the electric gripper (SSG-48 / MSG) whatever the program's tool, and G-code's
+/// `M3` / `M5` drive the electric gripper or the pneumatic gripper's valve as the program's
+/// tool says ([`super::gcode::GcodeGripper::for_tool`]). Empty when there is nothing to say.
+pub fn export_notes(program: &Program, format: ProgramFormat) -> Vec<String> {
+    use super::Step;
+    let count = |f: fn(&Step) -> bool| program.steps.iter().filter(|s| f(&s.step)).count();
+    let grippers = count(|s| matches!(s, Step::Gripper { .. }));
+    let outputs = count(|s| matches!(s, Step::SetOutput { .. }));
+    let steps = |n: usize, what: &str| if n == 1 { format!("1 {what} step") } else { format!("{n} {what} steps") };
+    let mut notes = Vec::new();
+    match format {
+        ProgramFormat::Commander if grippers > 0 => notes.push(format!(
+            "{} written as the commander's Gripper(position, speed, current): commands for the electric gripper \
+             (SSG-48 / MSG)",
+            steps(grippers, "gripper")
+        )),
+        ProgramFormat::Gcode => match super::gcode::GcodeGripper::for_tool(program.tool) {
+            super::gcode::GcodeGripper::Electric if grippers > 0 => notes.push(format!(
+                "{} written as M3 / M5 for the electric gripper (the program's tool)",
+                steps(grippers, "gripper")
+            )),
+            super::gcode::GcodeGripper::Pneumatic if outputs > 0 => notes.push(format!(
+                "{} written as M3 / M5 P<output> for the pneumatic gripper's valve",
+                steps(outputs, "output")
+            )),
+            _ => {}
+        },
+        _ => {}
+    }
+    notes
+}
+
 /// Writes `program` to `path` in the format of its extension, atomically
 /// ([`crate::fsio::write_atomic`]): a failed save leaves the old file as it was and no
 /// temporary file, and a target that is not a regular file (a FIFO, a device) is refused.
@@ -239,6 +273,25 @@ mod tests {
         let e = parse_program("G1 X1 Q5\n", ProgramFormat::Gcode, &ctx, "bad.gcode").unwrap_err().to_string();
         assert!(e.starts_with("bad.gcode: line 1"), "{e}");
         assert_eq!(ProgramFormat::from_path(Path::new("a.NC")).unwrap(), ProgramFormat::Gcode);
+    }
+
+    /// Issue 32 minor: "Save as `.txt` silently writes electric-gripper commands."
+    #[test]
+    fn an_export_says_what_it_made_of_the_gripper_steps() {
+        let m = model();
+        let q = crate::parol6::standby_rad().to_vec();
+        let ctx = FormatContext::new(&m, &q);
+        let pick = crate::program::builtin::programs(&m).into_iter().find(|p| p.name == "Pick & place").unwrap();
+        let txt = format_program(&pick, ProgramFormat::Commander, &ctx, "pick.txt").unwrap();
+        assert!(txt.contains("Gripper("), "{txt}");
+        let notes = export_notes(&pick, ProgramFormat::Commander);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(notes[0].contains("electric gripper") && notes[0].contains("Gripper("), "{notes:?}");
+        assert!(export_notes(&pick, ProgramFormat::Json).is_empty());
+        let mut electric = pick.clone();
+        electric.tool = Some(crate::parol6::Tool::Ssg48);
+        format_program(&electric, ProgramFormat::Gcode, &ctx, "pick.gcode").unwrap();
+        assert!(export_notes(&electric, ProgramFormat::Gcode)[0].contains("electric gripper (the program's tool)"));
     }
 
     #[test]

@@ -301,19 +301,30 @@ impl SeriesStore {
     /// Appends the rows of `view` newer than the newest kept one; returns how many. When
     /// the view's newest row is older than the store's (another backend), starts again.
     pub fn ingest_live(&mut self, view: &LiveView) -> usize {
+        self.ingest_live_shifted(view, 0.0)
+    }
+
+    /// [`Self::ingest_live`] with `shift_s` added to the view's times: another backend's view,
+    /// whose clock started elsewhere, continues the kept rows (the plots keep their history
+    /// over a switch between the simulation and the robot). Rows at or before the newest kept
+    /// one, once shifted, are left out.
+    pub fn ingest_live_shifted(&mut self, view: &LiveView, shift_s: f64) -> usize {
         let Some(latest) = view.latest_time_s() else { return 0 };
-        if self.time_range_s().is_some_and(|(_, last)| latest < last) {
+        if self.time_range_s().is_some_and(|(_, last)| latest + shift_s < last) {
             self.clear();
         }
         let last = self.time_range_s().map(|(_, last)| last);
         // the new rows sit in the last blocks: find the first block that has any
         let first_block = match last {
             None => 0,
-            Some(last) => view.blocks.iter().rposition(|b| b.times_s.first().is_some_and(|&t| t <= last)).unwrap_or(0),
+            Some(last) => {
+                view.blocks.iter().rposition(|b| b.times_s.first().is_some_and(|&t| t + shift_s <= last)).unwrap_or(0)
+            }
         };
         let mut added = 0;
         for block in &view.blocks[first_block..] {
             for (t, row) in block.rows() {
+                let t = t + shift_s;
                 if last.is_none_or(|last| t > last) {
                     if block.summary {
                         self.push_summary_row(t, row);

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use eframe::egui;
-use parol6_core::program::files::{FormatContext, ProgramFormat, write_program};
+use parol6_core::program::files::{FormatContext, ProgramFormat, export_notes, write_program};
 use parol6_core::program::gcode::AbcChoice;
 
 use super::ProgramPanel;
@@ -179,10 +179,19 @@ impl ProgramPanel {
     }
 
     /// Saves to `path` (format from the extension); the program stays loaded and now comes
-    /// from that file.
-    pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
+    /// from that file. `Ok`: the message to show ("saved …", and what the format made of the
+    /// gripper and output steps, `files::export_notes`).
+    pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<String, String> {
         let start_q = ctx.robot.commanded.q.clone();
-        self.save_with(path, ctx.model, &start_q, ctx.settings)
+        self.save_with(path, ctx.model, &start_q, ctx.settings)?;
+        let mut message = format!("saved {}", path.display());
+        if let Ok(format) = ProgramFormat::from_path(path) {
+            for note in export_notes(self.editor.program(), format) {
+                message.push_str("; ");
+                message.push_str(&note);
+            }
+        }
+        Ok(message)
     }
 
     /// [`Self::save_to`] without a frame's context: G-code is written from `start_q`.
@@ -258,7 +267,7 @@ impl ProgramPanel {
     pub(super) fn save(&mut self, ctx: &mut PanelContext<'_>) {
         match self.file.clone() {
             Some(path) => match self.save_to(&path, ctx) {
-                Ok(()) => ctx.info(format!("saved {}", path.display())),
+                Ok(message) => ctx.info(message),
                 Err(e) => ctx.error(e),
             },
             None => self.show_dialog(DialogKind::SaveAs),
@@ -308,7 +317,7 @@ impl ProgramPanel {
             DialogKind::SaveAs => {
                 let path = if path.extension().is_none() { path.with_extension("json") } else { path };
                 match self.save_to(&path, ctx) {
-                    Ok(()) => ctx.info(format!("saved {}", path.display())),
+                    Ok(message) => ctx.info(message),
                     Err(e) => ctx.error(e),
                 }
             }

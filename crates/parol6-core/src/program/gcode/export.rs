@@ -278,7 +278,11 @@ impl Writer<'_> {
             }
             Step::Gripper { action, position, speed, current_ma } => {
                 if self.options.gripper != GcodeGripper::Electric {
-                    return Err("the electric gripper has no G-code word when M3/M5 drive the pneumatic one (export with the electric gripper)".into());
+                    return Err("a gripper step drives the electric gripper, but this program's tool is not one, so \
+                                M3/M5 would drive the pneumatic gripper's valve: set the program's tool to the SSG-48 \
+                                or the MSG (\"tool\": \"Ssg48\" or \"Msg\" in its JSON file) to write them for the \
+                                electric gripper, or use set_output steps for the valve"
+                        .into());
                 }
                 if speed.is_some() || current_ma.is_some() {
                     return Err("a gripper speed or current has no G-code equivalent".into());

@@ -151,6 +151,34 @@ fn live_views_are_ingested_once_and_a_new_source_starts_again() {
     assert_eq!(st.len(), 1);
 }
 
+/// Issue 32 minor: "Switching robot ↔ simulation clears the plot history." Another backend's
+/// view, shifted onto the kept clock, continues the rows; its own older rows are left out.
+#[test]
+fn another_backends_view_shifted_continues_the_kept_rows() {
+    let mut sim = LiveRing::new(2, 600.0, 600.0, 250.0);
+    for k in 0..1000 {
+        sim.push(&sample(k as f64 * 0.004, 0.0, 0.0));
+    }
+    let mut st = SeriesStore::new(2, 600.0);
+    assert_eq!(st.ingest_live(&sim.view()), 1000);
+    let last = st.time_range_s().unwrap().1;
+    // the robot's clock starts at 0 (its connection) and has 2 s of rows by the switch
+    let mut robot = LiveRing::new(2, 600.0, 600.0, 250.0);
+    for k in 0..500 {
+        robot.push(&sample(k as f64 * 0.004, 0.0, 0.0));
+    }
+    let shift = last - robot.view().latest_time_s().unwrap();
+    assert_eq!(st.ingest_live_shifted(&robot.view(), shift), 0, "rows before the switch are left out");
+    for k in 500..600 {
+        robot.push(&sample(k as f64 * 0.004, 0.0, 0.0));
+    }
+    assert_eq!(st.ingest_live_shifted(&robot.view(), shift), 100);
+    assert_eq!(st.len(), 1100, "the simulation's rows are kept");
+    let (first, newest) = st.time_range_s().unwrap();
+    assert_eq!(first, 0.0);
+    assert!((newest - (last + 0.4)).abs() < 1e-9, "{newest}");
+}
+
 #[test]
 fn rows_at_a_time_and_raw_windows() {
     let st = sine_store(1000);

@@ -50,20 +50,6 @@ impl AngleConvention {
         }
     }
 
-    /// How the three angles are written at gimbal lock (the middle angle ±90°), in words, for
-    /// tooltips and help: see [`rpy_from_matrix`] (the official angles are our roll / pitch /
-    /// yaw of the transposed rotation, negated, so the rule carries over).
-    pub fn gimbal_lock_rule(self) -> &'static str {
-        match self {
-            AngleConvention::UrdfRpy => crate::kinematics::GIMBAL_LOCK_RULE,
-            AngleConvention::OfficialAbc => {
-                "At gimbal lock (RY ±90°) only RX ± RZ is defined: RZ is 0 and RX carries the rotation about the \
-                 vertical. Within 0.1° of it RZ stays within ±90° (RY may pass ±90° by up to 0.1°), so a pose next \
-                 to the lock reads as the lock does. The angles always give back the exact rotation."
-            }
-        }
-    }
-
     /// Angles in this convention (deg) → our roll / pitch / yaw (deg).
     pub fn to_rpy_deg(self, angles_deg: [f64; 3]) -> [f64; 3] {
         match self {
@@ -136,8 +122,7 @@ impl AbcConvention {
     }
 
     /// The `A B C` (deg) of `rotation` in this convention; inverse of [`Self::rotation`] (B in
-    /// ±90°, or up to 0.1° beyond it beside gimbal lock, see [`rpy_from_matrix`]; angles in
-    /// (−180°, 180°]).
+    /// ±90°, angles in (−180°, 180°]).
     pub fn abc_deg(self, rotation: &Rotation3<f64>) -> [f64; 3] {
         let [a, b, c] = abc_deg_from_rotation(rotation);
         match self {

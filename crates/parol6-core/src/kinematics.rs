@@ -79,75 +79,23 @@ pub fn iso_from_xyz_rpy(p: [f64; 3], rpy: [f64; 3]) -> Isometry3<f64> {
     )
 }
 
-/// How close to pitch = ±90° (gimbal lock) [`rpy_from_matrix`] keeps roll within ±90°: 0.1°,
-/// more than every joint of a PAROL6 a motor step off together moves the pitch (≤ 0.03°), so
-/// the standby pose reads the same in the simulation and on the robot, which reports whole
-/// motor steps.
-pub const GIMBAL_LOCK_BAND_RAD: f64 = 0.1 * std::f64::consts::PI / 180.0;
-
-/// Largest gap (rad) between the rotation and the rotation of the angles [`rpy_from_matrix`]
-/// gives for it when it writes a pose at gimbal lock with roll = 0.
-pub const GIMBAL_LOCK_EXACT_RAD: f64 = 1e-12;
-
-/// The rule [`rpy_from_matrix`] follows at gimbal lock, in words, for tooltips and help.
-pub const GIMBAL_LOCK_RULE: &str = "At gimbal lock (pitch ±90°) only yaw − roll (+90°) or yaw + roll (−90°) is defined: roll is 0 and yaw \
-    carries the rotation about the vertical. Within 0.1° of it roll stays within ±90° (pitch may pass ±90° by \
-    up to 0.1°), so a pose next to the lock reads as the lock does. The angles always give back the exact \
-    rotation.";
-
-/// Wraps an angle into (−π, π].
-fn wrap_pi(a: f64) -> f64 {
-    let w = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
-    if w <= -std::f64::consts::PI { w + std::f64::consts::TAU } else { w }
-}
-
-/// URDF roll-pitch-yaw of a rotation matrix (`R = Rz(yaw)·Ry(pitch)·Rx(roll)`), angles in
-/// (−π, π]. The angles always reproduce `R` (to [`GIMBAL_LOCK_EXACT_RAD`]); which of the
-/// spellings of `R` is given:
+/// URDF roll-pitch-yaw of a rotation matrix (`R = Rz(yaw)·Ry(pitch)·Rx(roll)`).
 ///
-/// - away from gimbal lock, pitch in [−90°, 90°];
-/// - within [`GIMBAL_LOCK_BAND_RAD`] of pitch = ±90°, roll in [−90°, 90°] (the other exact
-///   spelling `(roll ± 180°, ±180° − pitch, yaw ± 180°)` when needed, so pitch may pass ±90° by
-///   up to the band): a pose beside the lock reads continuously through it, whichever side of
-///   it a motor step or a sag puts the arm;
-/// - at the lock itself (where only `yaw ∓ roll` is defined), roll = 0 and yaw carries the
-///   whole rotation about the vertical, whenever those angles give back `R` to
-///   [`GIMBAL_LOCK_EXACT_RAD`] (else the angles above, which do).
-///
-/// Every RPY the app shows, the simulation's and the robot's alike, comes from here
-/// ([`GIMBAL_LOCK_RULE`] says it in words).
+/// Gimbal lock (pitch = ±90°, where only `yaw ∓ roll` is defined): yaw is set to 0 and the
+/// whole rotation about the vertical is given to roll, so the angles still reproduce `R`.
 pub fn rpy_from_matrix(m: &Matrix3<f64>) -> [f64; 3] {
-    use std::f64::consts::{FRAC_PI_2, PI};
-    let q = UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(*m));
-    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
-    // With half angles (r, p, y)/2 and p in [−90°, 90°]: w + y = (cos + sin)(p/2)·cos((yaw − roll)/2),
-    // z − x = (cos + sin)(p/2)·sin((yaw − roll)/2), w − y = (cos − sin)(p/2)·cos((yaw + roll)/2),
-    // z + x = (cos − sin)(p/2)·sin((yaw + roll)/2). Beside −90° yaw + roll is then read from
-    // entries of size ~1, and yaw − roll, read from tiny ones, counts in R only as much as they
-    // do: the angles give back R to rounding on both sides of the lock, where the matrix
-    // entries' roll and yaw (atan2 of entries ~cos p each) would lose ~1e-16 / cos p.
-    let (plus, minus) = ((w + y).hypot(z - x), (w - y).hypot(z + x));
-    let pitch = 2.0 * (plus - minus).atan2(plus + minus);
-    let diff = 2.0 * (z - x).atan2(w + y);
-    let sum = 2.0 * (z + x).atan2(w - y);
-    let (roll, yaw) = (wrap_pi(0.5 * (sum - diff)), wrap_pi(0.5 * (sum + diff)));
-    if FRAC_PI_2 - pitch.abs() > GIMBAL_LOCK_BAND_RAD {
-        return [roll, pitch, yaw];
-    }
-    let side = pitch.signum();
-    let [roll, pitch, yaw] = if roll.abs() > FRAC_PI_2 {
-        [wrap_pi(roll + PI), side * PI - pitch, wrap_pi(yaw + PI)]
-    } else {
+    let r20 = m[(2, 0)].clamp(-1.0, 1.0);
+    if r20.abs() < 1.0 - 1e-12 {
+        let pitch = (-r20).asin();
+        let roll = m[(2, 1)].atan2(m[(2, 2)]);
+        let yaw = m[(1, 0)].atan2(m[(0, 0)]);
         [roll, pitch, yaw]
-    };
-    // at +90° R depends on yaw − roll only, at −90° on yaw + roll: roll 0 gives it all to yaw
-    let locked = [0.0, side * FRAC_PI_2, wrap_pi(if side > 0.0 { diff } else { sum })];
-    let back = UnitQuaternion::from_euler_angles(locked[0], locked[1], locked[2]).to_rotation_matrix();
-    // ‖A − B‖ = 2√2·sin(θ/2) ≈ √2·θ for the small angle θ between them
-    if (back.matrix() - m).norm() <= std::f64::consts::SQRT_2 * GIMBAL_LOCK_EXACT_RAD {
-        locked
+    } else if r20 < 0.0 {
+        // pitch = +90°: R = [[0, sin(r−y), cos(r−y)], [0, cos(r−y), −sin(r−y)], [−1, 0, 0]]
+        [m[(0, 1)].atan2(m[(1, 1)]), std::f64::consts::FRAC_PI_2, 0.0]
     } else {
-        [roll, pitch, yaw]
+        // pitch = −90°: R = [[0, −sin(r+y), −cos(r+y)], [0, cos(r+y), −sin(r+y)], [1, 0, 0]]
+        [(-m[(0, 1)]).atan2(m[(1, 1)]), -std::f64::consts::FRAC_PI_2, 0.0]
     }
 }
 
@@ -299,94 +247,10 @@ mod tests {
         for pitch in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
             let r = UnitQuaternion::from_euler_angles(0.3, pitch, -0.4).to_rotation_matrix();
             let rpy = rpy_from_matrix(r.matrix());
-            assert_eq!(rpy[0], 0.0, "at the lock roll is 0: {rpy:?}");
-            assert_eq!(rpy[1], pitch);
+            assert_eq!(rpy[2], 0.0);
             let back = UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]).to_rotation_matrix();
-            assert!((back.matrix() - r.matrix()).norm() < 1e-12, "pitch {pitch}: {rpy:?}");
+            assert!((back.matrix() - r.matrix()).norm() < 1e-9, "pitch {pitch}: {rpy:?}");
         }
-    }
-
-    /// Beside the lock, roll stays within ±90° and pitch may pass ±90°: a pose read on either
-    /// side of the lock (a motor step, a sag) reads continuously, and always exactly.
-    #[test]
-    fn rpy_beside_the_lock_keeps_roll_within_90_degrees_and_is_exact() {
-        use std::f64::consts::FRAC_PI_2;
-        let band = GIMBAL_LOCK_BAND_RAD;
-        for side in [1.0, -1.0] {
-            for roll in [0.0, 0.3, -1.2, 2.5, -3.0] {
-                let mut previous: Option<[f64; 3]> = None;
-                for k in -20..=20 {
-                    let p = side * FRAC_PI_2 + f64::from(k) / 20.0 * 0.99 * band;
-                    let r = rotation_of([roll, p, -0.4]);
-                    let rpy = rpy_from_matrix(&r);
-                    assert!(rotation_gap_rad(&r, &rotation_of(rpy)) < 1e-12, "{roll} {p}: {rpy:?}");
-                    assert!(rpy[0].abs() <= FRAC_PI_2 + 1e-12, "roll beyond 90° beside the lock: {rpy:?}");
-                    assert!((rpy[1].abs() - FRAC_PI_2).abs() <= band, "{rpy:?}");
-                    if let Some(prev) = previous.filter(|_| k != 0 && k != 1) {
-                        // no jump of roll or yaw between neighbours (the lock itself spells roll 0)
-                        let gap = |a: f64, b: f64| wrap_pi(a - b).abs();
-                        assert!(gap(prev[0], rpy[0]) < 1e-6 && gap(prev[2], rpy[2]) < 1e-6, "{prev:?} → {rpy:?}");
-                    }
-                    previous = Some(rpy);
-                }
-            }
-            // beyond the band: pitch within ±90° as everywhere else
-            let p = side * (FRAC_PI_2 - 1.01 * band);
-            let rpy = rpy_from_matrix(&rotation_of([2.5, p, -0.4]));
-            assert!((rpy[0] - 2.5).abs() < 1e-9 && (rpy[1] - p).abs() < 1e-9 && (rpy[2] + 0.4).abs() < 1e-9, "{rpy:?}");
-        }
-    }
-
-    /// The angle between two rotations, rad (accurate for small angles, where acos of the
-    /// trace is not: ‖A − B‖ = 2√2·sin(θ/2)).
-    fn rotation_gap_rad(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
-        2.0 * ((a - b).norm() / (2.0 * std::f64::consts::SQRT_2)).min(1.0).asin()
-    }
-
-    fn rotation_of(rpy: [f64; 3]) -> Matrix3<f64> {
-        *UnitQuaternion::from_euler_angles(rpy[0], rpy[1], rpy[2]).to_rotation_matrix().matrix()
-    }
-
-    /// Issue 32 minor: "The same standby pose reads RPY (90, −90, 0) in simulation and (−180,
-    /// −90, −90) on the robot. Pick one representation at gimbal lock, and say so." The robot
-    /// reports whole motor steps (J3's 180° is 57 904.76 steps: 57 905, 13 µrad off), so its
-    /// standby lies just beside the lock. It, and the joints that tilt the flange about J2's axis
-    /// or turn it about the vertical (J1, J2, J3, J5) up to a step off either way (a sag, a step
-    /// of error), read as the simulation's exact standby does; every reading, J4 and J6 a step
-    /// off too, gives back the arm's rotation. (J4 and J6, coaxial at J5 = 0, tilt the flange
-    /// across: a step of them is another rotation beside the lock, whose exact roll and yaw
-    /// differ; no exact spelling can read it as the lock.)
-    #[test]
-    fn the_standby_pose_reads_one_rpy_in_simulation_and_on_the_robot() {
-        let m = RobotModel::parol6();
-        let exact = crate::parol6::standby_rad();
-        let sim = m.fk(&exact).rpy_rad.map(f64::to_degrees);
-        let step = crate::parol6::rad_per_step;
-        let robot_q: Vec<f64> = (0..6).map(|j| (exact[j] / step(j)).round_ties_even() * step(j)).collect();
-        let robot = m.fk(&robot_q).rpy_rad.map(f64::to_degrees);
-        let gap = |a: f64, b: f64| (a - b + 540.0).rem_euclid(360.0) - 180.0;
-        for i in 0..3 {
-            assert!(gap(robot[i], sim[i]).abs() < 0.01, "robot {robot:?} vs simulation {sim:?}");
-        }
-        let mut worst_gap_rad: f64 = 0.0;
-        for signs in 0..3usize.pow(6) {
-            let q: Vec<f64> = (0..6)
-                .map(|j| {
-                    let k = (signs / 3usize.pow(j as u32)) % 3;
-                    robot_q[j] + (k as f64 - 1.0) * step(j)
-                })
-                .collect();
-            let pose = m.fk(&q);
-            let shown = pose.rpy_rad.map(f64::to_degrees);
-            if q[3] == robot_q[3] && q[5] == robot_q[5] {
-                for i in 0..3 {
-                    assert!(gap(shown[i], sim[i]).abs() < 0.05, "{shown:?} vs simulation {sim:?} (q {q:?})");
-                }
-            }
-            let r = Matrix3::from_fn(|i, k| pose.rotation[i][k]);
-            worst_gap_rad = worst_gap_rad.max(rotation_gap_rad(&r, &rotation_of(pose.rpy_rad)));
-        }
-        assert!(worst_gap_rad < 1e-12, "the shown angles miss the rotation by {worst_gap_rad:e} rad");
     }
 
     #[test]

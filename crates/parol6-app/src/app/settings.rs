@@ -75,12 +75,6 @@ impl Settings {
         self.angle_convention.to_rpy_deg(shown_rad.map(f64::to_degrees)).map(f64::to_radians)
     }
 
-    /// The tooltip of a shown orientation angle: the chosen convention and how it is written
-    /// at gimbal lock.
-    pub fn angle_hover(&self) -> String {
-        format!("{}\n{}", self.angle_convention.describe(), self.angle_convention.gimbal_lock_rule())
-    }
-
     /// Labels of the three orientation angles in the chosen convention.
     pub fn angle_labels(&self) -> [&'static str; 3] {
         self.angle_convention.labels()

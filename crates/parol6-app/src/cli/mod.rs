@@ -116,11 +116,6 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Forward kinematics: joint values → TCP pose (JSON).
-    ///
-    /// `rpy_rad` is URDF roll/pitch/yaw (R = Rz(yaw)·Ry(pitch)·Rx(roll)). At gimbal lock (pitch
-    /// ±90°) roll is 0 and yaw carries the rotation about the vertical; within 0.1° of it roll
-    /// stays within ±90° (pitch may pass ±90° by up to 0.1°). The angles always give back the
-    /// exact rotation.
     Fk(kin::FkArgs),
     /// Inverse kinematics: TCP pose → joint solutions (JSON), best first.
     Ik(kin::IkArgs),

@@ -328,7 +328,7 @@ impl Panel for CartesianJogPanel {
         ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2))).on_hover_text(
             format!(
                 "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
-                ctx.settings.angle_hover()
+                ctx.settings.angle_convention.describe()
             ),
         );
         if held != self.held

@@ -198,7 +198,7 @@ impl CartesianTargetPanel {
                 let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
                 events.push((k, e));
                 let rpy = labels[k];
-                ui.label(rpy).on_hover_text(ctx.settings.angle_hover());
+                ui.label(rpy).on_hover_text(ctx.settings.angle_convention.describe());
                 let (_, e) = entry::numeric_entry(
                     ui,
                     &format!("target {rpy}"),

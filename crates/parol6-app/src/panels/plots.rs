@@ -249,15 +249,7 @@ impl PlotsPanel {
             let mut picked = None;
             for q in Quantity::ALL {
                 let on = self.quantities.contains(&q);
-                let hover = match q {
-                    // always URDF roll / pitch / yaw, whatever the Units menu's convention
-                    Quantity::TcpOrientation => format!(
-                        "Ctrl+click: add to the plots shown\nURDF roll/pitch/yaw. {}",
-                        parol6_core::kinematics::GIMBAL_LOCK_RULE
-                    ),
-                    _ => "Ctrl+click: add to the plots shown".to_string(),
-                };
-                let r = ui.selectable_label(on, toggle_label(q)).on_hover_text(hover);
+                let r = ui.selectable_label(on, toggle_label(q)).on_hover_text("Ctrl+click: add to the plots shown");
                 if r.clicked() {
                     picked = Some((q, ui.input(|i| i.modifiers.command || i.modifiers.shift)));
                 }

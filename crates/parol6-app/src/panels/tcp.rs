@@ -87,7 +87,7 @@ impl Panel for TcpPanel {
             for (k, label) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(*label);
                 ui.monospace(format!("{:>9} mm", entry::fmt_fixed(tcp.position_m[k] * 1000.0, MM_DECIMALS)));
-                ui.label(labels[k]).on_hover_text(ctx.settings.angle_hover());
+                ui.label(labels[k]).on_hover_text(ctx.settings.angle_convention.describe());
                 ui.monospace(format!("{:>10}", unit.fmt(shown[k])));
                 ui.end_row();
             }

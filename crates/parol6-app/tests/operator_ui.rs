@@ -285,6 +285,47 @@ fn matrices_align_and_never_print_negative_zero() {
     assert!(texts.iter().any(|t| t.trim() == "90.00°"), "{texts:?}");
 }
 
+/// The standby joints as the robot reports them: whole motor steps (J3's 180° is 57 904.76).
+fn standby_in_motor_steps() -> Vec<f64> {
+    let step = parol6_core::parol6::rad_per_step;
+    standby().iter().enumerate().map(|(j, q)| (q / step(j)).round_ties_even() * step(j)).collect()
+}
+
+/// Issue 32 minor: "The same standby pose reads RPY (90, −90, 0) in simulation and (−180, −90,
+/// −90) on the robot. Pick one representation at gimbal lock, and say so."
+#[test]
+fn the_standby_pose_reads_one_rpy_in_simulation_and_on_the_robot() {
+    let readout = |q: &[f64], convention| {
+        let mut bench = Bench::new(TcpPanel::default(), q);
+        bench.settings.angle_convention = convention;
+        let mut h = panel_harness(bench, egui::vec2(800.0, 800.0));
+        h.run_steps(2);
+        let texts: Vec<String> = h
+            .root()
+            .query_all_by_role(egui::accesskit::Role::Label)
+            .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+            .filter(|t| t.trim().ends_with('°'))
+            .map(|t| t.trim().to_string())
+            .collect();
+        // say so where the angles are shown
+        h.get_by_label(convention.labels()[0]).hover();
+        h.run_steps(40);
+        let said = h.query_by_label_contains(convention.gimbal_lock_rule()).is_some();
+        (texts, said)
+    };
+    let q_robot = standby_in_motor_steps();
+    assert_ne!(q_robot, standby(), "the robot's standby is not the exact one");
+    for convention in parol6_app::panels::AngleConvention::ALL {
+        let (sim, said) = readout(&standby(), convention);
+        let (robot, _) = readout(&q_robot, convention);
+        assert_eq!(sim.len(), 3, "{sim:?}");
+        assert_eq!(sim, robot, "{convention:?}: simulation vs robot");
+        assert!(said, "{convention:?}: the tooltip states the gimbal-lock rule");
+    }
+    let (urdf, _) = readout(&q_robot, parol6_app::panels::AngleConvention::UrdfRpy);
+    assert_eq!(urdf, ["0.00°", "-90.00°", "90.00°"], "roll 0 at the lock, as the tooltip says");
+}
+
 #[test]
 fn from_tcp_at_standby_offers_the_current_joints_first() {
     for q in [standby(), {

@@ -67,6 +67,110 @@ impl AngleConvention {
     }
 }
 
+/// How close to gimbal lock (the middle angle ±90°) [`AngleConvention::readout_deg`] spells a
+/// TCP orientation by its rule: 0.1°, more than every joint of a PAROL6 a motor step off together
+/// moves the middle angle (≤ 0.03°), so the standby pose reads the same in the simulation and on
+/// the robot, which reports whole motor steps.
+pub const GIMBAL_LOCK_BAND_DEG: f64 = 0.1;
+
+/// Largest gap (the Frobenius norm of the difference of the rotation matrices, ≈ √2 × the angle
+/// in rad) that [`AngleConvention::readout_deg`] allows between the rotation it is given and the
+/// rotation of the angles it shows: it only ever re-spells a rotation, never moves it.
+pub const READOUT_EXACT: f64 = 1e-12;
+
+impl AngleConvention {
+    /// A TCP orientation (our roll / pitch / yaw, deg) as a read-out shows it in this convention
+    /// (deg): [`Self::from_rpy_deg`], except beside gimbal lock, where one spelling is picked
+    /// ([`Self::gimbal_lock_rule`] says it in words):
+    ///
+    /// - within [`GIMBAL_LOCK_BAND_DEG`] of the middle angle ±90°, the first angle (URDF roll) or
+    ///   the last (official RZ) stays within ±90°, using the other exact spelling
+    ///   `(a + 180°, ±180° − b, c + 180°)` when needed (the middle angle may then pass ±90° by up
+    ///   to the band);
+    /// - at the lock itself, where only the sum or the difference of the outer angles is defined,
+    ///   that angle is 0 and the other carries the whole rotation.
+    ///
+    /// The shown angles give back the same rotation (to [`READOUT_EXACT`]); a spelling that would
+    /// not is not used. This is for read-outs of where the arm is (the TCP panel, the Cartesian
+    /// jog and target): a program's own numbers are shown and written as they were given
+    /// ([`Self::from_rpy_deg`]).
+    pub fn readout_deg(self, rpy_deg: [f64; 3]) -> [f64; 3] {
+        let shown = self.from_rpy_deg(rpy_deg);
+        let rad = shown.map(f64::to_radians);
+        let spelled = match self {
+            AngleConvention::UrdfRpy => spelled_beside_gimbal_lock(rad, 0, |[r, p, y]| {
+                UnitQuaternion::from_euler_angles(r, p, y).to_rotation_matrix()
+            }),
+            AngleConvention::OfficialAbc => {
+                spelled_beside_gimbal_lock(rad, 2, |abc| rotation_from_abc_deg(abc.map(f64::to_degrees)))
+            }
+        };
+        if spelled == rad { shown } else { spelled.map(f64::to_degrees) }
+    }
+
+    /// The rule of [`Self::readout_deg`] at gimbal lock, in words, for tooltips and help.
+    pub fn gimbal_lock_rule(self) -> &'static str {
+        match self {
+            AngleConvention::UrdfRpy => {
+                "At gimbal lock (pitch ±90°) only yaw − roll (+90°) or yaw + roll (−90°) is defined: the read-out \
+                 shows roll 0 and gives the rotation about the vertical to yaw. Within 0.1° of it roll stays within \
+                 ±90° (pitch may pass ±90° by up to 0.1°), so a pose a motor step beside the lock reads as the lock \
+                 does. The angles always give back the exact rotation; a program's own angles are shown as written."
+            }
+            AngleConvention::OfficialAbc => {
+                "At gimbal lock (RY ±90°) only RX ± RZ is defined: the read-out shows RZ 0 and gives the rotation \
+                 to RX. Within 0.1° of it RZ stays within ±90° (RY may pass ±90° by up to 0.1°), so a pose a motor \
+                 step beside the lock reads as the lock does. The angles always give back the exact rotation; a \
+                 program's own angles are shown as written."
+            }
+        }
+    }
+}
+
+/// Wraps an angle (rad) into (−π, π].
+fn wrap_pi(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let w = (a + PI).rem_euclid(TAU) - PI;
+    if w <= -PI { w + TAU } else { w }
+}
+
+/// The spelling of the three angles `angles_rad` (a Tait–Bryan triple whose middle angle is the
+/// one that locks; `rotation` builds its rotation) that [`AngleConvention::readout_deg`] shows:
+/// outer angle `keep_small` within ±90° beside the lock, and 0 at it.
+fn spelled_beside_gimbal_lock(
+    angles_rad: [f64; 3],
+    keep_small: usize,
+    rotation: impl Fn([f64; 3]) -> Rotation3<f64>,
+) -> [f64; 3] {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let middle = angles_rad[1];
+    if FRAC_PI_2 - middle.abs() > GIMBAL_LOCK_BAND_DEG.to_radians() {
+        return angles_rad;
+    }
+    let side = middle.signum();
+    let given = rotation(angles_rad);
+    let same_rotation = |a: [f64; 3]| (rotation(a).matrix() - given.matrix()).norm() <= READOUT_EXACT;
+    let mut spelled = angles_rad;
+    if spelled[keep_small].abs() > FRAC_PI_2 {
+        // R_i(a)·R_j(b)·R_k(c) = R_i(a + π)·R_j(π − b)·R_k(c + π) for every Tait–Bryan order
+        let other = [wrap_pi(spelled[0] + PI), side * PI - spelled[1], wrap_pi(spelled[2] + PI)];
+        if same_rotation(other) {
+            spelled = other;
+        }
+    }
+    // at the lock only the outer angles' sum or difference counts: give it all to the other one
+    let carries = 2 - keep_small;
+    for sign in [1.0, -1.0] {
+        let mut locked = [0.0; 3];
+        locked[1] = side * FRAC_PI_2;
+        locked[carries] = wrap_pi(spelled[carries] + sign * spelled[keep_small]);
+        if same_rotation(locked) {
+            return locked;
+        }
+    }
+    spelled
+}
+
 /// How the three angles of a G-code `A B C` triple make a rotation.
 ///
 /// - [`AbcConvention::Commander`] (the default): `R = Rx(C)·Ry(B)·Rz(A)`, the PAROL commander's
@@ -305,6 +409,77 @@ mod tests {
         assert!(close(AbcConvention::Xyz.abc_deg(&rz30), [0.0, 0.0, 30.0], 1e-9));
         // the commander convention is the one of `rpy_to_abc_deg`
         assert!(close(AbcConvention::Commander.from_rpy_deg([0.0, 20.0, 90.0]), [90.0, 0.0, -20.0], 1e-9));
+    }
+
+    /// The standby joints as the robot reports them: whole motor steps (J3's 180° is 57 904.76).
+    fn standby_in_motor_steps() -> Vec<f64> {
+        let step = crate::parol6::rad_per_step;
+        let exact = crate::parol6::standby_rad();
+        (0..6).map(|j| (exact[j] / step(j)).round_ties_even() * step(j)).collect()
+    }
+
+    /// Issue 32 minor: "The same standby pose reads RPY (90, −90, 0) in simulation and (−180,
+    /// −90, −90) on the robot. Pick one representation at gimbal lock, and say so."
+    #[test]
+    fn the_standby_pose_reads_one_orientation_in_simulation_and_on_the_robot() {
+        let model = crate::model::RobotModel::parol6();
+        let sim = model.fk(&crate::parol6::standby_rad()).rpy_rad.map(f64::to_degrees);
+        let robot = model.fk(&standby_in_motor_steps()).rpy_rad.map(f64::to_degrees);
+        let gap = |a: f64, b: f64| ((a - b + 540.0).rem_euclid(360.0) - 180.0).abs();
+        // the raw decompositions differ (the issue's two readings) …
+        assert!(gap(sim[0], robot[0]) > 45.0, "{sim:?} {robot:?}");
+        for convention in AngleConvention::ALL {
+            let (s, r) = (convention.readout_deg(sim), convention.readout_deg(robot));
+            // … the read-outs agree to what a read-out shows (0.01°)
+            for i in 0..3 {
+                assert!(gap(s[i], r[i]) < 0.01, "{convention:?}: simulation {s:?} vs robot {r:?}");
+            }
+            // and give back each one's own rotation
+            for (given, shown) in [(sim, s), (robot, r)] {
+                let back = convention.to_rpy_deg(shown);
+                let d = angle_between_deg(&rotation_rpy_deg(back), &rotation_rpy_deg(given));
+                assert!(d < 1e-9, "{convention:?}: {shown:?} is {d}° off {given:?}");
+            }
+        }
+        // the rule as stated: roll 0 / RZ 0 at the lock
+        let urdf = AngleConvention::UrdfRpy.readout_deg(sim);
+        assert_eq!(urdf[0], 0.0, "{urdf:?}");
+        assert!((urdf[1] + 90.0).abs() < 1e-9 && (urdf[2] - 90.0).abs() < 1e-9, "{urdf:?}");
+        // the official angles lock elsewhere (RY ±90°): there RZ is 0
+        let at_abc_lock = AngleConvention::OfficialAbc.to_rpy_deg([30.0, 90.0, 40.0]);
+        let abc = AngleConvention::OfficialAbc.readout_deg(at_abc_lock);
+        assert_eq!(abc[2], 0.0, "{abc:?}");
+        assert!((abc[1] - 90.0).abs() < 1e-9, "{abc:?}");
+    }
+
+    #[test]
+    fn the_readout_is_the_plain_conversion_away_from_gimbal_lock() {
+        for convention in AngleConvention::ALL {
+            for rpy in [[10.0, 20.0, 30.0], [170.0, -89.8, -120.0], [-179.0, 89.85, 5.0], [0.0, 0.0, 0.0]] {
+                assert_eq!(convention.readout_deg(rpy), convention.from_rpy_deg(rpy), "{convention:?} {rpy:?}");
+            }
+        }
+    }
+
+    proptest! {
+        /// Beside the lock the read-out keeps the rotation exactly, keeps its small angle within
+        /// ±90° and its middle angle within the band of ±90°.
+        #[test]
+        fn the_readout_beside_gimbal_lock_is_exact_and_keeps_one_angle_small(
+            outer in -179.9f64..179.9, other in -179.9f64..179.9, off in -0.099f64..0.099, up in any::<bool>(),
+        ) {
+            let side = if up { 1.0 } else { -1.0 };
+            for (convention, small) in [(AngleConvention::UrdfRpy, 0), (AngleConvention::OfficialAbc, 2)] {
+                // a pose beside this convention's own lock
+                let rpy = convention.to_rpy_deg([outer, side * (90.0 - off.abs()), other]);
+                let shown = convention.readout_deg(rpy);
+                let back = convention.to_rpy_deg(shown);
+                let d = angle_between_deg(&rotation_rpy_deg(back), &rotation_rpy_deg(rpy));
+                prop_assert!(d < 1e-9, "{convention:?}: {shown:?} is {d}° off {rpy:?}");
+                prop_assert!(shown[small].abs() <= 90.0 + 1e-9, "{convention:?}: {shown:?}");
+                prop_assert!((shown[1].abs() - 90.0).abs() <= GIMBAL_LOCK_BAND_DEG + 1e-9, "{convention:?}: {shown:?}");
+            }
+        }
     }
 
     proptest! {

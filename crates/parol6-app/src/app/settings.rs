@@ -70,6 +70,19 @@ impl Settings {
         self.angle_convention.from_rpy_deg(rpy_rad.map(f64::to_degrees)).map(f64::to_radians)
     }
 
+    /// Where the arm's TCP points (URDF roll/pitch/yaw, rad) as a read-out shows it in the chosen
+    /// convention, rad: the one spelling at gimbal lock that the simulation and the robot share
+    /// (`AngleConvention::readout_deg`). A program's own angles use [`Self::shown_angles_rad`].
+    pub fn tcp_readout_rad(&self, rpy_rad: [f64; 3]) -> [f64; 3] {
+        self.angle_convention.readout_deg(rpy_rad.map(f64::to_degrees)).map(f64::to_radians)
+    }
+
+    /// The tooltip of a read-out's orientation angle: the chosen convention and how it is
+    /// spelled at gimbal lock.
+    pub fn readout_angle_hover(&self) -> String {
+        format!("{}\n{}", self.angle_convention.describe(), self.angle_convention.gimbal_lock_rule())
+    }
+
     /// Angles typed in the chosen convention (rad) → URDF roll/pitch/yaw, rad.
     pub fn rpy_from_shown_rad(&self, shown_rad: [f64; 3]) -> [f64; 3] {
         self.angle_convention.to_rpy_deg(shown_rad.map(f64::to_degrees)).map(f64::to_radians)

@@ -319,7 +319,7 @@ impl Panel for CartesianJogPanel {
         });
         let tcp = ctx.readout.tcp;
         let mm = |k: usize| entry::fmt_fixed(tcp.position_m[k] * 1000.0, 1);
-        let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
+        let shown = ctx.settings.tcp_readout_rad(tcp.rpy_rad);
         let unit = ctx.settings.unit;
         let decimals = if unit == AngleUnit::Rad { 3 } else { 1 };
         let ang = |k: usize| entry::fmt_fixed(unit.from_rad(shown[k]), decimals);
@@ -328,7 +328,7 @@ impl Panel for CartesianJogPanel {
         ui.label(format!("TCP {x}, {y}, {z} mm · {a}/{b}/{c} {}, {}, {}{u}", ang(0), ang(1), ang(2))).on_hover_text(
             format!(
                 "TCP position (X, Y, Z) and orientation, {}; the TCP panel shows more digits",
-                ctx.settings.angle_convention.describe()
+                ctx.settings.readout_angle_hover()
             ),
         );
         if held != self.held

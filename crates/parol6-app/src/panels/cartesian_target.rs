@@ -189,7 +189,7 @@ impl CartesianTargetPanel {
         let unit = ctx.settings.unit;
         ui.heading(Panel::title(self));
         let mut events = Vec::new();
-        let shown = ctx.settings.shown_angles_rad(self.rpy);
+        let shown = ctx.settings.tcp_readout_rad(self.rpy);
         let labels = ctx.settings.angle_labels();
         egui::Grid::new("cart_target").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
             for k in 0..3 {
@@ -198,7 +198,7 @@ impl CartesianTargetPanel {
                 let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
                 events.push((k, e));
                 let rpy = labels[k];
-                ui.label(rpy).on_hover_text(ctx.settings.angle_convention.describe());
+                ui.label(rpy).on_hover_text(ctx.settings.readout_angle_hover());
                 let (_, e) = entry::numeric_entry(
                     ui,
                     &format!("target {rpy}"),
@@ -215,7 +215,7 @@ impl CartesianTargetPanel {
             match event {
                 Some(EntryEvent::Committed(v)) if k < 3 => self.xyz_mm[k] = v,
                 Some(EntryEvent::Committed(v)) => {
-                    let mut angles = ctx.settings.shown_angles_rad(self.rpy);
+                    let mut angles = ctx.settings.tcp_readout_rad(self.rpy);
                     angles[k - 3] = unit.to_rad(v);
                     self.rpy = ctx.settings.rpy_from_shown_rad(angles);
                 }

@@ -81,13 +81,13 @@ impl Panel for TcpPanel {
         let tcp = ctx.readout.tcp;
         let unit = ctx.settings.unit;
         ui.heading(self.title());
-        let shown = ctx.settings.shown_angles_rad(tcp.rpy_rad);
+        let shown = ctx.settings.tcp_readout_rad(tcp.rpy_rad);
         let labels = ctx.settings.angle_labels();
         egui::Grid::new("tcp_pose").num_columns(4).spacing([12.0, 2.0]).show(ui, |ui| {
             for (k, label) in ["X", "Y", "Z"].iter().enumerate() {
                 ui.label(*label);
                 ui.monospace(format!("{:>9} mm", entry::fmt_fixed(tcp.position_m[k] * 1000.0, MM_DECIMALS)));
-                ui.label(labels[k]).on_hover_text(ctx.settings.angle_convention.describe());
+                ui.label(labels[k]).on_hover_text(ctx.settings.readout_angle_hover());
                 ui.monospace(format!("{:>10}", unit.fmt(shown[k])));
                 ui.end_row();
             }

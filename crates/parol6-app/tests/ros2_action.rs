@@ -10,7 +10,8 @@
 //! PATH_TOLERANCE_VIOLATED naming the joint), and one whose `goal_tolerance` is not reached
 //! within its `goal_time_tolerance` (GOAL_TOLERANCE_VIOLATED after that time), and one whose
 //! velocity `path_tolerance` the tracking exceeds (stopped early, PATH_TOLERANCE_VIOLATED naming
-//! the joint's velocity).
+//! the joint's velocity). The path violation is read back from `/events` by the Foxglove
+//! client of `tests/peers/foxglove_client.py` (serve then also has `--foxglove`).
 //!
 //! Without python3 or its `zenoh` module the tests say SKIPPED, except in CI (`CI=true`), where
 //! `.ci/run` installs it and they fail.
@@ -36,7 +37,7 @@ fn ros2_action_feedback_is_the_joint_states_path_tolerance_violation_aborts_with
     if !cli_support::zenoh_peer_available() {
         return;
     }
-    let r = cli_support::run_zenoh_peer_with("action_peer.py", true, &["--tolerance"]);
+    let r = cli_support::run_zenoh_peer_with("action_peer.py", true, &["--tolerance", "--events"]);
     // the simulation's tracking lag of J1 moving 0.2 rad in 1 s (about 0.3 mrad) is well within
     // the valid goal's path tolerance (0.05 rad) and above the tight one (0.1 mrad)
     let lag = r["tracking_lag_rad"].as_f64().unwrap();
@@ -44,6 +45,10 @@ fn ros2_action_feedback_is_the_joint_states_path_tolerance_violation_aborts_with
     let path = r["path_abort"]["error_string"].as_str().unwrap();
     assert!(path.starts_with("path_tolerance violated: J1 is "), "{r:#}");
     assert!(r["path_abort"]["moved_rad"].as_f64().unwrap().abs() < 0.1, "{r:#}");
+    // the violation is in /events, read back by the independent Foxglove client
+    // (`tests/peers/foxglove_client.py events`) from `serve --ros2 --foxglove`
+    let event = r["path_abort"]["events"].as_str().unwrap();
+    assert!(event.contains("network command from ros2 ") && event.contains(path), "{r:#}");
     // and a goal tolerance missed after goal_time_tolerance (one run of the peer for both)
     let goal = r["goal_abort"]["error_string"].as_str().unwrap();
     assert!(goal.contains("goal_time_tolerance 0.300 s") && goal.contains("J1 is "), "{r:#}");

@@ -197,9 +197,34 @@ async def slow(url, seconds):
         print(json.dumps({"channels": len(channels), "joint_states": len(seqs), "seq_gaps": gaps}))
 
 
+async def events(url, seconds):
+    """Prints each `/events` message (foxglove.Log, JSON) as one JSON line as it arrives."""
+    async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=None) as ws:
+        _, channels = await handshake(ws)
+        wanted = [cid for cid, c in channels.items() if c["topic"] == "/events"]
+        if not wanted:
+            raise SystemExit(f"no /events channel among {sorted(c['topic'] for c in channels.values())}")
+        await ws.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": 1, "channelId": wanted[0]}]}))
+        print(json.dumps({"subscribed": "/events"}), flush=True)
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            try:
+                frame = await asyncio.wait_for(ws.recv(), timeout=max(0.01, end - time.monotonic()))
+            except asyncio.TimeoutError:
+                break
+            if isinstance(frame, bytes) and frame[0] == 0x01 and struct.unpack_from("<I", frame, 1)[0] == 1:
+                msg = json.loads(frame[13:])
+                print(json.dumps({k: msg.get(k) for k in ("level", "name", "message")}), flush=True)
+
+
 def main():
     mode, url, seconds = sys.argv[1], sys.argv[2], float(sys.argv[3])
-    if mode == "receive":
+    if mode == "events":
+        try:
+            asyncio.run(events(url, seconds))
+        except (KeyboardInterrupt, websockets.ConnectionClosed):
+            pass
+    elif mode == "receive":
         topics = sys.argv[4].split(",") if len(sys.argv) > 4 else None
         asyncio.run(receive(url, seconds, topics))
     elif mode == "slow":

@@ -96,6 +96,19 @@ async def handshake(ws):
     return info, channels
 
 
+async def message_data(ws, seconds):
+    """The server's Message Data frames (opcode 0x01) for `seconds`: (subscription id, log time, payload)."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        try:
+            frame = await asyncio.wait_for(ws.recv(), timeout=max(0.01, end - time.monotonic()))
+        except asyncio.TimeoutError:
+            return
+        if isinstance(frame, bytes) and frame[0] == 0x01:
+            sub_id, log_time = struct.unpack_from("<IQ", frame, 1)
+            yield sub_id, log_time, frame[13:]
+
+
 async def receive(url, seconds, topics=None):
     async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=None) as ws:
         if ws.subprotocol not in SUBPROTOCOLS:
@@ -112,18 +125,7 @@ async def receive(url, seconds, topics=None):
         joints_by_stamp = {}
         tf_by_stamp = {}
         names = None
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            try:
-                frame = await asyncio.wait_for(ws.recv(), timeout=max(0.01, end - time.monotonic()))
-            except asyncio.TimeoutError:
-                break
-            if not isinstance(frame, bytes):
-                continue
-            if frame[0] != 0x01:
-                continue
-            sub_id, log_time = struct.unpack_from("<IQ", frame, 1)
-            payload = frame[13:]
+        async for sub_id, log_time, payload in message_data(ws, seconds):
             topic = topic_of.get(sub_id)
             counts[topic] = counts.get(topic, 0) + 1
             first.setdefault(topic, log_time)
@@ -206,14 +208,9 @@ async def events(url, seconds):
             raise SystemExit(f"no /events channel among {sorted(c['topic'] for c in channels.values())}")
         await ws.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": 1, "channelId": wanted[0]}]}))
         print(json.dumps({"subscribed": "/events"}), flush=True)
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            try:
-                frame = await asyncio.wait_for(ws.recv(), timeout=max(0.01, end - time.monotonic()))
-            except asyncio.TimeoutError:
-                break
-            if isinstance(frame, bytes) and frame[0] == 0x01 and struct.unpack_from("<I", frame, 1)[0] == 1:
-                msg = json.loads(frame[13:])
+        async for sub_id, _, payload in message_data(ws, seconds):
+            if sub_id == 1:
+                msg = json.loads(payload)
                 print(json.dumps({k: msg.get(k) for k in ("level", "name", "message")}), flush=True)
 
 

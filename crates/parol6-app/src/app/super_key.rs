@@ -1,9 +1,9 @@
 //! The Super (Windows / Meta) key on X11. egui reports Super only on macOS (as Cmd), so on
 //! Linux Super+D reached the jog keys as a bare D and jogged +X (hand trial under Xvfb, where no
 //! desktop keeps Super+key for itself). In the window, the app asks the X server for the
-//! keyboard's modifier state once per frame ([`SuperKeyProbe::held`]: one round trip on the local
-//! socket) and, while Super is down, marks it as egui's `mac_cmd` in the frame's raw input
-//! ([`apply_super`]); every shortcut rule in `panels::shortcuts` treats `mac_cmd` as a modifier, so
+//! keyboard's modifier state in each frame a key can act in ([`needs_look`];
+//! [`SuperKeyProbe::held`]: one round trip on the local socket) and, while Super is down, marks
+//! it as egui's `mac_cmd` in the frame's raw input ([`apply_super`]); every shortcut rule in `panels::shortcuts` treats `mac_cmd` as a modifier, so
 //! no jog key acts and a key pressed with Super never arms a jog.
 //!
 //! Super is the X server's `Mod4`, as every stock keymap maps it. Under Wayland (no `DISPLAY`)
@@ -29,6 +29,13 @@ pub fn apply_super(raw: &mut egui::RawInput, held: bool, current: egui::Modifier
             }
         }
     }
+}
+
+/// True when this frame needs Super's state: it carries a key event, a key is held, or Super
+/// was held at the last look (to see it let go). Other frames (the arm moving, the pointer
+/// moving) skip the X round trip: without a key, Super changes nothing.
+pub fn needs_look(raw: &egui::RawInput, any_key_down: bool, current: egui::Modifiers) -> bool {
+    current.mac_cmd || any_key_down || raw.events.iter().any(|e| matches!(e, egui::Event::Key { .. }))
 }
 
 /// A connection to the X server the window is on, to read the Super key's state.
@@ -70,6 +77,20 @@ impl SuperKeyProbe {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn super_is_looked_at_only_in_frames_a_key_can_act_in() {
+        let none = egui::RawInput::default();
+        assert!(!needs_look(&none, false, egui::Modifiers::NONE), "an idle frame costs no round trip");
+        let pointer =
+            egui::RawInput { events: vec![egui::Event::PointerMoved(egui::pos2(1.0, 2.0))], ..Default::default() };
+        assert!(!needs_look(&pointer, false, egui::Modifiers::NONE));
+        let typed = egui::RawInput { events: vec![key(egui::Key::D)], ..Default::default() };
+        assert!(needs_look(&typed, false, egui::Modifiers::NONE), "a key event");
+        assert!(needs_look(&none, true, egui::Modifiers::NONE), "a key held (a jog)");
+        let held_super = egui::Modifiers { mac_cmd: true, ..egui::Modifiers::NONE };
+        assert!(needs_look(&none, false, held_super), "Super held at the last look: watch it let go");
+    }
 
     fn key(key: egui::Key) -> egui::Event {
         egui::Event::Key { key, physical_key: None, pressed: true, repeat: false, modifiers: egui::Modifiers::NONE }

@@ -12,7 +12,7 @@
 use std::io::Read;
 use std::process::{Command, Stdio};
 
-use parol6_app::app::super_key::SuperKeyProbe;
+use parol6_app::app::super_key::{SUPER_AFTERGLOW, SuperKeyProbe};
 use x11rb::connection::Connection;
 use x11rb::protocol::xproto::{ConnectionExt, KEY_PRESS_EVENT, KEY_RELEASE_EVENT};
 use x11rb::protocol::xtest::ConnectionExt as _;
@@ -67,7 +67,7 @@ fn the_probe_sees_super_pressed_and_released_on_the_x_server() {
         return;
     }
     let (_server, display) = start_xvfb();
-    let probe = SuperKeyProbe::connect_to(&display).expect("the probe connects");
+    let mut probe = SuperKeyProbe::connect_to(&display).expect("the probe connects");
     assert!(!probe.held().expect("query"), "Super is up at the start");
 
     // a second client, as the keyboard: find Super_L's keycode and press it through XTEST
@@ -90,5 +90,16 @@ fn the_probe_sees_super_pressed_and_released_on_the_x_server() {
     key(KEY_PRESS_EVENT);
     assert!(probe.held().expect("query"), "Super held");
     key(KEY_RELEASE_EVENT);
+    std::thread::sleep(SUPER_AFTERGLOW + std::time::Duration::from_millis(50));
     assert!(!probe.held().expect("query"), "Super let go");
+
+    // a chord faster than a frame (`xdotool key super+d`): Super is up again when the frame
+    // that handles D looks, but the server reported it down in between
+    std::thread::sleep(SUPER_AFTERGLOW);
+    probe.observe().expect("events");
+    key(KEY_PRESS_EVENT);
+    key(KEY_RELEASE_EVENT);
+    assert!(probe.held().expect("query"), "a Super press that is already over still counts");
+    std::thread::sleep(SUPER_AFTERGLOW + std::time::Duration::from_millis(50));
+    assert!(!probe.held().expect("query"), "and stops counting after the afterglow");
 }

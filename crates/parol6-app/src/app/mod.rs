@@ -570,15 +570,16 @@ impl eframe::App for Parol6App {
     #[cfg_attr(not(target_os = "linux"), allow(unused_variables))]
     fn raw_input_hook(&mut self, ctx: &egui::Context, raw_input: &mut egui::RawInput) {
         #[cfg(target_os = "linux")]
-        if let Some(probe) = &self.super_key
-            && super_key::needs_look(raw_input, ctx.input(|i| !i.keys_down.is_empty()), ctx.input(|i| i.modifiers))
-        {
-            match probe.held() {
-                Ok(held) => super_key::apply_super(raw_input, held, ctx.input(|i| i.modifiers)),
-                Err(e) => {
-                    tracing::warn!("Super key no longer watched (X server: {e})");
-                    self.super_key = None;
-                }
+        if let Some(probe) = &mut self.super_key {
+            let current = ctx.input(|i| i.modifiers);
+            let looked = if super_key::needs_look(raw_input, ctx.input(|i| !i.keys_down.is_empty()), current) {
+                probe.held().map(|held| super_key::apply_super(raw_input, held, current))
+            } else {
+                probe.observe()
+            };
+            if let Err(e) = looked {
+                tracing::warn!("Super key no longer watched (X server: {e})");
+                self.super_key = None;
             }
         }
     }

@@ -2,8 +2,9 @@
 //! Linux Super+D reached the jog keys as a bare D and jogged +X (hand trial under Xvfb, where no
 //! desktop keeps Super+key for itself). In the window, the app asks the X server for the
 //! keyboard's modifier state in each frame a key can act in ([`needs_look`];
-//! [`SuperKeyProbe::held`]: one round trip on the local socket) and, while Super is down, marks
-//! it as egui's `mac_cmd` in the frame's raw input ([`apply_super`]); every shortcut rule in `panels::shortcuts` treats `mac_cmd` as a modifier, so
+//! [`SuperKeyProbe::held`]: one round trip on the local socket; the modifier changes the server
+//! reported since, so that a chord faster than a frame counts too) and, while Super is down,
+//! marks it as egui's `mac_cmd` in the frame's raw input ([`apply_super`]); every shortcut rule in `panels::shortcuts` treats `mac_cmd` as a modifier, so
 //! no jog key acts and a key pressed with Super never arms a jog.
 //!
 //! Super is the X server's `Mod4`, as every stock keymap maps it. Under Wayland (no `DISPLAY`)
@@ -38,11 +39,22 @@ pub fn needs_look(raw: &egui::RawInput, any_key_down: bool, current: egui::Modif
     current.mac_cmd || any_key_down || raw.events.iter().any(|e| matches!(e, egui::Event::Key { .. }))
 }
 
+/// How long after Super was last seen down a key still counts as pressed with it. A chord
+/// typed faster than a frame (Super down, D down, D up, Super up, as `xdotool key super+d`
+/// sends it) is over before the frame that handles D asks the X server; the key state changes
+/// the server reported since then say Super was down.
+pub const SUPER_AFTERGLOW: std::time::Duration = std::time::Duration::from_millis(250);
+
 /// A connection to the X server the window is on, to read the Super key's state.
 #[cfg(target_os = "linux")]
 pub struct SuperKeyProbe {
     conn: x11rb::rust_connection::RustConnection,
     root: u32,
+    /// The server reports each change of the keyboard's modifiers (XKB `StateNotify`): false
+    /// where it has no XKB (then only the state at each look counts).
+    watching_changes: bool,
+    /// When Super was last seen down (a look, or a reported change).
+    last_down: Option<std::time::Instant>,
 }
 
 #[cfg(target_os = "linux")]
@@ -54,7 +66,7 @@ impl SuperKeyProbe {
         Self::connect_to(&display).map_err(|e| tracing::info!("Super key not watched: {e}")).ok()
     }
 
-    /// Connects to the X server at `display` (e.g. `:0`).
+    /// Connects to the X server at `display` (e.g. `:0`) and asks it to report modifier changes.
     pub fn connect_to(display: &str) -> Result<Self, String> {
         let (conn, screen) = x11rb::connect(Some(display)).map_err(|e| format!("X server at {display:?}: {e}"))?;
         let root = x11rb::connection::Connection::setup(&conn)
@@ -62,16 +74,74 @@ impl SuperKeyProbe {
             .get(screen)
             .ok_or_else(|| format!("X server at {display:?} has no screen {screen}"))?
             .root;
-        Ok(SuperKeyProbe { conn, root })
+        let watching_changes = match watch_modifier_changes(&conn) {
+            Ok(()) => true,
+            Err(e) => {
+                let server = display;
+                tracing::info!("Super key: only its state at each look (X server at {server:?}: {e})");
+                false
+            }
+        };
+        Ok(SuperKeyProbe { conn, root, watching_changes, last_down: None })
     }
 
-    /// True while Super (`Mod4`) is held on the X server's keyboard.
-    pub fn held(&self) -> Result<bool, String> {
+    /// Takes the modifier changes the server has reported so far (no round trip): call it every
+    /// frame, so that a change is stamped with about the time it happened.
+    pub fn observe(&mut self) -> Result<(), String> {
+        use x11rb::connection::Connection;
+        use x11rb::protocol::Event;
+        use x11rb::protocol::xproto::ModMask;
+        while let Some(event) = self.conn.poll_for_event().map_err(|e| e.to_string())? {
+            if let Event::XkbStateNotify(state) = event
+                && state.mods.contains(ModMask::M4)
+            {
+                self.last_down = Some(std::time::Instant::now());
+            }
+        }
+        Ok(())
+    }
+
+    /// True while Super (`Mod4`) is held on the X server's keyboard, or was within
+    /// [`SUPER_AFTERGLOW`]. One round trip: every change the server made before it is taken too.
+    pub fn held(&mut self) -> Result<bool, String> {
         use x11rb::protocol::xproto::{ConnectionExt, KeyButMask};
         let reply =
             self.conn.query_pointer(self.root).map_err(|e| e.to_string())?.reply().map_err(|e| e.to_string())?;
-        Ok(reply.mask.contains(KeyButMask::MOD4))
+        if reply.mask.contains(KeyButMask::MOD4) {
+            self.last_down = Some(std::time::Instant::now());
+        }
+        if self.watching_changes {
+            self.observe()?;
+        }
+        Ok(self.last_down.is_some_and(|t| t.elapsed() <= SUPER_AFTERGLOW))
     }
+}
+
+/// Asks for XKB `StateNotify` events of the core keyboard's modifier state.
+#[cfg(target_os = "linux")]
+fn watch_modifier_changes(conn: &x11rb::rust_connection::RustConnection) -> Result<(), String> {
+    use x11rb::protocol::xkb::{
+        self, ConnectionExt as _, EventType, MapPart, SelectEventsAux, SelectEventsAuxStateNotify, StatePart,
+    };
+    let version = conn.xkb_use_extension(1, 0).map_err(|e| e.to_string())?.reply().map_err(|e| e.to_string())?;
+    if !version.supported {
+        return Err("no XKB 1.0".into());
+    }
+    let details = SelectEventsAux::new().state_notify(SelectEventsAuxStateNotify {
+        affect_state: StatePart::MODIFIER_STATE,
+        state_details: StatePart::MODIFIER_STATE,
+    });
+    conn.xkb_select_events(
+        xkb::ID::USE_CORE_KBD.into(),
+        EventType::from(0u16),
+        EventType::from(0u16),
+        MapPart::from(0u16),
+        MapPart::from(0u16),
+        &details,
+    )
+    .map_err(|e| e.to_string())?
+    .check()
+    .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

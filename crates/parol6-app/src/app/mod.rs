@@ -313,6 +313,8 @@ impl Parol6App {
                 };
                 self.notice(what, false);
                 self.hw = Some(link);
+                // the plots now take the robot's rows: the simulation's would never be drawn
+                self.sim_recorder.as_ref().inspect(|r| r.keep_live_rows(false));
             }
             Err(e) => self.notice(format!("connect failed: {e:#}"), true),
         }
@@ -336,6 +338,7 @@ impl Parol6App {
                 self.sim.snapshot().q.clone()
             };
             drop(link);
+            self.sim_recorder.as_ref().inspect(|r| r.keep_live_rows(true));
             if let Err(e) = self.sim.send(SimCommand::Teleport(q)) {
                 self.notice(format!("simulation: {e}"), true);
             }

@@ -63,6 +63,9 @@ pub struct WindowSetup {
     /// Retained painting ([`retained::retained_for`]): egui's pass then has no depth buffer
     /// and the 3D view draws into the retained image.
     pub retained: bool,
+    /// The adapter is Vulkan, Metal or DX12: the window's instance then leaves GL out
+    /// ([`configure_native_options`]).
+    pub primary_backend: bool,
 }
 
 /// Asks wgpu which adapter a window would get (same environment rules) and decides its sample
@@ -70,11 +73,15 @@ pub struct WindowSetup {
 pub fn probe_window() -> WindowSetup {
     match headless_adapter().1 {
         Ok(a) => {
-            let device_type = a.get_info().device_type;
-            let samples = msaa_for(device_type);
-            WindowSetup { samples, retained: retained::retained_for(device_type, samples) }
+            let info = a.get_info();
+            let samples = msaa_for(info.device_type);
+            let retained = retained::retained_for(info.device_type, samples);
+            let primary_backend = eframe::wgpu::Backends::PRIMARY.contains(info.backend.into());
+            WindowSetup { samples, retained, primary_backend }
         }
-        Err(_) => WindowSetup { samples: msaa_from_env().unwrap_or(MSAA_SAMPLES), retained: false },
+        Err(_) => {
+            WindowSetup { samples: msaa_from_env().unwrap_or(MSAA_SAMPLES), retained: false, primary_backend: false }
+        }
     }
 }
 
@@ -122,5 +129,13 @@ pub fn configure_native_options(options: &mut eframe::NativeOptions) -> WindowSe
     // Dithering costs per-pixel noise math in egui's shader for a barely visible gain; on
     // software rasterizers it is a measurable part of the frame.
     options.dithering = false;
+    // eframe asks Vulkan / Metal / DX12 and GL at once, which loads the GL driver too (~6.5 MB
+    // resident with Mesa's llvmpipe) that a window on a Vulkan adapter never uses
+    if setup.primary_backend
+        && eframe::wgpu::Backends::from_env().is_none()
+        && let egui_wgpu::WgpuSetup::CreateNew(create) = &mut options.wgpu_options.wgpu_setup
+    {
+        create.instance_descriptor.backends = eframe::wgpu::Backends::PRIMARY;
+    }
     setup
 }

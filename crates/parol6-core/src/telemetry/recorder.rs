@@ -98,6 +98,8 @@ enum Control {
     Stop(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
     Finish(Sender<Result<Option<RecordingSummary>, TelemetryError>>),
     Outlet(Outlet),
+    /// Whether the live view keeps rows ([`Recorder::keep_live_rows`]).
+    LiveRows(bool),
 }
 
 /// What a [`LiveOutlet`] carries.
@@ -269,6 +271,12 @@ impl Recorder {
             .send_timeout(Control::Outlet(Outlet { tx, dropped: Arc::clone(&dropped) }), REPLY_TIMEOUT)
             .map_err(|_| TelemetryError::Stopped)?;
         Ok(LiveOutlet { rx, dropped })
+    }
+
+    /// Whether the live view keeps its ten minutes (the default) or nothing, for a backend the
+    /// window does not show (`LiveRing::set_rows_kept`); files and outlets get every sample.
+    pub fn keep_live_rows(&self, on: bool) {
+        self.send(Control::LiveRows(on));
     }
 
     /// The backend's latest state: refusals and blocked/allowed changes become events.
@@ -539,6 +547,10 @@ impl Worker {
                 let _ = reply.send(self.stop());
             }
             Control::Outlet(o) => self.outlets.push(o),
+            Control::LiveRows(on) => {
+                self.ring.set_rows_kept(on);
+                self.dirty = true;
+            }
             Control::Finish(_) => {}
         }
         self.take_events();

@@ -110,6 +110,8 @@ pub struct LiveRing {
     last_kept_s: Option<f64>,
     latest: Option<TelemetrySample>,
     row: Vec<f32>,
+    /// False while the backend is not the one the window shows ([`LiveRing::set_rows_kept`]).
+    rows_kept: bool,
 }
 
 impl LiveRing {
@@ -134,6 +136,24 @@ impl LiveRing {
             last_kept_s: None,
             latest: None,
             row: Vec::with_capacity(width),
+            rows_kept: true,
+        }
+    }
+
+    /// Keeps rows and events (`true`, the default), or drops what is kept and keeps nothing
+    /// until turned on again: the window's plots only ever take rows of the backend they show
+    /// from the moment it is shown, so an inactive backend's ten minutes would never be drawn.
+    pub fn set_rows_kept(&mut self, on: bool) {
+        self.rows_kept = on;
+        if !on {
+            let width = self.open.width;
+            self.summary.clear();
+            self.summary_open = RowBlock::new(width, true);
+            self.summarizer = Summarizer::new(width);
+            self.sealed.clear();
+            self.open = RowBlock::new(width, false);
+            self.events.clear();
+            self.last_kept_s = None;
         }
     }
 
@@ -158,12 +178,14 @@ impl LiveRing {
     /// Whether [`LiveRing::push`] would keep a sample taken at `time_s` (one per
     /// `1 / rate` seconds is kept).
     pub fn keeps(&self, time_s: f64) -> bool {
-        !self.last_kept_s.is_some_and(|last| time_s >= last && time_s - last < self.min_dt_s)
+        self.rows_kept && !self.last_kept_s.is_some_and(|last| time_s >= last && time_s - last < self.min_dt_s)
     }
 
     /// Keeps an event.
     pub fn push_event(&mut self, e: &TelemetryEvent) {
-        self.events.push_back(e.clone());
+        if self.rows_kept {
+            self.events.push_back(e.clone());
+        }
     }
 
     fn age(&mut self, now_s: f64) {

@@ -226,3 +226,53 @@ fn a_one_sample_spike_older_than_a_minute_still_shows_in_the_plotted_min_max() {
     let stats = store.window_stats(0, 9.0, 11.0).expect("samples there");
     assert_eq!(stats.max, expect);
 }
+
+/// The live view of a backend the window does not show keeps nothing (its rows would never be
+/// drawn: the plots take a backend's rows from the moment it is shown), while a file still gets
+/// every sample; turned on again, it keeps rows from then on.
+#[test]
+fn an_inactive_backends_live_view_keeps_no_rows_but_its_file_gets_every_sample() {
+    let model = RobotModel::parol6();
+    let home = home_position(&model);
+    let rec = Recorder::start(model, RecorderConfig::default()).expect("start");
+    let tap = rec.tap();
+    let send = |range: std::ops::RangeInclusive<u64>| {
+        for k in range {
+            while tap.try_send(motion(k, 1e-2, &home)).is_err() {
+                std::thread::sleep(Duration::from_micros(100));
+            }
+        }
+    };
+    // the view holds `rows` once the recorder has published it
+    let view_with = |rows: usize| {
+        let mut live = rec.live();
+        for _ in 0..300 {
+            if live.len() == rows {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+            live = rec.live();
+        }
+        live
+    };
+    send(1..=100);
+    wait_for(&rec, 100);
+    assert_eq!(view_with(100).len(), 100, "kept while shown");
+    rec.keep_live_rows(false);
+    let path = temp_path("inactive.mcap");
+    rec.start_recording(&path, &info()).expect("recording");
+    send(101..=300);
+    wait_for(&rec, 300);
+    std::thread::sleep(Duration::from_millis(100));
+    let live = view_with(0);
+    assert_eq!(live.len(), 0, "an inactive backend keeps no rows");
+    rec.keep_live_rows(true);
+    send(301..=350);
+    wait_for(&rec, 350);
+    let live = view_with(50);
+    assert_eq!(live.len(), 50, "rows again once shown");
+    assert_eq!(live.blocks.first().and_then(|b| b.times_s.first()).copied(), Some(301.0 * 1e-2));
+    let summary = rec.finish().expect("finish").expect("was recording");
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(summary.samples, 250, "the file got every sample from its start");
+}

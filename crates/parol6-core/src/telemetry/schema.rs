@@ -94,11 +94,12 @@ pub struct JointStateMsg {
     /// Step rates reported by the controller, steps/s (robot only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steps_per_s: Option<Vec<f64>>,
-    /// Program step being run.
-    #[serde(default)]
+    /// Program step being run (absent when none: Foxglove's and Lichtblick's JSON-schema
+    /// parsers refuse a nullable `"type": [T, "null"]`, so the schema has one type per field).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub program_step: Option<usize>,
-    /// Worst limit zone over the joints (`null` when all are safe).
-    #[serde(default)]
+    /// Worst limit zone over the joints (absent when all are safe; older files hold `null`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst_zone: Option<WorstZone>,
 }
 
@@ -232,7 +233,7 @@ pub fn schema_text(name: &str) -> Option<String> {
             r#"{{"title":"foxglove.Log","description":"A log message","type":"object","properties":{{"timestamp":{TIME},"level":{{"title":"foxglove.LogLevel","description":"Log level","oneOf":[{{"title":"UNKNOWN","const":0}},{{"title":"DEBUG","const":1}},{{"title":"INFO","const":2}},{{"title":"WARNING","const":3}},{{"title":"ERROR","const":4}},{{"title":"FATAL","const":5}}]}},"message":{{"type":"string"}},"name":{{"type":"string"}},"file":{{"type":"string"}},"line":{{"type":"integer","minimum":0}}}}}}"#
         ),
         JOINT_STATE => format!(
-            r#"{{"title":"parol6.JointState","description":"Joint positions (rad), velocities (rad/s), efforts (N·m) and accelerations (rad/s²) with sensor_msgs/JointState field names","type":"object","properties":{{"header":{},"name":{{"type":"array","items":{{"type":"string"}}}},"position":{numbers},"velocity":{numbers},"effort":{numbers},"acceleration":{numbers},"seq":{{"type":"integer","minimum":0}},"time_s":{{"type":"number"}},"steps_per_s":{numbers},"program_step":{{"type":["integer","null"]}},"worst_zone":{{"type":["object","null"],"properties":{{"joint":{{"type":"integer"}},"zone":{{"type":"string"}}}}}}}}}}"#,
+            r#"{{"title":"parol6.JointState","description":"Joint positions (rad), velocities (rad/s), efforts (N·m) and accelerations (rad/s²) with sensor_msgs/JointState field names","type":"object","properties":{{"header":{},"name":{{"type":"array","items":{{"type":"string"}}}},"position":{numbers},"velocity":{numbers},"effort":{numbers},"acceleration":{numbers},"seq":{{"type":"integer","minimum":0}},"time_s":{{"type":"number"}},"steps_per_s":{numbers},"program_step":{{"type":"integer","minimum":0,"description":"Program step being run; absent when none"}},"worst_zone":{{"type":"object","description":"Worst limit zone over the joints; absent when all are safe","properties":{{"joint":{{"type":"integer"}},"zone":{{"type":"string"}}}}}}}}}}"#,
             header_schema()
         ),
         ROBOT_DESCRIPTION => {
@@ -259,6 +260,64 @@ mod tests {
             assert_eq!(v["type"], "object", "{name}");
         }
         assert!(schema_text("foxglove.Unknown").is_none());
+    }
+
+    /// Every `"type"` in `v` (at any depth) that is not a single string, as its JSON path.
+    fn multi_types(v: &serde_json::Value, path: &str, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Object(map) => {
+                for (k, child) in map {
+                    if k == "type" && !child.is_string() {
+                        out.push(format!("{path}: {child}"));
+                    }
+                    multi_types(child, &format!("{path}/{k}"), out);
+                }
+            }
+            serde_json::Value::Array(items) => {
+                for (i, child) in items.iter().enumerate() {
+                    multi_types(child, &format!("{path}/{i}"), out);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Lichtblick 1.10 (and Foxglove's `parseJsonSchema`) refused `/joint_states` with
+    /// `Failed to parse channel schema on /joint_states, error: Error: Unsupported type
+    /// ["integer","null"] for program_step`, so its Plot panel had no joint values.
+    #[test]
+    fn every_schema_has_one_type_per_field_as_foxglove_clients_parse_them() {
+        for name in [FRAME_TRANSFORMS, POSE_IN_FRAME, LOG, JOINT_STATE, ROBOT_DESCRIPTION, LINK_HEALTH] {
+            let text = schema_text(name).unwrap_or_default();
+            let v: serde_json::Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let mut found = Vec::new();
+            multi_types(&v, name, &mut found);
+            assert!(found.is_empty(), "types that are not one string: {found:?}");
+        }
+    }
+
+    /// The optional fields are left out when empty (the schema gives them one type, not null),
+    /// and older files that hold `null` still read.
+    #[test]
+    fn joint_state_leaves_out_empty_optionals_and_reads_old_nulls() {
+        let js = JointStateMsg {
+            header: Header { stamp: Time::from_ns(0), frame_id: "base_link".into() },
+            name: vec!["J1".into()],
+            position: vec![0.5],
+            velocity: vec![0.0],
+            effort: vec![],
+            acceleration: vec![0.0],
+            seq: 1,
+            time_s: 0.001,
+            steps_per_s: None,
+            program_step: None,
+            worst_zone: None,
+        };
+        let text = serde_json::to_string(&js).unwrap_or_default();
+        assert!(!text.contains("program_step") && !text.contains("worst_zone"), "{text}");
+        let old = format!(r#"{},"program_step":null,"worst_zone":null}}"#, text.trim_end_matches('}'));
+        let back: JointStateMsg = serde_json::from_str(&old).unwrap_or_else(|e| panic!("{old}: {e}"));
+        assert_eq!(back, js);
     }
 
     #[test]

@@ -357,3 +357,18 @@ fn a_full_tap_counts_the_dropped_samples() {
     assert_eq!(rx.len(), 2, "the tap kept the first samples");
     assert!(session.snapshot().to_json()["tap_dropped"].as_u64().unwrap() >= 5);
 }
+
+/// The emulator's log of received frames stops at `log_frames_max` until taken (the window's
+/// built-in emulator keeps a minute; the default ~33 minutes of a 100 Hz host stayed resident in
+/// a window left running), and logs again once taken.
+#[test]
+fn the_emulators_log_keeps_at_most_its_cap_until_taken() {
+    let (emu, session) = start(EmulatorConfig { log_frames_max: 20, ..EmulatorConfig::homed_at_standby() });
+    let at = session.snapshot().status_frames;
+    session.wait_until(LONG, |s| s.status_frames >= at + 40).expect("40 more cycles");
+    assert_eq!(emu.take_received().len(), 20, "the log stops at its cap");
+    let at = session.snapshot().status_frames;
+    session.wait_until(LONG, |s| s.status_frames >= at + 5).expect("5 more cycles");
+    let again = emu.take_received().len();
+    assert!((1..=20).contains(&again), "logged again once taken: {again}");
+}

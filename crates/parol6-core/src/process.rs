@@ -31,6 +31,38 @@ pub fn release_freed_memory() {
     }
 }
 
+/// What the allocator holds, bytes ([`heap_stats`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HeapStats {
+    /// Handed out and not yet freed, in the heaps and in blocks mapped on their own.
+    pub in_use_bytes: u64,
+    /// Freed but kept by the heaps (resident unless handed back by [`release_freed_memory`]).
+    pub free_bytes: u64,
+    /// Of `in_use_bytes`, the large blocks mapped on their own.
+    pub mapped_bytes: u64,
+}
+
+/// The allocator's own count of what it holds (glibc's `mallinfo2`, every heap); `None` on
+/// other C libraries. Compared with the resident size over a long run, it tells memory the
+/// program holds from memory freed and kept.
+pub fn heap_stats() -> Option<HeapStats> {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        // SAFETY: mallinfo2 only reads the allocator's counters.
+        let m = unsafe { libc::mallinfo2() };
+        let bytes = |v: usize| u64::try_from(v).unwrap_or(u64::MAX);
+        Some(HeapStats {
+            in_use_bytes: bytes(m.uordblks).saturating_add(bytes(m.hblkhd)),
+            free_bytes: bytes(m.fordblks),
+            mapped_bytes: bytes(m.hblkhd),
+        })
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    {
+        None
+    }
+}
+
 /// CPU time of the calling thread, ns.
 pub fn thread_cpu_time_ns() -> Option<u64> {
     #[cfg(target_os = "linux")]
@@ -61,4 +93,26 @@ fn cpu_clock_ns(clock: libc::clockid_t) -> Option<u64> {
     // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the kernel knows.
     let rc = unsafe { libc::clock_gettime(clock, &mut ts) };
     (rc == 0).then(|| (ts.tv_sec as u64).saturating_mul(1_000_000_000).saturating_add(ts.tv_nsec as u64))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The allocator's count follows a large block taken and given back (other test threads
+    /// allocate too, so only the block's own size is checked, with room for their noise).
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    #[test]
+    fn heap_stats_count_a_block_while_it_is_held() {
+        const BLOCK: usize = 64 << 20;
+        let before = heap_stats().expect("glibc counts its heaps");
+        let block = vec![1u8; BLOCK];
+        let held = heap_stats().expect("glibc counts its heaps");
+        assert!(held.in_use_bytes >= before.in_use_bytes + BLOCK as u64 / 2, "{before:?} → {held:?}");
+        assert!(held.mapped_bytes >= BLOCK as u64, "a block this large is mapped on its own: {held:?}");
+        assert_eq!(block.iter().map(|&b| usize::from(b)).sum::<usize>(), BLOCK);
+        drop(block);
+        let after = heap_stats().expect("glibc counts its heaps");
+        assert!(after.in_use_bytes + (BLOCK as u64 / 2) <= held.in_use_bytes, "{held:?} → {after:?}");
+    }
 }

@@ -41,11 +41,21 @@ pub struct EmulatorConfig {
     pub start_homed: bool,
     /// Keep a log of received commands for [`EmulatorHandle::take_received`] (capped).
     pub log_commands: bool,
+    /// Most frames the log keeps until taken (later ones are not logged). The default,
+    /// [`LOG_CAP`], holds ~33 minutes of a 100 Hz host (17.6 MB); a long-running host that
+    /// seldom takes the log (the window's built-in emulator) keeps fewer.
+    pub log_frames_max: usize,
 }
 
 impl Default for EmulatorConfig {
     fn default() -> Self {
-        Self { home_duration_s: 1.0, initial_steps: [0; JOINT_COUNT], start_homed: false, log_commands: true }
+        Self {
+            home_duration_s: 1.0,
+            initial_steps: [0; JOINT_COUNT],
+            start_homed: false,
+            log_commands: true,
+            log_frames_max: LOG_CAP,
+        }
     }
 }
 
@@ -360,8 +370,8 @@ pub struct EmulatorSnapshot {
 /// delays). Called with the index of the reply; returns an extra delay before sending it.
 pub type StatusCorruptor = Box<dyn FnMut(u64, &mut StatusFrame) -> Duration + Send>;
 
-/// Most received frames kept in the log.
-const LOG_CAP: usize = 200_000;
+/// Most received frames kept in the log by default ([`EmulatorConfig::log_frames_max`]).
+pub const LOG_CAP: usize = 200_000;
 
 struct Shared {
     stop: AtomicBool,
@@ -413,7 +423,7 @@ impl EmulatorHandle {
             corruptor: Mutex::new(None),
         });
         let sh = Arc::clone(&shared);
-        let log_commands = config.log_commands;
+        let log_max = if config.log_commands { config.log_frames_max } else { 0 };
         let thread = std::thread::Builder::new()
             .name("parol6-emulator".into())
             .spawn(move || {
@@ -421,7 +431,7 @@ impl EmulatorHandle {
                 let _slave = slave;
                 // The emulated board must answer in time on a loaded desktop, like the real one.
                 crate::priority::raise_current_thread();
-                serve(master, model, &sh, log_commands);
+                serve(master, model, &sh, log_max);
             })
             .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
         Ok(EmulatorHandle { path, shared, thread: Some(thread) })
@@ -508,7 +518,7 @@ fn snapshot_of(m: &ControllerModel, accepted: u64, rejected: u64) -> EmulatorSna
 }
 
 #[cfg(unix)]
-fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Shared, log_commands: bool) {
+fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Shared, log_max: usize) {
     let mut parser = CommandParser::new();
     let mut buf = [0u8; 4096];
     let mut last = Instant::now();
@@ -532,12 +542,12 @@ fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Share
             model.advance(now.duration_since(last).as_secs_f64());
             last = now;
             let status = model.accept(cmd, now);
-            if log_commands {
+            if log_max > 0 {
                 let mut log = match sh.log.lock() {
                     Ok(l) => l,
                     Err(p) => p.into_inner(),
                 };
-                if log.len() < LOG_CAP {
+                if log.len() < log_max {
                     log.push(ReceivedFrame { at: now, command: cmd });
                 }
             }

@@ -13,6 +13,10 @@ use super::ConnectTarget;
 
 /// How long the built-in emulator's homing takes, s.
 const EMULATED_HOMING_S: f64 = 3.0;
+/// Frames the built-in emulator logs until a test takes them (a minute of the 100 Hz loop,
+/// 88 bytes each: 0.5 MB). Its default, 200 000 frames (17.6 MB), filled over the first 33
+/// minutes of a window left running: the one-hour soak's growth after the live ring was full.
+const EMULATOR_LOG_FRAMES: usize = 6_000;
 
 /// Where a homing stands, in the operator's words ("" before any was asked for).
 pub(super) fn homing_text(h: &parol6_hw::HomingState, homed: &[bool]) -> String {
@@ -97,6 +101,7 @@ impl HwLink {
         // homing takes a few seconds, as on a board (its progress shows in the panel)
         let config_emu = parol6_hw::EmulatorConfig {
             home_duration_s: EMULATED_HOMING_S,
+            log_frames_max: EMULATOR_LOG_FRAMES,
             ..parol6_hw::EmulatorConfig::homed_at_standby()
         };
         let emu = parol6_hw::EmulatorHandle::spawn(config_emu)?;

@@ -1,7 +1,8 @@
 //! The `soak:SECONDS[:PROGRAM]` test script (`PAROL6_TEST_SCRIPT`): runs a built-in program
 //! (default "Pick & place") in a loop on the window's backend — the robot or the built-in
 //! emulator with `--fake-robot`, else the simulation — for SECONDS, sampling the resident
-//! memory, the link and the telemetry recorder every 10 s (one JSON line each on stdout), then
+//! memory (and what the allocator holds: in use, freed and kept, mapped on its own), the link
+//! and the telemetry recorder every 10 s (one JSON line each on stdout), then
 //! prints a summary line, stops the program and closes the window (which ends a `--record`
 //! file). A program that stops (a link loss ends it) is counted and started again.
 //!
@@ -18,6 +19,8 @@ use std::time::{Duration, Instant};
 use super::Parol6App;
 use crate::artifacts::rss_mb;
 
+/// Bytes in a MB (as the resident size is counted).
+const MB: f64 = 1024.0 * 1024.0;
 /// How often the soak samples.
 const SAMPLE_EVERY: Duration = Duration::from_secs(10);
 /// Samples before this time are the warm-up and not in the spread: the live view keeps the
@@ -131,6 +134,11 @@ impl Parol6App {
             "soak_t_s": t_s,
             "frames": soak.frames,
             "rss_mb": rss,
+            "heap": parol6_core::process::heap_stats().map(|h| json!({
+                "in_use_mb": h.in_use_bytes as f64 / MB,
+                "free_mb": h.free_bytes as f64 / MB,
+                "mapped_mb": h.mapped_bytes as f64 / MB,
+            })),
             "link": link.as_ref().map(|s| format!("{:?}", s.link)),
             "link_losses": losses,
             "missing_replies": link.as_ref().map(|s| s.missing_replies),

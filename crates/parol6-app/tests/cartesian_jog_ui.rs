@@ -323,3 +323,19 @@ fn the_jog_speed_is_shown_in_the_chosen_angle_unit() {
     assert!(h.query_all_by_label_contains("mm/s, 0.3622 rad/s").next().is_some(), "radians: 0.3622 rad/s");
     assert!(h.query_all_by_label_contains("°/s").next().is_none(), "no °/s left in radians");
 }
+
+/// Issue 32 hand trial: Tab in the Cartesian target went row by row (X → Roll → Y …). It goes
+/// down the position's column, then the orientation's: X, Y, Z, Roll, Pitch, Yaw.
+#[test]
+fn tab_goes_through_the_cartesian_target_x_y_z_then_roll_pitch_yaw() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 800.0));
+    h.get_by_label("target X").click();
+    h.run_steps(2);
+    let order = ["target X", "target Y", "target Z", "target Roll", "target Pitch", "target Yaw"];
+    for pair in order.windows(2) {
+        assert!(h.get_by_label(pair[0]).is_focused(), "{} has the keyboard", pair[0]);
+        h.key_press(egui::Key::Tab);
+        h.run_steps(2);
+        assert!(h.get_by_label(pair[1]).is_focused(), "Tab from {} goes to {}", pair[0], pair[1]);
+    }
+}

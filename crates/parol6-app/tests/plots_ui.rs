@@ -355,3 +355,45 @@ fn the_plots_joint_toggles_lie_on_one_row_at_every_window_size() {
         assert!(rects[5].right() <= panel.right(), "{width} px: J6 inside the window");
     }
 }
+
+/// Issue 32 (torque unit across a backend switch): the drive plot's axis has the current
+/// backend's unit (steps/s on the robot, N·m in the simulation). The other backend's stretch of
+/// the history is not drawn under it (it was, under the wrong unit), and the plot says what it
+/// leaves out; back in the simulation, the robot's stretch is left out instead.
+#[test]
+fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    use parol6_core::telemetry::{DriveKind, Quantity};
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().show_plot(Quantity::Drive);
+    until(&mut h, "rows of the simulation", 15.0, |h| h.state().plots_panel().store().len() > 50);
+    let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
+    });
+    h.run_steps(2);
+    let p = h.state().plots_panel();
+    assert_eq!(p.store().drive(), DriveKind::StepsPerS, "the robot's drive is a step rate");
+    assert_eq!(p.store().time_range_s().unwrap().0, first, "the simulation's rows are kept");
+    let switch = p.switches()[0].0;
+    let (drawn_from, _) = p.drawn_s(Quantity::Drive).expect("the robot's rows are drawn");
+    assert!(drawn_from > switch, "N·m rows drawn under steps/s: from {drawn_from} s, switch at {switch} s");
+    assert!(has_label(&h, "not drawn under steps/s"), "the plot says the simulation's torque is left out");
+
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    until(&mut h, "rows of the simulation after the robot's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 2 && p.store().drive() == DriveKind::TorqueNm
+    });
+    let back = h.state().plots_panel().switches()[1].0;
+    until(&mut h, "the simulation's torque drawn after the robot's stretch", 15.0, |h| {
+        h.state().plots_panel().drawn_s(Quantity::Drive).is_some_and(|(_, to)| to > back + 0.1)
+    });
+    assert!(has_label(&h, "not drawn under N·m"), "the plot says the robot's step rates are left out");
+    let (from, _) = h.state().plots_panel().drawn_s(Quantity::Drive).unwrap();
+    assert!(from < switch, "the first simulation stretch is drawn too: from {from} s");
+}

@@ -191,25 +191,32 @@ impl CartesianTargetPanel {
         let mut events = Vec::new();
         let shown = ctx.settings.tcp_readout_rad(self.rpy);
         let labels = ctx.settings.angle_labels();
-        egui::Grid::new("cart_target").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {
-            for k in 0..3 {
-                let xyz = ["X", "Y", "Z"][k];
-                ui.label(xyz);
-                let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
-                events.push((k, e));
-                let rpy = labels[k];
-                ui.label(rpy).on_hover_text(ctx.settings.readout_angle_hover());
-                let (_, e) = entry::numeric_entry(
-                    ui,
-                    &format!("target {rpy}"),
-                    unit.from_rad(shown[k]),
-                    unit.decimals(),
-                    70.0,
-                    unit.suffix().trim(),
-                );
-                events.push((k + 3, e));
-                ui.end_row();
-            }
+        // the position's column first, then the orientation's: Tab goes X, Y, Z, Roll, Pitch,
+        // Yaw (egui's Tab follows the order the fields are added; one grid went row by row)
+        ui.horizontal(|ui| {
+            egui::Grid::new("cart_target_xyz").num_columns(2).spacing([6.0, 2.0]).show(ui, |ui| {
+                for (k, xyz) in ["X", "Y", "Z"].into_iter().enumerate() {
+                    ui.label(xyz);
+                    let (_, e) = entry::numeric_entry(ui, &format!("target {xyz}"), self.xyz_mm[k], 2, 70.0, "mm");
+                    events.push((k, e));
+                    ui.end_row();
+                }
+            });
+            egui::Grid::new("cart_target_rpy").num_columns(2).spacing([6.0, 2.0]).show(ui, |ui| {
+                for (k, rpy) in labels.into_iter().enumerate() {
+                    ui.label(rpy).on_hover_text(ctx.settings.readout_angle_hover());
+                    let (_, e) = entry::numeric_entry(
+                        ui,
+                        &format!("target {rpy}"),
+                        unit.from_rad(shown[k]),
+                        unit.decimals(),
+                        70.0,
+                        unit.suffix().trim(),
+                    );
+                    events.push((k + 3, e));
+                    ui.end_row();
+                }
+            });
         });
         for (k, event) in events {
             match event {

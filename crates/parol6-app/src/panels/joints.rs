@@ -2,6 +2,7 @@
 //! protection bar; a banner naming the joint nearest its limit; HOME / STOP; "go to joint pose".
 
 use eframe::egui;
+use egui::containers::menu::{MenuButton, MenuConfig};
 use parol6_core::limits::{JointLimit, LimitZone, ZoneThresholds};
 
 use parol6_core::motion::{MotionCommand, RobotState};
@@ -46,6 +47,11 @@ const LED_W: f32 = 14.0;
 const NAME_W: f32 = 26.0;
 const ENTRY_W: f32 = 62.0;
 const SUFFIX_W: f32 = 22.0;
+/// Title of the "go to joint pose" section (in a short window, of the button that opens it).
+const GOTO_TITLE: &str = "Go to joint pose";
+/// Window height, points, below which that section is a button opening it over the panel
+/// (the window's smallest supported size is 1024x700; 1280x800 has room for it in place).
+const COMPACT_BELOW_HEIGHT_PT: f32 = 760.0;
 
 /// The joints panel.
 #[derive(Debug, Default)]
@@ -405,7 +411,20 @@ impl Panel for JointsPanel {
             }
         });
         ui.separator();
-        ui.add_enabled_ui(refused.is_none(), |ui| self.goto_ui(ui, ctx));
+        ui.add_enabled_ui(refused.is_none(), |ui| {
+            if ui.ctx().content_rect().height() < COMPACT_BELOW_HEIGHT_PT {
+                // a short window: the section opens over the panel, so that the program's Run /
+                // Pause / Step / Stop below stay in view without scrolling (hand trial, 1024x700)
+                let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+                MenuButton::new(format!("{GOTO_TITLE}…"))
+                    .config(stay_open)
+                    .ui(ui, |ui| self.goto_ui(ui, ctx))
+                    .0
+                    .on_hover_text("Type a joint pose and move to it");
+            } else {
+                self.goto_ui(ui, ctx);
+            }
+        });
     }
 }
 
@@ -413,7 +432,7 @@ impl JointsPanel {
     /// "Go to joint pose": one typed entry per joint (committed on Enter / focus loss, clamped
     /// into the limits with a notice), then a profiled move on "Go".
     fn goto_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        ui.label(egui::RichText::new("Go to joint pose").strong());
+        ui.label(egui::RichText::new(GOTO_TITLE).strong());
         let unit = ctx.settings.unit;
         let mut events = Vec::new();
         egui::Grid::new("goto_pose").num_columns(4).spacing([6.0, 2.0]).show(ui, |ui| {

@@ -28,6 +28,7 @@ pub mod plot_axis;
 pub mod plot_cache;
 pub mod plot_export;
 pub mod plot_line;
+pub mod plot_stretches;
 pub mod plots;
 pub mod program;
 pub mod registry;

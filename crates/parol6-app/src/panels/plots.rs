@@ -21,6 +21,7 @@ use super::plot_axis;
 use super::plot_cache::DecimationCache;
 use super::plot_export::{self, DrawnGroup, DrawnLine};
 use super::plot_line::ThinLine;
+use super::plot_stretches::{self, DriveStretches};
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
 use crate::palette;
 
@@ -121,6 +122,10 @@ pub struct PlotsPanel {
     switches: Vec<(f64, bool)>,
     /// Width of the joint toggles' group last frame, points.
     joint_toggles_width: Option<f32>,
+    /// What the live drive series held, stretch by stretch (torque or step rates).
+    drive_stretches: DriveStretches,
+    /// Per plot of the last frame, the first and last time of the points drawn, s.
+    drawn_s: Vec<(Quantity, Option<(f64, f64)>)>,
 }
 
 /// The joint toggles' width before it is measured, points (six toggles take about 220).
@@ -144,6 +149,8 @@ impl PlotsPanel {
             live_shift_s: 0.0,
             switches: Vec::new(),
             joint_toggles_width: None,
+            drive_stretches: DriveStretches::default(),
+            drawn_s: Vec::new(),
         }
     }
 
@@ -164,6 +171,7 @@ impl PlotsPanel {
     /// continue it from the switch on (its clock shifted onto the plots' own), and the switch
     /// is marked on every plot.
     pub fn feed_live(&mut self, view: &LiveView, on_robot: bool) -> usize {
+        let before_s = self.live.time_range_s().map(|(_, last)| last);
         if self.live_on_robot != Some(on_robot) {
             // a backend with no rows yet (a connection's first moments) waits for its first
             let Some(latest) = view.latest_time_s() else { return 0 };
@@ -176,7 +184,17 @@ impl PlotsPanel {
             }
             self.live_on_robot = Some(on_robot);
         }
-        self.live.ingest_live_shifted(view, self.live_shift_s)
+        let added = self.live.ingest_live_shifted(view, self.live_shift_s);
+        if added > 0 {
+            self.drive_stretches.note(before_s, view.drive, on_robot);
+        }
+        added
+    }
+
+    /// Per plot of the last frame, the first and last time of the points drawn, s (`None`:
+    /// none drawn).
+    pub fn drawn_s(&self, q: Quantity) -> Option<(f64, f64)> {
+        self.drawn_s.iter().find(|(o, _)| *o == q).and_then(|(_, r)| *r)
     }
 
     /// Where the live rows switched backend (plot time, s) and to which (`true`: the robot),
@@ -360,10 +378,18 @@ impl Panel for PlotsPanel {
         let cursor = self.replay.as_ref().map(|(_, c)| *c);
         let switches = if self.replay.is_some() { Vec::new() } else { self.switches() };
         let id_lists: Vec<Vec<SeriesId>> = shown.iter().map(|q| self.selected(*q)).collect();
+        let mut drawn_s = Vec::new();
         egui::ScrollArea::vertical().id_salt("plots_scroll").auto_shrink([false, false]).show(ui, |ui| {
             for (k, (q, ids)) in shown.iter().zip(&id_lists).enumerate() {
                 let store = self.replay.as_ref().map_or(&self.live, |(d, _)| &d.store);
                 let (scale, unit) = unit_of(*q, ctx.settings.unit, store.drive());
+                // the live history's stretches of the other drive quantity (the other
+                // backend's) are not drawn under this axis's unit
+                let hidden = if *q == Quantity::Drive && self.replay.is_none() {
+                    self.drive_stretches.hidden(store.drive())
+                } else {
+                    Vec::new()
+                };
                 let lines = &mut self.lines;
                 let mut plot = Plot::new(("plot", k))
                     .height(height)
@@ -397,20 +423,32 @@ impl Panel for PlotsPanel {
                     let mut group = DrawnGroup { title: format!("{} ({unit})", q.label()), lines: Vec::new() };
                     let hover_t = pui.response().hovered().then(|| pui.pointer_coordinate()).flatten().map(|p| p.x);
                     let mut hover_values = Vec::new();
+                    let mut drawn: Option<(f64, f64)> = None;
+                    let pad_s = (x1 - x0) / columns.max(1) as f64;
                     for id in ids {
                         let Some(col) = store.column(*id) else { continue };
                         let points = lines.line(store, col, x0, x1, columns);
                         let scaled: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1] * scale]).collect();
-                        if let Some(v) = hover_t.and_then(|t| plot_axis::value_at(&scaled, t)) {
-                            hover_values.push((series_name(*id), v));
-                        }
-                        if collect_svg {
+                        let runs = if hidden.is_empty() {
+                            vec![scaled]
+                        } else {
+                            plot_stretches::split_shown(&scaled, &hidden, pad_s)
+                        };
+                        for run in runs.iter().filter(|r| !r.is_empty()) {
+                            let (a, b) = (run[0][0], run[run.len() - 1][0]);
+                            drawn = Some(drawn.map_or((a, b), |(lo, hi)| (lo.min(a), hi.max(b))));
+                            let at_t = hover_t.filter(|t| (a..=b).contains(t) || runs.len() == 1);
+                            if let Some(v) = at_t.and_then(|t| plot_axis::value_at(run, t)) {
+                                hover_values.push((series_name(*id), v));
+                            }
                             let color = series_color(id.index);
-                            group.lines.push(DrawnLine { name: series_name(*id), color, points: scaled.clone() });
+                            if collect_svg {
+                                group.lines.push(DrawnLine { name: series_name(*id), color, points: run.clone() });
+                            }
+                            pui.add(ThinLine::new(series_name(*id), run).color(color).width(1.0));
                         }
-                        let line = ThinLine::new(series_name(*id), &scaled).color(series_color(id.index));
-                        pui.add(line.width(1.0));
                     }
+                    drawn_s.push((*q, drawn));
                     if let Some(c) = cursor {
                         pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::PLOT_CURSOR)).width(1.5));
                     }
@@ -434,6 +472,13 @@ impl Panel for PlotsPanel {
                     let font = egui::TextStyle::Small.resolve(ui.style());
                     ui.painter_at(frame).text(at, egui::Align2::LEFT_TOP, name, font, color);
                 }
+                if let Some(note) = plot_stretches::hidden_note(&hidden, x0, x1, store.drive()) {
+                    // a label over the plot's lower left corner: it takes no room from the plots
+                    let r = egui::Rect::from_min_max(egui::pos2(frame.left() + 4.0, frame.bottom() - 18.0), frame.max);
+                    let mut child = ui.new_child(egui::UiBuilder::new().max_rect(r));
+                    child.set_clip_rect(r.intersect(ui.clip_rect()));
+                    child.label(egui::RichText::new(note).small().color(palette::rgb(palette::PATH_WARNING)));
+                }
                 if let (Some(text), Some(pointer)) = (hover, resp.response.hover_pos()) {
                     let id = ui.make_persistent_id(("plot_readout", k));
                     plot_axis::show_readout(ui.ctx(), id, pointer, resp.response.rect, text);
@@ -454,6 +499,7 @@ impl Panel for PlotsPanel {
             }
         });
         self.visible_s = visible;
+        self.drawn_s = drawn_s;
         if interacted {
             self.follow = false;
         }

@@ -325,15 +325,16 @@ impl Panel for ProgramPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        ui.heading(self.title());
         if std::mem::take(&mut self.hide_last_run) {
             self.hidden_run = ctx.app.program.clone().filter(|p| p.state.is_finished());
         }
         // the run status of a program opened since is not shown
         let progress = ctx.app.program.clone().filter(|p| self.hidden_run.as_ref() != Some(p));
         let running = progress.as_ref().is_some_and(|p| !p.state.is_finished());
+        // the heading shares its row with the built-in programs: one row less above the run
+        // buttons, which stay in view at 1024x700
+        self.picker(ui, ctx, running);
         ui.add_enabled_ui(!running, |ui| {
-            self.picker(ui, ctx);
             self.file_row(ui, ctx);
         });
         self.poll_job(ctx);
@@ -373,12 +374,15 @@ impl Panel for ProgramPanel {
 }
 
 impl ProgramPanel {
-    fn picker(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+    /// The panel's heading and the built-in programs (off while a program runs).
+    fn picker(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, running: bool) {
         let mut pick = None;
         ui.horizontal_wrapped(|ui| {
+            ui.heading(self.title());
             for p in &self.builtins {
                 let selected = p.name == self.program.name && self.source == "built-in";
-                if ui.selectable_label(selected, &p.name).on_hover_text(&p.description).clicked() {
+                let label = egui::Button::selectable(selected, &p.name);
+                if ui.add_enabled(!running, label).on_hover_text(&p.description).clicked() {
                     pick = Some(p.name.clone());
                 }
             }

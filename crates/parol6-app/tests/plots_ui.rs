@@ -307,7 +307,11 @@ fn switching_between_the_simulation_and_the_robot_keeps_the_plot_history() {
     use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
-    until(&mut h, "rows of the simulation", 15.0, |h| h.state().plots_panel().store().len() > 50);
+    // a first stretch of a second, many pixel columns wide (a point within a column of a
+    // switch is not drawn: it may stand for rows of both sides)
+    until(&mut h, "a second of the simulation", 15.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 1.0)
+    });
     let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
     h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
     until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
@@ -366,7 +370,11 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
     use parol6_core::telemetry::{DriveKind, Quantity};
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.state_mut().show_plot(Quantity::Drive);
-    until(&mut h, "rows of the simulation", 15.0, |h| h.state().plots_panel().store().len() > 50);
+    // a first stretch of a second, many pixel columns wide (a point within a column of a
+    // switch is not drawn: it may stand for rows of both sides)
+    until(&mut h, "a second of the simulation", 15.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 1.0)
+    });
     let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
     h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
     until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
@@ -395,5 +403,9 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
     });
     assert!(has_label(&h, "not drawn under N·m"), "the plot says the robot's step rates are left out");
     let (from, _) = h.state().plots_panel().drawn_s(Quantity::Drive).unwrap();
-    assert!(from < switch, "the first simulation stretch is drawn too: from {from} s");
+    assert!(
+        from < switch,
+        "the first simulation stretch is drawn too: from {from} s (first {first}, switch {switch}, back {back}, switches {:?})",
+        h.state().plots_panel().switches()
+    );
 }

@@ -20,11 +20,13 @@ use parol6_hw::{ControllerModel, EmulatorConfig};
 
 mod formats;
 mod fsio;
+mod handshake;
 mod mcap_cut;
 mod ros2;
 
 pub use formats::{commander, commander_compile, csv_table, csv_table_compile, time_function, time_function_compile};
 pub use fsio::atomic_writer;
+pub use handshake::foxglove_handshake;
 pub use mcap_cut::mcap_cut;
 pub use ros2::ros2_cdr;
 
@@ -48,7 +50,7 @@ const fn target(name: &'static str, body: FuzzBody) -> FuzzTarget {
 }
 
 /// The fuzz targets whose bodies live here.
-pub const TARGETS: [FuzzTarget; 15] = [
+pub const TARGETS: [FuzzTarget; 16] = [
     target("status_parser", status_parser),
     target("command_emulator", command_emulator),
     target("urdf_loader", urdf_loader),
@@ -64,6 +66,7 @@ pub const TARGETS: [FuzzTarget; 15] = [
     target("atomic_writer", atomic_writer),
     target("mcap_cut", mcap_cut),
     target("ros2_cdr", ros2_cdr),
+    target("foxglove_handshake", foxglove_handshake),
 ];
 
 /// Host side: the streaming status parser and the frame decoders. Every frame the parser

@@ -111,7 +111,19 @@ impl Drop for Serving {
 
 /// Runs the Python client; its JSON.
 fn client(mode: &str, url: &str, seconds: f64) -> serde_json::Value {
-    let out = Command::new("python3").arg(peer()).args([mode, url, &seconds.to_string()]).output().unwrap();
+    client_offering(mode, url, seconds, &[], "foxglove.sdk.v1,foxglove.websocket.v1")
+}
+
+/// The client in `mode` with `args` after the seconds, offering the `subprotocols`
+/// (comma-separated).
+fn client_offering(mode: &str, url: &str, seconds: f64, args: &[&str], subprotocols: &str) -> serde_json::Value {
+    let out = Command::new("python3")
+        .arg(peer())
+        .args([mode, url, &seconds.to_string()])
+        .args(args)
+        .env("FOXGLOVE_SUBPROTOCOLS", subprotocols)
+        .output()
+        .unwrap();
     assert!(out.status.success(), "client {mode}: {}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("client {mode} output: {e}"))
 }
@@ -214,7 +226,7 @@ fn a_client_that_never_reads_does_not_slow_the_simulation() {
     if !python_ready(test) {
         return;
     }
-    let serving = Serving::start(&["--foxglove", "127.0.0.1:0", "--demo", "--seconds", "14"]);
+    let serving = Serving::start(&["--foxglove", "127.0.0.1:0", "--demo", "--seconds", "16"]);
     let url = serving.url.clone();
     let slow = std::thread::spawn(move || client("slow", &url, 10.0));
     // memory once the socket buffers and the client's queue have had time to fill, and later
@@ -238,6 +250,64 @@ fn a_client_that_never_reads_does_not_slow_the_simulation() {
     // and the client was thinned: the oldest messages were dropped for it
     assert!(got["joint_states"].as_u64().unwrap() > 0, "{got}");
     assert!(got["seq_gaps"].as_u64().unwrap() > 0, "no message was dropped for the slow client: {got}");
+}
+
+/// What the server answers a raw HTTP request (its status line), read for at most 10 s.
+fn http_status(url: &str, request: &[u8], close_write: bool) -> (String, Duration) {
+    use std::io::Write;
+    let addr = url.trim_start_matches("ws://");
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let t0 = Instant::now();
+    s.write_all(request).unwrap();
+    if close_write {
+        s.shutdown(std::net::Shutdown::Write).unwrap();
+    }
+    let mut answer = String::new();
+    if let Err(e) = BufReader::new(s).read_line(&mut answer) {
+        answer = format!("(no answer: {e})");
+    }
+    (answer.trim().to_string(), t0.elapsed())
+}
+
+/// Lichtblick 1.x (and every client on `@foxglove/ws-protocol` 0.7) offers only the protocol's
+/// former name `foxglove.websocket.v1`, which the `foxglove` crate's server refused with
+/// HTTP 400. The front door lets it in under that name; hostile or idle handshakes get an
+/// answer and never hold the server.
+#[test]
+fn a_client_offering_only_the_old_protocol_name_connects_as_lichtblick_does() {
+    let test = "a_client_offering_only_the_old_protocol_name_connects_as_lichtblick_does";
+    if !python_ready(test) {
+        return;
+    }
+    let serving = Serving::start(&["--foxglove", "127.0.0.1:0", "--demo", "--seconds", "16"]);
+    // a client that sends half a head and waits is answered 400 after 5 s, not held forever
+    let stall = {
+        let url = serving.url.clone();
+        std::thread::spawn(move || http_status(&url, b"GET / HTTP/1.1\r\nHost: x\r\n", false))
+    };
+    // a protocol neither server knows: the crate's own refusal passes through
+    let (status, _) = http_status(
+        &serving.url,
+        b"GET / HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\nSec-WebSocket-Protocol: chat\r\n\r\n",
+        false,
+    );
+    assert!(status.starts_with("HTTP/1.1 400"), "{status:?}");
+    // a head that ends the connection early, and one that never ends
+    let (status, _) = http_status(&serving.url, b"GET / HTTP/1.1\r\n", true);
+    assert!(status.starts_with("HTTP/1.1 400"), "{status:?}");
+    let old = client_offering("receive", &serving.url, 2.0, &["/joint_states"], "foxglove.websocket.v1");
+    assert_eq!(old["subprotocol"], "foxglove.websocket.v1", "{old}");
+    assert!(old["counts"]["/joint_states"].as_u64().unwrap_or(0) > 50, "{old}");
+    let new = client_offering("receive", &serving.url, 1.0, &["/joint_states"], "foxglove.sdk.v1");
+    assert_eq!(new["subprotocol"], "foxglove.sdk.v1", "{new}");
+    assert!(new["counts"]["/joint_states"].as_u64().unwrap_or(0) > 20, "{new}");
+    let (status, waited) = stall.join().unwrap();
+    assert!(status.starts_with("HTTP/1.1 400"), "{status:?}");
+    assert!(waited >= Duration::from_secs(4) && waited < Duration::from_secs(9), "answered after {waited:?}");
+    let summary = serving.finish(Duration::from_secs(30));
+    assert_eq!(summary["servers"]["foxglove"]["clients_seen"], 2, "{summary}");
+    assert_eq!(summary["missing_samples"], 0, "{summary}");
 }
 
 #[test]

@@ -7,6 +7,8 @@ name, so both are offered): reads `serverInfo` and `advertise`
 (JSON text frames), sends `subscribe`, and decodes the binary message-data frames
 (opcode 0x01, u32 subscription id, u64 log time ns, payload), all little-endian.
 
+The offer can be replaced by the environment variable FOXGLOVE_SUBPROTOCOLS (comma-separated).
+
 Modes:
   receive URL SECONDS [TOPICS]
                         subscribe to every channel (or those of the comma-separated TOPICS),
@@ -24,6 +26,7 @@ The /tf chain is computed here with its own quaternion arithmetic, independent o
 
 import asyncio
 import json
+import os
 import socket
 import struct
 import sys
@@ -32,7 +35,9 @@ from urllib.parse import urlparse
 
 import websockets
 
-SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]
+# FOXGLOVE_SUBPROTOCOLS (comma-separated) replaces the offer, e.g. `foxglove.websocket.v1` alone
+# as Lichtblick 1.x and `@foxglove/ws-protocol` 0.7 offer it.
+SUBPROTOCOLS = [p for p in os.environ.get("FOXGLOVE_SUBPROTOCOLS", "foxglove.sdk.v1,foxglove.websocket.v1").split(",") if p]
 
 
 def quat_mul(a, b):
@@ -152,6 +157,7 @@ async def receive(url, seconds, topics=None):
         step = max(1, len(pairs) // 12)
         print(json.dumps({
             "server": (info or {}).get("name"),
+            "subprotocol": ws.subprotocol,
             "advertised": [
                 {k: c[k] for k in ("topic", "encoding", "schemaName", "schemaEncoding")}
                 | {"schema_len": len(c.get("schema", ""))}

@@ -11,6 +11,7 @@
 //! - [`schema`]: the JSON messages and JSON schemas of the MCAP channels (Foxglove's
 //!   well-known schemas where one exists);
 //! - [`frames`]: the `/tf` transforms (one per URDF joint, parent link → child link);
+//! - [`handshake`]: the Foxglove WebSocket handshake's two names of one subprotocol;
 //! - [`encode`]: the one encoder of samples and events into our channels' JSON messages, used
 //!   by the MCAP writer and by the live servers (fed from the recorder's live outlets);
 //! - [`writer`]: the MCAP writer (zstd chunks closed at least every 0.25 s, summary + index);
@@ -24,6 +25,7 @@ pub mod chunked;
 pub mod encode;
 pub mod event;
 pub mod frames;
+pub mod handshake;
 pub mod reader;
 pub mod recorder;
 pub mod replay;

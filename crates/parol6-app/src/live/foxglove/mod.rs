@@ -1,8 +1,11 @@
-//! The Foxglove WebSocket server: the official `foxglove` crate's server (protocol
-//! `foxglove.websocket.v1`) streaming our MCAP channels live, so Foxglove or Lichtblick ("Open
-//! connection", `ws://ADDR`) shows the arm in its 3D panel (URDF from `/robot_description`,
-//! links moved by `/tf`) and plots the joints (`/joint_states.position[0]` …).
+//! The Foxglove WebSocket server: the official `foxglove` crate's server streaming our MCAP
+//! channels live, so Foxglove or Lichtblick ("Open connection", `ws://ADDR`) shows the arm in its
+//! 3D panel (URDF from `/robot_description`, links moved by `/tf`) and plots the joints
+//! (`/joint_states.position[0]` …).
 //!
+//! - **Both names of the protocol**: the crate's server answers only `foxglove.sdk.v1` and
+//!   listens on a loopback port; [`front`] listens at the public address and lets clients that
+//!   offer only the former name `foxglove.websocket.v1` (Lichtblick 1.x) in too.
 //! - **Channels**: every [`Channel`] of a recording, with the same topics, schema names, JSON
 //!   schemas (`jsonschema`) and `json` messages, made by the same [`TelemetryEncoder`] at the
 //!   same rates (`/joint_states`, `/joint_commands` every sample: 1 kHz from the simulation,
@@ -10,7 +13,7 @@
 //!   `/robot_description` is sent to each client when it subscribes to it (a late subscriber
 //!   gets the URDF too). Only the channels some client subscribed to are encoded.
 //! - **Threads**: a tokio runtime with one worker thread (owned here; no tokio type leaves this
-//!   file) runs the server; a pump thread takes the recorder's [`LiveOutlet`] every 20 ms
+//!   module) runs the server and its front; a pump thread takes the recorder's [`LiveOutlet`] every 20 ms
 //!   ([`OUTLET_CAPACITY`] items; the recorder drops and counts when it is full), encodes and
 //!   hands each message to the server, which queues it per client without waiting.
 //! - **Slow clients are thinned, never waited for**: each client has a queue of
@@ -26,7 +29,7 @@
 //!   so a Foxglove client cannot send the arm anything.
 
 use std::collections::BTreeMap;
-use std::net::SocketAddr;
+use std::net::{Ipv4Addr, SocketAddr};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::JoinHandle;
@@ -38,6 +41,8 @@ use parol6_core::telemetry::schema::{MESSAGE_ENCODING, SCHEMA_ENCODING};
 use parol6_core::telemetry::{Channel, EncodeError, LiveItem, LiveOutlet, TelemetryEncoder};
 
 use super::{LiveServer, LiveSource};
+
+pub mod front;
 
 /// Items the recorder's outlet holds for this server (≈ 4 s of a 1 kHz simulation; the pump
 /// empties it continuously).
@@ -83,6 +88,8 @@ pub struct FoxgloveServer {
     /// The server and the channels hold it weakly: it lives as long as the server.
     _context: Arc<Context>,
     handle: Option<WebSocketServerHandle>,
+    /// The front door's accept loop (see [`front`]).
+    front: Option<tokio::task::JoinHandle<()>>,
     runtime: Option<tokio::runtime::Runtime>,
     pump: Option<JoinHandle<()>>,
     stop: Arc<AtomicBool>,
@@ -153,14 +160,19 @@ impl FoxgloveServer {
             .enable_all()
             .build()
             .map_err(|e| start_err("cannot start the server's runtime", &e))?;
+        // the public address is the front's; the crate's server listens on loopback behind it
+        let public =
+            runtime.block_on(tokio::net::TcpListener::bind(addr)).map_err(|e| start_err("cannot listen", &e))?;
+        let addr = public.local_addr().map_err(|e| start_err("cannot listen", &e))?;
         let server = WebSocketServer::new()
             .name(format!("PAROL6 Studio {} ({})", env!("CARGO_PKG_VERSION"), source.model.name))
             .context(&ctx)
-            .bind(addr.ip().to_string(), addr.port())
+            .bind(Ipv4Addr::LOCALHOST.to_string(), 0)
             .message_backlog_size(CLIENT_BACKLOG)
             .listener(listener);
-        let handle = runtime.block_on(server.start()).map_err(|e| start_err("cannot listen", &e))?;
-        let addr = SocketAddr::new(addr.ip(), handle.port());
+        let handle = runtime.block_on(server.start()).map_err(|e| start_err("cannot listen on loopback", &e))?;
+        let inner = SocketAddr::from((Ipv4Addr::LOCALHOST, handle.port()));
+        let front = runtime.spawn(front::serve(public, inner));
         let outlet = source.recorder.live_outlet(OUTLET_CAPACITY).map_err(|e| start_err("recorder", &e))?;
         let dropped = Arc::new(outlet);
         let outlet_dropped: Arc<dyn Fn() -> u64 + Send + Sync> = {
@@ -178,6 +190,7 @@ impl FoxgloveServer {
             addr,
             _context: ctx,
             handle: Some(handle),
+            front: Some(front),
             runtime: Some(runtime),
             pump: Some(pump),
             stop,
@@ -209,6 +222,10 @@ impl FoxgloveServer {
             && p.join().is_err()
         {
             tracing::warn!("the Foxglove pump thread panicked");
+        }
+        if let Some(front) = self.front.take() {
+            // no new clients; the relays end as the server closes their connections
+            front.abort();
         }
         if let (Some(handle), Some(runtime)) = (self.handle.take(), self.runtime.as_ref()) {
             let done = handle.stop();

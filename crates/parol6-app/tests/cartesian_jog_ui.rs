@@ -339,3 +339,24 @@ fn tab_goes_through_the_cartesian_target_x_y_z_then_roll_pitch_yaw() {
         assert!(h.get_by_label(pair[1]).is_focused(), "Tab from {} goes to {}", pair[0], pair[1]);
     }
 }
+
+/// trial6: "+X (world) refused: near a singular wrist …" stayed under the jog buttons after the
+/// arm had been moved away by a joint move and a program, blaming a pose the arm no longer had.
+/// The refusal empties once the arm has moved from where it was asked.
+#[test]
+fn a_refusal_under_the_jog_buttons_empties_once_the_arm_has_moved_away() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().teleport(parol6_core::parol6::standby_rad().to_vec()).expect("teleport");
+    h.run_steps(3);
+    settle(&mut h, 0.2);
+    h.get_by_label("+X").click();
+    settle(&mut h, 0.3);
+    let said = "+X (world) refused";
+    assert!(ui_support::has_label(&h, said), "the singular wrist refuses +X and the panel says so");
+    // standing still, the refusal stays true and stays shown
+    settle(&mut h, 0.3);
+    assert!(ui_support::has_label(&h, said), "still at the refused pose");
+    h.state_mut().teleport(work_pose()).expect("teleport");
+    settle(&mut h, 0.3);
+    assert!(!ui_support::has_label(&h, said), "the refusal no longer shows once the arm moved away");
+}

@@ -87,3 +87,23 @@ fn forward_dynamics_explains_itself_shows_progress_and_outcome_and_can_hold_the_
     assert!(others < 0.02, "the other joints held within 0.02 rad: {others:.4} rad, {q0:?} → {q:?}");
     assert!(has_label(&h, "the motors hold there"), "the outcome says what happens next");
 }
+
+/// trial6: a negative or zero run time was taken by the field (shown as "-2.00") and refused
+/// only at Run torques; it is refused when typed now, with the range, and the field keeps its
+/// value, like the other fields of the window.
+#[test]
+fn a_run_time_outside_its_range_is_refused_when_typed() {
+    let mut h = app_harness(egui::vec2(1400.0, 1500.0));
+    h.state_mut().settings_mut().lower_panel_height_pt = 1200.0;
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.state_mut().settings_mut().show_plots = false;
+    h.run_steps(3);
+    for typed in ["-2", "0", "601"] {
+        type_into(&mut h, "Run time", typed);
+        let said = format!("Run time: {typed} s is outside 0–600 s (above 0); it stays 2.00 s");
+        assert!(h.state().notices().iter().any(|n| n.error && n.text == said), "{typed}: {:?}", h.state().notices());
+        assert_eq!(h.get_by_label("Run time").value().as_deref(), Some("2.00"), "{typed} is not taken");
+    }
+    type_into(&mut h, "Run time", "1,5");
+    assert_eq!(h.get_by_label("Run time").value().as_deref(), Some("1.50"), "a decimal comma is taken");
+}

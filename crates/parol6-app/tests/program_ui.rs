@@ -157,3 +157,30 @@ fn the_step_list_follows_the_running_step() {
     h.get_by_label("Stop program").click();
     h.run_steps(2);
 }
+
+/// trial6: with Draw paused on its third step, the joint fields showed the first step's goal
+/// (J1 90.00 with the arm at 82.85), and typing J4 sent every other joint there too: J1, J3 and
+/// J6 moved 2–8° that nobody typed. A typed joint now keeps the others where the arm is.
+#[test]
+fn a_joint_typed_while_a_program_is_paused_moves_only_that_joint() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "step 3", 30.0, |h| has_label(h, "Draw: step 3 of 9"));
+    h.get_by_label("Pause (F6)").click();
+    until(&mut h, "paused", 10.0, |h| has_label(h, "paused at step"));
+    until(&mut h, "the arm at rest", 10.0, |h| !h.state().backend().state().moving);
+    let paused = h.state().backend().state().commanded.q.clone();
+    let j4_deg = paused[3].to_degrees() + 5.0;
+    ui_support::type_into(&mut h, "J4 target", &format!("{j4_deg:.2}"));
+    until(&mut h, "the J4 move", 10.0, |h| {
+        let s = h.state().backend().state();
+        !s.moving && (s.commanded.q[3].to_degrees() - j4_deg).abs() < 0.02
+    });
+    let after = h.state().backend().state().commanded.q.clone();
+    for j in [0, 1, 2, 4, 5] {
+        let moved = (after[j] - paused[j]).abs().to_degrees();
+        assert!(moved < 0.01, "J{} moved {moved:.3}° although only J4 was typed: {paused:?} → {after:?}", j + 1);
+    }
+}

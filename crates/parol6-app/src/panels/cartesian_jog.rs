@@ -53,6 +53,11 @@ struct JogView {
     moved: Option<f64>,
 }
 
+/// TCP travel, m, and turn, rad, away from where a jog was refused after which the refusal is
+/// no longer shown (it described the pose it was asked at).
+const STALE_REFUSAL_M: f64 = 0.5e-3;
+const STALE_REFUSAL_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
 /// Text rows of the jog's message: its height never changes, so nothing below it moves.
 const MESSAGE_LINES: usize = 2;
 
@@ -193,6 +198,18 @@ impl CartesianJogPanel {
     /// The message and its rows (a refusal on one row, cut with "…", whole on hover).
     fn status_text(&mut self, ctx: &PanelContext<'_>) -> (egui::RichText, usize) {
         let held = self.held.is_some();
+        // a refusal is about the pose it was asked at: once the arm has moved away (a joint move,
+        // HOME, a program) it no longer holds, and the line empties instead of blaming the new pose
+        if let Some(v) = &self.view
+            && v.plan.is_err()
+            && !held
+        {
+            let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+            let moved_m = (now.translation.vector - v.start.translation.vector).norm();
+            if moved_m > STALE_REFUSAL_M || now.rotation.angle_to(&v.start.rotation) > STALE_REFUSAL_RAD {
+                self.view = None;
+            }
+        }
         let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));

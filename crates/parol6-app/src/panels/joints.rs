@@ -67,6 +67,17 @@ pub struct JointsPanel {
     hold_until: Option<std::time::Instant>,
 }
 
+/// True when the backend's target is a joint goal the arm is moving to (a joint move, a slider
+/// being followed, a joint jog): the joint fields show it and a typed joint keeps the others on
+/// it. Otherwise they show, and keep, where the arm is: a held Cartesian jog's target is where it
+/// would stop at the latest, and a program's path (running or paused, trial6: a typed J4 on a
+/// paused Draw sent J1, J3 and J6 7° to an earlier step's goal) is not where the arm stays.
+fn joint_goal_is_set(ctx: &PanelContext<'_>, n: usize) -> bool {
+    use parol6_core::motion::PlannerMode;
+    ctx.robot.target_q.len() == n
+        && matches!(ctx.robot.mode, PlannerMode::Move | PlannerMode::Follow | PlannerMode::Jog)
+}
+
 /// How long slider values are kept after a change before following the reported targets.
 const HOLD_AFTER_CHANGE: std::time::Duration = std::time::Duration::from_millis(300);
 
@@ -107,11 +118,7 @@ impl JointsPanel {
         let n = ctx.model.dof();
         let held = self.editing || self.hold_until.is_some_and(|t| std::time::Instant::now() < t);
         if self.edit.len() != n || !held {
-            // a held Cartesian jog's target is where it would stop at the latest (a limit, the
-            // workspace edge), not where the operator moves it: the read-outs show the arm then
-            let jog = ctx.robot.mode == parol6_core::motion::PlannerMode::CartesianJog;
-            self.edit =
-                if ctx.robot.target_q.len() == n && !jog { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
+            self.edit = if joint_goal_is_set(ctx, n) { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
             self.edit.resize(n, 0.0);
         }
         if self.goto.len() != n {
@@ -137,9 +144,15 @@ impl JointsPanel {
                 unit.fmt(goal_rad)
             ));
         }
-        let mut goal =
-            if ctx.robot.target_q.len() == ctx.model.dof() { ctx.robot.target_q.clone() } else { ctx.robot.q.clone() };
-        goal.resize(ctx.model.dof(), 0.0);
+        let n = ctx.model.dof();
+        let mut goal = if joint_goal_is_set(ctx, n) {
+            ctx.robot.target_q.clone()
+        } else if ctx.robot.commanded.q.len() == n {
+            ctx.robot.commanded.q.clone()
+        } else {
+            ctx.robot.q.clone()
+        };
+        goal.resize(n, 0.0);
         if joint >= goal.len() {
             return;
         }

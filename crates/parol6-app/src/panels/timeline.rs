@@ -50,22 +50,33 @@ impl Panel for TimelinePanel {
         let Some(r) = app.replay.as_ref() else { return };
         let mut commands = Vec::new();
         let (t0, t1) = r.span_s();
+        // Close at the row's right end and the rest cut to the width left: a long program path
+        // in the metadata made this row wider than the panel, which put Close, the scrub bar's
+        // end and the plots' controls below it past the panel's edge (1024 px window)
         ui.horizontal(|ui| {
-            ui.strong(format!("Replay: {}", r.file_name()));
-            let d = &r.data;
-            ui.weak(format!(
-                "{} · {} samples in the file · {:.1} s{}",
-                d.robot,
-                d.samples_in_file,
-                t1 - t0,
-                if d.program.is_empty() { String::new() } else { format!(" · program {}", d.program) }
-            ));
-            if d.truncated {
-                ui.colored_label(palette::rgb(palette::WARN_TEXT), "cut short: showing what could be read");
-            }
-            if ui.button("Close recording").clicked() {
-                ctx.send(AppCommand::CloseRecording);
-            }
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if ui.button("Close recording").clicked() {
+                    ctx.send(AppCommand::CloseRecording);
+                }
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    let d = &r.data;
+                    let title = egui::RichText::new(format!("Replay: {}", r.file_name())).strong();
+                    ui.add(egui::Label::new(title).truncate());
+                    if d.truncated {
+                        let text = egui::RichText::new("cut short: showing what could be read")
+                            .color(palette::rgb(palette::WARN_TEXT));
+                        ui.add(egui::Label::new(text).truncate());
+                    }
+                    let info = format!(
+                        "{} · {} samples in the file · {:.1} s{}",
+                        d.robot,
+                        d.samples_in_file,
+                        t1 - t0,
+                        if d.program.is_empty() { String::new() } else { format!(" · program {}", d.program) }
+                    );
+                    ui.add(egui::Label::new(egui::RichText::new(&info).weak()).truncate()).on_hover_text(info);
+                });
+            });
         });
         ui.horizontal(|ui| {
             let label = if r.playing { "Pause" } else { "Play" };

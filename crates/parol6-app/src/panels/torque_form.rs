@@ -203,7 +203,14 @@ impl TorqueForm {
         });
         ui.horizontal(|ui| {
             match numeric_entry(ui, "Run time", self.duration_s, 2, 56.0, "s").1 {
-                Some(EntryEvent::Committed(x)) => self.duration_s = x,
+                // refused when typed, as the other fields' ranges are, not only at Run torques
+                Some(EntryEvent::Committed(x)) if x > 0.0 && x <= MAX_RUN_S => self.duration_s = x,
+                Some(EntryEvent::Committed(x)) => {
+                    invalid = Some(format!(
+                        "Run time: {x} s is outside 0–{MAX_RUN_S} s (above 0); it stays {:.2} s",
+                        self.duration_s
+                    ));
+                }
                 Some(EntryEvent::Invalid(e)) => invalid = Some(format!("Run time: {e}")),
                 None => {}
             }

@@ -180,7 +180,7 @@ pub fn compile_observed(
         let mut notes = StepNotes::default();
         let (action, covers) = if blend_end > i {
             let traj = compile_blended(model, program, i..blend_end + 1, &q, &caps, opts, &mut notes)
-                .map_err(|e| CompileStop::Error(cartesian_error(i, line, first.kind(), e)))?;
+                .map_err(|e| CompileStop::Error(blended_error(model, program, i..blend_end + 1, &q, e)))?;
             (StepAction::Motion(traj), i..blend_end + 1)
         } else {
             let action = compile_one(model, first, &program.speed, &q, &caps, opts, &mut notes)
@@ -402,6 +402,45 @@ fn compile_blended(
         StepAction::Motion(t) => Ok(t),
         _ => Err(StepError::Message("a blended path gave no motion".into())),
     }
+}
+
+/// A blended chain's problem, named by the step whose line passes nearest the TCP where it
+/// is (the chain's first step when the problem has no point): the chain is planned as one
+/// path, but the operator edits one step.
+fn blended_error(model: &RobotModel, program: &Program, steps: Range<usize>, q: &[f64], e: StepError) -> CompileError {
+    let first = steps.start;
+    let mut err = cartesian_error(first, program.steps[first].line, program.steps[first].step.kind(), e);
+    if let Some(at) = err.tcp_mm.map(Point3::from) {
+        let mut from = Point3::from(model.tcp_isometry(q).translation.vector * 1000.0);
+        let mut best = (f64::INFINITY, first);
+        for k in steps.clone() {
+            if let Step::MoveL { pose, .. } = &program.steps[k].step {
+                let to = Point3::from(pose.position_mm);
+                let d = distance_to_segment(&at, &from, &to);
+                if d < best.0 {
+                    best = (d, k);
+                }
+                from = to;
+            }
+        }
+        (err.index, err.line, err.kind) = (best.1, program.steps[best.1].line, program.steps[best.1].step.kind());
+    }
+    err.message = format!(
+        "{} (steps {}–{} are one blended path; t counts from step {})",
+        err.message,
+        steps.start + 1,
+        steps.end,
+        steps.start + 1
+    );
+    err
+}
+
+/// Distance from `p` to the segment `a`–`b`, in their unit.
+fn distance_to_segment(p: &Point3<f64>, a: &Point3<f64>, b: &Point3<f64>) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let u = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (p - (a + ab * u)).norm()
 }
 
 fn cartesian_error(index: usize, line: usize, kind: &'static str, e: StepError) -> CompileError {

@@ -357,3 +357,47 @@ fn a_time_function_is_followed_in_time_from_where_the_tcp_is() {
     .expect_err("fast");
     assert!(e.message.contains("mm/s at t ="), "{e}");
 }
+
+#[test]
+fn a_problem_in_a_blended_chain_names_the_step_where_it_is_not_the_chains_first() {
+    // trial6: Draw's fifth line (in a chain of blended lines from step 3) given a roll the wrist
+    // cannot make was reported as "line 15, step 3", and the step list marked step 3 red
+    let (model, q0) = start();
+    let far = offset(&model, &q0, [0.0, 0.0, 900.0]);
+    let blend = Some(5.0);
+    let p = program(vec![
+        Step::Dwell { seconds: 0.1 },
+        Step::MoveL {
+            pose: offset(&model, &q0, [20.0, 0.0, 0.0]),
+            speed_mm_s: None,
+            blend_mm: blend,
+            duration_s: None,
+        },
+        Step::MoveL {
+            pose: offset(&model, &q0, [20.0, 20.0, 0.0]),
+            speed_mm_s: None,
+            blend_mm: blend,
+            duration_s: None,
+        },
+        Step::MoveL { pose: far, speed_mm_s: None, blend_mm: None, duration_s: None },
+    ]);
+    let e = compile(&model, &p, &q0, CompileOptions::PREFLIGHT).expect_err("out of reach");
+    assert_eq!((e.index, e.line, e.kind), (3, 13, "move_l"), "{e}");
+    assert!(e.tcp_mm.is_some(), "{e:?}");
+    assert!(e.message.contains("steps 2–4 are one blended path; t counts from step 2"), "{e}");
+}
+
+#[test]
+fn the_built_in_draw_with_a_roll_edited_in_its_last_blended_line_names_that_line() {
+    let model = RobotModel::parol6();
+    let q0 = crate::parol6::standby_rad().to_vec();
+    let mut draw =
+        crate::program::builtin::programs(&model).into_iter().find(|p| p.name == "Draw").expect("built-in Draw");
+    // the line after the chain 3–5 (index 5, step 6): the roll typed as -0.5 rad in the step editor
+    let Step::MoveL { pose, .. } = &mut draw.steps[5].step else { panic!("step 6 of Draw is a line") };
+    pose.position_mm = [25.4, 250.5, 292.1];
+    pose.rpy_deg[0] = (-0.5f64).to_degrees();
+    let e = compile(&model, &draw, &q0, CompileOptions::PREFLIGHT).expect_err("the wrist cannot make that roll");
+    assert_eq!(e.index, 5, "{e}");
+    assert_eq!(e.line, draw.steps[5].line, "{e}");
+}

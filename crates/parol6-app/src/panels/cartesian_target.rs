@@ -262,8 +262,8 @@ impl CartesianTargetPanel {
             }
             Some(Ok(sols)) => {
                 ui.label(format!(
-                    "{} solution(s) within the limits; pick a configuration (nearest first):",
-                    sols.len()
+                    "{} within the limits; pick a configuration (nearest first):",
+                    parol6_core::plural::count(sols.len(), "solution")
                 ));
                 let mut picked = None;
                 for (i, s) in sols.iter().enumerate() {

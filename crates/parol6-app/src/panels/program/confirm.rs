@@ -18,9 +18,9 @@ pub(super) fn torque_question(report: &CheckReport) -> String {
         .map(|i| format!("Step {} (line {}): {}", i.move_index + 1, i.line, i.message))
         .unwrap_or_default();
     format!(
-        "Pre-flight found {} stretch(es) where a joint needs more torque than its motor gives. \
+        "Pre-flight found {} where a joint needs more torque than its motor gives. \
          The arm may lose steps or sag. {first}",
-        report.torque_warnings
+        parol6_core::plural::count(report.torque_warnings, "stretch")
     )
 }
 

@@ -32,6 +32,7 @@ use parol6_core::program::edit::ProgramEditor;
 use eframe::egui;
 
 use parol6_core::RobotModel;
+use parol6_core::plural::count;
 use parol6_core::program::check::{CheckOptions, CheckStage, CheckedProgram, Severity};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
 use parol6_core::program::{Program, builtin};
@@ -409,14 +410,17 @@ impl ProgramPanel {
                 let errors = r.issues.iter().filter(|i| i.severity == Severity::Error).count();
                 let warnings = r.issues.len() - errors;
                 let (text, color) = if errors > 0 {
-                    (format!("pre-flight: {errors} error(s), {warnings} warning(s)"), palette::PATH_ERROR)
+                    (
+                        format!("pre-flight: {}, {}", count(errors, "error"), count(warnings, "warning")),
+                        palette::PATH_ERROR,
+                    )
                 } else if warnings > 0 {
-                    (format!("pre-flight: ok, {warnings} warning(s)"), palette::PATH_WARNING)
+                    (format!("pre-flight: ok, {}", count(warnings, "warning")), palette::PATH_WARNING)
                 } else {
                     ("pre-flight: ok".to_string(), palette::PATH_OK)
                 };
                 ui.colored_label(palette::rgb(color), text);
-                ui.label(format!("· {} steps · {:.1} s", r.moves, r.duration_s));
+                ui.label(format!("· {} · {:.1} s", count(r.moves, "step"), r.duration_s));
             }
             None => {
                 ui.weak("pre-flight: when the arm stands still");

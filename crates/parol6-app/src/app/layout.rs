@@ -14,7 +14,7 @@ use super::panel_groups::{GroupRects, PanelGroup, PartialLayout, stand_in};
 use super::{Parol6App, WINDOW_TITLE};
 use crate::palette;
 use crate::panels::registry::{Dock, Panels};
-use crate::panels::{AngleUnit, AppCommand, Panel, PanelContext, help};
+use crate::panels::{AngleUnit, AppCommand, Panel, PanelContext, angle_text, help};
 use crate::viewport::{SceneFrame, Viewport};
 
 /// Width of the left (joints) column, points. Fixed: it never follows its contents.
@@ -262,7 +262,7 @@ impl Parol6App {
                     ui.put(rect, egui::Label::new(text));
                 }
             }
-            notices_ui(ui.ctx(), rect, &self.notices);
+            notices_ui(ui.ctx(), rect, &self.notices, self.settings.unit);
         });
     }
 }
@@ -319,7 +319,7 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
 /// The notices (newest first) in the top left corner of the 3D view (`view`), on a layer in front
 /// of every window and menu: an error raised from the point table or the File menu is never
 /// hidden behind them.
-fn notices_ui(ctx: &egui::Context, view: egui::Rect, notices: &[super::Notice]) {
+fn notices_ui(ctx: &egui::Context, view: egui::Rect, notices: &[super::Notice], unit: AngleUnit) {
     if notices.is_empty() {
         return;
     }
@@ -333,7 +333,9 @@ fn notices_ui(ctx: &egui::Context, view: egui::Rect, notices: &[super::Notice]) 
             for n in notices.iter().rev().take(4) {
                 let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
                 egui::Frame::new().fill(color).corner_radius(4.0).inner_margin(egui::vec2(8.0, 5.0)).show(ui, |ui| {
-                    let text = egui::RichText::new(&n.text).size(14.0).color(palette::rgb(palette::NOTICE_TEXT));
+                    let text = egui::RichText::new(angle_text::in_unit(&n.text, unit))
+                        .size(14.0)
+                        .color(palette::rgb(palette::NOTICE_TEXT));
                     ui.add(egui::Label::new(text).wrap());
                 });
             }

@@ -1,6 +1,7 @@
 //! Issue 32's last minor items of the window's wording and notices, driven headless through
 //! egui's kittest harness on the full app: counts say "1 error" / "2 warnings" (never
-//! "error(s)"); with radians chosen, the core's refusals and findings show radians.
+//! "error(s)"); with radians chosen, the core's refusals and findings show radians; a notice
+//! never covers the F1 help window.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -139,6 +140,45 @@ fn with_radians_chosen_the_cores_refusals_and_findings_show_radians() {
     let shown = labels_with(&h, "at its upper limit");
     assert!(!shown.is_empty(), "the refusal is shown: {:?}", h.state().notices());
     assert!(shown.iter().all(|l| l.contains(" rad") && !l.contains('°')), "the refusal in radians: {shown:?}");
+}
+
+fn press(h: &mut Harness<'_, Parol6App>, key: egui::Key) {
+    let m = egui::Modifiers::NONE;
+    h.event(egui::Event::Key { key, pressed: true, modifiers: m, repeat: false, physical_key: None });
+    h.run_steps(1);
+    h.event(egui::Event::Key { key, pressed: false, modifiers: m, repeat: false, physical_key: None });
+    h.run_steps(2);
+}
+
+/// The rectangle of the area named `id` (a window's: by its title, as egui names it unless the
+/// window was given an id).
+fn area(h: &Harness<'_, Parol6App>, id: &str) -> Option<egui::Rect> {
+    let by_title = egui::Id::unique(Some(std::borrow::Cow::Borrowed(id)));
+    h.ctx.memory(|m| m.area_rect(egui::Id::unique(id)).or_else(|| m.area_rect(by_title)))
+}
+
+/// Issue 32 minor: a notice covered the F1 help window's title. At each window size of the
+/// hand trial, with help open, a notice (an error: a recording that does not exist) lies beside
+/// or below the help window, never over it.
+#[test]
+fn a_notice_never_covers_the_help_window() {
+    for size in [egui::vec2(1024.0, 700.0), egui::vec2(1280.0, 800.0), egui::vec2(1600.0, 1000.0)] {
+        let mut h = app_harness(size);
+        let at = h.get_by_label("Program file").rect().center();
+        h.hover_at(at);
+        h.run_steps(1);
+        press(&mut h, egui::Key::F1);
+        assert!(h.state().help_open(), "F1 opens the help");
+        let missing = temp_dir("notice").join("no such recording.mcap");
+        h.state_mut().queue_command(AppCommand::OpenRecording(missing));
+        wait(&mut h, "the notice", 10.0, |h| area(h, "parol6-notices").is_some());
+        h.run_steps(2);
+        let help = area(&h, "Help").expect("the help window's rectangle");
+        let notices = area(&h, "parol6-notices").expect("the notices' rectangle");
+        assert!(!h.state().notices().is_empty(), "a notice is up");
+        assert!(!help.intersects(notices), "at {size:?} the notices {notices:?} cover the help window {help:?}");
+        assert!(h.ctx.content_rect().contains_rect(notices), "at {size:?} the notices {notices:?} are in the window");
+    }
 }
 
 // the rewriting itself, case by case (`panels::angle_text`)

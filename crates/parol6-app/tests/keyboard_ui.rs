@@ -199,3 +199,51 @@ fn f1_help_keys_fit_a_1024_px_window() {
         }
     }
 }
+
+/// Issue 32 minor: a Shift+letter orientation jog moved the TCP position by 0.11 mm. Shift let go
+/// a moment before the letter turned the held key into the letter's linear jog (D: +X), which
+/// ran until the letter came up. A held key keeps the chord it went down with: once Shift is let
+/// go, it stops, and the TCP stays where it was.
+#[test]
+fn shift_let_go_before_the_letter_does_not_turn_an_orientation_jog_into_a_linear_one() {
+    let mut h = harness("shift");
+    focus_view(&mut h);
+    let model = parol6_core::RobotModel::parol6();
+    let tcp =
+        |h: &Harness<'_, Parol6App>| model.tcp_isometry(&h.state().backend().state().commanded.q).translation.vector;
+    let before = tcp(&h);
+    let hold = |h: &mut Harness<'_, Parol6App>, modifiers: Modifiers, frames: usize| {
+        for _ in 0..frames {
+            h.event(egui::Event::Key { key: Key::D, pressed: true, modifiers, repeat: true, physical_key: None });
+            h.run_steps(1);
+            std::thread::sleep(std::time::Duration::from_millis(15));
+        }
+    };
+    h.event(egui::Event::ModifiersChanged(Modifiers::SHIFT));
+    h.event(egui::Event::Key {
+        key: Key::D,
+        pressed: true,
+        modifiers: Modifiers::SHIFT,
+        repeat: false,
+        physical_key: None,
+    });
+    hold(&mut h, Modifiers::SHIFT, 20);
+    // Shift comes up first, D a few frames later
+    h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    hold(&mut h, Modifiers::NONE, 10);
+    h.event(egui::Event::Key {
+        key: Key::D,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(2);
+    ui_support::until(&mut h, "the arm at rest", 10.0, |h| !h.state().backend().state().moving);
+    let sent = moves(&h);
+    let moved_mm = (tcp(&h) - before).norm() * 1e3;
+    assert!(sent.iter().any(|m| m.contains("Rx")), "Shift+D jogged about X: {sent:?}");
+    let linear: Vec<&String> = sent.iter().filter(|m| m.contains(", X,")).collect();
+    assert!(linear.is_empty(), "D held on after Shift jogged along X (the TCP moved {moved_mm:.4} mm): {linear:?}");
+    assert!(moved_mm < 0.01, "the orientation jog moved the TCP by {moved_mm:.4} mm");
+}

@@ -57,7 +57,7 @@ fn left_panel_widgets_do_not_move_when_contents_change() {
     )
     .expect("write");
     ui_support::open_program_file(&mut h, &far);
-    until(&mut h, "the pre-flight error", 10.0, |h| has_label(h, "error(s)"));
+    until(&mut h, "the pre-flight error", 10.0, |h| has_label(h, "error, ") || has_label(h, "errors, "));
     h.run_steps(2);
     unmoved(&mut moved, "the pre-flight count changed", &base, &rects(&h));
 

@@ -409,3 +409,66 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
         h.state().plots_panel().switches()
     );
 }
+
+/// Issue 32 (the plot CSV across a backend switch): the drive series hold torque (N·m) in the
+/// simulation and step rates (steps/s) on the robot. The CSV wrote every row under one drive
+/// column named after the current unit; now each quantity has its own columns, a row's value
+/// stands only under its own unit, and a `backend` column names each row's source.
+#[test]
+fn the_csv_of_a_window_across_a_backend_switch_puts_each_drive_value_under_its_own_unit() {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    use parol6_core::telemetry::Quantity;
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().show_plot(Quantity::Drive);
+    until(&mut h, "half a second of the simulation", 15.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 0.5)
+    });
+    let (_, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
+    });
+    h.run_steps(2);
+    let switch = h.state().plots_panel().switches()[0].0;
+    let out = temp_dir("csv-switch").join("switch.csv");
+    h.get_by_label("Export to").click();
+    h.run_steps(1);
+    h.get_by_label("Export to").type_text(&out.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("CSV of the visible window").click();
+    h.run_steps(2);
+    let text = std::fs::read_to_string(&out).expect("the CSV was written");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no {name} in {header:?}"));
+    let (t, backend) = (col("t_s"), col("backend"));
+    let torque: Vec<usize> = (1..=6).map(|j| col(&format!("j{j}_torque_nm"))).collect();
+    let steps: Vec<usize> = (1..=6).map(|j| col(&format!("j{j}_steps_s"))).collect();
+    let (mut sim_rows, mut robot_rows) = (0, 0);
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells.len(), header.len(), "plain CSV, one cell per column: {line}");
+        let at: f64 = cells[t].parse().unwrap();
+        let (filled, empty) = match cells[backend] {
+            "simulation" => {
+                sim_rows += 1;
+                assert!(at <= switch, "a simulation row after the switch at {switch} s: {line}");
+                (&torque, &steps)
+            }
+            "robot" => {
+                robot_rows += 1;
+                assert!(at > switch, "a robot row before the switch at {switch} s: {line}");
+                (&steps, &torque)
+            }
+            other => panic!("backend {other:?}: {line}"),
+        };
+        assert!(empty.iter().all(|&c| cells[c].is_empty()), "a value under the other backend's unit: {line}");
+        assert!(filled.iter().all(|&c| cells[c].parse::<f64>().is_ok()), "its own unit's values: {line}");
+    }
+    assert!(
+        sim_rows > 100 && robot_rows > 10,
+        "both stretches exported: {sim_rows} simulation, {robot_rows} robot rows"
+    );
+}

@@ -36,6 +36,7 @@ pub mod measure;
 pub mod model;
 pub mod motion;
 pub mod parol6;
+pub mod plural;
 pub mod process;
 pub mod profile;
 pub mod program;

@@ -14,7 +14,7 @@ use super::panel_groups::{GroupRects, PanelGroup, PartialLayout, stand_in};
 use super::{Parol6App, WINDOW_TITLE};
 use crate::palette;
 use crate::panels::registry::{Dock, Panels};
-use crate::panels::{AngleUnit, AppCommand, Panel, PanelContext, help};
+use crate::panels::{AngleUnit, AppCommand, Panel, PanelContext, angle_text, help};
 use crate::viewport::{SceneFrame, Viewport};
 
 /// Width of the left (joints) column, points. Fixed: it never follows its contents.
@@ -210,6 +210,9 @@ impl Parol6App {
         if *show_help {
             let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
             egui::Window::new(super::escape::HELP_WINDOW)
+                // its area's id by its name (egui's own hashes the title's text as an `Option`),
+                // so the notices and Esc find it
+                .id(egui::Id::unique(super::escape::HELP_WINDOW))
                 .open(show_help)
                 .default_size([600.0, max_h.min(720.0)])
                 .max_height(max_h)
@@ -262,7 +265,13 @@ impl Parol6App {
                     ui.put(rect, egui::Label::new(text));
                 }
             }
-            notices_ui(ui.ctx(), rect, &self.notices);
+            // beside (or below) the help window, never over its title
+            let help = self
+                .show_help
+                .then(|| ui.ctx().memory(|m| m.area_rect(egui::Id::unique(super::escape::HELP_WINDOW))))
+                .flatten();
+            let place = notices_place(rect, ui.ctx().content_rect(), help);
+            notices_ui(ui.ctx(), place, &self.notices, self.settings.unit);
         });
     }
 }
@@ -316,26 +325,59 @@ fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Doc
     shown.response.rect
 }
 
-/// The notices (newest first) in the top left corner of the 3D view (`view`), on a layer in front
-/// of every window and menu: an error raised from the point table or the File menu is never
-/// hidden behind them.
-fn notices_ui(ctx: &egui::Context, view: egui::Rect, notices: &[super::Notice]) {
+/// The notices' area (tests find their rectangle by it).
+const NOTICES_AREA: &str = "parol6-notices";
+
+/// Narrowest column of notices beside the help window; narrower, they go below it.
+const NOTICES_MIN_WIDTH: f32 = 240.0;
+
+/// Least room below the help window for the notices there, pt.
+const NOTICES_MIN_HEIGHT: f32 = 120.0;
+
+/// Where the notices go: the top left of the 3D view (`view`), or, while the help window
+/// (`help`) covers that, the wider free side beside it (in the view, else in the window,
+/// `screen`), or below it. Returns the top left corner and the width of the column.
+pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<egui::Rect>) -> (egui::Pos2, f32) {
+    let top = view.top() + 8.0;
+    let home = (egui::pos2(view.left() + 10.0, top), (view.width() - 40.0).max(100.0));
+    let Some(help) = help.filter(|h| h.intersects(view)) else { return home };
+    // the free side in `within`, the wider one first: (left x, width)
+    let sides = |within: egui::Rect| {
+        let right = (help.right() + 10.0, within.right() - help.right() - 20.0);
+        let left = (within.left() + 10.0, help.left() - within.left() - 20.0);
+        if right.1 >= left.1 { [right, left] } else { [left, right] }
+    };
+    let beside = sides(view).into_iter().chain(sides(screen)).find(|s| s.1 >= NOTICES_MIN_WIDTH);
+    if let Some((x, width)) = beside {
+        return (egui::pos2(x, top), width);
+    }
+    if screen.bottom() - help.bottom() >= NOTICES_MIN_HEIGHT {
+        return (egui::pos2(home.0.x, help.bottom() + 8.0), home.1);
+    }
+    // a help window as large as the window: the wider side, however narrow
+    let (x, width) = sides(screen)[0];
+    (egui::pos2(x, top), width.max(60.0))
+}
+
+/// The notices (newest first) at `place` (from [`notices_place`]), on a layer in front of every
+/// window and menu: an error raised from the point table or the File menu is never hidden
+/// behind them.
+fn notices_ui(ctx: &egui::Context, place: (egui::Pos2, f32), notices: &[super::Notice], unit: AngleUnit) {
     if notices.is_empty() {
         return;
     }
-    let width = (view.width() - 40.0).max(100.0);
-    egui::Area::new(egui::Id::unique("parol6-notices"))
-        .order(egui::Order::Tooltip)
-        .fixed_pos(view.min + egui::vec2(10.0, 8.0))
-        .show(ctx, |ui| {
-            ui.set_max_width(width);
-            ui.spacing_mut().item_spacing.y = 4.0;
-            for n in notices.iter().rev().take(4) {
-                let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
-                egui::Frame::new().fill(color).corner_radius(4.0).inner_margin(egui::vec2(8.0, 5.0)).show(ui, |ui| {
-                    let text = egui::RichText::new(&n.text).size(14.0).color(palette::rgb(palette::NOTICE_TEXT));
-                    ui.add(egui::Label::new(text).wrap());
-                });
-            }
-        });
+    let (at, width) = place;
+    egui::Area::new(egui::Id::unique(NOTICES_AREA)).order(egui::Order::Tooltip).fixed_pos(at).show(ctx, |ui| {
+        ui.set_max_width(width);
+        ui.spacing_mut().item_spacing.y = 4.0;
+        for n in notices.iter().rev().take(4) {
+            let color = palette::rgba(if n.error { palette::NOTICE_ERROR_BG } else { palette::NOTICE_INFO_BG });
+            egui::Frame::new().fill(color).corner_radius(4.0).inner_margin(egui::vec2(8.0, 5.0)).show(ui, |ui| {
+                let text = egui::RichText::new(angle_text::in_unit(&n.text, unit))
+                    .size(14.0)
+                    .color(palette::rgb(palette::NOTICE_TEXT));
+                ui.add(egui::Label::new(text).wrap());
+            });
+        }
+    });
 }

@@ -17,6 +17,7 @@ use parol6_core::collision::CollisionGuard;
 use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog_speed};
 use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
 
+use super::angle_text::in_unit;
 use super::entry::{self, EntryEvent};
 use super::fixed_box;
 use super::shortcuts::{self, Action};
@@ -219,14 +220,15 @@ impl CartesianJogPanel {
                 // "singularity: " prefixes (the whole text on hover)
                 let why = e.split_once(" frame: ").map_or(e.as_str(), |(_, w)| w);
                 let why = why.strip_prefix("singularity: ").unwrap_or(why);
-                let text = format!("{what} refused: {why}");
+                let text = format!("{what} refused: {}", in_unit(why, ctx.settings.unit));
                 (egui::RichText::new(text).color(palette::rgb(palette::ERROR_TEXT)), 1)
             }
             Ok(plan) => {
                 let unit = ctx.settings.unit;
                 let travel = display(v.axis, plan.travel().abs(), unit);
                 if held {
-                    let text = format!("jogging {what}: stops after {travel} at the latest: {}", plan.stop_reason());
+                    let stop = in_unit(&plan.stop_reason().to_string(), unit).into_owned();
+                    let text = format!("jogging {what}: stops after {travel} at the latest: {stop}");
                     return (egui::RichText::new(text), MESSAGE_LINES);
                 }
                 let moved = match v.moved {
@@ -246,8 +248,11 @@ impl CartesianJogPanel {
                 };
                 let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
                 let text = if at_stop {
-                    egui::RichText::new(format!("{what} stopped after {travel}: {}", plan.stop_reason()))
-                        .color(palette::rgb(palette::WARN_TEXT))
+                    egui::RichText::new(format!(
+                        "{what} stopped after {travel}: {}",
+                        in_unit(&plan.stop_reason().to_string(), unit)
+                    ))
+                    .color(palette::rgb(palette::WARN_TEXT))
                 } else {
                     egui::RichText::new(format!("{what} released after {}", display(v.axis, moved, unit)))
                 };

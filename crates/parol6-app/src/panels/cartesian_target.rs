@@ -8,6 +8,7 @@ use crate::palette;
 use parol6_core::ik::{self, IkSolution};
 use parol6_core::kinematics::iso_from_xyz_rpy;
 
+use super::angle_text::in_unit;
 use super::entry::{self, EntryEvent};
 use super::{Panel, PanelContext};
 
@@ -258,12 +259,12 @@ impl CartesianTargetPanel {
                 ui.weak("Edit the target or press Solve IK.");
             }
             Some(Err(e)) => {
-                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("No solution: {e}"));
+                ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("No solution: {}", in_unit(e, unit)));
             }
             Some(Ok(sols)) => {
                 ui.label(format!(
-                    "{} solution(s) within the limits; pick a configuration (nearest first):",
-                    sols.len()
+                    "{} within the limits; pick a configuration (nearest first):",
+                    parol6_core::plural::count(sols.len(), "solution")
                 ));
                 let mut picked = None;
                 for (i, s) in sols.iter().enumerate() {

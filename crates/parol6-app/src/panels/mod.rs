@@ -14,6 +14,7 @@ use parol6_core::limits::LimitZone;
 use parol6_core::motion::MotionCommand;
 use serde::{Deserialize, Serialize};
 
+pub mod angle_text;
 pub mod cartesian_jog;
 pub mod cartesian_target;
 pub mod connection;

@@ -1,6 +1,11 @@
 //! Export from the plots panel: the visible window as CSV (every kept row, every series, SI
 //! units in the column names, and each row's `resolution`: `sample`, or `min_max_4ms` for the
 //! live summary of samples older than a minute) and the shown plots as SVG (the decimated lines as drawn).
+//!
+//! The live history is kept over a switch between the simulation and the robot, whose drive
+//! series hold different quantities (torque in N·m, step rates in steps/s). A window with both
+//! has a set of drive columns per quantity, each row's value under its own unit and the other
+//! set empty, and a `backend` column (`simulation` or `robot`) names each live row's source.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -8,6 +13,7 @@ use std::path::Path;
 use eframe::egui;
 use parol6_core::telemetry::{DriveKind, Quantity, SeriesStore};
 
+use super::plot_stretches::DriveStretches;
 use super::plots::series_name;
 
 /// A line as drawn: name, colour, points in display units.
@@ -30,15 +36,21 @@ pub struct DrawnGroup {
     pub lines: Vec<DrawnLine>,
 }
 
-/// CSV column name of a series, SI unit in the name.
+/// CSV column name of a series, SI unit in the name (a drive series in the store's current
+/// quantity).
 pub fn csv_column(store: &SeriesStore, col: usize) -> String {
+    csv_column_as(store, col, store.drive())
+}
+
+/// CSV column name of a series, a drive series holding `drive`.
+fn csv_column_as(store: &SeriesStore, col: usize, drive: DriveKind) -> String {
     let Some(&id) = store.ids().get(col) else { return format!("col{col}") };
     let name = series_name(id).to_lowercase();
     match id.quantity {
         Quantity::Position => format!("{name}_q_rad"),
         Quantity::Velocity => format!("{name}_qd_rad_s"),
         Quantity::Acceleration => format!("{name}_qdd_rad_s2"),
-        Quantity::Drive => match store.drive() {
+        Quantity::Drive => match drive {
             DriveKind::TorqueNm => format!("{name}_torque_nm"),
             DriveKind::StepsPerS => format!("{name}_steps_s"),
         },
@@ -56,29 +68,86 @@ pub fn time_text(t_s: f64) -> String {
     if text == "-0" { "0".into() } else { text.into() }
 }
 
+/// One column of the CSV: a series of the store, a drive series only in rows of its quantity.
+#[derive(Clone, Copy, PartialEq)]
+enum Column {
+    Plain(usize),
+    Drive(usize, DriveKind),
+}
+
 /// Writes every kept row between `t0_s` and `t1_s` to `path` as CSV (atomically: a failed
 /// write leaves the old file), each with its resolution (see the module docs); returns the rows.
-pub fn write_csv(path: &Path, store: &SeriesStore, t0_s: f64, t1_s: f64) -> Result<usize, String> {
+/// `stretches` are the live history's (empty for a replay's store, whose drive quantity is one).
+pub fn write_csv(
+    path: &Path,
+    store: &SeriesStore,
+    stretches: &DriveStretches,
+    t0_s: f64,
+    t1_s: f64,
+) -> Result<usize, String> {
+    // each row's drive quantity and backend (a replay's rows: the store's quantity)
+    let row_of = |t: f64| stretches.at(t).map_or((store.drive(), None), |s| (s.drive, Some(s.robot)));
+    let mut drives: Vec<DriveKind> = Vec::new();
+    for (t, _) in store.raw_window(t0_s, t1_s) {
+        let d = row_of(t).0;
+        if !drives.contains(&d) {
+            drives.push(d);
+        }
+    }
+    drives.sort_by_key(|d| *d != DriveKind::TorqueNm);
+    if drives.is_empty() {
+        drives.push(store.drive());
+    }
+    let ids = store.ids();
+    let mut columns = Vec::new();
+    for (c, id) in ids.iter().enumerate() {
+        if id.quantity != Quantity::Drive {
+            columns.push(Column::Plain(c));
+        } else if ids.get(c.wrapping_sub(1)).is_none_or(|p| p.quantity != Quantity::Drive) {
+            // the block of drive series, once per quantity in the window
+            let block: Vec<usize> = (c..ids.len()).take_while(|&k| ids[k].quantity == Quantity::Drive).collect();
+            columns.extend(drives.iter().flat_map(|&d| block.iter().map(move |&k| Column::Drive(k, d))));
+        }
+    }
+    let backend_column = !stretches.is_empty();
     let mut rows = 0;
     parol6_core::fsio::write_atomic(path, |out| {
         let mut header = String::from("t_s");
-        for c in 0..store.ids().len() {
+        for col in &columns {
             header.push(',');
-            header.push_str(&csv_column(store, c));
+            header.push_str(&match *col {
+                Column::Plain(c) => csv_column(store, c),
+                Column::Drive(c, d) => csv_column_as(store, c, d),
+            });
+        }
+        if backend_column {
+            header.push_str(",backend");
         }
         header.push_str(",resolution");
         writeln!(out, "{header}")?;
         let summary_before_s = store.summary_before_s();
         let mut line = String::new();
         for (t, values) in store.raw_window(t0_s, t1_s) {
+            let (drive, robot) = row_of(t);
             line.clear();
             line.push_str(&time_text(t));
-            for v in values {
+            for col in &columns {
                 line.push(',');
-                if v.is_finite() {
+                let v = match *col {
+                    Column::Plain(c) => values.get(c),
+                    Column::Drive(c, d) => values.get(c).filter(|_| d == drive),
+                };
+                if let Some(v) = v.filter(|v| v.is_finite()) {
                     // the shortest text that reads back as the same f64
                     line.push_str(&(v + 0.0).to_string());
                 }
+            }
+            if backend_column {
+                line.push_str(match robot {
+                    Some(true) => ",robot",
+                    Some(false) => ",simulation",
+                    None => ",",
+                });
             }
             line.push_str(match summary_before_s {
                 Some(before) if t < before => ",min_max_4ms",

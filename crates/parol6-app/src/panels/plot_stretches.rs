@@ -42,6 +42,18 @@ impl DriveStretches {
     }
 }
 
+impl DriveStretches {
+    /// The stretch a row at plot time `t_s` belongs to (`None` before any was noted).
+    pub fn at(&self, t_s: f64) -> Option<DriveStretch> {
+        self.stretches.iter().rev().find(|s| s.after_s < t_s).copied()
+    }
+
+    /// True when no stretch was noted (no live rows yet, or a replay's store).
+    pub fn is_empty(&self) -> bool {
+        self.stretches.is_empty()
+    }
+}
+
 /// The unit of a drive quantity.
 pub fn drive_unit(drive: DriveKind) -> &'static str {
     match drive {

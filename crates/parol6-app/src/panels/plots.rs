@@ -315,8 +315,12 @@ impl PlotsPanel {
             let path = std::path::PathBuf::from(self.export_path.trim());
             let has_path = !self.export_path.trim().is_empty();
             if ui.add_enabled(has_path, egui::Button::new("CSV of the visible window")).clicked() {
+                // a replay's store has one drive quantity; the live history's stretches say which
+                // rows hold which
+                let replay_stretches = DriveStretches::default();
+                let stretches = if self.replay.is_some() { &replay_stretches } else { &self.drive_stretches };
                 match self.visible_s {
-                    Some((t0, t1)) => match plot_export::write_csv(&path, self.store(), t0, t1) {
+                    Some((t0, t1)) => match plot_export::write_csv(&path, self.store(), stretches, t0, t1) {
                         Ok(rows) => ctx.info(format!("wrote {rows} rows to {}", path.display())),
                         Err(e) => ctx.error(e),
                     },

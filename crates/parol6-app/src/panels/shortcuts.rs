@@ -10,7 +10,10 @@
 //! - a held key (jog) counts only when it went down while nothing of the above was true, and
 //!   stops counting for good (until pressed again) as soon as a modifier is held, a text field,
 //!   menu or popup takes the keyboard, or the window loses focus. A key pressed with Ctrl and
-//!   held on after Ctrl is let go therefore never jogs.
+//!   held on after Ctrl is let go therefore never jogs;
+//! - a held key keeps the chord it went down with: it stops counting for good when Shift comes
+//!   up or goes down under it. Shift+D (turn about X) with Shift let go a moment before D never
+//!   becomes D (move along X): that moved the TCP 0.11 mm in an orientation jog.
 //!
 //! Esc (STOP) is the exception: it acts whatever has the keyboard and whatever is held. Where
 //! nothing moves, the pointer is off the 3D view and no docked panel's control has the keyboard,
@@ -19,7 +22,7 @@
 //! server and passes it on as `mac_cmd` (`app::super_key`), so Super counts as a modifier here
 //! too (Super+D jogged +X before).
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 use eframe::egui::{self, Key, Modifiers};
 use parol6_core::motion::CartesianAxis;
@@ -278,8 +281,10 @@ pub fn pressed(ctx: &egui::Context, action: Action) -> bool {
 struct HeldKeys {
     /// The pass these were last brought up to date in, plus one (0: never).
     pass: u64,
-    /// Keys that count as held.
-    armed: HashSet<Key>,
+    /// Keys that count as held, each with whether Shift was down when it went down: a held key
+    /// acts as the chord it went down with, and stops when Shift changes (Shift+D let go of
+    /// Shift first never becomes D's linear jog).
+    armed: HashMap<Key, bool>,
 }
 
 fn held_keys_id() -> egui::Id {
@@ -308,7 +313,7 @@ pub fn update_held(ctx: &egui::Context) {
                     if !*pressed || command_modifier(*modifiers) || taken {
                         h.armed.remove(key);
                     } else if !*repeat {
-                        h.armed.insert(*key);
+                        h.armed.insert(*key, modifiers.shift);
                     }
                 }
                 egui::Event::WindowFocused(false) => h.armed.clear(),
@@ -318,7 +323,7 @@ pub fn update_held(ctx: &egui::Context) {
         if taken || command_modifier(modifiers) {
             h.armed.clear();
         }
-        h.armed.retain(|k| down.contains(k));
+        h.armed.retain(|k, shift| down.contains(k) && *shift == modifiers.shift);
     });
 }
 
@@ -332,7 +337,7 @@ pub fn held(ctx: &egui::Context, action: Action) -> bool {
     SHORTCUTS
         .iter()
         .filter(|s| s.action == action && s.trigger == Trigger::Hold)
-        .any(|s| scope_open(s.scope, taken) && mods_match(s.mods, modifiers) && armed.contains(&s.key))
+        .any(|s| scope_open(s.scope, taken) && mods_match(s.mods, modifiers) && armed.contains_key(&s.key))
 }
 
 /// The name of a key as the help shows it.

@@ -498,7 +498,8 @@ impl Viewport {
             );
         }
         if !self.warnings.is_empty() {
-            let text = format!("{} mesh problem(s): {}", self.warnings.len(), self.warnings[0]);
+            let text =
+                format!("{}: {}", parol6_core::plural::count(self.warnings.len(), "mesh problem"), self.warnings[0]);
             painter.text(
                 rect.left_top() + egui::vec2(8.0, 8.0),
                 egui::Align2::LEFT_TOP,

@@ -109,7 +109,7 @@ pub enum IkError {
     #[error("target is unreachable: {0}")]
     Unreachable(String),
     /// Solutions exist, but every one breaks a joint limit.
-    #[error("no solution within the joint limits ({branches} branch(es) reach the pose but break a limit: {detail})")]
+    #[error("no solution within the joint limits (the pose is reached by {} but a limit is broken: {detail})", crate::plural::count(*.branches, "branch"))]
     NoSolutionWithinLimits {
         /// Branches that reach the pose.
         branches: usize,
@@ -125,7 +125,7 @@ pub enum IkError {
         residual_rad: f64,
     },
     /// The numeric solver did not converge.
-    #[error("no convergence after {attempts} attempt(s): best residual {residual_m:.2e} m / {residual_rad:.2e} rad")]
+    #[error("no convergence after {}: best residual {residual_m:.2e} m / {residual_rad:.2e} rad", crate::plural::count(*.attempts, "attempt"))]
     NotConverged {
         /// Attempts made.
         attempts: usize,

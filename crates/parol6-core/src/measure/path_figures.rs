@@ -50,7 +50,7 @@ pub enum PathFigureError {
     #[error("the commanded path has fewer than two distinct points")]
     NoPath,
     /// Too few cycles for a standard deviation.
-    #[error("{0} cycle(s) recorded; path figures need at least 2")]
+    #[error("{} recorded; path figures need at least 2", crate::plural::count(*.0, "cycle"))]
     TooFewCycles(usize),
     /// A cycle recorded fewer than two samples.
     #[error("cycle {0} recorded fewer than two samples")]

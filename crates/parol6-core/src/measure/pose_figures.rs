@@ -95,7 +95,7 @@ pub enum FigureError {
     #[error("no attained poses")]
     Empty,
     /// A pose has fewer than two cycles (the standard deviation needs n ≥ 2).
-    #[error("{pose} has {cycles} cycle(s); the figures need at least 2")]
+    #[error("{pose} has {}; the figures need at least 2", crate::plural::count(*.cycles, "cycle"))]
     TooFewCycles {
         /// Pose name.
         pose: &'static str,

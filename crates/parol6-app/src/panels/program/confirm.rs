@@ -10,17 +10,24 @@ use crate::palette;
 use crate::panels::PanelContext;
 
 /// Text of the question: how many torque warnings, and the first one with its step and line.
-pub(super) fn torque_question(report: &CheckReport) -> String {
+pub(super) fn torque_question(report: &CheckReport, unit: crate::panels::AngleUnit) -> String {
     let first = report
         .issues
         .iter()
         .find(|i| i.message.contains("exceeds its motor limit"))
-        .map(|i| format!("Step {} (line {}): {}", i.move_index + 1, i.line, i.message))
+        .map(|i| {
+            format!(
+                "Step {} (line {}): {}",
+                i.move_index + 1,
+                i.line,
+                crate::panels::angle_text::in_unit(&i.message, unit)
+            )
+        })
         .unwrap_or_default();
     format!(
-        "Pre-flight found {} stretch(es) where a joint needs more torque than its motor gives. \
+        "Pre-flight found {} where a joint needs more torque than its motor gives. \
          The arm may lose steps or sag. {first}",
-        report.torque_warnings
+        parol6_core::plural::count(report.torque_warnings, "stretch")
     )
 }
 
@@ -54,7 +61,7 @@ impl ProgramPanel {
             self.confirm_run = None;
             return;
         };
-        let text = torque_question(&checked.report);
+        let text = torque_question(&checked.report, ctx.settings.unit);
         let (mut run, mut cancel) = (false, false);
         let modal = egui::Modal::new(egui::Id::unique("parol6_torque_confirm")).show(ui.ctx(), |ui| {
             ui.set_max_width(460.0);

@@ -32,6 +32,7 @@ use parol6_core::program::edit::ProgramEditor;
 use eframe::egui;
 
 use parol6_core::RobotModel;
+use parol6_core::plural::count;
 use parol6_core::program::check::{CheckOptions, CheckStage, CheckedProgram, Severity};
 use parol6_core::program::runner::{RunOptions, RunProgress, RunState, RunnerControl};
 use parol6_core::program::{Program, builtin};
@@ -43,6 +44,8 @@ pub const FILE_DIALOG_ID: &str = "program-file-dialog";
 /// The id of the point-table window (`egui::Id::unique` of it).
 pub const TABLE_ID: &str = "program-point-table";
 
+use super::AngleUnit;
+use super::angle_text::in_unit;
 use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
@@ -347,12 +350,13 @@ impl Panel for ProgramPanel {
         }
         // each part that changes has a fixed height: nothing below it moves under the pointer
         let line_h = ui.spacing().interact_size.y;
-        fixed_box::fixed_height(ui, "program-summary", line_h, |ui| self.summary_line(ui));
+        let unit = ctx.settings.unit;
+        fixed_box::fixed_height(ui, "program-summary", line_h, |ui| self.summary_line(ui, unit));
         // Run / Pause / Step / Stop right under the verdict, above the step list and the editor:
         // below them they were under the fold of the left panel at 1024x700, 1280x800 and
         // 1600x1000 (hand trial), reachable only by scrolling
         self.controls(ui, ctx, progress.as_ref());
-        fixed_box::fixed_height(ui, "program-progress", line_h, |ui| progress_line(ui, progress.as_ref()));
+        fixed_box::fixed_height(ui, "program-progress", line_h, |ui| progress_line(ui, progress.as_ref(), unit));
         self.step_list(ui, progress.as_ref());
         ui.add_enabled_ui(!running, |ui| {
             self.edit_toolbar(ui, ctx);
@@ -361,7 +365,7 @@ impl Panel for ProgramPanel {
         if !running {
             self.shortcuts(ui, ctx);
         }
-        fixed_box::fixed_height(ui, "program-issues", ISSUES_HEIGHT, |ui| self.issue_lines(ui));
+        fixed_box::fixed_height(ui, "program-issues", ISSUES_HEIGHT, |ui| self.issue_lines(ui, unit));
         if running {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
@@ -392,7 +396,7 @@ impl ProgramPanel {
         }
     }
 
-    fn summary_line(&self, ui: &mut egui::Ui) {
+    fn summary_line(&self, ui: &mut egui::Ui, unit: AngleUnit) {
         if let Some(text) = self.checking_text() {
             ui.horizontal(|ui| {
                 ui.spinner();
@@ -401,7 +405,7 @@ impl ProgramPanel {
             return;
         }
         if let Some(e) = &self.check_error {
-            ui.colored_label(palette::rgb(palette::PATH_ERROR), format!("pre-flight: {e}"));
+            ui.colored_label(palette::rgb(palette::PATH_ERROR), format!("pre-flight: {}", in_unit(e, unit)));
             return;
         }
         ui.horizontal(|ui| match &self.checked {
@@ -409,14 +413,17 @@ impl ProgramPanel {
                 let errors = r.issues.iter().filter(|i| i.severity == Severity::Error).count();
                 let warnings = r.issues.len() - errors;
                 let (text, color) = if errors > 0 {
-                    (format!("pre-flight: {errors} error(s), {warnings} warning(s)"), palette::PATH_ERROR)
+                    (
+                        format!("pre-flight: {}, {}", count(errors, "error"), count(warnings, "warning")),
+                        palette::PATH_ERROR,
+                    )
                 } else if warnings > 0 {
-                    (format!("pre-flight: ok, {warnings} warning(s)"), palette::PATH_WARNING)
+                    (format!("pre-flight: ok, {}", count(warnings, "warning")), palette::PATH_WARNING)
                 } else {
                     ("pre-flight: ok".to_string(), palette::PATH_OK)
                 };
                 ui.colored_label(palette::rgb(color), text);
-                ui.label(format!("· {} steps · {:.1} s", r.moves, r.duration_s));
+                ui.label(format!("· {} · {:.1} s", count(r.moves, "step"), r.duration_s));
             }
             None => {
                 ui.weak("pre-flight: when the arm stands still");
@@ -501,12 +508,12 @@ impl ProgramPanel {
         });
     }
 
-    fn issue_lines(&self, ui: &mut egui::Ui) {
+    fn issue_lines(&self, ui: &mut egui::Ui, unit: AngleUnit) {
         let Some(r) = &self.checked else { return };
         for i in r.issues.iter().take(ISSUES_SHOWN) {
             let color = if i.severity == Severity::Error { palette::PATH_ERROR } else { palette::PATH_WARNING };
             let line = if i.line > 0 { format!("line {}, ", i.line) } else { String::new() };
-            let text = egui::RichText::new(format!("{line}step {}: {}", i.move_index + 1, i.message))
+            let text = egui::RichText::new(format!("{line}step {}: {}", i.move_index + 1, in_unit(&i.message, unit)))
                 .color(palette::rgb(color));
             ui.add(egui::Label::new(text).wrap());
         }
@@ -517,7 +524,7 @@ impl ProgramPanel {
 }
 
 /// One line, always present, so nothing below moves when a run starts or ends.
-fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>) {
+fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>, unit: AngleUnit) {
     ui.horizontal(|ui| match progress {
         Some(p) => {
             let text = match &p.state {
@@ -529,7 +536,7 @@ fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>) {
                 RunState::Paused => format!("{}: paused at step {} of {}", p.name, p.step + 1, p.steps),
                 RunState::Done => format!("{}: done ({:.1} s)", p.name, p.clock_s.1 - p.clock_s.0),
                 RunState::Stopped => format!("{}: stopped after {} of {} steps", p.name, p.steps_done, p.steps),
-                RunState::Failed(why) => format!("{}: {why}", p.name),
+                RunState::Failed(why) => format!("{}: {}", p.name, in_unit(why, unit)),
             };
             if matches!(p.state, RunState::Failed(_)) {
                 ui.colored_label(palette::rgb(palette::ERROR_TEXT), text);

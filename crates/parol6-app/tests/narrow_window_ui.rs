@@ -6,7 +6,7 @@
 mod ui_support;
 
 use eframe::egui;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 
 /// The plots' export row ran under the right panel at 1024 px: "CSV of the visible window" was
 /// cut and "SVG of the plots" could not be reached. The row wraps now.
@@ -50,4 +50,42 @@ fn the_replay_timeline_and_the_plots_under_it_stay_left_of_the_right_panel_at_10
     h.get_by_label("Close recording").click();
     ui_support::until(&mut h, "replay closed", 5.0, |h| h.state().replay().is_none());
     std::fs::remove_dir_all(&dir).expect("remove the temporary folder");
+}
+
+/// ui6's screenshots: with radians chosen, the right column's content was wider than the column
+/// (the TCP read-out, the jog speed "40.8 mm/s, 0.3622 rad/s", …), so the column grew to the
+/// left under the 3D view, which painted over its first 20 px ("TCP", "Frame", "Speed"). In
+/// either unit, every widget of the right column lies inside its 320 pt (in the test harness the
+/// same overflow runs past the window's right edge instead).
+#[test]
+fn the_right_column_keeps_its_width_in_degrees_and_in_radians() {
+    use parol6_app::panels::AngleUnit;
+    for size in [egui::vec2(1024.0, 700.0), egui::vec2(1280.0, 800.0), egui::vec2(1600.0, 1000.0)] {
+        for unit in [AngleUnit::Deg, AngleUnit::Rad] {
+            let mut h = ui_support::app_harness(size);
+            h.state_mut().settings_mut().unit = unit;
+            // the Cartesian target's configurations come from a worker a few frames later
+            ui_support::until(&mut h, "the configurations", 10.0, |h| {
+                h.query_by_label_contains("(current joints)").is_some()
+            });
+            h.run_steps(2);
+            let column_x = size.x - parol6_app::app::RIGHT_PANEL_WIDTH;
+            let tcp = h.get_by_label("TCP").rect();
+            let wide: Vec<String> = h
+                .query_all(
+                    egui_kittest::kittest::by()
+                        .predicate(|n| n.role() != egui::accesskit::Role::Window && n.bounding_box().is_some()),
+                )
+                // the column's widgets: right of the 3D view's middle, between the menu bar and the status bar
+                .filter(|n| n.rect().top() >= tcp.top() - 1.0 && n.rect().bottom() < size.y - 30.0)
+                .filter(|n| n.rect().center().x > column_x - 40.0)
+                .filter(|n| n.rect().left() < column_x - 0.5 || n.rect().right() > size.x - 1.0)
+                .map(|n| format!("{:?} at {:?}", n.accesskit_node().label(), n.rect()))
+                .collect();
+            assert!(
+                tcp.min.x >= column_x && wide.is_empty(),
+                "{unit:?} at {size:?}: the column starts at x = {column_x}, its heading at {tcp:?}; over its edges: {wide:?}"
+            );
+        }
+    }
 }

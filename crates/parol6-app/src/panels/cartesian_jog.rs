@@ -298,12 +298,16 @@ impl Panel for CartesianJogPanel {
                 ctx.settings.cartesian_jog_fraction = (pct / 100.0).clamp(0.01, 1.0);
             }
             let f = ctx.settings.cartesian_jog_fraction;
-            // the turning speed in the chosen angle unit (it stayed in °/s in radians)
-            ui.label(format!(
-                "{:.1} mm/s, {}/s",
-                jog_speed(CartesianAxis::X, f) * 1000.0,
-                ctx.settings.unit.fmt(jog_speed(CartesianAxis::Rx, f))
-            ));
+            // the turning speed in the chosen angle unit (it stayed in °/s in radians); wraps
+            // within the column rather than widen it ("0.3622 rad/s" is longer than "20.75°/s")
+            ui.add(
+                egui::Label::new(format!(
+                    "{:.1} mm/s, {}/s",
+                    jog_speed(CartesianAxis::X, f) * 1000.0,
+                    ctx.settings.unit.fmt(jog_speed(CartesianAxis::Rx, f))
+                ))
+                .wrap(),
+            );
         });
         ui.horizontal(|ui| {
             ui.label("Increment");

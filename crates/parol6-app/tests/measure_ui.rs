@@ -105,3 +105,28 @@ fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
         assert!(same, "{l}: fresh {a:?}, after {b:?}");
     }
 }
+
+/// trial6: the set-up's fields were drag values, which clamp what is typed without a word:
+/// Cycles `1` became 2. Now a value outside the range is refused with it and the field keeps
+/// its value; units and a decimal comma are taken as in every number field.
+#[test]
+fn the_set_up_refuses_a_typed_value_outside_its_range_and_converts_units() {
+    let mut h = app_harness(egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
+    let cycles = h.state_mut().measure_panel().plan.cycles;
+    ui_support::type_into(&mut h, "cycles", "1");
+    assert_eq!(h.state_mut().measure_panel().plan.cycles, cycles, "cycles 1 was not refused");
+    assert_eq!(count(&h, "cycles: 1 is outside 2–1000"), 1, "the refusal names the range");
+    ui_support::type_into(&mut h, "cycles", "2,5");
+    assert_eq!(count(&h, "cycles: 2.5 is not a whole number"), 1);
+    ui_support::type_into(&mut h, "cycles", "4");
+    assert_eq!(h.state_mut().measure_panel().plan.cycles, 4);
+    ui_support::type_into(&mut h, "edge", "0,05m");
+    assert!((h.state_mut().measure_panel().plan.cube.edge_mm - 50.0).abs() < 1e-9, "0,05m is 50 mm");
+    ui_support::type_into(&mut h, "edge", "900");
+    assert!((h.state_mut().measure_panel().plan.cube.edge_mm - 50.0).abs() < 1e-9);
+    assert_eq!(count(&h, "edge: 900 mm is outside 1–500 mm"), 1);
+    ui_support::type_into(&mut h, "tool roll", "0.5rad");
+    let roll = h.state_mut().measure_panel().plan.cube.orientation_rpy_deg[0];
+    assert!((roll - 0.5_f64.to_degrees()).abs() < 0.01, "0.5rad in degrees: {roll}");
+}

@@ -68,11 +68,14 @@ impl Default for IoGripperPanel {
 /// A typed value checked against `range` (inclusive): the value, or the refusal naming the field
 /// and the range.
 pub fn in_range(name: &str, v: f64, range: (f64, f64), unit: &str) -> Result<f64, String> {
-    if (range.0..=range.1).contains(&v) {
-        Ok(v.round())
-    } else {
-        let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    if !(range.0..=range.1).contains(&v) {
         Err(format!("{name}: {v}{u} is outside {}–{}{u}", range.0, range.1))
+    } else if v.fract() != 0.0 {
+        // the board takes whole numbers: a typed fraction is refused, not rounded without a word
+        Err(format!("{name}: {v}{u} is not a whole number ({}–{}{u})", range.0, range.1))
+    } else {
+        Ok(v)
     }
 }
 
@@ -204,7 +207,10 @@ mod tests {
 
     #[test]
     fn typed_values_outside_the_range_are_refused_with_it() {
-        assert_eq!(in_range("Gripper position", 200.4, POSITION_RANGE, ""), Ok(200.0));
+        assert_eq!(in_range("Gripper position", 200.0, POSITION_RANGE, ""), Ok(200.0));
+        // trial6: "12,5" in Gripper speed became 13 without a word
+        let e = in_range("Gripper speed", 12.5, POSITION_RANGE, "").unwrap_err();
+        assert!(e.contains("12.5 is not a whole number (0–255)"), "{e}");
         let e = in_range("Gripper position", 300.0, POSITION_RANGE, "").unwrap_err();
         assert!(e.contains("outside 0–255"), "{e}");
         let e = in_range("Gripper current", 5000.0, (100.0, 2800.0), "mA").unwrap_err();

@@ -19,6 +19,7 @@ use parol6_core::measure::pose_figures::{self, PoseSample, PoseTestFigures};
 use parol6_core::measure::{PoseTestPlan, TestCube};
 use parol6_core::motion::StateSource;
 
+use super::entry::{self, EntryEvent};
 use super::{AppCommand, Panel, PanelContext};
 use crate::app::measurement::FinishedMeasurement;
 use crate::palette;
@@ -150,6 +151,39 @@ fn figures_table(ui: &mut egui::Ui, f: &PoseTestFigures) {
     });
 }
 
+/// One number field of the set-up, in `unit` (typed units converted to it): a committed value
+/// inside `range` is stored (true); one outside it, or text that is not a number, leaves the
+/// value and adds the reason to `refused`.
+fn setup_field(
+    ui: &mut egui::Ui,
+    name: &str,
+    value: &mut f64,
+    range: (f64, f64),
+    decimals: usize,
+    unit: &str,
+    refused: &mut Vec<String>,
+) -> bool {
+    let (response, event) = entry::unit_entry(ui, name, *value, decimals, 64.0, "", unit);
+    response.on_hover_text(format!("{name}: type a value ({}–{} {unit}) and press Enter", range.0, range.1));
+    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    match event {
+        Some(EntryEvent::Committed(v)) if (range.0..=range.1).contains(&v) => {
+            *value = v;
+            true
+        }
+        Some(EntryEvent::Committed(v)) => {
+            let keep = entry::fmt_fixed(*value, decimals);
+            refused.push(format!("{name}: {v}{u} is outside {}–{}{u}; it stays {keep}{u}", range.0, range.1));
+            false
+        }
+        Some(EntryEvent::Invalid(e)) => {
+            refused.push(format!("{name}: {e}"));
+            false
+        }
+        None => false,
+    }
+}
+
 impl Panel for MeasurePanel {
     fn title(&self) -> &'static str {
         "Measurement (ISO 9283)"
@@ -160,7 +194,10 @@ impl Panel for MeasurePanel {
         let measurement = &ctx.app.measurement;
         let running = measurement.running();
         let unit = ctx.settings.unit;
-        ui.add_enabled_ui(!running, |ui| self.setup_ui(ui, unit));
+        let refused = ui.add_enabled_ui(!running, |ui| self.setup_ui(ui, unit)).inner;
+        for message in refused {
+            ctx.error(message);
+        }
         if !running && !ctx.robot.moving {
             self.refresh_preflight(ctx.model, &ctx.robot.commanded.q.clone());
         }
@@ -221,14 +258,15 @@ impl Panel for MeasurePanel {
 
 impl MeasurePanel {
     /// The cube and the run settings. Fixed-width fields in a grid: the panel keeps its width
-    /// whatever the values (a wider panel would slide under the 3D view's pointer area).
-    fn setup_ui(&mut self, ui: &mut egui::Ui, unit: super::AngleUnit) {
+    /// whatever the values (a wider panel would slide under the 3D view's pointer area). Typed
+    /// like every number field (units converted, `,` as decimal mark); a value outside its range
+    /// or not a number is refused with a message naming the field and the range (they were drag
+    /// values, which clamped what was typed without a word). Returns those messages.
+    fn setup_ui(&mut self, ui: &mut egui::Ui, unit: super::AngleUnit) -> Vec<String> {
+        let mut refused = Vec::new();
         let c = &mut self.plan.cube;
         ui.spacing_mut().slider_width = 110.0;
-        let field = |ui: &mut egui::Ui, v: &mut f64, range: std::ops::RangeInclusive<f64>, name: &str| {
-            ui.add_sized([64.0, 18.0], egui::DragValue::new(v).range(range).speed(1.0).max_decimals(2))
-                .on_hover_text(format!("{name}: drag, or click and type (Enter)"));
-        };
+        let angle = unit.suffix().trim();
         egui::Grid::new("iso9283-setup").num_columns(4).spacing([4.0, 2.0]).show(ui, |ui| {
             ui.label("");
             for h in ["x / roll", "y / pitch", "z / yaw"] {
@@ -237,29 +275,30 @@ impl MeasurePanel {
             ui.end_row();
             ui.label("Centre mm");
             for (v, axis) in c.center_mm.iter_mut().zip(["centre x", "centre y", "centre z"]) {
-                field(ui, v, -1000.0..=1000.0, axis);
+                setup_field(ui, axis, v, (-1000.0, 1000.0), 2, "mm", &mut refused);
             }
             ui.end_row();
             // the tool orientation in the chosen angle unit, kept in degrees
-            ui.label(format!("Tool RPY {}", unit.suffix().trim()));
+            ui.label(format!("Tool RPY {angle}"));
             let half_turn = unit.from_rad(std::f64::consts::PI);
             for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["tool roll", "tool pitch", "tool yaw"]) {
                 let mut shown = unit.from_rad(v.to_radians());
-                let drag = egui::DragValue::new(&mut shown)
-                    .range(-half_turn..=half_turn)
-                    .speed(unit.from_rad(1f64.to_radians()))
-                    .max_decimals(unit.decimals());
-                let r =
-                    ui.add_sized([64.0, 18.0], drag).on_hover_text(format!("{axis}: drag, or click and type (Enter)"));
-                if r.changed() {
+                if setup_field(ui, axis, &mut shown, (-half_turn, half_turn), unit.decimals(), angle, &mut refused) {
                     *v = unit.to_rad(shown).to_degrees();
                 }
             }
             ui.end_row();
             ui.label("Edge mm");
-            field(ui, &mut c.edge_mm, 1.0..=500.0, "edge");
+            setup_field(ui, "edge", &mut c.edge_mm, (1.0, 500.0), 2, "mm", &mut refused);
             ui.label("Cycles");
-            ui.add_sized([64.0, 18.0], egui::DragValue::new(&mut self.plan.cycles).range(2..=1000));
+            let mut cycles = self.plan.cycles as f64;
+            if setup_field(ui, "cycles", &mut cycles, (2.0, 1000.0), 0, "", &mut refused) {
+                if cycles.fract() == 0.0 {
+                    self.plan.cycles = cycles as usize;
+                } else {
+                    refused.push(format!("cycles: {cycles} is not a whole number (2–1000)"));
+                }
+            }
             ui.end_row();
         });
         ui.horizontal(|ui| {
@@ -267,6 +306,7 @@ impl MeasurePanel {
             ui.add(egui::Slider::new(&mut self.plan.speed_fraction, 0.01..=1.0).fixed_decimals(2));
             ui.checkbox(&mut self.show_cube, "Cube in 3D");
         });
+        refused
     }
 
     /// Attained − commanded position per pose visit, mm: the live run, and the last finished

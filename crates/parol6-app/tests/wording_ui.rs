@@ -181,6 +181,22 @@ fn a_notice_never_covers_the_help_window() {
     }
 }
 
+/// trial6: notices lie in front of every window for a few seconds and took the clicks meant for
+/// what they covered (the point table's close button, the File menu's Open recording). They
+/// only show: a click on them reaches what lies below.
+#[test]
+fn a_click_on_a_notice_reaches_what_lies_below() {
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    let missing = temp_dir("notice-click").join("no such recording.mcap");
+    h.state_mut().queue_command(AppCommand::OpenRecording(missing));
+    wait(&mut h, "the notice", 10.0, |h| area(h, "parol6-notices").is_some());
+    h.run_steps(2);
+    let notices = area(&h, "parol6-notices").expect("the notices' rectangle");
+    let notice_layer = egui::LayerId::new(egui::Order::Tooltip, egui::Id::unique("parol6-notices"));
+    let under = h.ctx.layer_id_at(notices.center());
+    assert_ne!(under, Some(notice_layer), "the notices at {notices:?} take the pointer");
+}
+
 // the rewriting itself, case by case (`panels::angle_text`)
 
 fn rad(text: &str) -> String {

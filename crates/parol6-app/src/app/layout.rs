@@ -367,7 +367,9 @@ fn notices_ui(ctx: &egui::Context, place: (egui::Pos2, f32), notices: &[super::N
         return;
     }
     let (at, width) = place;
-    egui::Area::new(egui::Id::unique(NOTICES_AREA)).order(egui::Order::Tooltip).fixed_pos(at).show(ctx, |ui| {
+    // in front of everything but never in the way: a click on a notice reaches what it covers
+    let area = egui::Area::new(egui::Id::unique(NOTICES_AREA)).order(egui::Order::Tooltip).interactable(false);
+    area.fixed_pos(at).show(ctx, |ui| {
         ui.set_max_width(width);
         ui.spacing_mut().item_spacing.y = 4.0;
         for n in notices.iter().rev().take(4) {

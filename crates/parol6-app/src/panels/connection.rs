@@ -234,11 +234,12 @@ impl ConnectionPanel {
                 ctx.send(AppCommand::Link(LinkCommand::Home));
             }
         });
-        ui.monospace(format!(
+        // wraps inside the column (it was cut at the column's edge)
+        let health = format!(
             "loop {:.0} Hz  jitter {:.2} ms  dropped {}  implausible {}",
             link.loop_rate_hz, link.jitter_ms, link.dropped_frames, link.implausible_frames
-        ))
-        .on_hover_text(
+        );
+        ui.add(egui::Label::new(egui::RichText::new(health).monospace()).wrap()).on_hover_text(
             "link health: command/status loop rate, period jitter, frames lost or corrupted, status frames \
              with impossible positions (rejected)",
         );
@@ -254,7 +255,8 @@ impl ConnectionPanel {
 fn recorded_link_ui(ui: &mut egui::Ui, h: &parol6_core::telemetry::LinkHealth) {
     let green = zone_color(LimitZone::Safe);
     let red = zone_color(LimitZone::Critical);
-    ui.horizontal(|ui| {
+    // wraps inside the column (it was cut at the column's edge)
+    ui.horizontal_wrapped(|ui| {
         ui.label("REPLAY link").on_hover_text("the serial link's health as recorded, at the replay cursor");
         on_off_led(ui, h.state == "Connected", green, "link").on_hover_text(&h.state);
         on_off_led(ui, h.estop_pressed, red, "E-stop input");

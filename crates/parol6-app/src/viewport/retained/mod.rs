@@ -206,6 +206,14 @@ impl egui::Plugin for RetainedPaint {
                 rects
             }
         };
+        if !self.deferred.is_empty() {
+            // the columns left are drawn by the next frame: there must be one, at once (an
+            // idle window would otherwise show them stale until its next repaint)
+            ctx.request_repaint();
+            if let Some(v) = output.viewport_output.get_mut(&egui::ViewportId::ROOT) {
+                v.repaint_delay = std::time::Duration::ZERO;
+            }
+        }
         // only what reaches into the rectangles is tessellated (the painter draws nothing else)
         let reaching: Vec<ClippedShape> = shapes.iter().filter(|s| reaches(s, &rects)).cloned().collect();
         let primitives = if reaching.is_empty() { Vec::new() } else { ctx.tessellate(reaching, ppp) };

@@ -260,3 +260,60 @@ fn the_dynamics_panel_analyses_the_recording_during_replay() {
     assert!(shows(&h, &text), "J2 at the new cursor: {text}");
     std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
+
+/// Issue 32's frame-time acceptance (closing a ten-minute recording took a 50 ms frame): closing
+/// a recording lets go of every handle on it, the Dynamics panel's analysis included (which
+/// kept it, tens of MB, until the panel was shown again and then freed it in a frame), and
+/// frees it off the UI thread (`app::replay::free_off_ui_thread`).
+#[test]
+fn closing_a_recording_frees_it_even_after_the_dynamics_panel_analysed_it() {
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-free");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(2);
+    open_at_20_s(&mut h, &path);
+    until(&mut h, "the recording's analysis", 60.0, |h| {
+        has_label(h, "REPLAY: joint torques along the recording run.mcap") && !h.state().dynamics_panel().computing()
+    });
+    h.state_mut().settings_mut().show_dynamics = false;
+    h.run_steps(2);
+    let data = std::sync::Arc::downgrade(&h.state().replay().expect("open").data);
+
+    h.state_mut().queue_command(parol6_app::panels::AppCommand::CloseRecording);
+    h.run_steps(2);
+    assert!(h.state().replay().is_none(), "closed");
+    let t0 = std::time::Instant::now();
+    while data.upgrade().is_some() && t0.elapsed() < std::time::Duration::from_secs(10) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(data.upgrade().is_none(), "the closed recording is still held");
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
+}
+
+/// The measurement panel pre-flighted its cube from the replayed pose at every new cursor
+/// position, in the frame (a few ms each, and again when the recording closed). The test runs
+/// from the live arm, so during replay the live arm's pre-flight is kept.
+#[test]
+fn the_measurement_pre_flight_stays_the_live_arms_during_replay() {
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-measure");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.run_steps(2);
+    for _ in 0..100 {
+        if h.state_mut().measure_panel().preflight_from().is_some() {
+            break;
+        }
+        h.run_steps(1);
+    }
+    let live_q = h.state().backend().state().commanded.q.clone();
+    open_at_20_s(&mut h, &path);
+    let (_, rec_cmd) = h.state().replay().and_then(|r| r.joints_at_cursor()).expect("a sample at the cursor");
+    assert!(rec_cmd.iter().zip(&live_q).any(|(r, l)| (r - l).abs() > 1f64.to_radians()), "{rec_cmd:?} vs {live_q:?}");
+    h.run_steps(5);
+    let from = h.state_mut().measure_panel().preflight_from().map(<[f64]>::to_vec);
+    assert_eq!(from.as_deref(), Some(live_q.as_slice()), "pre-flighted from the live arm, not the recording");
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
+}

@@ -185,3 +185,63 @@ fn retained_frames_match_full_frames_pixel_for_pixel() {
     assert!(small_redraws >= 2, "the still 3D view was redrawn: only {small_redraws} small redraws");
     assert_eq!(hinted_redraws, 2, "the turning arm's frames redrew more than its part of the view");
 }
+
+/// A scripted UI whose side panel (40 labels) and arm change all at once at step 2: a change over
+/// most of the window.
+fn frame_all_changing(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let mut q = parol6::standby_rad().to_vec();
+    let changed = step >= 2;
+    if changed {
+        q[0] += 0.8;
+        q[1] += 0.3;
+    }
+    let scene = SceneFrame::from_joints(model, &q, None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 * 0.1),
+        ..Default::default()
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        egui::Panel::left("side").exact_size(400.0).show(ui, |ui| {
+            // the whole column changes colour (a theme or a mode switch)
+            let fill = if changed { egui::Color32::from_rgb(40, 30, 60) } else { egui::Color32::from_rgb(30, 40, 30) };
+            ui.painter().rect_filled(ui.max_rect(), 0.0, fill);
+            for k in 0..20 {
+                let v = if changed { 1000 + k } else { k };
+                ui.label(format!("read-out {k}: {v} mm, and more text {v} {v} {v}"));
+            }
+        });
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+/// A change over most of the window is redrawn over two frames (`retained::damage::spread`):
+/// the frame after it shows every pixel as a full frame does.
+#[test]
+fn a_window_wide_change_is_drawn_over_two_frames_and_then_matches_a_full_frame() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    for step in 0..5 {
+        let a = frame_all_changing(&mut direct, &model, step);
+        let b = frame_all_changing(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        match step {
+            2 => {
+                assert!(!stats.full_redraw && stats.redrawn_px < stats.screen_px, "spread: {stats:?}");
+                assert!(stats.redrawn_px > 0.2 * stats.screen_px, "a whole column now: {stats:?}");
+            }
+            3 => {
+                assert!(stats.redrawn_px > 0.2 * stats.screen_px, "the rest of the window next: {stats:?}");
+                assert_same_image(&a, &b, "spread", step, &stats);
+            }
+            _ => assert_same_image(&a, &b, "spread", step, &stats),
+        }
+    }
+}

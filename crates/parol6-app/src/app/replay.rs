@@ -26,6 +26,30 @@ pub fn read_replay(path: &std::path::Path, model: &parol6_core::RobotModel) -> R
     })
 }
 
+/// Drops `garbage` on a thread of its own, so that freeing it (unmapping tens of MB) does not
+/// run in a frame; where no thread can be started, it is dropped here.
+pub fn free_off_ui_thread<T: Send + 'static>(garbage: T) {
+    let work = move || drop(garbage);
+    let (tx, rx) = bounded::<Box<dyn FnOnce() + Send>>(1);
+    let spawned = std::thread::Builder::new().name("parol6-free".into()).spawn(move || {
+        if let Ok(work) = rx.recv() {
+            work();
+        }
+    });
+    match spawned {
+        Ok(_) => {
+            if let Err(e) = tx.send(Box::new(work)) {
+                tracing::warn!("the freeing thread ended early: freed on the UI thread");
+                (e.into_inner())();
+            }
+        }
+        Err(e) => {
+            tracing::warn!("cannot start a thread to free a closed recording ({e}): freed on the UI thread");
+            work();
+        }
+    }
+}
+
 impl Parol6App {
     /// Starts reading `path` on a thread; the replay opens when it is read.
     pub(super) fn open_recording(&mut self, path: PathBuf) {
@@ -90,10 +114,15 @@ impl Parol6App {
         }
     }
 
-    /// Closes the open recording: the 3D view and the plots show the live robot again.
+    /// Closes the open recording: the 3D view and the plots show the live robot again. The
+    /// recording (for ten minutes at 1 kHz, tens of MB) and the Dynamics panel's analysis of it
+    /// are freed on a thread of their own: the frame that closes it does not wait for that.
     pub(super) fn close_recording(&mut self) {
-        if self.state.replay.take().is_some() {
+        if let Some(replay) = self.state.replay.take() {
+            // the plots let go of their handle; ours and the Dynamics panel's are the last
             self.panels.prepare(&self.state, None);
+            let analysis = self.panels.dynamics.forget_replay();
+            free_off_ui_thread((replay, analysis));
             self.release_memory_at = Some(Instant::now() + super::RELEASE_MEMORY_AFTER);
             if let Some(v) = &mut self.viewport {
                 v.clear_trail();
@@ -101,12 +130,14 @@ impl Parol6App {
         }
     }
 
-    /// Moves the cursor of a playing replay and hands the recording to the panels, or the live
-    /// view when none is open (only while the plots are shown). Returns true while playing.
+    /// Moves the cursor of a playing replay and hands the recording to the panels, and the live
+    /// view (only while the plots are shown). Returns true while playing.
     pub(super) fn replay_frame(&mut self, now: Instant) -> bool {
         self.poll_replay_loading();
         let playing = self.state.replay.as_mut().is_some_and(|r| r.advance(now));
-        let live = (self.state.replay.is_none() && self.settings.show_plots).then(|| self.live_view());
+        // the live history keeps growing during replay, so closing the recording does not
+        // take in all the samples of its time at once
+        let live = self.settings.show_plots.then(|| self.live_view());
         self.panels.prepare(&self.state, live.as_deref());
         playing
     }
@@ -149,5 +180,29 @@ impl Parol6App {
     /// True while a recording is being read.
     pub fn replay_loading(&self) -> bool {
         self.replay_loading.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Sends the thread it is dropped on.
+    struct DropProbe(crossbeam_channel::Sender<std::thread::ThreadId>);
+
+    impl Drop for DropProbe {
+        fn drop(&mut self) {
+            if self.0.send(std::thread::current().id()).is_err() {
+                eprintln!("nobody waits for the drop probe");
+            }
+        }
+    }
+
+    #[test]
+    fn a_closed_recording_is_freed_on_another_thread() {
+        let (tx, rx) = bounded(1);
+        free_off_ui_thread(DropProbe(tx));
+        let dropped_on = rx.recv_timeout(std::time::Duration::from_secs(10)).expect("dropped");
+        assert_ne!(dropped_on, std::thread::current().id());
     }
 }

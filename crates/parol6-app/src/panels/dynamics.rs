@@ -94,6 +94,13 @@ impl DynamicsPanel {
         self.computed.as_ref().and_then(|c| c.result.as_ref().ok())
     }
 
+    /// Forgets the analysis of the recording (it was closed) and hands back what it held (the
+    /// recording and its torques), for the app to free off the UI thread; a running analysis
+    /// is cancelled.
+    pub fn forget_replay(&mut self) -> impl Send + 'static {
+        self.replay.take()
+    }
+
     /// True while an analysis (of the program, or of the open recording) runs on a worker.
     pub fn computing(&self) -> bool {
         self.pending.is_some() || self.replay.computing()

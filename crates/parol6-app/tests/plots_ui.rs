@@ -43,6 +43,30 @@ fn replaying(
     (dir, h)
 }
 
+/// Shows `quantity`, lets the simulation fill `sim_s` seconds of the plots (a stretch many pixel
+/// columns wide: a point within a column of a switch is not drawn, as it may stand for rows of
+/// both sides), then connects the built-in emulator and waits for 0.3 s of the robot's rows
+/// after the simulation's. Returns the first and the last time of the simulation's rows, s.
+fn simulation_then_robot(
+    h: &mut Harness<'_, Parol6App>,
+    quantity: parol6_core::telemetry::Quantity,
+    sim_s: f64,
+) -> (f64, f64) {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    h.state_mut().show_plot(quantity);
+    until(h, "the simulation's first stretch", 15.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > sim_s)
+    });
+    let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    until(h, "rows of the robot after the simulation's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
+    });
+    (first, sim_last)
+}
+
 #[test]
 fn the_plots_show_the_tracking_error_with_units_and_toggle_joints() {
     let mut h = app_harness(egui::vec2(1280.0, 1400.0));
@@ -306,19 +330,7 @@ fn a_remembered_lower_panel_taller_than_the_window_is_clamped_and_the_timeline_s
 fn switching_between_the_simulation_and_the_robot_keeps_the_plot_history() {
     use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
-    // a first stretch of a second, many pixel columns wide (a point within a column of a
-    // switch is not drawn: it may stand for rows of both sides)
-    until(&mut h, "a second of the simulation", 15.0, |h| {
-        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 1.0)
-    });
-    let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
-    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
-    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
-    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
-        let p = h.state().plots_panel();
-        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
-    });
+    let (first, sim_last) = simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Position, 1.0);
     let p = h.state().plots_panel();
     assert_eq!(p.store().time_range_s().unwrap().0, first, "the simulation's rows are kept");
     let (at, robot) = p.switches()[0];
@@ -369,19 +381,7 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
     use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
     use parol6_core::telemetry::{DriveKind, Quantity};
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    h.state_mut().show_plot(Quantity::Drive);
-    // a first stretch of a second, many pixel columns wide (a point within a column of a
-    // switch is not drawn: it may stand for rows of both sides)
-    until(&mut h, "a second of the simulation", 15.0, |h| {
-        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 1.0)
-    });
-    let (first, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
-    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
-    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
-    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
-        let p = h.state().plots_panel();
-        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
-    });
+    let (first, sim_last) = simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Drive, 1.0);
     h.run_steps(2);
     let p = h.state().plots_panel();
     assert_eq!(p.store().drive(), DriveKind::StepsPerS, "the robot's drive is a step rate");
@@ -419,17 +419,7 @@ fn the_csv_of_a_window_across_a_backend_switch_puts_each_drive_value_under_its_o
     use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
     use parol6_core::telemetry::Quantity;
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    h.state_mut().show_plot(Quantity::Drive);
-    until(&mut h, "half a second of the simulation", 15.0, |h| {
-        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 0.5)
-    });
-    let (_, sim_last) = h.state().plots_panel().store().time_range_s().unwrap();
-    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
-    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
-    until(&mut h, "rows of the robot after the simulation's", 15.0, |h| {
-        let p = h.state().plots_panel();
-        p.switches().len() == 1 && p.store().time_range_s().is_some_and(|(_, last)| last > sim_last + 0.3)
-    });
+    let (_, sim_last) = simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Drive, 0.5);
     h.run_steps(2);
     let switch = h.state().plots_panel().switches()[0].0;
     let out = temp_dir("csv-switch").join("switch.csv");

@@ -381,7 +381,7 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
     use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
     use parol6_core::telemetry::{DriveKind, Quantity};
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    let (first, sim_last) = simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Drive, 1.0);
+    let (first, _) = simulation_then_robot(&mut h, Quantity::Drive, 1.0);
     h.run_steps(2);
     let p = h.state().plots_panel();
     assert_eq!(p.store().drive(), DriveKind::StepsPerS, "the robot's drive is a step rate");
@@ -416,10 +416,8 @@ fn the_drive_plot_never_draws_a_stretch_under_the_other_backends_unit() {
 /// stands only under its own unit, and a `backend` column names each row's source.
 #[test]
 fn the_csv_of_a_window_across_a_backend_switch_puts_each_drive_value_under_its_own_unit() {
-    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
-    use parol6_core::telemetry::Quantity;
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    let (_, sim_last) = simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Drive, 0.5);
+    simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Drive, 0.5);
     h.run_steps(2);
     let switch = h.state().plots_panel().switches()[0].0;
     let out = temp_dir("csv-switch").join("switch.csv");

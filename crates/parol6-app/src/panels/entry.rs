@@ -68,6 +68,21 @@ pub enum EntryEvent {
     Invalid(String),
 }
 
+/// A committed value checked against its field's range: `Ok(v)` inside `range` (and whole when
+/// `whole`), else the message naming the field, the value and the range, e.g.
+/// "Gripper speed: 300 is outside 0–255" or "cycles: 2.5 is not a whole number (2–1000)".
+/// A typed value is never clamped or rounded without a word.
+pub fn in_range(name: &str, v: f64, range: (f64, f64), unit: &str, whole: bool) -> Result<f64, String> {
+    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    if !(range.0..=range.1).contains(&v) {
+        Err(format!("{name}: {v}{u} is outside {}–{}{u}", range.0, range.1))
+    } else if whole && v.fract() != 0.0 {
+        Err(format!("{name}: {v}{u} is not a whole number ({}–{}{u})", range.0, range.1))
+    } else {
+        Ok(v)
+    }
+}
+
 /// A numeric text entry `width` points wide showing `value` with `decimals` decimals (and
 /// `suffix`, shown after the field). `name` is its accessible name (e.g. "J1 target") and its
 /// id within `ui`, so it must be unique there. Returns the widget's response and the event of

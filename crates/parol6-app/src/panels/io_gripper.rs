@@ -12,7 +12,7 @@ use eframe::egui;
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::{DIGITAL_PORTS, GRIPPER_CURRENT_MA, IoCommand};
 
-use super::entry::{EntryEvent, unit_entry};
+use super::entry::{EntryEvent, in_range, unit_entry};
 use super::{AppCommand, Panel, PanelContext, on_off_led, zone_color};
 use crate::palette;
 
@@ -65,20 +65,6 @@ impl Default for IoGripperPanel {
     }
 }
 
-/// A typed value checked against `range` (inclusive): the value, or the refusal naming the field
-/// and the range.
-pub fn in_range(name: &str, v: f64, range: (f64, f64), unit: &str) -> Result<f64, String> {
-    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
-    if !(range.0..=range.1).contains(&v) {
-        Err(format!("{name}: {v}{u} is outside {}–{}{u}", range.0, range.1))
-    } else if v.fract() != 0.0 {
-        // the board takes whole numbers: a typed fraction is refused, not rounded without a word
-        Err(format!("{name}: {v}{u} is not a whole number ({}–{}{u})", range.0, range.1))
-    } else {
-        Ok(v)
-    }
-}
-
 impl IoGripperPanel {
     fn entry(
         ui: &mut egui::Ui,
@@ -90,7 +76,7 @@ impl IoGripperPanel {
     ) -> Option<f64> {
         let (_, ev) = unit_entry(ui, name, value, 0, 60.0, unit, unit);
         match ev {
-            Some(EntryEvent::Committed(v)) => match in_range(name, v, range, unit) {
+            Some(EntryEvent::Committed(v)) => match in_range(name, v, range, unit, true) {
                 Ok(v) => Some(v),
                 Err(e) => {
                     ctx.error(e);
@@ -207,13 +193,13 @@ mod tests {
 
     #[test]
     fn typed_values_outside_the_range_are_refused_with_it() {
-        assert_eq!(in_range("Gripper position", 200.0, POSITION_RANGE, ""), Ok(200.0));
+        assert_eq!(in_range("Gripper position", 200.0, POSITION_RANGE, "", true), Ok(200.0));
         // trial6: "12,5" in Gripper speed became 13 without a word
-        let e = in_range("Gripper speed", 12.5, POSITION_RANGE, "").unwrap_err();
+        let e = in_range("Gripper speed", 12.5, POSITION_RANGE, "", true).unwrap_err();
         assert!(e.contains("12.5 is not a whole number (0–255)"), "{e}");
-        let e = in_range("Gripper position", 300.0, POSITION_RANGE, "").unwrap_err();
+        let e = in_range("Gripper position", 300.0, POSITION_RANGE, "", true).unwrap_err();
         assert!(e.contains("outside 0–255"), "{e}");
-        let e = in_range("Gripper current", 5000.0, (100.0, 2800.0), "mA").unwrap_err();
+        let e = in_range("Gripper current", 5000.0, (100.0, 2800.0), "mA", true).unwrap_err();
         assert!(e.contains("5000 mA is outside 100–2800 mA"), "{e}");
     }
 }

@@ -158,30 +158,31 @@ fn figures_table(ui: &mut egui::Ui, f: &PoseTestFigures) {
 }
 
 /// One number field of the set-up, in `unit` (typed units converted to it): a committed value
-/// inside `range` is stored (true); one outside it, or text that is not a number, leaves the
-/// value and adds the reason to `refused`.
+/// inside `range` (and whole when `whole`) is stored (true); any other, or text that is not a
+/// number, leaves the value and adds the reason to `refused` ([`entry::in_range`]).
 fn setup_field(
     ui: &mut egui::Ui,
     name: &str,
     value: &mut f64,
-    range: (f64, f64),
+    (range, whole): ((f64, f64), bool),
     decimals: usize,
     unit: &str,
     refused: &mut Vec<String>,
 ) -> bool {
     let (response, event) = entry::unit_entry(ui, name, *value, decimals, 64.0, "", unit);
     response.on_hover_text(format!("{name}: type a value ({}–{} {unit}) and press Enter", range.0, range.1));
-    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
     match event {
-        Some(EntryEvent::Committed(v)) if (range.0..=range.1).contains(&v) => {
-            *value = v;
-            true
-        }
-        Some(EntryEvent::Committed(v)) => {
-            let keep = entry::fmt_fixed(*value, decimals);
-            refused.push(format!("{name}: {v}{u} is outside {}–{}{u}; it stays {keep}{u}", range.0, range.1));
-            false
-        }
+        Some(EntryEvent::Committed(v)) => match entry::in_range(name, v, range, unit, whole) {
+            Ok(v) => {
+                *value = v;
+                true
+            }
+            Err(e) => {
+                let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+                refused.push(format!("{e}; it stays {}{u}", entry::fmt_fixed(*value, decimals)));
+                false
+            }
+        },
         Some(EntryEvent::Invalid(e)) => {
             refused.push(format!("{name}: {e}"));
             false
@@ -284,7 +285,7 @@ impl MeasurePanel {
             ui.end_row();
             ui.label("Centre mm");
             for (v, axis) in c.center_mm.iter_mut().zip(["centre x", "centre y", "centre z"]) {
-                setup_field(ui, axis, v, (-1000.0, 1000.0), 2, "mm", &mut refused);
+                setup_field(ui, axis, v, ((-1000.0, 1000.0), false), 2, "mm", &mut refused);
             }
             ui.end_row();
             // the tool orientation in the chosen angle unit, kept in degrees
@@ -292,21 +293,25 @@ impl MeasurePanel {
             let half_turn = unit.from_rad(std::f64::consts::PI);
             for (v, axis) in c.orientation_rpy_deg.iter_mut().zip(["tool roll", "tool pitch", "tool yaw"]) {
                 let mut shown = unit.from_rad(v.to_radians());
-                if setup_field(ui, axis, &mut shown, (-half_turn, half_turn), unit.decimals(), angle, &mut refused) {
+                if setup_field(
+                    ui,
+                    axis,
+                    &mut shown,
+                    ((-half_turn, half_turn), false),
+                    unit.decimals(),
+                    angle,
+                    &mut refused,
+                ) {
                     *v = unit.to_rad(shown).to_degrees();
                 }
             }
             ui.end_row();
             ui.label("Edge mm");
-            setup_field(ui, "edge", &mut c.edge_mm, (1.0, 500.0), 2, "mm", &mut refused);
+            setup_field(ui, "edge", &mut c.edge_mm, ((1.0, 500.0), false), 2, "mm", &mut refused);
             ui.label("Cycles");
             let mut cycles = self.plan.cycles as f64;
-            if setup_field(ui, "cycles", &mut cycles, (2.0, 1000.0), 0, "", &mut refused) {
-                if cycles.fract() == 0.0 {
-                    self.plan.cycles = cycles as usize;
-                } else {
-                    refused.push(format!("cycles: {cycles} is not a whole number (2–1000)"));
-                }
+            if setup_field(ui, "cycles", &mut cycles, ((2.0, 1000.0), true), 0, "", &mut refused) {
+                self.plan.cycles = cycles as usize;
             }
             ui.end_row();
         });

@@ -214,6 +214,10 @@ impl Parol6App {
                 // so the notices and Esc find it
                 .id(egui::Id::unique(super::escape::HELP_WINDOW))
                 .open(show_help)
+                // drawn at once: a fade redraws the whole window for several frames, each as costly as
+                // the first on a software rasterizer
+                .fade_in(false)
+                .fade_out(false)
                 .default_size([600.0, max_h.min(720.0)])
                 .max_height(max_h)
                 .vscroll(true)

@@ -63,6 +63,24 @@ struct Measured {
     call_ms: f64,
     settled_s: f64,
     settled: bool,
+    /// What the longest frame redrew (retained painting on a software rasterizer; none where
+    /// the whole frame is drawn every time).
+    longest_redraw: Option<Redraw>,
+}
+
+/// What one frame redrew through retained painting.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+struct Redraw {
+    /// Share of the window's pixels redrawn.
+    window_share: f64,
+    /// Rectangles redrawn.
+    rects: usize,
+    /// egui triangles drawn.
+    triangles: usize,
+    /// Draw jobs (backgrounds, meshes, paint callbacks).
+    jobs: usize,
+    /// Whether it was redrawn in full (first frame, new size, texture change).
+    full: bool,
 }
 
 /// The app and the figures so far.
@@ -84,11 +102,18 @@ fn key(key: egui::Key, modifiers: egui::Modifiers) -> Vec<egui::Event> {
 
 impl Bench {
     /// One frame paced at 60 Hz; its whole, app and UI-pass times, ms.
-    fn frame(&mut self, events: Vec<egui::Event>) -> Result<(f64, f64, f64), CliError> {
+    fn frame(&mut self, events: Vec<egui::Event>) -> Result<(f64, f64, f64, Option<Redraw>), CliError> {
         let start = Instant::now();
         let (_, t) = self.h.frame_with_input(events).map_err(CliError::from)?;
         std::thread::sleep(FRAME_PERIOD.saturating_sub(start.elapsed()));
-        Ok((t.frame_ms, t.app_ms, t.ui_cpu_ms))
+        let redraw = t.retained.map(|r| Redraw {
+            window_share: if r.screen_px > 0.0 { r.redrawn_px / r.screen_px } else { 0.0 },
+            rects: r.rects,
+            triangles: r.triangles,
+            jobs: r.jobs,
+            full: r.full_redraw,
+        });
+        Ok((t.frame_ms, t.app_ms, t.ui_cpu_ms, redraw))
     }
 
     /// Frames with nothing done until `done` holds (not measured).
@@ -114,8 +139,9 @@ impl Bench {
         let t0 = Instant::now();
         let events = call(&mut self.h)?;
         let call_ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (first, app, ui) = self.frame(events)?;
+        let (first, app, ui, redraw) = self.frame(events)?;
         let (mut frame_ms_max, mut app_ms_max, mut ui_cpu_ms_max, mut frames) = (call_ms + first, app, ui, 1);
+        let mut longest_redraw = redraw;
         let settled = loop {
             if frames >= min_frames && done(&self.h.app) {
                 break true;
@@ -123,7 +149,10 @@ impl Bench {
             if t0.elapsed() > SETTLE_LIMIT {
                 break false;
             }
-            let (f, a, u) = self.frame(Vec::new())?;
+            let (f, a, u, redraw) = self.frame(Vec::new())?;
+            if f > frame_ms_max {
+                longest_redraw = redraw;
+            }
             frame_ms_max = frame_ms_max.max(f);
             app_ms_max = app_ms_max.max(a);
             ui_cpu_ms_max = ui_cpu_ms_max.max(u);
@@ -139,6 +168,7 @@ impl Bench {
             call_ms,
             settled_s,
             settled,
+            longest_redraw,
         });
         Ok(())
     }
@@ -318,10 +348,14 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
     let scrub_frames = 60;
     let t = Instant::now();
     let mut max = (0.0f64, 0.0f64, 0.0f64);
+    let mut longest_redraw = None;
     for k in 0..=scrub_frames {
         let at = t0 + (t1 - t0) * f64::from(k) / f64::from(scrub_frames);
         b.h.app.queue_command(AppCommand::Replay(ReplayControl::Scrub(at)));
-        let (f, a, u) = b.frame(Vec::new())?;
+        let (f, a, u, redraw) = b.frame(Vec::new())?;
+        if f > max.0 {
+            longest_redraw = redraw;
+        }
         max = (max.0.max(f), max.1.max(a), max.2.max(u));
     }
     b.out.push(Measured {
@@ -333,6 +367,7 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
         call_ms: 0.0,
         settled_s: t.elapsed().as_secs_f64(),
         settled: true,
+        longest_redraw,
     });
     b.act(
         "replay_dynamics_open",

@@ -60,6 +60,10 @@ impl ProgramPanel {
         egui::Window::new(format!("Point table: {}", program.name))
             .id(egui::Id::unique(super::TABLE_ID))
             .open(&mut open)
+            // drawn at once: a fade redraws the whole window for several frames, each as costly as
+            // the first on a software rasterizer
+            .fade_in(false)
+            .fade_out(false)
             .default_size([640.0, 360.0])
             .resizable(true)
             .show(ui.ctx(), |ui| {

@@ -197,87 +197,6 @@ pub fn merge(rects: Vec<Rect>, ppp: f32, screen: Rect) -> Vec<Rect> {
     out
 }
 
-/// A window-wide redraw that the comparison found (a large part of the window changed at once:
-/// a recording opened or closed) is spread over two frames by whole columns of the window
-/// ([`spread`]): this one redraws about half of the work, the next frame the rest.
-pub const MAX_SPREAD_COLUMNS: usize = 8;
-
-/// What drawing `shape` costs a software rasterizer, roughly: one per shape, plus its glyphs
-/// (text is most of the panels' triangles) or its triangles (plot lines).
-pub fn draw_cost(shape: &Shape) -> f32 {
-    1.0 + match shape {
-        Shape::Text(t) => t.galley.rows.iter().map(|r| r.glyphs.len()).sum::<usize>() as f32,
-        Shape::Mesh(m) => (m.indices.len() / 3) as f32,
-        Shape::Vec(v) => v.iter().map(draw_cost).sum(),
-        _ => 0.0,
-    }
-}
-
-/// Splits the window `screen` into columns at the side edges of its tall clip rectangles (the
-/// docked panels and the 3D view: clips at least half the window high; `shapes` gives each
-/// shape's clip rectangle, where it paints, and its [`draw_cost`]), each column at most half
-/// the window wide where the edges allow, and returns the columns to redraw now and those left
-/// for the next frame. Now: every column that reaches into `first` (what the last frame left:
-/// nothing waits two frames), with the others chosen so that now costs as near half of the
-/// whole as they allow. A window with no such edge is not split (all now).
-pub fn spread(screen: Rect, shapes: &[(Rect, Rect, f32)], ppp: f32, first: &[Rect]) -> (Vec<Rect>, Vec<Rect>) {
-    let (x0, x1) = (screen.min.x, screen.max.x);
-    let mut cuts: Vec<f32> = shapes
-        .iter()
-        .map(|(clip, _, _)| clip)
-        .filter(|c| c.height() >= 0.5 * screen.height())
-        .flat_map(|c| [c.min.x, c.max.x])
-        .map(|x| (x * ppp).round() / ppp)
-        .filter(|&x| x > x0 + 1.0 && x < x1 - 1.0)
-        .collect();
-    cuts.sort_by(f32::total_cmp);
-    cuts.dedup();
-    let mut columns = Vec::new();
-    let mut start = x0;
-    while start < x1 {
-        let reach = start + 0.5 * screen.width();
-        let end = cuts
-            .iter()
-            .copied()
-            .rfind(|&c| c > start && c <= reach)
-            .or_else(|| cuts.iter().copied().find(|&c| c > start))
-            .unwrap_or(x1);
-        columns.push(Rect::from_x_y_ranges(start..=end, screen.y_range()));
-        start = end;
-    }
-    if columns.len() < 2 || columns.len() > MAX_SPREAD_COLUMNS {
-        return (vec![screen], Vec::new());
-    }
-    let mut cost = vec![0.0f32; columns.len()];
-    for (_, painted, c) in shapes {
-        let x = painted.center().x;
-        if let Some(k) = columns.iter().position(|col| x < col.max.x).or(Some(columns.len() - 1)) {
-            cost[k] += c;
-        }
-    }
-    let total: f32 = cost.iter().sum();
-    let overdue: u32 = (0..columns.len())
-        .filter(|&k| first.iter().any(|f| columns[k].intersect(*f).is_positive()))
-        .fold(0, |m, k| m | 1 << k);
-    // every choice of columns that draws the overdue ones: the one nearest half of the cost
-    let all = (1u32 << columns.len()) - 1;
-    let best = (1..all)
-        .filter(|m| m & overdue == overdue)
-        .min_by(|a, b| {
-            let off = |m: &u32| {
-                let c: f32 = (0..columns.len()).filter(|k| m & (1 << k) != 0).map(|k| cost[k]).sum();
-                (c - 0.5 * total).abs()
-            };
-            off(a).total_cmp(&off(b))
-        })
-        .unwrap_or(all);
-    let (mut now, mut later) = (Vec::new(), Vec::new());
-    for (k, c) in columns.into_iter().enumerate() {
-        if best & (1 << k) != 0 { now.push(c) } else { later.push(c) }
-    }
-    if later.is_empty() { (vec![screen], Vec::new()) } else { (now, later) }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -362,37 +281,6 @@ mod tests {
         }
         let big = merge(vec![Rect::from_min_size(Pos2::ZERO, vec2(900.0, 900.0))], 1.0, screen());
         assert_eq!(big, vec![screen()]);
-    }
-
-    #[test]
-    fn a_window_wide_change_is_spread_over_two_frames_by_whole_columns_of_about_half_the_work() {
-        let screen = Rect::from_min_size(Pos2::ZERO, vec2(1280.0, 800.0));
-        let tall = |x0: f32, x1: f32| Rect::from_min_max(pos2(x0, 24.0), pos2(x1, 776.0));
-        let plot = Rect::from_min_max(pos2(400.0, 500.0), pos2(700.0, 700.0));
-        // the left column, the 3D view, the right column (each shape with what it costs); a
-        // plot's short clip is no edge; the screen-wide menu bar neither
-        let shapes = [
-            (tall(0.0, 350.0), tall(0.0, 350.0), 40.0),
-            (tall(350.0, 960.0), tall(350.0, 960.0), 15.0),
-            (plot, plot, 5.0),
-            (tall(960.0, 1280.0), tall(960.0, 1280.0), 40.0),
-            (screen, Rect::from_min_max(pos2(0.0, 0.0), pos2(1280.0, 24.0)), 1.0),
-        ];
-        let (now, later) = spread(screen, &shapes, 1.0, &[]);
-        let xs = |v: &[Rect]| v.iter().map(|r| (r.min.x, r.max.x)).collect::<Vec<_>>();
-        // the text-heavy columns go to different frames: 40 / 61 of the work, not 80 / 21
-        let left = (0.0, 350.0);
-        let right = (960.0, 1280.0);
-        assert_eq!(now.len() + later.len(), 3);
-        assert!(xs(&now).contains(&left) != xs(&now).contains(&right), "{:?} / {:?}", xs(&now), xs(&later));
-        let area: f32 = now.iter().chain(&later).map(Rect::area).sum();
-        assert_eq!(area, screen.area(), "the columns cover the window once");
-        assert!(now.iter().chain(&later).all(|r| r.y_range() == screen.y_range()));
-        // the next frame changing as much again: what waited is drawn first
-        let (next, _) = spread(screen, &shapes, 1.0, &later);
-        assert!(xs(&later).iter().all(|c| xs(&next).contains(c)), "{:?} then {:?}", xs(&later), xs(&next));
-        // no edge to cut at: the window is drawn at once
-        assert_eq!(spread(screen, &[(screen, screen, 1.0)], 1.0, &[]), (vec![screen], Vec::new()));
     }
 
     #[test]

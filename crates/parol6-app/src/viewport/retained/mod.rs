@@ -15,6 +15,7 @@
 mod callback_damage;
 mod damage;
 mod painter;
+mod spread;
 
 pub use callback_damage::CallbackDamage;
 
@@ -133,7 +134,7 @@ struct RetainedPaint {
     last_shapes: Vec<ClippedShape>,
     /// The last frame's size in pixels and pixels per point (none before the first frame).
     last_screen: Option<([u32; 2], f32)>,
-    /// Columns of the window a large change left for this frame to redraw ([`damage::spread`]).
+    /// What a large change left for this frame to redraw (columns or a band, [`spread::plan`]).
     deferred: Vec<egui::Rect>,
 }
 
@@ -180,31 +181,26 @@ impl egui::Plugin for RetainedPaint {
         }
         let shapes = std::mem::take(&mut output.shapes);
         let hints = CallbackDamage::take(ctx);
-        // the first frame, a new size or scale, the painter asking
-        let full = self.last_screen != Some((size_px, ppp))
+        // the first frame, the painter asking, a texture that any pixel may show
+        let full = self.last_screen.is_none()
             || self.handle.shared.need_full.swap(false, Ordering::Relaxed)
             || textures_changed;
         let rects = if full {
             self.deferred.clear();
             vec![screen_pt]
         } else {
-            let deferred = std::mem::take(&mut self.deferred);
-            let mut changed = damage::changed_rects(&self.last_shapes, &shapes, &hints);
-            changed.extend_from_slice(&deferred);
-            let rects = damage::merge(changed, ppp, screen_pt);
-            if rects == [screen_pt] {
-                // a large change at once: whole columns now, the rest next frame (first then,
-                // so no part of the window is ever more than one frame behind)
-                let costs: Vec<(egui::Rect, egui::Rect, f32)> = shapes
-                    .iter()
-                    .map(|s| (s.clip_rect, s.shape.visual_bounding_rect(), damage::draw_cost(&s.shape)))
-                    .collect();
-                let (now, later) = damage::spread(screen_pt, &costs, ppp, &deferred);
-                self.deferred = later;
-                now
+            let overdue: Vec<egui::Rect> =
+                self.deferred.drain(..).map(|r| r.intersect(screen_pt)).filter(|r| r.is_positive()).collect();
+            // a new size or scale changes the whole window (spread as any window-wide change)
+            let changed = if self.last_screen != Some((size_px, ppp)) {
+                vec![screen_pt]
             } else {
-                rects
-            }
+                damage::changed_rects(&self.last_shapes, &shapes, &hints)
+            };
+            let (now, later) =
+                spread::plan(screen_pt, || shapes.iter().map(spread::ShapeCost::of).collect(), ppp, changed, &overdue);
+            self.deferred = later;
+            now
         };
         if !self.deferred.is_empty() {
             // the columns left are drawn by the next frame: there must be one, at once (an
@@ -224,6 +220,7 @@ impl egui::Plugin for RetainedPaint {
         if let Ok(mut pending) = self.handle.shared.pending_textures.lock() {
             pending.push(output.textures_delta.clone());
         }
+        let full = rects == [screen_pt];
         let callback = RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { rects, primitives, full })) };
         output.shapes = vec![ClippedShape {
             clip_rect: screen,

@@ -43,6 +43,7 @@ pub(super) struct Shared {
 
 struct Target {
     size_px: [u32; 2],
+    color: wgpu::Texture,
     color_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
     blit_bind_group: wgpu::BindGroup,
@@ -192,7 +193,10 @@ impl RetainedPainter {
         let color = tex(
             "parol6 retained colour",
             self.format,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
         );
         let depth = tex("parol6 retained depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
@@ -206,6 +210,7 @@ impl RetainedPainter {
         });
         Target {
             size_px,
+            color,
             color_view,
             depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
             blit_bind_group,
@@ -232,12 +237,27 @@ impl RetainedPainter {
         }
         let ppp = screen.pixels_per_point;
         if self.target.as_ref().map(|t| t.size_px) != Some(screen.size_in_pixels) {
-            self.target = Some(self.make_target(device, screen.size_in_pixels));
-            if !frame.full {
-                // a new, empty image and only part of the frame to draw into it
-                self.shared.need_full.store(true, Ordering::Relaxed);
-                self.shared.ctx.request_repaint();
+            let new = self.make_target(device, screen.size_in_pixels);
+            match self.target.take() {
+                // a new size drawn over two frames: until the next, the part not yet drawn
+                // shows the last image (where it fits) instead of an empty one
+                Some(old) if !frame.full => {
+                    let [w, h] = [old.size_px[0].min(new.size_px[0]), old.size_px[1].min(new.size_px[1])];
+                    encoder.copy_texture_to_texture(
+                        old.color.as_image_copy(),
+                        new.color.as_image_copy(),
+                        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                    );
+                }
+                Some(_) => {}
+                None if !frame.full => {
+                    // a new, empty image and only part of the frame to draw into it
+                    self.shared.need_full.store(true, Ordering::Relaxed);
+                    self.shared.ctx.request_repaint();
+                }
+                None => {}
             }
+            self.target = Some(new);
         }
         let [w, h] = screen.size_in_pixels;
         let (full, rects) = (frame.full, frame.rects);
@@ -330,7 +350,7 @@ impl RetainedPainter {
                         Primitive::Callback(c.clone())
                     }
                 };
-                jobs.push(ClippedPrimitive { clip_rect: clip, primitive });
+                push_job(&mut jobs, ClippedPrimitive { clip_rect: clip, primitive }, p.clip_rect, r);
             }
             if !covered {
                 fills.push(r);
@@ -338,6 +358,29 @@ impl RetainedPainter {
         }
         (jobs, fills)
     }
+}
+
+/// Adds `job` (clipped to its own `clip` and the redrawn rectangle `rect`) to `jobs`. A mesh
+/// lying wholly inside its own clip is clipped by `rect` alone, and joins the mesh before it
+/// when that one is clipped the same way and samples the same texture: one draw instead of
+/// one per clip rectangle (a table's cells, each its own clip), which a software rasterizer
+/// pays for in state changes. The pixels are the same: the scissor of a clip covers exactly
+/// the pixels whose centres lie inside it, and no triangle of such a mesh reaches outside.
+fn push_job(jobs: &mut Vec<ClippedPrimitive>, job: ClippedPrimitive, clip: Rect, rect: Rect) {
+    if let Primitive::Mesh(m) = &job.primitive
+        && clip.contains_rect(m.calc_bounds())
+    {
+        if let Some(ClippedPrimitive { clip_rect, primitive: Primitive::Mesh(last) }) = jobs.last_mut()
+            && *clip_rect == rect
+            && last.texture_id == m.texture_id
+        {
+            last.append_ref(m);
+            return;
+        }
+        jobs.push(ClippedPrimitive { clip_rect: rect, primitive: job.primitive });
+        return;
+    }
+    jobs.push(job);
 }
 
 /// The triangles of `mesh` whose bounding box meets `rect`, with only the vertices they use;

@@ -1,0 +1,361 @@
+//! Spreading a costly redraw over two frames: what a large change costs a software rasterizer,
+//! and which part of it to draw now and which in the next frame.
+//!
+//! A window-wide change (a recording opened, the window resized) is cut into whole columns at
+//! the panels' edges ([`spread_columns`]); a costly change over part of the window (a window
+//! such as the point table appearing over the panels) into two bands, top and bottom
+//! ([`spread_bands`]). Either way nothing is more than one frame behind: what the last frame
+//! left is drawn first.
+
+use eframe::egui;
+use egui::epaint::{ClippedShape, Shape};
+use egui::{Rect, pos2};
+
+use super::damage::{FULL_REDRAW_SHARE, merge};
+
+/// A software rasterizer's time per triangle drawn, µs of CPU (set-up and binning; llvmpipe on
+/// the 2-core reference machine, from the point table's first frame: 6 500 triangles).
+const US_PER_TRIANGLE: f32 = 5.0;
+/// Its time per pixel of a filled shape, µs of CPU (the egui shader and blending; from the
+/// point table's drop shadow, 260 000 px in 15 ms).
+const US_PER_PX: f32 = 0.06;
+/// A change estimated to cost more than this is drawn over two frames, µs of CPU: with the
+/// rasterizer's two threads, about 15 ms of a frame on two idle cores (a window-wide change of
+/// 6 500 triangles, estimated at 33 000, took 37 ms).
+pub const SPREAD_ABOVE_US: f32 = 30_000.0;
+/// Changes over less of the window than this are never estimated (too small to matter).
+const ESTIMATE_ABOVE_SHARE: f32 = 0.08;
+/// A window-wide change is cut into at most this many columns.
+pub const MAX_SPREAD_COLUMNS: usize = 8;
+
+/// One shape as the estimate sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShapeCost {
+    /// Its clip rectangle, points.
+    pub clip: Rect,
+    /// Where it paints (inside the clip), points.
+    pub painted: Rect,
+    /// Triangles it will have, about.
+    pub triangles: f32,
+    /// Whether it fills its area (a filled rectangle, circle or mesh, a paint callback), so that
+    /// its pixels count; a text's pixels are its glyphs' few.
+    pub fills: bool,
+}
+
+impl ShapeCost {
+    /// The estimate for `shape`.
+    pub fn of(shape: &ClippedShape) -> Self {
+        let painted = shape.shape.visual_bounding_rect();
+        let painted = if painted.is_finite() && painted.is_positive() {
+            painted.intersect(shape.clip_rect)
+        } else {
+            Rect::NOTHING
+        };
+        Self { clip: shape.clip_rect, painted, triangles: triangles(&shape.shape), fills: fills(&shape.shape) }
+    }
+
+    /// What drawing the part of this shape inside `r` costs, µs (`ppp`: pixels per point).
+    fn cost_within(&self, r: Rect, ppp: f32) -> f32 {
+        let part = self.painted.intersect(r);
+        if !part.is_positive() {
+            return 0.0;
+        }
+        let share = (part.area() / self.painted.area().max(1e-3)).min(1.0);
+        let px = if self.fills { part.area() * ppp * ppp * US_PER_PX } else { 0.0 };
+        self.triangles * share * US_PER_TRIANGLE + px
+    }
+}
+
+/// Triangles `shape` is tessellated into, about (a text: two per glyph; a rectangle: its fill
+/// and feathered edges, more with round corners).
+fn triangles(shape: &Shape) -> f32 {
+    match shape {
+        Shape::Text(t) => 2.0 * t.galley.rows.iter().map(|r| r.glyphs.len()).sum::<usize>() as f32,
+        Shape::Mesh(m) => (m.indices.len() / 3) as f32,
+        Shape::Vec(v) => v.iter().map(triangles).sum(),
+        Shape::Rect(r) if r.corner_radius == egui::CornerRadius::ZERO => 10.0,
+        Shape::Rect(_) | Shape::Circle(_) | Shape::Ellipse(_) => 40.0,
+        Shape::Path(p) => 4.0 * p.points.len() as f32,
+        Shape::LineSegment { .. } => 6.0,
+        _ => 8.0,
+    }
+}
+
+/// Whether `shape` covers its area with paint.
+fn fills(shape: &Shape) -> bool {
+    match shape {
+        Shape::Rect(r) => r.fill.a() > 0,
+        Shape::Circle(c) => c.fill.a() > 0,
+        Shape::Ellipse(e) => e.fill.a() > 0,
+        Shape::Mesh(_) | Shape::Callback(_) => true,
+        Shape::Vec(v) => v.iter().any(fills),
+        _ => false,
+    }
+}
+
+/// What redrawing `rects` costs, µs.
+pub fn cost(shapes: &[ShapeCost], rects: &[Rect], ppp: f32) -> f32 {
+    shapes.iter().map(|s| rects.iter().map(|&r| s.cost_within(r, ppp)).sum::<f32>()).sum()
+}
+
+/// The rectangles to redraw now and those left for the next frame, for the frame whose new
+/// changes are `changed` (points, not yet merged) after the last frame left `overdue`. The
+/// whole window (`screen`) as one rectangle is cut into columns; a change over part of it
+/// costing more than [`SPREAD_ABOVE_US`] into two bands; anything else is drawn now.
+/// `shapes` gives the frame's shapes' estimates, asked for only when the change is large.
+pub fn plan(
+    screen: Rect,
+    shapes: impl FnOnce() -> Vec<ShapeCost>,
+    ppp: f32,
+    changed: Vec<Rect>,
+    overdue: &[Rect],
+) -> (Vec<Rect>, Vec<Rect>) {
+    let new = merge(changed, ppp, screen);
+    let all = merge(new.iter().chain(overdue).copied().collect(), ppp, screen);
+    let area: f32 = all.iter().map(Rect::area).sum();
+    if area < ESTIMATE_ABOVE_SHARE * screen.area() {
+        return (all, Vec::new());
+    }
+    let shapes = shapes();
+    if all == [screen] {
+        return spread_columns(screen, &shapes, ppp, overdue);
+    }
+    let total = cost(&shapes, &all, ppp);
+    if total <= SPREAD_ABOVE_US {
+        return (all, Vec::new());
+    }
+    spread_bands(screen, &shapes, ppp, &new, overdue, total)
+}
+
+/// A costly change over part of the window (`new`, merged) in two horizontal bands: what the
+/// last frame left (`overdue`) and the top of `new` now, the cut chosen so that now costs about
+/// half of `total`; the rest of `new` next frame.
+fn spread_bands(
+    screen: Rect,
+    shapes: &[ShapeCost],
+    ppp: f32,
+    new: &[Rect],
+    overdue: &[Rect],
+    total: f32,
+) -> (Vec<Rect>, Vec<Rect>) {
+    let budget = 0.5 * total - cost(shapes, overdue, ppp);
+    // each shape's cost inside the new change, by the height where it lies
+    let mut by_y: Vec<(f32, f32)> = shapes
+        .iter()
+        .flat_map(|s| new.iter().map(move |&r| (s, r)))
+        .filter_map(|(s, r)| {
+            let c = s.cost_within(r, ppp);
+            (c > 0.0).then(|| (s.painted.intersect(r).center().y, c))
+        })
+        .collect();
+    by_y.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut acc = 0.0;
+    let cut = by_y
+        .iter()
+        .find(|&&(_, c)| {
+            acc += c;
+            acc >= budget
+        })
+        .map_or(screen.min.y, |&(y, _)| (y * ppp).round() / ppp);
+    let above = |r: &Rect| Rect::from_min_max(r.min, pos2(r.max.x, r.max.y.min(cut)));
+    let below = |r: &Rect| Rect::from_min_max(pos2(r.min.x, r.min.y.max(cut)), r.max);
+    let later: Vec<Rect> = new.iter().map(below).filter(|r| r.is_positive()).collect();
+    let now: Vec<Rect> = overdue.iter().copied().chain(new.iter().map(above)).filter(|r| r.is_positive()).collect();
+    if later.is_empty() || now.is_empty() {
+        return (merge(new.iter().chain(overdue).copied().collect(), ppp, screen), Vec::new());
+    }
+    // kept apart: merging them again could give back the whole window
+    let now_area: f32 = now.iter().map(Rect::area).sum();
+    let now = if now_area > FULL_REDRAW_SHARE * screen.area() { vec![screen] } else { now };
+    (now, later)
+}
+
+/// Splits the window `screen` into columns at the side edges of its tall clip rectangles (the
+/// docked panels and the 3D view: clips at least half the window high), each column at most
+/// half the window wide where the edges allow, and returns the columns to redraw now and those
+/// left for the next frame. Now: every column that reaches into `first` (what the last frame
+/// left: nothing waits two frames), with the others chosen so that now costs as near half of
+/// the whole as they allow. A window with no such edge is not split (all now).
+pub fn spread_columns(screen: Rect, shapes: &[ShapeCost], ppp: f32, first: &[Rect]) -> (Vec<Rect>, Vec<Rect>) {
+    let (x0, x1) = (screen.min.x, screen.max.x);
+    let mut cuts: Vec<f32> = shapes
+        .iter()
+        .map(|s| s.clip)
+        .filter(|c| c.height() >= 0.5 * screen.height())
+        .flat_map(|c| [c.min.x, c.max.x])
+        .map(|x| (x * ppp).round() / ppp)
+        .filter(|&x| x > x0 + 1.0 && x < x1 - 1.0)
+        .collect();
+    cuts.sort_by(f32::total_cmp);
+    cuts.dedup();
+    let mut columns = Vec::new();
+    let mut start = x0;
+    while start < x1 {
+        let reach = start + 0.5 * screen.width();
+        let end = cuts
+            .iter()
+            .copied()
+            .rfind(|&c| c > start && c <= reach)
+            .or_else(|| cuts.iter().copied().find(|&c| c > start))
+            .unwrap_or(x1);
+        columns.push(Rect::from_x_y_ranges(start..=end, screen.y_range()));
+        start = end;
+    }
+    if columns.len() < 2 || columns.len() > MAX_SPREAD_COLUMNS {
+        return (vec![screen], Vec::new());
+    }
+    let cost: Vec<f32> = columns.iter().map(|&c| self::cost(shapes, &[c], ppp)).collect();
+    let total: f32 = cost.iter().sum();
+    let overdue: u32 = (0..columns.len())
+        .filter(|&k| first.iter().any(|f| columns[k].intersect(*f).is_positive()))
+        .fold(0, |m, k| m | 1 << k);
+    // every choice of columns that draws the overdue ones: the one nearest half of the cost
+    let all = (1u32 << columns.len()) - 1;
+    let best = (1..all)
+        .filter(|m| m & overdue == overdue)
+        .min_by(|a, b| {
+            let off = |m: &u32| {
+                let c: f32 = (0..columns.len()).filter(|k| m & (1 << k) != 0).map(|k| cost[k]).sum();
+                (c - 0.5 * total).abs()
+            };
+            off(a).total_cmp(&off(b))
+        })
+        .unwrap_or(all);
+    let (mut now, mut later) = (Vec::new(), Vec::new());
+    for (k, c) in columns.into_iter().enumerate() {
+        if best & (1 << k) != 0 { now.push(c) } else { later.push(c) }
+    }
+    if later.is_empty() { (vec![screen], Vec::new()) } else { (now, later) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::vec2;
+
+    fn screen() -> Rect {
+        Rect::from_min_size(egui::Pos2::ZERO, vec2(1280.0, 800.0))
+    }
+
+    /// A shape with `triangles` over `painted`, clipped to `clip`, filling its area or not.
+    fn shape(clip: Rect, painted: Rect, triangles: f32, fills: bool) -> ShapeCost {
+        ShapeCost { clip, painted, triangles, fills }
+    }
+
+    #[test]
+    fn a_window_wide_change_is_spread_over_two_frames_by_whole_columns_of_about_half_the_work() {
+        let screen = screen();
+        let tall = |x0: f32, x1: f32| Rect::from_min_max(pos2(x0, 24.0), pos2(x1, 776.0));
+        let plot = Rect::from_min_max(pos2(400.0, 500.0), pos2(700.0, 700.0));
+        // the left column, the 3D view, the right column (text: triangles, no fill); a plot's
+        // short clip is no edge; the screen-wide menu bar neither
+        let shapes = [
+            shape(tall(0.0, 350.0), tall(0.0, 350.0), 4000.0, false),
+            shape(tall(350.0, 960.0), tall(350.0, 960.0), 1500.0, false),
+            shape(plot, plot, 500.0, false),
+            shape(tall(960.0, 1280.0), tall(960.0, 1280.0), 4000.0, false),
+            shape(screen, Rect::from_min_max(pos2(0.0, 0.0), pos2(1280.0, 24.0)), 100.0, false),
+        ];
+        let (now, later) = plan(screen, || shapes.to_vec(), 1.0, vec![screen], &[]);
+        let xs = |v: &[Rect]| v.iter().map(|r| (r.min.x, r.max.x)).collect::<Vec<_>>();
+        // the text-heavy columns go to different frames: 40 / 61 of the work, not 80 / 21
+        let left = (0.0, 350.0);
+        let right = (960.0, 1280.0);
+        assert_eq!(now.len() + later.len(), 3);
+        assert!(xs(&now).contains(&left) != xs(&now).contains(&right), "{:?} / {:?}", xs(&now), xs(&later));
+        let area: f32 = now.iter().chain(&later).map(Rect::area).sum();
+        assert_eq!(area, screen.area(), "the columns cover the window once");
+        assert!(now.iter().chain(&later).all(|r| r.y_range() == screen.y_range()));
+        // the next frame changing as much again: what waited is drawn first
+        let (next, _) = plan(screen, || shapes.to_vec(), 1.0, vec![screen], &later);
+        assert!(xs(&later).iter().all(|c| xs(&next).contains(c)), "{:?} then {:?}", xs(&later), xs(&next));
+        // no edge to cut at: the window is drawn at once
+        let one = [shape(screen, screen, 1.0, false)];
+        assert_eq!(plan(screen, || one.to_vec(), 1.0, vec![screen], &[]), (vec![screen], Vec::new()));
+    }
+
+    /// The point table appearing over the panels: a 640 × 360 window of text fields and 6 500
+    /// triangles, as measured.
+    fn table_window() -> (Rect, Vec<ShapeCost>) {
+        let window = Rect::from_min_size(pos2(16.0, 16.0), vec2(640.0, 360.0));
+        let mut shapes = vec![shape(window, window, 40.0, true)];
+        for row in 0..12 {
+            for col in 0..8 {
+                let cell = Rect::from_min_size(
+                    pos2(window.min.x + 10.0 + 78.0 * col as f32, window.min.y + 40.0 + 26.0 * row as f32),
+                    vec2(70.0, 22.0),
+                );
+                shapes.push(shape(cell, cell, 10.0, true));
+                shapes.push(shape(cell, cell.shrink(4.0), 56.0, false));
+            }
+        }
+        (window, shapes)
+    }
+
+    #[test]
+    fn a_costly_window_appearing_is_drawn_top_band_now_and_bottom_band_next_frame() {
+        let (window, shapes) = table_window();
+        let total = cost(&shapes, &[window], 1.0);
+        assert!(total > SPREAD_ABOVE_US, "the table costs {total} µs");
+        let (now, later) = plan(screen(), || shapes.clone(), 1.0, vec![window], &[]);
+        assert!(!later.is_empty(), "spread: {now:?}");
+        // two bands that together are the window, the top one now
+        let (top, bottom) = (now[0], later[0]);
+        assert_eq!((now.len(), later.len()), (1, 1));
+        assert_eq!(top.min, window.min);
+        assert_eq!(bottom.max, window.max);
+        assert_eq!(top.max.y, bottom.min.y);
+        assert_eq!((top.x_range(), bottom.x_range()), (window.x_range(), window.x_range()));
+        // each about half of the work
+        let (a, b) = (cost(&shapes, &now, 1.0), cost(&shapes, &later, 1.0));
+        assert!((a - b).abs() < 0.25 * total, "{a} / {b} of {total} µs");
+        // the next frame draws what waited, even when nothing else changed
+        let (next, after) = plan(screen(), || shapes.clone(), 1.0, Vec::new(), &later);
+        assert_eq!((next, after), (later.clone(), Vec::new()));
+        // ... and with the same change again, what waited first and the rest balanced
+        let (next, after) = plan(screen(), || shapes.clone(), 1.0, vec![window], &later);
+        assert!(next.contains(&bottom), "{next:?}");
+        assert!(!after.is_empty() && after.iter().all(|r| window.contains_rect(*r)), "{after:?}");
+    }
+
+    #[test]
+    fn a_cheap_change_or_a_small_one_is_drawn_at_once() {
+        let (window, shapes) = table_window();
+        // a few labels over the same window: well under the threshold
+        let few: Vec<ShapeCost> = shapes.iter().take(9).copied().collect();
+        assert_eq!(plan(screen(), || few.clone(), 1.0, vec![window], &[]), (vec![window], Vec::new()));
+        // one cell of the table changing
+        let cell = shapes[1].painted;
+        assert_eq!(plan(screen(), || shapes.clone(), 1.0, vec![cell], &[]), (vec![cell], Vec::new()));
+    }
+
+    #[test]
+    fn text_costs_its_glyphs_and_a_fill_its_pixels() {
+        let r = Rect::from_min_size(egui::Pos2::ZERO, vec2(100.0, 100.0));
+        let fill = shape(r, r, 10.0, true);
+        let text = shape(r, r, 10.0, false);
+        assert_eq!(text.cost_within(r, 1.0), 10.0 * US_PER_TRIANGLE);
+        assert_eq!(fill.cost_within(r, 1.0), 10.0 * US_PER_TRIANGLE + 10_000.0 * US_PER_PX);
+        // half of it: half the triangles and half the pixels; twice the pixels per point: four
+        // times the pixels
+        let half = Rect::from_min_size(egui::Pos2::ZERO, vec2(50.0, 100.0));
+        assert_eq!(fill.cost_within(half, 1.0), 5.0 * US_PER_TRIANGLE + 5_000.0 * US_PER_PX);
+        assert_eq!(fill.cost_within(r, 2.0), 10.0 * US_PER_TRIANGLE + 40_000.0 * US_PER_PX);
+        let mut galley_shape = egui::Shape::Noop;
+        let ctx = egui::Context::default();
+        let _frame = ctx.run_ui(egui::RawInput::default(), |ui| {
+            let g =
+                ui.painter().layout_no_wrap("twelve glyph".into(), egui::FontId::monospace(12.0), egui::Color32::WHITE);
+            galley_shape = egui::Shape::galley(egui::Pos2::ZERO, g, egui::Color32::WHITE);
+        });
+        let clipped = ClippedShape {
+            clip_rect: Rect::EVERYTHING,
+            shape: galley_shape,
+            transform_after_tessellation: egui::emath::TSTransform::IDENTITY,
+        };
+        let c = ShapeCost::of(&clipped);
+        assert!(!c.fills);
+        // glyphs of the 11 visible characters and the space (egui counts it), two triangles each
+        assert!((22.0..=24.0).contains(&c.triangles), "{c:?}");
+    }
+}

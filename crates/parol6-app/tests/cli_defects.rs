@@ -206,3 +206,13 @@ fn jog_into_a_limit_was_reported_as_refused() {
     assert_eq!(v["stopped_at_limit"], true, "{v}");
     assert!(v["end_deg"][0].as_f64().expect("deg") > 122.9, "{v}");
 }
+
+#[test]
+fn fake_robot_link_dropped_on_a_busy_host_through_its_pty() {
+    // Issue 32: a pty's bytes wait for a kernel worker that a busy host starves; `--fake-robot`
+    // now talks to its emulator over a local socket (removed when the command ends).
+    let v = run(&["hw", "status", "--fake-robot"]).json("hw status");
+    let port = v["port"].as_str().expect("port");
+    assert!(!port.starts_with("/dev/"), "the fake robot is a terminal device: {port}");
+    assert!(port.contains("parol6-fake-robot-") && !std::path::Path::new(port).exists(), "{port}");
+}

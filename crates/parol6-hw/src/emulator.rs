@@ -4,7 +4,9 @@
 //! and input pins can be toggled from tests.
 //!
 //! [`ControllerModel`] is the pure state machine; [`EmulatorHandle::spawn`] serves it on the
-//! master side of a pseudo-terminal and exposes the slave path for a [`crate::Session`].
+//! master side of a pseudo-terminal and exposes the slave path for a [`crate::Session`];
+//! [`EmulatorHandle::spawn_socket`] serves it on a local socket instead (the fake robot of the
+//! window and of `--fake-robot`: no kernel tty worker between host and board, issue 32).
 //!
 //! Not emulated: the test routine (code 69 is accepted and answered but does not move the
 //! arm, and is logged), the homing trajectory itself (joints hold still while the stages run
@@ -24,7 +26,6 @@ use crate::frame::{
     CommandCode, IO_ALWAYS_SET, IO_ESTOP_RELEASED, IO_IN1, IO_IN2, IO_OUT1, IO_OUT2, JOINT_BITS_ALWAYS_SET,
     ReceivedCommand, StatusFrame, TIMING_TICKS_PER_S, joint_flags_byte,
 };
-use crate::parser::CommandParser;
 use crate::units::STANDBY_STEPS;
 
 /// Seek speeds shown while each homing stage runs, steps/s (ROBOT.md §8).
@@ -401,7 +402,10 @@ impl std::fmt::Debug for EmulatorHandle {
 }
 
 impl EmulatorHandle {
-    /// Opens a pty pair and serves the firmware model on its master side.
+    /// Opens a pty pair and serves the firmware model on its master side (for hosts in other
+    /// processes, `parol6 hw emulate`, and the tests of the serial path). Its bytes pass the
+    /// kernel's tty worker, which a very busy host delays by tens of ms: a host in this
+    /// process uses [`EmulatorHandle::spawn_socket`].
     #[cfg(unix)]
     pub fn spawn(config: EmulatorConfig) -> Result<EmulatorHandle, crate::HwError> {
         let (mut master, slave) = serialport::TTYPort::pair()
@@ -410,6 +414,30 @@ impl EmulatorHandle {
             .ok_or_else(|| crate::HwError::Emulator("pseudo-terminal has no path".into()))?;
         serialport::SerialPort::set_timeout(&mut master, Duration::from_millis(2))
             .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
+        // Keep the slave open so the master never sees a hang-up between host sessions.
+        Self::start(path, master, slave, config)
+    }
+
+    /// Serves the firmware model on a local socket (the fake robot, `--fake-robot`): its path
+    /// opens with [`crate::ports::open_port`] like a serial port, and its bytes reach the other
+    /// side without waiting for a kernel worker, so the emulated board answers in time on a
+    /// host with every core busy, as a real board would ([`crate::socket_link`]).
+    #[cfg(unix)]
+    pub fn spawn_socket(config: EmulatorConfig) -> Result<EmulatorHandle, crate::HwError> {
+        let server = crate::socket_link::SocketServer::bind()
+            .map_err(|e| crate::HwError::Emulator(format!("cannot open the fake robot's socket: {e}")))?;
+        let path = server.path().to_str().map(str::to_string);
+        let path = path.ok_or_else(|| crate::HwError::Emulator("the socket's path is not UTF-8".into()))?;
+        Self::start(path, server, (), config)
+    }
+
+    /// Starts the emulator thread on `wire`; `keep` lives as long as the thread.
+    #[cfg(unix)]
+    fn start<W, K>(path: String, wire: W, keep: K, config: EmulatorConfig) -> Result<EmulatorHandle, crate::HwError>
+    where
+        W: Read + Write + Send + 'static,
+        K: Send + 'static,
+    {
         let model = ControllerModel::new(config.clone());
         let shared = Arc::new(Shared {
             stop: AtomicBool::new(false),
@@ -427,17 +455,16 @@ impl EmulatorHandle {
         let thread = std::thread::Builder::new()
             .name("parol6-emulator".into())
             .spawn(move || {
-                // Keep the slave open so the master never sees a hang-up between host sessions.
-                let _slave = slave;
+                let _keep = keep;
                 // The emulated board must answer in time on a loaded desktop, like the real one.
                 crate::priority::raise_current_thread();
-                serve(master, model, &sh, log_max);
+                serve::serve(wire, model, &sh, log_max);
             })
             .map_err(|e| crate::HwError::Emulator(e.to_string()))?;
         Ok(EmulatorHandle { path, shared, thread: Some(thread) })
     }
 
-    /// Path of the slave side: open it as the serial port.
+    /// Path of the host's side (the pty's slave or the socket): open it as the serial port.
     pub fn path(&self) -> &str {
         &self.path
     }
@@ -517,68 +544,7 @@ fn snapshot_of(m: &ControllerModel, accepted: u64, rejected: u64) -> EmulatorSna
     }
 }
 
-#[cfg(unix)]
-fn serve(mut master: serialport::TTYPort, mut model: ControllerModel, sh: &Shared, log_max: usize) {
-    let mut parser = CommandParser::new();
-    let mut buf = [0u8; 4096];
-    let mut last = Instant::now();
-    let mut replies = 0u64;
-    while !sh.stop.load(Ordering::Relaxed) {
-        let n = match master.read(&mut buf) {
-            Ok(n) => n,
-            Err(e) if e.kind() == std::io::ErrorKind::TimedOut => 0,
-            Err(e) => {
-                tracing::debug!("emulator read: {e}");
-                std::thread::sleep(Duration::from_millis(2));
-                0
-            }
-        };
-        model.estop_pressed = sh.estop_pressed.load(Ordering::Relaxed);
-        model.in1 = sh.in1.load(Ordering::Relaxed);
-        model.in2 = sh.in2.load(Ordering::Relaxed);
-        for &b in &buf[..n] {
-            let Some(cmd) = parser.push_byte(b) else { continue };
-            let now = Instant::now();
-            model.advance(now.duration_since(last).as_secs_f64());
-            last = now;
-            let status = model.accept(cmd, now);
-            if log_max > 0 {
-                let mut log = match sh.log.lock() {
-                    Ok(l) => l,
-                    Err(p) => p.into_inner(),
-                };
-                if log.len() < log_max {
-                    log.push(ReceivedFrame { at: now, command: cmd });
-                }
-            }
-            let st = parser.stats();
-            sh.snapshot.store(Arc::new(snapshot_of(&model, st.accepted, st.rejected)));
-            if sh.mute.load(Ordering::Relaxed) {
-                continue;
-            }
-            let mut status = status;
-            let mut delay = Duration::from_micros(sh.reply_delay_us.load(Ordering::Relaxed));
-            if let Some(corrupt) = match sh.corruptor.lock() {
-                Ok(c) => c,
-                Err(p) => p.into_inner(),
-            }
-            .as_mut()
-            {
-                delay += corrupt(replies, &mut status);
-            }
-            replies += 1;
-            if !delay.is_zero() {
-                std::thread::sleep(delay);
-            }
-            if let Err(e) = master.write_all(&status.encode()) {
-                tracing::debug!("emulator write: {e}");
-            }
-        }
-        let now = Instant::now();
-        model.advance(now.duration_since(last).as_secs_f64());
-        last = now;
-    }
-}
+mod serve;
 
 #[cfg(test)]
 mod tests;

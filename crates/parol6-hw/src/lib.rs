@@ -7,7 +7,8 @@
 //!   one command frame per period, parsing the status, publishing lock-free snapshots and robot
 //!   states, implementing [`parol6_core::motion::RobotBackend`] ([`backend`]), and acting as the
 //!   **safety layer** (the firmware has no CRC, no timeout and no limit checks),
-//! - a controller [`emulator`] that behaves like the public firmware, on a pseudo-terminal.
+//! - a controller [`emulator`] that behaves like the public firmware, on a pseudo-terminal or
+//!   (the fake robot) on a local socket (`socket_link`).
 //!
 //! This crate must not depend on any GUI, windowing or GPU crate, nor on rapier (physics lives
 //! in `parol6-core`'s simulation). Motion comes from [`parol6_core::motion`], joint limits from
@@ -20,6 +21,8 @@ pub mod parser;
 pub mod ports;
 pub mod priority;
 pub mod session;
+#[cfg(unix)]
+pub mod socket_link;
 pub mod units;
 
 pub use emulator::{ControllerModel, EmulatorConfig, EmulatorHandle, StatusCorruptor};

@@ -87,14 +87,23 @@ pub fn open_error(port: &str, e: &serialport::Error) -> HwError {
     }
 }
 
-/// Opens `port` at 3 000 000 baud, 8N1, no flow control.
+/// Read / write timeout of a freshly opened port (the session sets its own per read).
+const OPEN_TIMEOUT: Duration = Duration::from_millis(5);
+
+/// Opens `port` at 3 000 000 baud, 8N1, no flow control. A path that is a Unix-domain socket
+/// is the fake robot's ([`crate::emulator::EmulatorHandle::spawn_socket`]): it is connected as a
+/// socket with the same timeout; every other path is opened as a serial device.
 pub fn open_port(port: &str) -> Result<Box<dyn serialport::SerialPort>, HwError> {
+    #[cfg(unix)]
+    if crate::socket_link::is_socket(port) {
+        return Ok(Box::new(crate::socket_link::SocketPort::connect(port, OPEN_TIMEOUT)?));
+    }
     serialport::new(port, BAUD_RATE)
         .data_bits(serialport::DataBits::Eight)
         .parity(serialport::Parity::None)
         .stop_bits(serialport::StopBits::One)
         .flow_control(serialport::FlowControl::None)
-        .timeout(Duration::from_millis(5))
+        .timeout(OPEN_TIMEOUT)
         .open()
         .map_err(|e| open_error(port, &e))
 }

@@ -104,14 +104,15 @@ impl HwLink {
             log_frames_max: EMULATOR_LOG_FRAMES,
             ..parol6_hw::EmulatorConfig::homed_at_standby()
         };
-        let emu = parol6_hw::EmulatorHandle::spawn(config_emu)?;
+        // on a local socket, not a pty: a busy host delays a pty's bytes (issue 32)
+        let emu = parol6_hw::EmulatorHandle::spawn_socket(config_emu)?;
         let session = parol6_hw::Session::open_with_tap(emu.path(), config, tap)?;
         Ok(Self::new(session, Some(emu)))
     }
 
     #[cfg(not(unix))]
     fn connect_emulator(_config: parol6_hw::SessionConfig, _tap: Option<Tap>) -> anyhow::Result<Self> {
-        anyhow::bail!("the built-in emulator needs a pseudo-terminal (Unix only)")
+        anyhow::bail!("the built-in emulator needs a Unix-domain socket (Unix only)")
     }
 
     pub(super) fn view(&self, snap: &parol6_hw::Snapshot) -> LinkView {

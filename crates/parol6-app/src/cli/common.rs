@@ -127,7 +127,7 @@ pub(crate) fn open(
         SessionConfig { rate_hz: rate.rate, tracking: rate.tracking.unwrap_or_default(), ..SessionConfig::default() };
     let emulator = if connect.fake_robot {
         Some(
-            EmulatorHandle::spawn(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
+            EmulatorHandle::spawn_socket(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })
                 .map_err(hw_err)?,
         )
     } else {

@@ -18,7 +18,9 @@
 //! - measured positions that jump impossibly are rejected and counted, never used; five in a
 //!   row, or commanded and measured apart by more than 2000 steps for 0.5 s, stop motion;
 //! - no valid status for 80 ms (`SessionConfig::status_timeout`) → link loss: motion is stopped (IDLE) and the port re-opened
-//!   every 2 s; nothing answering within 3 s of opening → [`LinkState::NoAnswer`];
+//!   every 2 s; nothing answering within 3 s of opening → [`LinkState::NoAnswer`]; the rule is
+//!   the same for every port (the built-in emulator's link is a local socket rather than a pty,
+//!   so a busy host's kernel tty worker no longer delays its replies: issue 32);
 //! - E-stop pressed → motion stopped, DISABLE sent every period; after release motion needs
 //!   an explicit [`Session::enable`];
 //! - closing the session leaves the board with an IDLE frame (no stepping, zero speeds).

@@ -159,7 +159,8 @@ fn area(h: &Harness<'_, Parol6App>, id: &str) -> Option<egui::Rect> {
 
 /// Issue 32 minor: a notice covered the F1 help window's title. At each window size of the
 /// hand trial, with help open, a notice (an error: a recording that does not exist) lies beside
-/// or below the help window, never over it.
+/// or below the help window, never over it, and over the 3D view, never over the side panels'
+/// read-outs (at 1024×700 it lay over the right panel's TCP while it lasted).
 #[test]
 fn a_notice_never_covers_the_help_window() {
     for size in [egui::vec2(1024.0, 700.0), egui::vec2(1280.0, 800.0), egui::vec2(1600.0, 1000.0)] {
@@ -178,6 +179,12 @@ fn a_notice_never_covers_the_help_window() {
         assert!(!h.state().notices().is_empty(), "a notice is up");
         assert!(!help.intersects(notices), "at {size:?} the notices {notices:?} cover the help window {help:?}");
         assert!(h.ctx.content_rect().contains_rect(notices), "at {size:?} the notices {notices:?} are in the window");
+        // nor the read-outs of the side panels (at 1024×700 they lay over the right panel's TCP)
+        let (left, right) = (parol6_app::app::LEFT_PANEL_WIDTH, size.x - parol6_app::app::RIGHT_PANEL_WIDTH);
+        assert!(
+            notices.left() >= left && notices.right() <= right,
+            "at {size:?} the notices {notices:?} cover a side panel (the 3D view is {left}..{right})"
+        );
     }
 }
 

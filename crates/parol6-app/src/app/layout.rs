@@ -208,7 +208,9 @@ impl Parol6App {
         }
         files.dialog_ui(ui.ctx(), pctx);
         if *show_help {
-            let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
+            // room below it for the notices in a low window (1024×700: they covered the right
+            // panel's read-outs beside it)
+            let max_h = (ui.ctx().content_rect().height() - 80.0 - NOTICES_MIN_HEIGHT).max(200.0);
             egui::Window::new(super::escape::HELP_WINDOW)
                 // its area's id by its name (egui's own hashes the title's text as an `Option`),
                 // so the notices and Esc find it
@@ -335,8 +337,9 @@ const NOTICES_MIN_WIDTH: f32 = 240.0;
 const NOTICES_MIN_HEIGHT: f32 = 120.0;
 
 /// Where the notices go: the top left of the 3D view (`view`), or, while the help window
-/// (`help`) covers that, the wider free side beside it (in the view, else in the window,
-/// `screen`), or below it. Returns the top left corner and the width of the column.
+/// (`help`) covers that, the wider free side beside it in the view, or below it in the view,
+/// and only then beside or below it in the window (`screen`), over the panels' read-outs.
+/// Returns the top left corner and the width of the column.
 pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<egui::Rect>) -> (egui::Pos2, f32) {
     let top = view.top() + 8.0;
     let home = (egui::pos2(view.left() + 10.0, top), (view.width() - 40.0).max(100.0));
@@ -347,8 +350,14 @@ pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<e
         let left = (within.left() + 10.0, help.left() - within.left() - 20.0);
         if right.1 >= left.1 { [right, left] } else { [left, right] }
     };
-    let beside = sides(view).into_iter().chain(sides(screen)).find(|s| s.1 >= NOTICES_MIN_WIDTH);
-    if let Some((x, width)) = beside {
+    let beside = |within| sides(within).into_iter().find(|s| s.1 >= NOTICES_MIN_WIDTH);
+    if let Some((x, width)) = beside(view) {
+        return (egui::pos2(x, top), width);
+    }
+    if view.bottom() - help.bottom() >= NOTICES_MIN_HEIGHT {
+        return (egui::pos2(home.0.x, help.bottom() + 8.0), home.1);
+    }
+    if let Some((x, width)) = beside(screen) {
         return (egui::pos2(x, top), width);
     }
     if screen.bottom() - help.bottom() >= NOTICES_MIN_HEIGHT {

@@ -145,7 +145,8 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     match settings_path {
         Some(p) => {
             ui.label(format!(
-                "Units, panel and 3D view toggles, the height of the panel under the 3D view, speeds, profile, \
+                "Units, panel and 3D view toggles, the height of the panel under the 3D view and which of the \
+                 plots and dynamics is in front where they share it as tabs, speeds, profile, \
                  tracking mode, the recent programs and their folder, and the last port are saved half a \
                  second after each change, and on exit, to {} (set PAROL6_SETTINGS to use another file).",
                 p.display()

@@ -107,3 +107,104 @@ fn a_run_time_outside_its_range_is_refused_when_typed() {
     type_into(&mut h, "Run time", "1,5");
     assert_eq!(h.get_by_label("Run time").value().as_deref(), Some("1.50"), "a decimal comma is taken");
 }
+
+/// The rectangle of the one widget labelled `label` (a plots toggle: the panel's marker).
+fn rect_of(h: &egui_kittest::Harness<'_, parol6_app::app::Parol6App>, label: &str) -> Option<egui::Rect> {
+    h.query_all_by_label_contains(label).next().map(|n| n.rect())
+}
+
+/// Whether `r` lies in sight: inside the window, above its status bar.
+fn in_sight(r: Option<egui::Rect>, size: egui::Vec2) -> bool {
+    r.is_some_and(|r| r.top() >= 0.0 && r.bottom() <= size.y - 24.0 && r.left() >= 0.0 && r.right() <= size.x)
+}
+
+/// The app with the plots and the dynamics ticked, in a window of `size`, its settings in
+/// `settings` (the remembered tab).
+fn both_panels(
+    size: egui::Vec2,
+    settings: &std::path::Path,
+) -> egui_kittest::Harness<'static, parol6_app::app::Parol6App> {
+    let opts =
+        parol6_app::app::LaunchOptions { settings_path: Some(settings.to_path_buf()), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, size);
+    {
+        let s = h.state_mut().settings_mut();
+        s.show_plots = true;
+        s.show_dynamics = true;
+    }
+    h.run_steps(4);
+    h
+}
+
+/// Issue 32 minor: with both Plots and Dynamics ticked, the dynamics sat below the plots in the
+/// lower panel's scroll area, out of sight at 1024×700 (the user had to scroll to find it). Now
+/// at every size of the hand trial both are reachable in place: side by side at 1600×1000, as
+/// two tabs at 1024×700 and 1280×800, where a click on a tab shows its panel in sight and the
+/// tabs stay where they are.
+#[test]
+fn with_plots_and_dynamics_ticked_both_are_in_sight_at_every_window_size() {
+    let dir = std::env::temp_dir().join(format!("parol6-dynamics-ui-both-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (size, side_by_side) in
+        [(egui::vec2(1024.0, 700.0), false), (egui::vec2(1280.0, 800.0), false), (egui::vec2(1600.0, 1000.0), true)]
+    {
+        let mut h = both_panels(size, &dir.join(format!("{}.json", size.x)));
+        let plots = || "cmd - meas";
+        let dynamics = "joint torques of";
+        if side_by_side {
+            let (p, d) = (rect_of(&h, plots()), rect_of(&h, dynamics));
+            assert!(in_sight(p, size) && in_sight(d, size), "at {size:?} both in sight: plots {p:?}, dynamics {d:?}");
+            let (p, d) = (p.unwrap(), d.unwrap());
+            assert!(d.left() > p.right() - 1.0 && (d.top() - p.top()).abs() < 40.0, "side by side: {p:?} {d:?}");
+            continue;
+        }
+        // the plots in front first (a fresh start), the dynamics' tab in sight beside its tab
+        assert!(in_sight(rect_of(&h, plots()), size), "at {size:?} the plots in sight");
+        let tabs = |h: &egui_kittest::Harness<'_, parol6_app::app::Parol6App>| {
+            let tab = |name| h.query_all_by_label(name).map(|n| n.rect()).find(|r| r.top() > 60.0);
+            (tab("Plots"), tab("Dynamics"))
+        };
+        let (plots_tab, dynamics_tab) = tabs(&h);
+        assert!(in_sight(plots_tab, size) && in_sight(dynamics_tab, size), "at {size:?} the tabs: {:?}", tabs(&h));
+        h.query_all_by_label("Dynamics").find(|n| n.rect().top() > 60.0).unwrap().click();
+        h.run_steps(3);
+        assert!(in_sight(rect_of(&h, dynamics), size), "at {size:?} a click on the tab shows the dynamics");
+        assert_eq!(tabs(&h), (plots_tab, dynamics_tab), "at {size:?} the tabs do not move");
+        h.query_all_by_label("Plots").find(|n| n.rect().top() > 60.0).unwrap().click();
+        h.run_steps(3);
+        assert!(in_sight(rect_of(&h, plots()), size), "at {size:?} and back to the plots");
+        assert!(!in_sight(rect_of(&h, dynamics), size), "at {size:?} one tab at a time");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The tab in front survives a restart (settings), and ticking a panel in the View menu brings
+/// its tab forward.
+#[test]
+fn the_lower_panels_tab_survives_a_restart_and_a_ticked_panel_comes_forward() {
+    let dir = std::env::temp_dir().join(format!("parol6-dynamics-ui-tab-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("settings.json");
+    let size = egui::vec2(1280.0, 800.0);
+    let mut h = both_panels(size, &path);
+    h.query_all_by_label("Dynamics").find(|n| n.rect().top() > 60.0).unwrap().click();
+    until(&mut h, "the tab in the settings file", 10.0, |_| {
+        parol6_app::app::load_settings(Some(&path)).lower_tab == "Dynamics"
+    });
+    drop(h);
+    let mut h = both_panels(size, &path);
+    assert!(in_sight(rect_of(&h, "joint torques of"), size), "the dynamics in front after the restart");
+
+    // unticking and ticking the plots again brings them forward
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    for _ in 0..2 {
+        h.get_by_role_and_label(egui::accesskit::Role::CheckBox, "Plots").click();
+        h.run_steps(2);
+    }
+    h.key_press(egui::Key::Escape);
+    h.run_steps(3);
+    assert!(in_sight(rect_of(&h, "cmd - meas"), size), "the plots ticked come forward");
+    assert!(!in_sight(rect_of(&h, "joint torques of"), size), "in front of the dynamics");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

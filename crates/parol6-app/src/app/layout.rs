@@ -25,7 +25,7 @@ pub use crate::panels::LOWER_DEFAULT_HEIGHT;
 /// Smallest height of that area, points.
 pub const LOWER_MIN_HEIGHT: f32 = 120.0;
 /// egui id salt of that area.
-const LOWER_PANEL_ID: &str = "lower";
+pub(super) const LOWER_PANEL_ID: &str = "lower";
 
 /// File menu: *Share live* (Foxglove WebSocket) with its address, *Share over ROS 2* with its
 /// router and domain, and the remote-control switch.
@@ -116,8 +116,20 @@ impl Parol6App {
                     MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
                         ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
                         ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");
-                        ui.checkbox(&mut pctx.settings.show_plots, "Plots");
-                        ui.checkbox(&mut pctx.settings.show_dynamics, "Dynamics");
+                        // a panel ticked comes forward where the lower panel shows them as tabs
+                        let lower = [
+                            (&mut pctx.settings.show_plots, panels.plots.title()),
+                            (&mut pctx.settings.show_dynamics, panels.dynamics.title()),
+                        ];
+                        let mut forward = None;
+                        for (shown, title) in lower {
+                            if ui.checkbox(shown, title).changed() && *shown {
+                                forward = Some(title);
+                            }
+                        }
+                        if let Some(title) = forward {
+                            pctx.settings.lower_tab = title.to_string();
+                        }
                         ui.separator();
                         if let Some(v) = viewport {
                             v.options_ui(ui);
@@ -200,15 +212,17 @@ impl Parol6App {
             });
             rects.set(group, r.response.rect);
         }
-        let lower_shown = docked.iter().any(|(d, p)| *d == Dock::Lower && p.shown(pctx));
+        let lower_shown = docked.iter().any(|(d, p)| matches!(d, Dock::Lower | Dock::LowerShared) && p.shown(pctx));
         if let Some(r) = stand_in_rect(PanelGroup::Lower) {
             stand_in(ui, egui::Panel::bottom(LOWER_PANEL_ID), r.height());
         } else if lower_shown && lays_out(PanelGroup::Lower) {
-            rects.set(PanelGroup::Lower, lower_dock(ui, pctx, &mut docked));
+            rects.set(PanelGroup::Lower, super::lower_dock::lower_dock(ui, pctx, &mut docked));
         }
         files.dialog_ui(ui.ctx(), pctx);
         if *show_help {
-            let max_h = (ui.ctx().content_rect().height() - 80.0).max(200.0);
+            // room below it for the notices in a low window (1024×700: they covered the right
+            // panel's read-outs beside it)
+            let max_h = (ui.ctx().content_rect().height() - 80.0 - NOTICES_MIN_HEIGHT).max(200.0);
             egui::Window::new(super::escape::HELP_WINDOW)
                 // its area's id by its name (egui's own hashes the title's text as an `Option`),
                 // so the notices and Esc find it
@@ -280,55 +294,6 @@ impl Parol6App {
     }
 }
 
-/// The panel under the 3D view (replay timeline, plots, dynamics), resizable by its top edge.
-///
-/// It keeps the height it was given (default or dragged, saved in the settings): a resizable
-/// panel takes its content's height, so the content fills it, and short content (no telemetry
-/// yet) does not shrink it. Separators go between the panels only: the last (the plots) fills
-/// the height left, and anything below it would make the panel grow each frame. A window made
-/// smaller clamps it, and egui keeps that height: once the wanted height fits again (and no
-/// button is held, so a drag is not fought) it goes back to it.
-///
-/// Returns the panel's outer rectangle.
-fn lower_dock(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Dock, &mut dyn Panel)]) -> egui::Rect {
-    let max_h = (ui.available_height() - 120.0).max(LOWER_MIN_HEIGHT);
-    let wanted_h = pctx.settings.lower_panel_height_pt;
-    let wanted_h = if wanted_h.is_finite() { wanted_h } else { LOWER_DEFAULT_HEIGHT };
-    let id = ui.scope_id().with_salt(egui::IdSalt::new(LOWER_PANEL_ID));
-    let kept_h = egui::containers::panel::PanelState::load(ui.ctx(), id).map(|s| s.outer_rect.height());
-    if kept_h.is_some_and(|h| h < wanted_h.min(max_h) - 0.5) && !ui.input(|i| i.pointer.any_down()) {
-        ui.ctx().data_mut(|d| d.remove::<egui::containers::panel::PanelState>(id));
-    }
-    let shown = egui::Panel::bottom(LOWER_PANEL_ID)
-        .resizable(true)
-        .default_size(wanted_h.clamp(LOWER_MIN_HEIGHT, max_h))
-        .size_range(LOWER_MIN_HEIGHT..=max_h)
-        .show(ui, |ui| {
-            // in a box of the panel's height, scrolling inside: contents taller than the panel
-            // (timeline, plots and dynamics in a small window) are never reported to it, which
-            // would hand the 3D view the panel's place (drawn over it)
-            let h = ui.available_height();
-            crate::panels::fixed_box::fixed_height(ui, LOWER_PANEL_ID, h, |ui| {
-                let mut first = true;
-                for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
-                    if p.shown(pctx) {
-                        if !first {
-                            ui.separator();
-                        }
-                        first = false;
-                        p.ui(ui, pctx);
-                    }
-                }
-            });
-        });
-    // remembered for the next start; a height the window's size forced is not
-    let h = shown.response.rect.height();
-    if (h - wanted_h).abs() > 0.5 && (h < max_h - 0.5 || h > wanted_h) {
-        pctx.settings.lower_panel_height_pt = h;
-    }
-    shown.response.rect
-}
-
 /// The notices' area (tests find their rectangle by it).
 const NOTICES_AREA: &str = "parol6-notices";
 
@@ -339,8 +304,9 @@ const NOTICES_MIN_WIDTH: f32 = 240.0;
 const NOTICES_MIN_HEIGHT: f32 = 120.0;
 
 /// Where the notices go: the top left of the 3D view (`view`), or, while the help window
-/// (`help`) covers that, the wider free side beside it (in the view, else in the window,
-/// `screen`), or below it. Returns the top left corner and the width of the column.
+/// (`help`) covers that, the wider free side beside it in the view, or below it in the view,
+/// and only then beside or below it in the window (`screen`), over the panels' read-outs.
+/// Returns the top left corner and the width of the column.
 pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<egui::Rect>) -> (egui::Pos2, f32) {
     let top = view.top() + 8.0;
     let home = (egui::pos2(view.left() + 10.0, top), (view.width() - 40.0).max(100.0));
@@ -351,8 +317,14 @@ pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<e
         let left = (within.left() + 10.0, help.left() - within.left() - 20.0);
         if right.1 >= left.1 { [right, left] } else { [left, right] }
     };
-    let beside = sides(view).into_iter().chain(sides(screen)).find(|s| s.1 >= NOTICES_MIN_WIDTH);
-    if let Some((x, width)) = beside {
+    let beside = |within| sides(within).into_iter().find(|s| s.1 >= NOTICES_MIN_WIDTH);
+    if let Some((x, width)) = beside(view) {
+        return (egui::pos2(x, top), width);
+    }
+    if view.bottom() - help.bottom() >= NOTICES_MIN_HEIGHT {
+        return (egui::pos2(home.0.x, help.bottom() + 8.0), home.1);
+    }
+    if let Some((x, width)) = beside(screen) {
         return (egui::pos2(x, top), width);
     }
     if screen.bottom() - help.bottom() >= NOTICES_MIN_HEIGHT {

@@ -32,6 +32,7 @@ mod icon;
 mod layout;
 mod link;
 mod live_share;
+mod lower_dock;
 pub mod measurement;
 mod panel_groups;
 mod perf;

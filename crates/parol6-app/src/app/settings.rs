@@ -1,6 +1,6 @@
 //! UI settings that survive a restart ([`Settings`], saved by `app/settings_store.rs` to
 //! [`crate::app::settings_path`]): the angle unit, panels shown, speeds, the profile, the last
-//! port, the 3D view's toggles, recent programs, the lower panel's height, tracking, the live
+//! port, the 3D view's toggles, recent programs, the lower panel's height and tab, tracking, the live
 //! sharing address. The app owns them; panels change them through `PanelContext::settings`.
 
 use parol6_core::profile::ProfileKind;
@@ -46,6 +46,9 @@ pub struct Settings {
     /// Height of the panel under the 3D view (plots, dynamics, replay timeline) as last
     /// dragged, points.
     pub lower_panel_height_pt: f32,
+    /// The panel in front (its title) where the plots and the dynamics share the lower panel
+    /// as tabs.
+    pub lower_tab: String,
     /// Tracking mode of motion on the robot and in the simulation (`parol6_core::motion::tracking`).
     pub tracking: parol6_core::motion::tracking::TrackingMode,
     /// Where File → Share live serves (Foxglove WebSocket; `crate::live::bind_address`). Sharing
@@ -120,6 +123,7 @@ impl Default for Settings {
             show_plots: false,
             show_dynamics: false,
             lower_panel_height_pt: LOWER_DEFAULT_HEIGHT,
+            lower_tab: "Plots".into(),
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
             share_live_address: format!("127.0.0.1:{}", crate::live::FOXGLOVE_DEFAULT_PORT),
             ros2_router: "tcp/127.0.0.1:7447".into(),

@@ -158,6 +158,21 @@ impl BenchTarget {
             Self::UiActions { .. } => "ui-actions",
         }
     }
+
+    /// True for the benches that open a graphics adapter (the headless window or its renderer).
+    pub fn opens_gpu(&self) -> bool {
+        match self {
+            Self::Render(_) | Self::ProgramLoad { .. } | Self::UiActions { .. } => true,
+            Self::Fk { .. }
+            | Self::Ik { .. }
+            | Self::Serial { .. }
+            | Self::Physics { .. }
+            | Self::Latency { .. }
+            | Self::Motion { .. }
+            | Self::Replay { .. }
+            | Self::ProgramCheck { .. } => false,
+        }
+    }
 }
 
 /// A count within a range clap already checked, as `usize`.

@@ -167,6 +167,28 @@ impl Cli {
         }
     }
 
+    /// True for the commands that open a graphics adapter: the window (its own and `replay`'s)
+    /// and the headless renders. Each of them gets a private `XDG_RUNTIME_DIR` where none is set
+    /// ([`output::PrivateRuntimeDir`]).
+    fn opens_gpu(&self) -> bool {
+        match &self.command {
+            None | Some(Command::Replay(_) | Command::Screenshot(_)) => true,
+            Some(Command::Bench(b)) => b.target.opens_gpu(),
+            Some(
+                Command::Fk(_)
+                | Command::Ik(_)
+                | Command::Hw(_)
+                | Command::Dynamics(_)
+                | Command::Program(_)
+                | Command::Record(_)
+                | Command::Mcap(_)
+                | Command::Iso9283(_)
+                | Command::PathTest(_)
+                | Command::Serve(_),
+            ) => false,
+        }
+    }
+
     /// True for the commands that run until they end or are stopped, and stop cleanly on
     /// SIGINT / SIGTERM ([`interrupt`]); the others keep the default action (the process ends).
     pub fn stops_on_signal(&self) -> bool {
@@ -235,12 +257,8 @@ pub fn main() -> ExitCode {
             return if e.use_stderr() { ExitCode::from(EXIT_USAGE) } else { ExitCode::SUCCESS };
         }
     };
-    let headless_gpu = matches!(
-        &cli.command,
-        Some(Command::Screenshot(_)) | Some(Command::Bench(bench::BenchArgs { target: bench::BenchTarget::Render(_) }))
-    );
     // Before any thread exists (it sets an environment variable).
-    let _runtime_dir = if headless_gpu { output::PrivateRuntimeDir::ensure() } else { None };
+    let _runtime_dir = if cli.opens_gpu() { output::PrivateRuntimeDir::ensure() } else { None };
     let result = cli
         .check_global_options()
         .and_then(|()| if cli.stops_on_signal() { interrupt::install() } else { Ok(()) })

@@ -36,9 +36,16 @@ pub fn error_line(message: &str) {
     let _ = writeln!(std::io::stderr(), "error: {message}");
 }
 
-/// A private `XDG_RUNTIME_DIR` for the headless GPU commands when none is set: Mesa's
-/// window-system probing otherwise prints "XDG_RUNTIME_DIR is invalid or not set" (as `.ci/run`
-/// does for the tests). Removed when dropped.
+/// A private `XDG_RUNTIME_DIR` for the commands that open a graphics adapter (the window
+/// included) when none is set. Mesa's Vulkan device-select layer (`VK_LAYER_MESA_device_select`)
+/// asks libwayland-client for the default Wayland display each time the adapters are listed,
+/// and libwayland prints "error: XDG_RUNTIME_DIR is invalid or not set in the environment." when
+/// the variable is unset or not an absolute path (twice per adapter request: 6 lines at the
+/// window's start under Xvfb). No Wayland display can be reached without it, so an empty
+/// private directory loses nothing: the probe there fails quietly, the layer goes on with X11,
+/// and every backend (Vulkan, GL) stays. A Wayland session always sets the variable (then this
+/// does nothing), and an absolute `WAYLAND_DISPLAY` does not read it. `.ci/run` does the same
+/// for the tests. Removed when dropped.
 #[derive(Debug)]
 pub struct PrivateRuntimeDir {
     path: PathBuf,
@@ -48,7 +55,8 @@ impl PrivateRuntimeDir {
     /// Creates and exports the directory when `XDG_RUNTIME_DIR` is unset or not a directory.
     /// Must be called before any thread is started.
     pub fn ensure() -> Option<Self> {
-        if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| PathBuf::from(d).is_dir()) {
+        // libwayland's test: set and absolute; a directory, or nothing could live there
+        if std::env::var_os("XDG_RUNTIME_DIR").map(PathBuf::from).is_some_and(|d| d.is_absolute() && d.is_dir()) {
             return None;
         }
         let path = std::env::temp_dir().join(format!("parol6-runtime-{}", std::process::id()));

@@ -228,7 +228,8 @@ impl Panel for DynamicsPanel {
             let start = ctx.robot.commanded.q.clone();
             self.refresh(ctx.model, &start);
         }
-        ui.horizontal(|ui| {
+        // wraps: in a tab or column of the lower panel at 1024 px the line was cut
+        ui.horizontal_wrapped(|ui| {
             ui.heading(self.title());
             ui.label(format!("— joint torques of \"{}\" from the current pose, before it runs", self.program.name));
         });
@@ -260,7 +261,7 @@ impl DynamicsPanel {
     /// The panel during replay: the torques along the recording `r`, those at its cursor.
     fn replay_ui(&mut self, ui: &mut egui::Ui, model: &RobotModel, r: &crate::app::state::Replay) {
         self.replay.refresh(model, &r.data);
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.heading(self.title());
             ui.label(format!(
                 "— REPLAY: joint torques along the recording {} (inverse dynamics of the recorded joints, \

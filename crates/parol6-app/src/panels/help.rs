@@ -78,13 +78,11 @@ const MOUSE: [(&str, &str); 4] = [
 /// are not saved in this session).
 pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     ui.heading("Panels");
-    egui::Grid::new("help_panels").num_columns(2).spacing([12.0, 6.0]).striped(true).show(ui, |ui| {
-        for (name, what) in PANELS {
-            ui.label(egui::RichText::new(name).strong());
-            ui.add(egui::Label::new(what).wrap());
-            ui.end_row();
-        }
-    });
+    let names = PANELS.map(|(name, _)| egui::RichText::new(name).strong());
+    let widths = [column_width(ui, &names, 0.35), REST];
+    for (k, (name, (_, what))) in names.into_iter().zip(PANELS).enumerate() {
+        table_row(ui, &widths, 6.0, k % 2 == 1, &mut [&mut |ui| text(ui, name.clone()), &mut |ui| text(ui, what)]);
+    }
     ui.add_space(6.0);
     ui.heading("Units");
     ui.label(
@@ -101,45 +99,54 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
          while Ctrl, Alt, Cmd or Super is held unless the table names it (Ctrl+H). A jog key counts only when \
          pressed on its own: let it go and press it again after using a modifier. Esc always stops.",
     );
-    egui::Grid::new("help_keys").num_columns(3).spacing([12.0, 2.0]).striped(true).show(ui, |ui| {
-        // both text columns wrap: at 1024 px the longest rows ran past the window's edge
-        for (keys, what, scope) in super::shortcuts::help_rows() {
-            ui.monospace(keys);
-            ui.add(egui::Label::new(what).wrap());
-            ui.add(egui::Label::new(egui::RichText::new(scope).weak()).wrap());
-            ui.end_row();
-        }
-    });
+    // both text columns wrap: at 1024 px the longest rows ran past the window's edge
+    let rows = super::shortcuts::help_rows();
+    let keys: Vec<egui::RichText> = rows.iter().map(|r| egui::RichText::new(&r.0).monospace()).collect();
+    let scopes: Vec<egui::RichText> = rows.iter().map(|r| egui::RichText::new(r.2).weak()).collect();
+    let widths = [column_width(ui, &keys, 0.3), REST, column_width(ui, &scopes, 0.3)];
+    for (k, ((keys, scope), (_, what, _))) in keys.into_iter().zip(scopes).zip(&rows).enumerate() {
+        let cells: [&mut dyn FnMut(&mut egui::Ui); 3] =
+            [&mut |ui| text(ui, keys.clone()), &mut |ui| text(ui, *what), &mut |ui| text(ui, scope.clone())];
+        table_row(ui, &widths, 2.0, k % 2 == 1, &mut { cells });
+    }
     ui.add_space(4.0);
-    egui::Grid::new("help_mouse").num_columns(2).spacing([12.0, 2.0]).show(ui, |ui| {
-        for (k, what) in MOUSE {
-            ui.monospace(k);
-            ui.label(what);
-            ui.end_row();
-        }
-    });
+    let keys = MOUSE.map(|(k, _)| egui::RichText::new(k).monospace());
+    let widths = [column_width(ui, &keys, 0.3), REST];
+    for (k, (_, what)) in keys.into_iter().zip(MOUSE) {
+        table_row(ui, &widths, 2.0, false, &mut [&mut |ui| text(ui, k.clone()), &mut |ui| text(ui, what)]);
+    }
     ui.add_space(6.0);
     ui.heading("LEDs");
-    egui::Grid::new("help_leds").num_columns(2).spacing([12.0, 4.0]).show(ui, |ui| {
-        for (zone, what) in [
-            (LimitZone::Safe, "joint comfortably inside its range"),
-            (LimitZone::Warning, "joint in the outer 15 % of its range, or will be at a limit within 0.5 s"),
-            (LimitZone::Critical, "joint in the outer 5 % of its range (or beyond), or amber and about to reach it"),
-        ] {
-            led(ui, zone_color(zone), zone.label());
-            ui.label(what);
-            ui.end_row();
-        }
-        led(ui, palette::rgb(palette::LED_OFF), "off");
-        ui.label("connection LEDs (link, enabled, E-stop, homing, homed): grey is off");
-        ui.end_row();
-    });
+    let leds = [
+        (zone_color(LimitZone::Safe), LimitZone::Safe.label(), "joint comfortably inside its range"),
+        (
+            zone_color(LimitZone::Warning),
+            LimitZone::Warning.label(),
+            "joint in the outer 15 % of its range, or will be at a limit within 0.5 s",
+        ),
+        (
+            zone_color(LimitZone::Critical),
+            LimitZone::Critical.label(),
+            "joint in the outer 5 % of its range (or beyond), or amber and about to reach it",
+        ),
+        (palette::rgb(palette::LED_OFF), "off", "connection LEDs (link, enabled, E-stop, homing, homed): grey is off"),
+    ];
+    for (color, name, what) in leds {
+        let cells: [&mut dyn FnMut(&mut egui::Ui); 2] = [
+            &mut |ui| {
+                led(ui, color, name);
+            },
+            &mut |ui| text(ui, what),
+        ];
+        table_row(ui, &[LED_COLUMN_WIDTH, REST], 4.0, false, &mut { cells });
+    }
     ui.add_space(6.0);
     ui.heading("Settings");
     match settings_path {
         Some(p) => {
             ui.label(format!(
-                "Units, panel and 3D view toggles, the height of the panel under the 3D view, speeds, profile, \
+                "Units, panel and 3D view toggles, the height of the panel under the 3D view and which of the \
+                 plots and dynamics is in front where they share it as tabs, speeds, profile, \
                  tracking mode, the recent programs and their folder, and the last port are saved half a \
                  second after each change, and on exit, to {} (set PAROL6_SETTINGS to use another file).",
                 p.display()
@@ -149,4 +156,65 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
             ui.label("Settings are not saved in this session (no settings file); PAROL6_SETTINGS names one.");
         }
     }
+}
+
+/// The width of a table's column that takes what the others leave ([`table_row`]).
+const REST: f32 = f32::INFINITY;
+
+/// The LED column's width, points (an LED is 14).
+const LED_COLUMN_WIDTH: f32 = 16.0;
+
+/// Gap between a table's columns, points.
+const COLUMN_GAP: f32 = 12.0;
+
+/// The width of a column of `cells`: the widest on one line, at most `max_share` of the width.
+/// Measured from the texts every frame, never remembered: the help's tables are laid out the
+/// same in the first frame they are shown as in every later one. (They were egui grids, which
+/// size their columns in the first frame, here the help window's sizing pass, and showed the
+/// next frame with those narrow columns: tall rows, text missing, until something repainted;
+/// issue 32 minor.)
+fn column_width(ui: &egui::Ui, cells: &[egui::RichText], max_share: f32) -> f32 {
+    let widest = cells
+        .iter()
+        .map(|c| {
+            let text = egui::WidgetText::from(c.clone());
+            text.into_galley(ui, Some(egui::TextWrapMode::Extend), f32::INFINITY, egui::TextStyle::Body).size().x
+        })
+        .fold(0.0, f32::max);
+    widest.min(ui.available_width() * max_share).ceil()
+}
+
+/// A wrapped label.
+fn text(ui: &mut egui::Ui, text: impl Into<egui::WidgetText>) {
+    ui.add(egui::Label::new(text).wrap());
+}
+
+/// One row of a table: `cells` side by side, top-aligned, each in a column of `widths` (one
+/// [`REST`]: the width the others leave), `row_gap` points below it; `stripe` shades it.
+fn table_row(
+    ui: &mut egui::Ui,
+    widths: &[f32],
+    row_gap: f32,
+    stripe: bool,
+    cells: &mut [&mut dyn FnMut(&mut egui::Ui)],
+) {
+    let gaps = COLUMN_GAP * widths.len().saturating_sub(1) as f32;
+    let fixed: f32 = widths.iter().filter(|w| w.is_finite()).sum();
+    let rest = (ui.available_width() - fixed - gaps).max(COLUMN_GAP);
+    let background = ui.painter().add(egui::Shape::Noop);
+    let row = ui.horizontal_top(|ui| {
+        ui.spacing_mut().item_spacing.x = COLUMN_GAP;
+        for (cell, w) in cells.iter_mut().zip(widths) {
+            let w = if w.is_finite() { *w } else { rest };
+            ui.allocate_ui_with_layout(egui::vec2(w, 0.0), egui::Layout::top_down(egui::Align::Min), |ui| {
+                ui.set_width(w);
+                cell(ui);
+            });
+        }
+    });
+    if stripe {
+        let rect = row.response.rect.expand2(egui::vec2(2.0, row_gap / 2.0));
+        ui.painter().set(background, egui::Shape::rect_filled(rect, 2.0, ui.visuals().faint_bg_color));
+    }
+    ui.add_space(row_gap);
 }

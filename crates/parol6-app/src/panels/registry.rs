@@ -35,9 +35,12 @@ pub enum Dock {
     Right,
     /// The status bar at the bottom.
     Bottom,
-    /// Under the 3D view, between the columns, resizable: replay timeline and plots (each
+    /// Under the 3D view, between the columns, resizable: the replay timeline, on top (each
     /// shown when [`super::Panel::shown`] says so).
     Lower,
+    /// In the same panel below the [`Dock::Lower`] ones, sharing the place: the plots and the
+    /// dynamics, side by side where the panel is wide enough, else in tabs.
+    LowerShared,
 }
 
 /// All operator panels. The named fields give the app typed access where it needs it (the
@@ -121,8 +124,8 @@ impl Panels {
             (Dock::Right, &mut self.measure),
             (Dock::Bottom, &mut self.status),
             (Dock::Lower, &mut self.timeline),
-            (Dock::Lower, &mut self.plots),
-            (Dock::Lower, &mut self.dynamics),
+            (Dock::LowerShared, &mut self.plots),
+            (Dock::LowerShared, &mut self.dynamics),
         ]
     }
 }

@@ -60,6 +60,7 @@ impl ProgramPanel {
         egui::Window::new(format!("Point table: {}", program.name))
             .id(egui::Id::unique(super::TABLE_ID))
             .open(&mut open)
+            .default_pos(crate::app::FLOATING_WINDOW_POS)
             .default_size([640.0, 360.0])
             .resizable(true)
             .show(ui.ctx(), |ui| {

@@ -12,6 +12,7 @@ mod ui_support;
 use eframe::egui;
 
 use egui_kittest::kittest::Queryable;
+use parol6_app::app::{LEFT_PANEL_WIDTH, RIGHT_PANEL_WIDTH};
 use ui_support::{app_harness, has_label, type_into, until};
 
 #[test]
@@ -207,4 +208,60 @@ fn the_lower_panels_tab_survives_a_restart_and_a_ticked_panel_comes_forward() {
     assert!(in_sight(rect_of(&h, "cmd - meas"), size), "the plots ticked come forward");
     assert!(!in_sight(rect_of(&h, "joint torques of"), size), "in front of the dynamics");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The numbers painted as text between the heights `top` and `bottom`, drawn at least at
+/// 80 % opacity (egui_plot paints the labels of ticks too close together faded, down to
+/// invisible): (position, value).
+fn painted_numbers(
+    h: &egui_kittest::Harness<'_, parol6_app::app::Parol6App>,
+    top: f32,
+    bottom: f32,
+) -> Vec<(egui::Pos2, f64)> {
+    fn walk(shape: &egui::Shape, out: &mut Vec<(egui::Pos2, String, u8)>) {
+        match shape {
+            egui::Shape::Text(t) => out.push((t.pos, t.galley.text().to_string(), t.fallback_color.a())),
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            _ => {}
+        }
+    }
+    let mut texts = Vec::new();
+    for clipped in &h.output().shapes {
+        walk(&clipped.shape, &mut texts);
+    }
+    texts
+        .into_iter()
+        .filter(|(p, _, alpha)| p.y > top && p.y < bottom && *alpha >= 204)
+        .filter_map(|(p, t, _)| t.trim().parse::<f64>().ok().map(|v| (p, v)))
+        .collect()
+}
+
+/// Trial 7: the program's torque plot (about ±10 N·m in 180 points) labelled its value axis
+/// with "0" alone, as the plots panel did before issue 32's major 5. It now uses the plots'
+/// value axis: at least two labelled ticks.
+#[test]
+fn the_torque_plot_labels_at_least_two_ticks_on_its_value_axis() {
+    let mut h = app_harness(egui::vec2(1600.0, 1000.0));
+    h.get_by_label("View").click();
+    h.run_steps(2);
+    h.get_by_label("Dynamics").click();
+    h.run_steps(2);
+    h.key_press(egui::Key::Escape);
+    until(&mut h, "the program's torques", 10.0, |h| has_label(h, "J2 peak"));
+    h.run_steps(3);
+    let top = h.get_by_label_contains("limits: motor holding torque").rect().bottom();
+    let bottom = h.get_by_label("Forward dynamics (simulation)").rect().top();
+    // the lower panel's width: between the left and the right columns
+    let (left, right) = (LEFT_PANEL_WIDTH, 1600.0 - RIGHT_PANEL_WIDTH);
+    let numbers: Vec<_> =
+        painted_numbers(&h, top, bottom).into_iter().filter(|(p, _)| p.x > left && p.x < right).collect();
+    // the time axis: the row that holds the most numbers
+    let row_of = |p: egui::Pos2| (p.y / 4.0).round() as i64;
+    let mut rows = std::collections::HashMap::new();
+    for (p, _) in &numbers {
+        *rows.entry(row_of(*p)).or_insert(0) += 1;
+    }
+    let time_row = rows.iter().max_by_key(|(_, n)| **n).map(|(r, _)| *r).expect("the time axis' labels");
+    let values: Vec<f64> = numbers.iter().filter(|(p, _)| row_of(*p) != time_row).map(|(_, v)| *v).collect();
+    assert!(values.len() >= 2, "value-axis labels {values:?} (all numbers painted: {numbers:?})");
 }

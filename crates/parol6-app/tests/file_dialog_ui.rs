@@ -142,3 +142,32 @@ fn file_menu_browse_opens_a_recording_picked_in_a_dialog() {
     until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
     assert!(!h.state().file_menu().dialog_open(), "the dialog closed");
 }
+
+/// Trial 7: the point table and the program's file dialogs opened at the window's top left,
+/// over the menu bar and the joints panel's HOME / STOP / E-STOP. At each window size of the
+/// hand trial they open beside the joints panel, below the menu bar.
+#[test]
+fn the_point_table_and_the_file_dialog_leave_stop_the_estop_and_the_menu_bar_free() {
+    use parol6_app::panels::program::{FILE_DIALOG_ID, TABLE_ID};
+    for size in [egui::vec2(1024.0, 700.0), egui::vec2(1280.0, 800.0), egui::vec2(1600.0, 1000.0)] {
+        let mut h = ui_support::app_harness(size);
+        let keep_free = [h.get_by_label("File").rect(), h.get_by_label("STOP").rect(), h.get_by_label("E-STOP").rect()];
+        let area = |h: &Harness<'_, Parol6App>, id: &str| h.ctx.memory(|m| m.area_rect(egui::Id::unique(id)));
+        // by accesskit: at 1024×700 both buttons lie below the column's fold
+        h.get_by_label("Table").click_accesskit();
+        h.run_steps(3);
+        let table = area(&h, TABLE_ID).expect("the point table's rectangle");
+        h.get_by_label("Table").click_accesskit();
+        h.run_steps(2);
+        h.get_by_label("Browse…").click_accesskit();
+        h.run_steps(3);
+        assert!(dialog_open(&h), "Browse… opens the file dialog");
+        let dialog = area(&h, FILE_DIALOG_ID).expect("the file dialog's rectangle");
+        for (what, r) in [("point table", table), ("file dialog", dialog)] {
+            for free in keep_free {
+                assert!(!r.intersects(free), "at {size:?} the {what} {r:?} covers {free:?}");
+            }
+            assert!(h.ctx.content_rect().contains_rect(r), "at {size:?} the {what} {r:?} is in the window");
+        }
+    }
+}

@@ -150,6 +150,32 @@ fn the_estop_disables_the_simulation_the_same_way() {
     until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
 }
 
+/// Trial 7: View → Joints panel off hid STOP and E-STOP with it (and the choice is remembered,
+/// so the next start had neither on screen). With the joints panel hidden, the menu bar shows
+/// both, and they act as the panel's do.
+#[test]
+fn stop_and_the_estop_stay_on_screen_with_the_joints_panel_hidden() {
+    let size = egui::vec2(1024.0, 700.0);
+    let mut h = ui_support::app_harness(size);
+    ui_support::click_in_view_menu(&mut h, "Joints panel");
+    h.run_steps(2);
+    assert!(!has_label(&h, "HOME"), "the joints panel is gone");
+    for label in ["STOP", "E-STOP"] {
+        let r = h.get_by_label(label).rect();
+        assert!(r.min.x >= 0.0 && r.max.x <= size.x && r.min.y >= 0.0 && r.max.y <= size.y, "{label} on screen: {r:?}");
+    }
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the simulated drives are disabled", 5.0, |h| h.state().sim().state().io.drives_disabled);
+    assert!(h.state().estop_latched());
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
+    // shown again, the panel has them, the menu bar not
+    ui_support::click_in_view_menu(&mut h, "Joints panel");
+    h.run_steps(2);
+    assert!(has_label(&h, "HOME"));
+    assert_eq!(h.query_all_by_label("E-STOP").count(), 1, "one E-STOP, in the joints panel");
+}
+
 #[test]
 fn gripper_fields_take_units_refuse_the_range_and_move_the_gripper() {
     let mut h = ui_support::app_harness(egui::vec2(1280.0, 2400.0));

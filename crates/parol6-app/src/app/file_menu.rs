@@ -102,6 +102,7 @@ impl FileMenu {
             .show_rename(false)
             .show_new_folder(false)
             .show_files_filter(Box::new(is_recording))
+            .default_pos(super::layout::FLOATING_WINDOW_POS)
             .id(egui::Id::unique(RECORDING_DIALOG_ID));
         // the folder of the typed path (or the typed folder), else the one shown last
         let typed = PathBuf::from(self.open_path.trim());

@@ -21,6 +21,10 @@ use crate::viewport::{SceneFrame, Viewport};
 pub const LEFT_PANEL_WIDTH: f32 = 350.0;
 /// Width of the right (TCP / Cartesian jog / target) column, points.
 pub const RIGHT_PANEL_WIDTH: f32 = 320.0;
+/// Where the point table and the file dialogs first open: the top left of the 3D view, below
+/// the menu bar, so that none opens over the menu bar or the joints panel's HOME / STOP /
+/// E-STOP.
+pub const FLOATING_WINDOW_POS: egui::Pos2 = egui::pos2(LEFT_PANEL_WIDTH + 16.0, 40.0);
 pub use crate::panels::LOWER_DEFAULT_HEIGHT;
 /// Smallest height of that area, points.
 pub const LOWER_MIN_HEIGHT: f32 = 120.0;
@@ -164,6 +168,12 @@ impl Parol6App {
                     }
                     ui.separator();
                     ui.weak(format!("{} · {} joints", pctx.model.name, pctx.model.dof()));
+                    if !pctx.settings.show_left {
+                        // the joints panel holds STOP and E-STOP: hidden, they come here
+                        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                            crate::panels::joints::stop_buttons(ui, pctx, 0.0);
+                        });
+                    }
                 });
             })
         });

@@ -51,7 +51,7 @@ mod tests;
 
 pub use file_menu::FileMenu;
 pub use icon::window_icon;
-pub use layout::{LEFT_PANEL_WIDTH, RIGHT_PANEL_WIDTH};
+pub use layout::{FLOATING_WINDOW_POS, LEFT_PANEL_WIDTH, RIGHT_PANEL_WIDTH};
 use link::HwLink;
 pub use link::TITLE_SIMULATION;
 pub use replay::read_replay;

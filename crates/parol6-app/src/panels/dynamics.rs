@@ -358,8 +358,14 @@ fn torque_view(
     }
     ui.weak("limits: motor holding torque × gear reduction (an upper bound at standstill)");
     // the legend names the six joints only (the dashed limit lines share their joint's colour)
-    let plot = Plot::new("program_torques").height(PLOT_HEIGHT).legend(egui_plot::Legend::default());
-    plot.x_axis_label("t (s)").y_axis_label("torque (N·m)").show(ui, |pui| {
+    // the value axis of the plots panel: labelled ticks at every range (egui_plot's own spacer
+    // labelled a ±10 N·m axis with "0" alone)
+    let plot = Plot::new("program_torques")
+        .height(PLOT_HEIGHT)
+        .legend(egui_plot::Legend::default())
+        .custom_y_axes(vec![super::plot_axis::value_axis("torque (N·m)".into())])
+        .y_grid_spacer(super::plot_axis::value_marks);
+    plot.x_axis_label("t (s)").show(ui, |pui| {
         if let Some(c) = cursor_s {
             pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::WARN_TEXT)).width(1.0));
         }

@@ -26,8 +26,8 @@ pub fn estop_latched(ctx: &PanelContext<'_>) -> bool {
 }
 
 /// The E-stop button: red "E-STOP" sends DISABLE (and STOP) and latches; while latched it
-/// reads "Release E-STOP" and releasing sends ENABLE.
-pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+/// reads "Release E-STOP" and releasing sends ENABLE. `height`: its height, points.
+pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) {
     let latched = estop_latched(ctx);
     let (text, hover) = if latched {
         ("Release E-STOP", "Release the E-stop latch: ENABLE the drives; motion is accepted again")
@@ -37,7 +37,7 @@ pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     let button = egui::Button::new(egui::RichText::new(text).strong().color(palette::rgb(palette::STOP_TEXT)))
         .fill(if latched { palette::rgb(palette::LED_OFF) } else { palette::rgb(palette::STOP_FILL) })
         .stroke(egui::Stroke::new(2.0, zone_color(LimitZone::Critical)))
-        .min_size(egui::vec2(120.0, 28.0));
+        .min_size(egui::vec2(120.0, height));
     if ui.add(button).on_hover_text(hover).clicked() {
         ctx.send(AppCommand::EStop(!latched));
     }

@@ -262,6 +262,22 @@ impl JointsPanel {
     }
 }
 
+/// Height of the STOP and E-STOP buttons in the joints panel, points.
+const STOP_BUTTON_HEIGHT: f32 = 28.0;
+
+/// The red STOP button (Esc) and the E-STOP beside it, `height` points tall: in the joints
+/// panel, and in the menu bar while the joints panel is hidden (View menu), so that both are
+/// always on screen.
+pub fn stop_buttons(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) {
+    let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(palette::rgb(palette::STOP_TEXT)))
+        .fill(palette::rgb(palette::STOP_FILL))
+        .min_size(egui::vec2(90.0, height));
+    if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
+        ctx.stop();
+    }
+    super::io_gripper::estop_button(ui, ctx, height);
+}
+
 /// A joint's name (or `J<n>`).
 fn joint_name(ctx: &PanelContext<'_>, i: usize) -> String {
     ctx.model.joints.get(i).map(|j| j.name.clone()).unwrap_or_else(|| format!("J{}", i + 1))
@@ -388,13 +404,7 @@ impl Panel for JointsPanel {
             if home.on_hover_text("Profiled move to the standby pose (H)").clicked() {
                 ctx.home();
             }
-            let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(palette::rgb(palette::STOP_TEXT)))
-                .fill(palette::rgb(palette::STOP_FILL))
-                .min_size(egui::vec2(90.0, 28.0));
-            if ui.add(stop).on_hover_text("Stop now (Esc)").clicked() {
-                ctx.stop();
-            }
-            super::io_gripper::estop_button(ui, ctx);
+            stop_buttons(ui, ctx, STOP_BUTTON_HEIGHT);
         });
         Self::status_line(ui, ctx);
         ui.add_space(4.0);

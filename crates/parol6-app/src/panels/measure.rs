@@ -338,18 +338,23 @@ impl MeasurePanel {
         if live.is_none() && finished.is_empty() {
             return;
         }
-        Plot::new("iso9283-plot").height(140.0).legend(Legend::default()).show(ui, |plot| {
-            for f in finished {
-                let (name, color) = match f.source {
-                    StateSource::Simulation => ("simulation", palette::MEASURE_SIMULATION),
-                    StateSource::Robot => ("robot", palette::MEASURE_ATTAINED),
-                };
-                plot.line(Line::new(name, PlotPoints::from(series(&f.samples))).color(palette::rgb(color)));
-            }
-            if let Some(s) = live {
-                plot.line(Line::new("running", PlotPoints::from(series(s))).color(palette::rgb(palette::PATH_OK)));
-            }
-        });
+        Plot::new("iso9283-plot")
+            .height(140.0)
+            .legend(Legend::default())
+            .custom_y_axes(vec![super::plot_axis::value_axis("error (mm)".into())])
+            .y_grid_spacer(super::plot_axis::value_marks)
+            .show(ui, |plot| {
+                for f in finished {
+                    let (name, color) = match f.source {
+                        StateSource::Simulation => ("simulation", palette::MEASURE_SIMULATION),
+                        StateSource::Robot => ("robot", palette::MEASURE_ATTAINED),
+                    };
+                    plot.line(Line::new(name, PlotPoints::from(series(&f.samples))).color(palette::rgb(color)));
+                }
+                if let Some(s) = live {
+                    plot.line(Line::new("running", PlotPoints::from(series(s))).color(palette::rgb(palette::PATH_OK)));
+                }
+            });
         ui.small("attained − commanded position per pose visit, mm");
     }
 }

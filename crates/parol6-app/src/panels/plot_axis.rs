@@ -13,11 +13,18 @@ use egui_plot::{GridInput, GridMark};
 /// 2.5 times this, 35 points, so the smallest plot (70 points) always shows two labels.
 pub const LABEL_SPACING_PT: f64 = 14.0;
 
-/// The value axis: its title, labels from [`tick_label`], drawn at full strength from
-/// [`LABEL_SPACING_PT`] (egui_plot's default fades them out below 20 points).
+/// Size of the value axis' tick labels, points: their row (about 12 points) fits between two
+/// ticks [`LABEL_SPACING_PT`] apart. egui_plot skips every label taller than the spacing, and
+/// with its default (body, 12.5 points: a row of about 16) ticks 14–16 points apart, e.g. a
+/// ±10 N·m torque plot 150 points tall, had no label at all (trial 7).
+pub const LABEL_FONT_PT: f32 = 10.0;
+
+/// The value axis: its title, labels from [`tick_label`] in [`LABEL_FONT_PT`], drawn at full
+/// strength from [`LABEL_SPACING_PT`] (egui_plot's default fades them out below 20 points).
 pub fn value_axis(title: String) -> egui_plot::AxisHints<'static> {
     egui_plot::AxisHints::new_y()
         .label(title)
+        .tick_label_font(egui::FontId::proportional(LABEL_FONT_PT))
         .formatter(|mark, _| tick_label(mark.value, mark.step_size))
         .min_thickness(48.0)
         .label_spacing(12.0..=LABEL_SPACING_PT as f32)

@@ -57,7 +57,7 @@ pub use backend::{
 };
 pub use cartesian_jog::{CartesianAxis, JogFrame, JogKinematics, JogStop};
 pub use io::{DIGITAL_PORTS, GRIPPER_CURRENT_MA, GripperStatus, IoCommand, IoState};
-pub use planner::{MotionPlanner, PlannerMode, jog_refusal};
+pub use planner::{MotionPlanner, PlannerMode, TRAJECTORY_START_TOLERANCE_RAD, jog_refusal};
 
 /// A jog stops unless refreshed within this time of its motion clock, s.
 pub const DEADMAN_S: f64 = 0.2;

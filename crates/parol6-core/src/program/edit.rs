@@ -28,13 +28,15 @@ pub struct ProgramEditor {
     program: Program,
     undo: VecDeque<Program>,
     redo: Vec<Program>,
+    /// The program as loaded or last saved: undoing back to it leaves nothing unsaved.
+    saved: Program,
     dirty: bool,
 }
 
 impl ProgramEditor {
     /// Starts editing `program` (no history, not dirty).
     pub fn new(program: Program) -> Self {
-        Self { program, undo: VecDeque::new(), redo: Vec::new(), dirty: false }
+        Self { saved: program.clone(), program, undo: VecDeque::new(), redo: Vec::new(), dirty: false }
     }
 
     /// The program as edited.
@@ -42,13 +44,15 @@ impl ProgramEditor {
         &self.program
     }
 
-    /// True when edited since it was loaded or last marked saved.
+    /// True when it differs from the program as loaded or last marked saved (edits undone back
+    /// to that program leave it clean).
     pub fn is_dirty(&self) -> bool {
         self.dirty
     }
 
     /// Marks the program as saved.
     pub fn mark_saved(&mut self) {
+        self.saved = self.program.clone();
         self.dirty = false;
     }
 
@@ -72,7 +76,7 @@ impl ProgramEditor {
         let Some(previous) = self.undo.pop_back() else { return false };
         let current = std::mem::replace(&mut self.program, previous);
         self.redo.push(current);
-        self.dirty = true;
+        self.dirty = self.program != self.saved;
         true
     }
 
@@ -81,7 +85,7 @@ impl ProgramEditor {
         let Some(next) = self.redo.pop() else { return false };
         let current = std::mem::replace(&mut self.program, next);
         self.undo.push_back(current);
-        self.dirty = true;
+        self.dirty = self.program != self.saved;
         true
     }
 
@@ -99,7 +103,7 @@ impl ProgramEditor {
             self.undo.pop_front();
         }
         self.redo.clear();
-        self.dirty = true;
+        self.dirty = self.program != self.saved;
         Ok(())
     }
 
@@ -250,6 +254,28 @@ mod tests {
         assert_eq!(e.program(), &before);
         assert!(e.undo());
         assert!(!e.undo(), "only the push was an edit");
+    }
+
+    /// Trial 7: after every edit was undone (Undo greyed), the program panel still said
+    /// "(unsaved changes)" and quitting asked to save. Back at the saved program it is clean;
+    /// a redo makes it dirty again, and an edit that restores the saved program by hand too
+    /// leaves it clean.
+    #[test]
+    fn undoing_every_edit_leaves_nothing_unsaved() {
+        let mut e = ProgramEditor::new(Program::default());
+        e.push(dwell(1.0));
+        e.mark_saved();
+        e.set_step(0, dwell(2.0)).unwrap();
+        e.push(dwell(3.0));
+        assert!(e.is_dirty());
+        assert!(e.undo());
+        assert!(e.is_dirty(), "one edit still differs from the saved program");
+        assert!(e.undo());
+        assert!(!e.is_dirty(), "every edit undone");
+        assert!(e.redo());
+        assert!(e.is_dirty(), "redone");
+        e.set_step(0, dwell(1.0)).unwrap();
+        assert!(!e.is_dirty(), "typed back to the saved value");
     }
 
     #[test]

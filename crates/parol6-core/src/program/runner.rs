@@ -17,7 +17,8 @@
 //! every step it submitted.
 //!
 //! Pause slows the current trajectory to a stop on its path ([`MotionCommand::Pause`]); resume
-//! finishes it and schedules the rest again. Stop pauses, then holds. A refused step, a backend
+//! finishes it and schedules the rest again; where the operator moved the arm while the run
+//! waited, resume first moves it back to where the next step starts. Stop pauses, then holds. A refused step, a backend
 //! that stops accepting motion (link loss, E-stop, disabled) or a failed wait ends the run with
 //! the reason; the backend holds the arm.
 
@@ -164,6 +165,7 @@ impl ProgramRunner {
                 submitted: 0,
                 delay_s: schedule.delay_s,
                 checked,
+                start_q: Vec::new(),
             };
             run.run(&model, &program, opts);
         })?;
@@ -241,6 +243,8 @@ struct Run<'a> {
     delay_s: f64,
     /// The program's check, reused while the arm starts where it was checked from.
     checked: Option<Arc<CheckedProgram>>,
+    /// Where the pass under way started (commanded joints), rad.
+    start_q: Vec<f64>,
 }
 
 /// A step scheduled on the motion clock.
@@ -346,6 +350,7 @@ impl Run<'_> {
         let mut next = 0; // first step not yet scheduled
         let mut slots: VecDeque<Slot> = VecDeque::new();
         let s0 = self.backend.state();
+        self.start_q = s0.commanded.q.clone();
         self.see_delay(&s0);
         let mut clock = start_clock(schedule_clock(&s0));
         let mut refusal = s0.last_refusal.as_ref().map_or(0, |r| r.0);
@@ -359,6 +364,8 @@ impl Run<'_> {
         loop {
             if slots.is_empty() && hold_at_boundary && next < compiled.len() {
                 self.idle_until_control()?;
+                self.regain(compiled, next)?;
+                refusal = self.seen_refusal(refusal);
                 hold_at_boundary = false;
                 clock = start_clock(schedule_clock(&self.backend.state()));
             }
@@ -426,6 +433,8 @@ impl Run<'_> {
                 }
                 if ctrl == RunnerControl::Pause {
                     self.idle_until_control()?;
+                    self.regain(compiled, resume_at)?;
+                    refusal = self.seen_refusal(refusal);
                     // a step pressed while paused mid-way finishes that step, then waits
                     let midway = self.backend.state().mode == PlannerMode::Paused;
                     next = self.resume_from(compiled, resume_at)?;
@@ -451,6 +460,7 @@ impl Run<'_> {
             self.see_delay(&s);
             if let Some(rebased) = self.advance_slots(compiled, &mut slots, schedule_clock(&s))? {
                 clock = rebased;
+                refusal = self.seen_refusal(refusal);
             }
         }
     }
@@ -498,6 +508,7 @@ impl Run<'_> {
                         });
                         self.idle_until_control()?;
                         self.publish(|p| p.waiting_for = None);
+                        self.regain(compiled, index + 1)?;
                     }
                     self.finish_slot(slots, compiled);
                     return Ok(Some(start_clock(schedule_clock(&self.backend.state()))));
@@ -555,6 +566,12 @@ impl Run<'_> {
             self.publish(|p| p.max_tracking_error_rad = err);
         }
         Ok(())
+    }
+
+    /// The latest refusal the backend reported, at least `seen`: a command the operator gave
+    /// while the run waited (a jog refused at a limit) is not one of the run's.
+    fn seen_refusal(&self, seen: u64) -> u64 {
+        self.backend.state().last_refusal.as_ref().map_or(seen, |r| r.0.max(seen))
     }
 
     fn poll_control(&self) -> Option<RunnerControl> {

@@ -290,6 +290,7 @@ impl ProgramPanel {
         };
         dialog = dialog
             .show_files_filter(Box::new(|p: &Path| is_program_file(p)))
+            .default_pos(crate::app::FLOATING_WINDOW_POS)
             .id(egui::Id::unique(super::FILE_DIALOG_ID));
         if let Some(dir) = start {
             dialog = dialog.initial_path(dir);

@@ -64,6 +64,7 @@ impl ProgramPanel {
             // the first on a software rasterizer
             .fade_in(false)
             .fade_out(false)
+            .default_pos(crate::app::FLOATING_WINDOW_POS)
             .default_size([640.0, 360.0])
             .resizable(true)
             .show(ui.ctx(), |ui| {

@@ -6,8 +6,15 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use super::{Halt, POLL, Run, RunState, RunnerControl, SETTLE_BETWEEN_PASSES, Slot};
-use crate::motion::{MotionCommand, PlannerMode, stop_best_effort};
+use crate::motion::{MotionCommand, PlannerMode, TRAJECTORY_START_TOLERANCE_RAD, stop_best_effort};
+use crate::profile::ProfileKind;
 use crate::program::compile::{CompiledStep, StepAction};
+
+/// Fraction of the joint speed and acceleration caps of the move that takes the arm back to
+/// where a paused program left off, when the operator moved it meanwhile ([`Run::regain`]).
+pub const REGAIN_SPEED_FRACTION: f64 = 0.2;
+/// The longest the move back to the program's path may take, s of wall time.
+const REGAIN_TIMEOUT: Duration = Duration::from_secs(120);
 
 impl Run<'_> {
     /// Between the passes of a looping run: waits until the arm is at rest (a robot's measured
@@ -123,6 +130,81 @@ impl Run<'_> {
             }
         }
         self.publish(|p| p.state = RunState::Running);
+        Ok(())
+    }
+
+    /// Where step `k` of `compiled` starts: where the step before it ends (the run's start for
+    /// the first). `None` past the last step.
+    pub(super) fn start_of(&self, compiled: &[CompiledStep], k: usize) -> Option<Vec<f64>> {
+        match k {
+            0 => Some(self.start_q.clone()),
+            _ if k < compiled.len() => Some(compiled[k - 1].end_q.clone()),
+            _ => None,
+        }
+    }
+
+    /// After the run waited for the operator (paused, a pause step, single step): where the
+    /// operator moved the arm meanwhile (a jog, a typed joint, HOME), the paused trajectory is
+    /// gone and step `k` would start away from the arm (its trajectory was refused, and the
+    /// run failed). A profiled joint move at [`REGAIN_SPEED_FRACTION`] first takes the arm back
+    /// to where step `k` starts, shown as what the run waits for. Nothing moves where the arm
+    /// is there already, or where the paused trajectory is still held (resume finishes it).
+    pub(super) fn regain(&mut self, compiled: &[CompiledStep], k: usize) -> Result<(), Halt> {
+        let Some(want) = self.start_of(compiled, k) else { return Ok(()) };
+        let s = self.backend.state();
+        let off = |q: &[f64]| q.iter().zip(&want).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        if s.mode == PlannerMode::Paused
+            || s.commanded.q.len() != want.len()
+            || off(&s.commanded.q) <= TRAJECTORY_START_TOLERANCE_RAD
+        {
+            return Ok(());
+        }
+        let step = compiled[k].steps.start + 1;
+        let away_deg = off(&s.commanded.q).to_degrees();
+        self.publish(|p| {
+            p.waiting_for =
+                Some(format!("the arm to return to where step {step} starts (moved {away_deg:.1}° while paused)"))
+        });
+        let back = MotionCommand::MoveJoints {
+            goal_rad: want.clone(),
+            speed_fraction: REGAIN_SPEED_FRACTION,
+            profile: ProfileKind::Trapezoidal,
+        };
+        self.backend.send(back).map_err(|e| Halt::Failed(format!("the return to where step {step} starts: {e}")))?;
+        let t0 = Instant::now();
+        loop {
+            std::thread::sleep(POLL);
+            let s = self.backend.state();
+            if let Some(b) = &s.blocked {
+                return Err(Halt::Failed(format!("halted: {b}")));
+            }
+            if self.abort.load(Ordering::SeqCst) {
+                return Err(Halt::Aborted);
+            }
+            match self.poll_control() {
+                Some(RunnerControl::Stop) => {
+                    self.stop_arm("stopped while returning to the program's path");
+                    return Err(Halt::Stopped);
+                }
+                Some(RunnerControl::Pause) => {
+                    self.stop_arm("paused while returning to the program's path");
+                    self.idle_until_control()?;
+                    return self.regain(compiled, k);
+                }
+                Some(RunnerControl::Step) => self.single = true,
+                Some(RunnerControl::Resume) | None => {}
+            }
+            if !s.moving && s.mode == PlannerMode::Hold && off(&s.commanded.q) <= TRAJECTORY_START_TOLERANCE_RAD {
+                break;
+            }
+            if t0.elapsed() > REGAIN_TIMEOUT {
+                return Err(Halt::Failed(format!(
+                    "the arm did not return to where step {step} starts within {:.0} s",
+                    REGAIN_TIMEOUT.as_secs_f64()
+                )));
+            }
+        }
+        self.publish(|p| p.waiting_for = None);
         Ok(())
     }
 

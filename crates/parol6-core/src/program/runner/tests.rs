@@ -111,6 +111,51 @@ fn pause_stops_on_the_path_and_resume_finishes_the_program() {
     assert!((end - start).norm() < 1e-6);
 }
 
+/// Trial 7: the operator paused a program mid-line, jogged the arm, pressed Resume: the next
+/// trajectory started 29° away from the arm, was refused, and the run failed with "invalid
+/// command: the trajectory starts 29.4665° away from the commanded position". The arm now
+/// goes back to where the paused step starts, then the program goes on to its end.
+#[test]
+fn an_arm_moved_while_paused_returns_to_the_path_and_the_program_goes_on() {
+    let (model, sim) = sim(4.0);
+    let (q, steps) = square(&model);
+    let program = Program::from_steps("square", steps);
+    let runner = ProgramRunner::start(sim.clone(), model.clone(), program, RunOptions::default()).expect("thread");
+    wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
+    let start = model.tcp_isometry(&q).translation.vector;
+    let t0 = Instant::now();
+    while model.tcp_isometry(&sim.state().commanded.q).translation.x < start.x + 0.005 {
+        assert!(t0.elapsed() < Duration::from_secs(10), "the line does not move");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    runner.control(RunnerControl::Pause);
+    wait_for(&runner, "pause", |p| p.state == RunState::Paused);
+    // the operator moves J1 by 20° (as a jog or a typed joint does)
+    let mut moved = sim.state().commanded.q.clone();
+    moved[0] += 20f64.to_radians();
+    let cmd = MotionCommand::MoveJoints {
+        goal_rad: moved.clone(),
+        speed_fraction: 1.0,
+        profile: crate::profile::ProfileKind::Trapezoidal,
+    };
+    RobotBackend::send(&*sim, cmd).expect("the manual move");
+    let t0 = Instant::now();
+    while (sim.state().commanded.q[0] - moved[0]).abs() > 1e-9 || sim.state().moving {
+        assert!(t0.elapsed() < Duration::from_secs(10), "the manual move does not end");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    runner.control(RunnerControl::Resume);
+    wait_for(&runner, "the return to the path", |p| {
+        p.waiting_for.as_deref().is_some_and(|w| w.contains("return to where step 2 starts"))
+    });
+    let done = runner.join();
+    assert_eq!(done.state, RunState::Done, "{done:?}");
+    assert_eq!(done.steps_done, 6);
+    let end = model.tcp_isometry(&sim.state().commanded.q).translation.vector;
+    assert!((end - start).norm() < 1e-6, "back at the start of the square: {end:?} vs {start:?}");
+    assert!(sim.state().io.outputs[0], "the output step ran");
+}
+
 #[test]
 fn single_step_runs_one_step_per_press_and_stop_holds() {
     let (model, sim) = sim(4.0);

@@ -158,11 +158,14 @@ impl super::Parol6App {
 pub const TITLE_SIMULATION: &str = "PAROL6 Studio — simulation";
 
 impl super::Parol6App {
-    /// Robot or simulation, impossible to miss: the window's title names it ("— ROBOT on PORT"),
+    /// Robot or simulation, impossible to miss: the window's title names it ("— ROBOT on PORT",
+    /// "— ROBOT (built-in emulator)"),
     /// and while the robot is shown a frame in the robot colour runs round the whole window.
     pub(super) fn source_marks(&mut self, ctx: &egui::Context, source: parol6_core::motion::StateSource) {
         let title = match source {
             parol6_core::motion::StateSource::Robot => match &self.hw {
+                // the built-in emulator's port is a socket path, which says nothing to a user
+                Some(link) if link.emulated => "PAROL6 Studio — ROBOT (built-in emulator)".to_string(),
                 Some(link) => format!("PAROL6 Studio — ROBOT on {}", link.session.snapshot().port),
                 None => "PAROL6 Studio — ROBOT".to_string(),
             },

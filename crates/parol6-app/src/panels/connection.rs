@@ -199,7 +199,12 @@ impl ConnectionPanel {
 
     fn connected_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, link: &LinkView) {
         ui.horizontal(|ui| {
-            ui.label(format!("{}{}", link.port, if link.emulated { " (emulator)" } else { "" }));
+            if link.emulated {
+                // its port is a local socket's path: named in plain words, the path on hover
+                ui.label("built-in emulator").on_hover_text(format!("reached through {}", link.port));
+            } else {
+                ui.label(&link.port);
+            }
             if ui.button("Disconnect").clicked() {
                 ctx.send(AppCommand::Link(LinkCommand::Disconnect));
             }

@@ -19,6 +19,9 @@ const US_PER_TRIANGLE: f32 = 5.0;
 /// Its time per pixel of a filled shape, µs of CPU (the egui shader and blending; from the
 /// point table's drop shadow, 260 000 px in 15 ms).
 const US_PER_PX: f32 = 0.06;
+/// What a paint callback (the 3D view, drawn through its own pipeline) costs, in triangles of
+/// egui's: the window-wide redraw of the 3D view alone takes about 3 ms on the reference machine.
+const CALLBACK_TRIANGLES: f32 = 600.0;
 /// A change estimated to cost more than this is drawn over two frames, µs of CPU: with the
 /// rasterizer's two threads, about 15 ms of a frame on two idle cores (a window-wide change of
 /// 6 500 triangles, estimated at 33 000, took 37 ms).
@@ -37,8 +40,8 @@ pub struct ShapeCost {
     pub painted: Rect,
     /// Triangles it will have, about.
     pub triangles: f32,
-    /// Whether it fills its area (a filled rectangle, circle or mesh, a paint callback), so that
-    /// its pixels count; a text's pixels are its glyphs' few.
+    /// Whether it fills its area (a filled rectangle or circle), so that its pixels count; a
+    /// text's pixels are its glyphs' few, a plot line's its thin strips.
     pub fills: bool,
 }
 
@@ -77,6 +80,7 @@ fn triangles(shape: &Shape) -> f32 {
         Shape::Rect(_) | Shape::Circle(_) | Shape::Ellipse(_) => 40.0,
         Shape::Path(p) => 4.0 * p.points.len() as f32,
         Shape::LineSegment { .. } => 6.0,
+        Shape::Callback(_) => CALLBACK_TRIANGLES,
         _ => 8.0,
     }
 }
@@ -87,7 +91,10 @@ fn fills(shape: &Shape) -> bool {
         Shape::Rect(r) => r.fill.a() > 0,
         Shape::Circle(c) => c.fill.a() > 0,
         Shape::Ellipse(e) => e.fill.a() > 0,
-        Shape::Mesh(_) | Shape::Callback(_) => true,
+        // a mesh is mostly a plot's thin lines, whose bounding box is far larger than what they
+        // paint: its triangles say its cost; a paint callback (the 3D view) draws with its own,
+        // cheap pipeline: its cost is its scene, whatever its size ([`CALLBACK_TRIANGLES`])
+        Shape::Mesh(_) | Shape::Callback(_) => false,
         Shape::Vec(v) => v.iter().any(fills),
         _ => false,
     }

@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use super::{Halt, POLL, Run, RunState, RunnerControl, SETTLE_BETWEEN_PASSES, Slot};
-use crate::motion::{MotionCommand, PlannerMode, TRAJECTORY_START_TOLERANCE_RAD, stop_best_effort};
+use crate::motion::{MotionCommand, PlannerMode, RobotState, TRAJECTORY_START_TOLERANCE_RAD, stop_best_effort};
 use crate::profile::ProfileKind;
 use crate::program::compile::{CompiledStep, StepAction};
 
@@ -53,6 +53,19 @@ impl Run<'_> {
         }
     }
 
+    /// The backend's state after one poll period; a refusal or an abort of the run ends the wait.
+    fn next_state(&self) -> Result<std::sync::Arc<RobotState>, Halt> {
+        std::thread::sleep(POLL);
+        let s = self.backend.state();
+        if let Some(b) = &s.blocked {
+            return Err(Halt::Failed(format!("halted: {b}")));
+        }
+        if self.abort.load(Ordering::SeqCst) {
+            return Err(Halt::Aborted);
+        }
+        Ok(s)
+    }
+
     /// Sends STOP ([`stop_best_effort`]); a refused one is recorded in the progress
     /// ([`RunProgress::stop_failed`](super::RunProgress::stop_failed)), where the window and
     /// `parol6 program run` show it.
@@ -74,14 +87,7 @@ impl Run<'_> {
         self.backend.send(MotionCommand::Pause).map_err(|e| Halt::Failed(format!("pause: {e}")))?;
         let t0 = Instant::now();
         loop {
-            std::thread::sleep(POLL);
-            let s = self.backend.state();
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted: {b}")));
-            }
-            if self.abort.load(Ordering::SeqCst) {
-                return Err(Halt::Aborted);
-            }
+            let s = self.next_state()?;
             if s.moving && t0.elapsed() < Duration::from_secs(5) {
                 continue;
             }
@@ -173,14 +179,7 @@ impl Run<'_> {
         self.backend.send(back).map_err(|e| Halt::Failed(format!("the return to where step {step} starts: {e}")))?;
         let t0 = Instant::now();
         loop {
-            std::thread::sleep(POLL);
-            let s = self.backend.state();
-            if let Some(b) = &s.blocked {
-                return Err(Halt::Failed(format!("halted: {b}")));
-            }
-            if self.abort.load(Ordering::SeqCst) {
-                return Err(Halt::Aborted);
-            }
+            let s = self.next_state()?;
             match self.poll_control() {
                 Some(RunnerControl::Stop) => {
                     self.stop_arm("stopped while returning to the program's path");

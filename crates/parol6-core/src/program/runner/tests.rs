@@ -87,13 +87,7 @@ fn pause_stops_on_the_path_and_resume_finishes_the_program() {
     let runner = ProgramRunner::start(sim.clone(), model.clone(), program, RunOptions::default()).expect("thread");
     // pause during the first line
     wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
-    let start = model.tcp_isometry(&q).translation.vector;
-    let t0 = Instant::now();
-    while model.tcp_isometry(&sim.state().commanded.q).translation.x < start.x + 0.005 {
-        assert!(t0.elapsed() < Duration::from_secs(10), "the line does not move");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    runner.control(RunnerControl::Pause);
+    let start = pause_on_the_first_line(&model, &sim, &runner, &q);
     let paused = wait_for(&runner, "pause", |p| p.state == RunState::Paused);
     std::thread::sleep(Duration::from_millis(200));
     let s = sim.state();
@@ -122,13 +116,7 @@ fn an_arm_moved_while_paused_returns_to_the_path_and_the_program_goes_on() {
     let program = Program::from_steps("square", steps);
     let runner = ProgramRunner::start(sim.clone(), model.clone(), program, RunOptions::default()).expect("thread");
     wait_for(&runner, "the first line", |p| p.step == 1 && p.state == RunState::Running);
-    let start = model.tcp_isometry(&q).translation.vector;
-    let t0 = Instant::now();
-    while model.tcp_isometry(&sim.state().commanded.q).translation.x < start.x + 0.005 {
-        assert!(t0.elapsed() < Duration::from_secs(10), "the line does not move");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    runner.control(RunnerControl::Pause);
+    let start = pause_on_the_first_line(&model, &sim, &runner, &q);
     wait_for(&runner, "pause", |p| p.state == RunState::Paused);
     // the operator moves J1 by 20° (as a jog or a typed joint does)
     let mut moved = sim.state().commanded.q.clone();
@@ -281,4 +269,22 @@ fn stop_best_effort_records_a_refused_stop_in_the_progress() {
     let done = runner.join();
     assert_eq!(done.state, RunState::Stopped, "{done:?}");
     assert_eq!(done.stop_failed.as_deref(), Some("STOP (stopped while running) failed: the link is down"), "{done:?}");
+}
+
+/// Waits until the first line of [`square`] (from `q`) has moved the TCP 5 mm, then pauses;
+/// where the TCP started, m.
+fn pause_on_the_first_line(
+    model: &RobotModel,
+    sim: &SimHandle,
+    runner: &ProgramRunner,
+    q: &[f64],
+) -> nalgebra::Vector3<f64> {
+    let start = model.tcp_isometry(q).translation.vector;
+    let t0 = Instant::now();
+    while model.tcp_isometry(&sim.state().commanded.q).translation.x < start.x + 0.005 {
+        assert!(t0.elapsed() < Duration::from_secs(10), "the line does not move");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    runner.control(RunnerControl::Pause);
+    start
 }

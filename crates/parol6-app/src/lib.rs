@@ -7,6 +7,7 @@
 
 pub mod app;
 pub mod artifacts;
+pub mod background;
 pub mod cli;
 pub mod live;
 pub mod palette;

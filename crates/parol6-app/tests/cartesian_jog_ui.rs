@@ -139,6 +139,7 @@ fn panel_harness() -> Harness<'static, Bench> {
                 let mut ctx = PanelContext {
                     model: &b.model,
                     robot: &b.robot,
+                    live_robot: &b.robot,
                     readout: &b.robot,
                     settings: &mut b.settings,
                     commands: &mut b.commands,

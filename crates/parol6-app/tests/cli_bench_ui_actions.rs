@@ -55,9 +55,11 @@ fn bench_ui_actions_reports_the_longest_frame_of_every_action() {
     let names: Vec<&str> = actions.iter().map(|a| a["action"].as_str().unwrap()).collect();
     assert_eq!(names, ACTIONS, "{v}");
     for a in actions {
-        for field in ["frame_ms_max", "app_ms_max", "ui_cpu_ms_max", "call_ms", "settled_s"] {
+        for field in ["frame_ms_max", "app_ms_max", "ui_cpu_ms_max", "call_ms", "settled_s", "longest_frame_cpu_ms"] {
             assert!(a[field].as_f64().is_some_and(|x| x.is_finite() && x >= 0.0), "{field} of {a}");
         }
+        // a frame's UI pass runs on the process's CPU: its CPU time is at least a part of it
+        assert!(a["longest_frame_cpu_ms"].as_f64().unwrap() > 0.0, "the longest frame took some CPU: {a}");
         assert!(a["frames"].as_u64().unwrap() >= 1, "{a}");
         assert!(a["settled"].is_boolean(), "{a}");
     }
@@ -70,5 +72,10 @@ fn bench_ui_actions_reports_the_longest_frame_of_every_action() {
         .map(|a| a["action"].as_str().unwrap())
         .collect();
     assert_eq!(over, expected, "over_50ms lists the actions over 50 ms: {v}");
+    // Linux: the host's load is read at the start and the end
+    #[cfg(target_os = "linux")]
+    for at in ["start", "end"] {
+        assert!(v["load_average_1min"][at].as_f64().is_some_and(|x| x.is_finite() && x >= 0.0), "load at {at}: {v}");
+    }
     assert_eq!(v["pass"], over.is_empty() && v["not_settled"].as_array().unwrap().is_empty(), "{v}");
 }

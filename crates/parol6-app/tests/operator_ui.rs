@@ -54,6 +54,7 @@ impl<P: Panel> Bench<P> {
         let mut ctx = PanelContext {
             model: &self.model,
             robot: &self.robot,
+            live_robot: &self.robot,
             readout: &self.robot,
             settings: &mut self.settings,
             commands: &mut self.commands,
@@ -209,6 +210,7 @@ fn status_of<P>(b: &Bench<P>) -> (String, Option<parol6_core::limits::LimitZone>
     let ctx = PanelContext {
         model: &b.model,
         robot: &b.robot,
+        live_robot: &b.robot,
         readout: &b.robot,
         settings: &mut settings,
         commands: &mut commands,

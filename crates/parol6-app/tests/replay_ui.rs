@@ -317,3 +317,31 @@ fn the_measurement_pre_flight_stays_the_live_arms_during_replay() {
     assert_eq!(from.as_deref(), Some(live_q.as_slice()), "pre-flighted from the live arm, not the recording");
     std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
+
+/// The program panel pre-flighted the program again from the replayed pose at every new cursor
+/// position (and once more when the recording closed): a 1 000-step program's check took the CPU
+/// from the frames of a playing replay. A run starts from the live arm, so the live arm's check
+/// is kept while a recording is open.
+#[test]
+fn the_programs_pre_flight_stays_the_live_arms_during_replay() {
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-program");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.run_steps(2);
+    assert!(h.state_mut().program_panel_mut().wait_for_check(std::time::Duration::from_secs(30)), "first check");
+    h.run_steps(2);
+    let live_q = h.state().backend().state().commanded.q.clone();
+    let before = h.state().program_panel().checked().map(std::sync::Arc::clone).expect("a checked program");
+    assert!(before.is_from(&live_q), "checked from the live arm before replay");
+    open_at_20_s(&mut h, &path);
+    let (_, rec_cmd) = h.state().replay().and_then(|r| r.joints_at_cursor()).expect("a sample at the cursor");
+    assert!(rec_cmd.iter().zip(&live_q).any(|(r, l)| (r - l).abs() > 1f64.to_radians()), "{rec_cmd:?} vs {live_q:?}");
+    for _ in 0..10 {
+        h.run_steps(1);
+        assert!(!h.state().program_panel().checking(), "no pre-flight starts while the cursor moves");
+    }
+    let during = h.state().program_panel().checked().map(std::sync::Arc::clone).expect("a checked program");
+    assert!(std::sync::Arc::ptr_eq(&before, &during), "the live arm's check is kept during replay");
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
+}

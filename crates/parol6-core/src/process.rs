@@ -1,5 +1,6 @@
 //! The process's own resources: how many heaps the allocator keeps, handing freed memory back
-//! to the system, and the CPU time of a thread or of the whole process.
+//! to the system, the CPU time of a thread or of the whole process, and the priority of
+//! background work.
 
 /// Heaps (glibc "arenas") the allocator may keep; see [`limit_heap_arenas`].
 pub const HEAP_ARENAS_MAX: i32 = 2;
@@ -87,6 +88,63 @@ pub fn process_cpu_time_ns() -> Option<u64> {
     }
 }
 
+/// The host's 1-minute load average (Linux; `None` elsewhere or when unreadable): for reading
+/// a benchmark's times, which a busy host stretches.
+pub fn host_load_average_1min() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
+}
+
+/// How far below the window and the simulation background work runs: a nice value added to
+/// the calling thread's own (Linux: 0 normal, 19 lowest). At +10 a busy background thread gets
+/// about a tenth of a core that a window's thread wants, and the scheduler lets a waking
+/// window thread run first.
+pub const BACKGROUND_NICE_STEP: i32 = 10;
+
+/// The lowest priority (highest nice value) a thread can have on Linux.
+const NICE_LOWEST: i32 = 19;
+
+/// Lowers the calling thread to background priority ([`BACKGROUND_NICE_STEP`] below where it
+/// runs): for work that may take long and must not take the CPU from a frame or from the
+/// simulation (a program's pre-flight, torque analyses, reading a recording, freeing large
+/// data). Threads it starts inherit the priority. Linux only; elsewhere it does nothing and
+/// returns `Ok`. Never raises a priority, so it needs no privilege.
+pub fn run_in_background() -> std::io::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        let now = thread_nice()?;
+        let lowered = (now + BACKGROUND_NICE_STEP).min(NICE_LOWEST).max(now);
+        // SAFETY: gettid has no preconditions; setpriority only changes this thread's nice value
+        // (on Linux a PRIO_PROCESS id that is a thread id names that thread alone).
+        let rc = unsafe { libc::setpriority(libc::PRIO_PROCESS, libc::gettid() as libc::id_t, lowered) };
+        if rc != 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+    }
+    Ok(())
+}
+
+/// The calling thread's nice value (Linux; 0 elsewhere).
+pub fn thread_nice() -> std::io::Result<i32> {
+    #[cfg(target_os = "linux")]
+    {
+        // getpriority may return -1 as a value: errno, cleared first, tells an error
+        // SAFETY: __errno_location points at this thread's errno; gettid and getpriority have
+        // no preconditions.
+        unsafe {
+            *libc::__errno_location() = 0;
+            let nice = libc::getpriority(libc::PRIO_PROCESS, libc::gettid() as libc::id_t);
+            if nice == -1 && *libc::__errno_location() != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(nice)
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        Ok(0)
+    }
+}
+
 #[cfg(target_os = "linux")]
 fn cpu_clock_ns(clock: libc::clockid_t) -> Option<u64> {
     let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
@@ -98,6 +156,25 @@ fn cpu_clock_ns(clock: libc::clockid_t) -> Option<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A background thread runs lower than the thread that started it, and only it: the
+    /// starter keeps its priority, and a thread the background one starts inherits the lower one.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn background_work_runs_below_its_starter_and_passes_that_on() {
+        let starter = thread_nice().expect("own nice value");
+        let (own, child) = std::thread::spawn(|| {
+            run_in_background().expect("lowering a thread needs no privilege");
+            let own = thread_nice().expect("own nice value");
+            let child = std::thread::spawn(|| thread_nice().expect("own nice value")).join().expect("child");
+            (own, child)
+        })
+        .join()
+        .expect("background thread");
+        assert_eq!(own, (starter + BACKGROUND_NICE_STEP).min(NICE_LOWEST), "the background thread's nice");
+        assert_eq!(child, own, "a thread started by background work inherits its priority");
+        assert_eq!(thread_nice().expect("own nice value"), starter, "the starter keeps its priority");
+    }
 
     /// The allocator's count follows a large block taken and given back (other test threads
     /// allocate too, so only the block's own size is checked, with room for their noise).

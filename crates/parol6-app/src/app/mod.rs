@@ -412,7 +412,7 @@ impl Parol6App {
         let live_moving = live_arc.moving;
         let robot_arc = match self.state.replayed_robot(&self.model, &live_arc) {
             Some(recorded) => Arc::new(recorded),
-            None => live_arc,
+            None => Arc::clone(&live_arc),
         };
         let robot: &RobotState = &robot_arc;
         if let Some(run) = &self.program {
@@ -469,6 +469,7 @@ impl Parol6App {
             let mut pctx = PanelContext {
                 model: &self.model,
                 robot,
+                live_robot: &live_arc,
                 readout,
                 settings: &mut self.settings,
                 commands: &mut commands,

@@ -31,7 +31,7 @@ pub fn read_replay(path: &std::path::Path, model: &parol6_core::RobotModel) -> R
 pub fn free_off_ui_thread<T: Send + 'static>(garbage: T) {
     let work = move || drop(garbage);
     let (tx, rx) = bounded::<Box<dyn FnOnce() + Send>>(1);
-    let spawned = std::thread::Builder::new().name("parol6-free".into()).spawn(move || {
+    let spawned = crate::background::spawn("parol6-free", move || {
         if let Ok(work) = rx.recv() {
             work();
         }
@@ -56,9 +56,12 @@ impl Parol6App {
         let (tx, rx) = bounded(1);
         let model = self.model.clone();
         let p = path.clone();
-        let spawned = std::thread::Builder::new().name("parol6-replay-load".into()).spawn(move || {
+        let spawned = crate::background::spawn("parol6-replay-load", move || {
             let t0 = Instant::now();
-            let _ = tx.send(read_replay(&p, &model).map(|d| (d, t0.elapsed().as_secs_f64())));
+            // the window may have been closed, or another recording opened: nobody waits then
+            if tx.send(read_replay(&p, &model).map(|d| (d, t0.elapsed().as_secs_f64()))).is_err() {
+                tracing::debug!("a recording was read after it was no longer wanted");
+            }
         });
         match spawned {
             Ok(_) => {

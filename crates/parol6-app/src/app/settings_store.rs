@@ -61,7 +61,7 @@ impl SettingsAutosave {
     /// A writer thread for `path`; `loaded` is what the file holds now.
     pub(super) fn start(path: PathBuf, loaded: &Settings) -> std::io::Result<Self> {
         let (tx, rx) = std::sync::mpsc::sync_channel::<Settings>(1);
-        let writer = std::thread::Builder::new().name("parol6-settings".into()).spawn(move || {
+        let writer = crate::background::spawn("parol6-settings", move || {
             for settings in rx {
                 if let Err(e) = save_settings(&path, &settings) {
                     tracing::warn!("settings not saved: {e:#}");

@@ -53,6 +53,7 @@ fn slider_path_moves_the_simulation_and_stop_cancels_a_demo() {
         let mut pctx = PanelContext {
             model: &app.model,
             robot: &robot,
+            live_robot: &robot,
             readout: &robot,
             settings: &mut app.settings,
             commands: &mut commands,

@@ -106,7 +106,7 @@ pub fn bench_program_check(lines: usize, blend_mm: Option<f64>, repeats: usize) 
         "check_s_min": sorted.first(),
         "limit_s": CHECK_LIMIT_S,
         "within_limit": median_s.is_some_and(|m| m <= CHECK_LIMIT_S),
-        "load_average": load_average(),
+        "load_average": parol6_core::process::host_load_average_1min(),
     }))
 }
 
@@ -124,12 +124,6 @@ fn time_checks(path: &Path, repeats: usize) -> Result<(Vec<f64>, CheckedProgram)
         last = Some(report);
     }
     last.map(|r| (times_s, r)).ok_or_else(|| CliError::usage("at least one repeat"))
-}
-
-/// The host's 1-minute load average (Linux), for reading the times.
-fn load_average() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
-    text.split_whitespace().next()?.parse().ok()
 }
 
 fn measure(path: &Path, lines: usize, blend_mm: Option<f64>, size: (u32, u32)) -> Result<serde_json::Value, CliError> {

@@ -12,7 +12,9 @@
 //! Each action's figure is the longest frame from the action until it has settled (its worker
 //! done, at least `MIN_FRAMES` frames): `frame_ms_max` (UI pass, tessellation, drawing and
 //! read-back, plus the action's own call when it is made between frames) and the app's part
-//! `app_ms_max`; actions over [`STALL_MS`] are listed in `over_50ms`.
+//! `app_ms_max`; actions over [`STALL_MS`] are listed in `over_50ms`. Beside each longest
+//! frame, the CPU time the whole process spent in it (`longest_frame_cpu_ms`), and the host's
+//! load at the start and the end: a frame far longer than its CPU time waited for a core.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -61,6 +63,10 @@ struct Measured {
     ui_cpu_ms_max: f64,
     /// The action's own call between frames (part of `frame_ms_max`'s first frame), ms.
     call_ms: f64,
+    /// CPU time the whole process (every thread: the UI, the rasterizer's, the workers') spent
+    /// during the longest frame, ms: the work the frame cost, whatever else the host ran. A
+    /// `frame_ms_max` well above it means the frame waited for a core.
+    longest_frame_cpu_ms: f64,
     settled_s: f64,
     settled: bool,
     /// What the longest frame redrew (retained painting on a software rasterizer; none where
@@ -83,6 +89,15 @@ struct Redraw {
     full: bool,
 }
 
+/// One measured frame ([`Bench::frame`]).
+struct Frame {
+    frame_ms: f64,
+    app_ms: f64,
+    ui_ms: f64,
+    redraw: Option<Redraw>,
+    cpu_ms: f64,
+}
+
 /// The app and the figures so far.
 struct Bench {
     h: HeadlessApp,
@@ -101,10 +116,16 @@ fn key(key: egui::Key, modifiers: egui::Modifiers) -> Vec<egui::Event> {
 }
 
 impl Bench {
-    /// One frame paced at 60 Hz; its whole, app and UI-pass times, ms.
-    fn frame(&mut self, events: Vec<egui::Event>) -> Result<(f64, f64, f64, Option<Redraw>), CliError> {
+    /// One frame paced at 60 Hz; its whole, app and UI-pass times, ms, what it redrew, and the
+    /// process's CPU time during it, ms.
+    fn frame(&mut self, events: Vec<egui::Event>) -> Result<Frame, CliError> {
         let start = Instant::now();
+        let cpu0 = parol6_core::process::process_cpu_time_ns();
         let (_, t) = self.h.frame_with_input(events).map_err(CliError::from)?;
+        let cpu_ms = match (cpu0, parol6_core::process::process_cpu_time_ns()) {
+            (Some(a), Some(b)) => b.saturating_sub(a) as f64 / 1e6,
+            _ => f64::NAN,
+        };
         std::thread::sleep(FRAME_PERIOD.saturating_sub(start.elapsed()));
         let redraw = t.retained.map(|r| Redraw {
             window_share: if r.screen_px > 0.0 { r.redrawn_px / r.screen_px } else { 0.0 },
@@ -113,7 +134,7 @@ impl Bench {
             jobs: r.jobs,
             full: r.full_redraw,
         });
-        Ok((t.frame_ms, t.app_ms, t.ui_cpu_ms, redraw))
+        Ok(Frame { frame_ms: t.frame_ms, app_ms: t.app_ms, ui_ms: t.ui_cpu_ms, redraw, cpu_ms })
     }
 
     /// Frames with nothing done until `done` holds (not measured).
@@ -139,9 +160,10 @@ impl Bench {
         let t0 = Instant::now();
         let events = call(&mut self.h)?;
         let call_ms = t0.elapsed().as_secs_f64() * 1e3;
-        let (first, app, ui, redraw) = self.frame(events)?;
-        let (mut frame_ms_max, mut app_ms_max, mut ui_cpu_ms_max, mut frames) = (call_ms + first, app, ui, 1);
-        let mut longest_redraw = redraw;
+        let first = self.frame(events)?;
+        let (mut frame_ms_max, mut app_ms_max, mut ui_cpu_ms_max, mut frames) =
+            (call_ms + first.frame_ms, first.app_ms, first.ui_ms, 1);
+        let (mut longest_redraw, mut longest_frame_cpu_ms) = (first.redraw, first.cpu_ms);
         let settled = loop {
             if frames >= min_frames && done(&self.h.app) {
                 break true;
@@ -149,13 +171,13 @@ impl Bench {
             if t0.elapsed() > SETTLE_LIMIT {
                 break false;
             }
-            let (f, a, u, redraw) = self.frame(Vec::new())?;
-            if f > frame_ms_max {
-                longest_redraw = redraw;
+            let f = self.frame(Vec::new())?;
+            if f.frame_ms > frame_ms_max {
+                (longest_redraw, longest_frame_cpu_ms) = (f.redraw, f.cpu_ms);
             }
-            frame_ms_max = frame_ms_max.max(f);
-            app_ms_max = app_ms_max.max(a);
-            ui_cpu_ms_max = ui_cpu_ms_max.max(u);
+            frame_ms_max = frame_ms_max.max(f.frame_ms);
+            app_ms_max = app_ms_max.max(f.app_ms);
+            ui_cpu_ms_max = ui_cpu_ms_max.max(f.ui_ms);
             frames += 1;
         };
         let settled_s = t0.elapsed().as_secs_f64();
@@ -166,6 +188,7 @@ impl Bench {
             app_ms_max,
             ui_cpu_ms_max,
             call_ms,
+            longest_frame_cpu_ms,
             settled_s,
             settled,
             longest_redraw,
@@ -235,6 +258,7 @@ fn measure(args: &UiActionsArgs, dir: &Path) -> Result<serde_json::Value, CliErr
     let recording_write_s = t_write.elapsed().as_secs_f64();
     let recorded = dir.join("recorded.mcap");
 
+    let load_at_start = parol6_core::process::host_load_average_1min();
     let h = HeadlessApp::new(model, args.size.0, args.size.1).map_err(CliError::from)?;
     let mut b = Bench { h, out: Vec::new() };
     // warm-up: pipelines, fonts, the built-in program's own check
@@ -266,6 +290,8 @@ fn measure(args: &UiActionsArgs, dir: &Path) -> Result<serde_json::Value, CliErr
         "not_settled": unsettled,
         "pass": over.is_empty() && unsettled.is_empty(),
         "adapter": b.h.adapter_info(),
+        // a busy host stretches frames: read `actions[].longest_frame_cpu_ms` beside them
+        "load_average_1min": { "start": load_at_start, "end": parol6_core::process::host_load_average_1min() },
     }))
 }
 
@@ -348,15 +374,15 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
     let scrub_frames = 60;
     let t = Instant::now();
     let mut max = (0.0f64, 0.0f64, 0.0f64);
-    let mut longest_redraw = None;
+    let (mut longest_redraw, mut longest_frame_cpu_ms) = (None, 0.0);
     for k in 0..=scrub_frames {
         let at = t0 + (t1 - t0) * f64::from(k) / f64::from(scrub_frames);
         b.h.app.queue_command(AppCommand::Replay(ReplayControl::Scrub(at)));
-        let (f, a, u, redraw) = b.frame(Vec::new())?;
-        if f > max.0 {
-            longest_redraw = redraw;
+        let f = b.frame(Vec::new())?;
+        if f.frame_ms > max.0 {
+            (longest_redraw, longest_frame_cpu_ms) = (f.redraw, f.cpu_ms);
         }
-        max = (max.0.max(f), max.1.max(a), max.2.max(u));
+        max = (max.0.max(f.frame_ms), max.1.max(f.app_ms), max.2.max(f.ui_ms));
     }
     b.out.push(Measured {
         action: "replay_scrub",
@@ -365,6 +391,7 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
         app_ms_max: max.1,
         ui_cpu_ms_max: max.2,
         call_ms: 0.0,
+        longest_frame_cpu_ms,
         settled_s: t.elapsed().as_secs_f64(),
         settled: true,
         longest_redraw,

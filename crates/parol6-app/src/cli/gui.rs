@@ -410,7 +410,7 @@ fn bench_render_model(
         "breakdown": breakdown,
         "rss_mb_peak": peak_rss_mb(),
         "rss_mb_end": rss_end,
-        "load_average_1min": load_average_1min(),
+        "load_average_1min": parol6_core::process::host_load_average_1min(),
         "compare_seed": seed_json,
         "adapter": headless.adapter_info(),
         "plots": plots,
@@ -429,9 +429,4 @@ fn bench_render_model(
         return Err(CliError::runtime("render performance below the targets (see the JSON above)"));
     }
     Ok(())
-}
-
-/// The machine's 1-minute load average (Linux), to judge how shared the run was.
-fn load_average_1min() -> Option<f64> {
-    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
 }

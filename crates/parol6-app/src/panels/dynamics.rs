@@ -148,7 +148,7 @@ impl DynamicsPanel {
             }
         };
         let pending = Pending { program: Arc::clone(&self.program), start_q: start_q.to_vec(), result: rx, cancel };
-        match std::thread::Builder::new().name("parol6-dynamics".into()).spawn(work) {
+        match crate::background::spawn("parol6-dynamics", work) {
             Ok(_) => self.pending = Some(pending),
             Err(e) => {
                 let result = Err(format!("cannot start the analysis thread: {e}"));

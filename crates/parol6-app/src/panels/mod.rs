@@ -239,6 +239,9 @@ pub struct PanelContext<'a> {
     /// Shown state (sliders, LEDs, bars, the 3D view): the live backend's, or during replay
     /// the recording at the cursor (`AppState::replayed_robot`).
     pub robot: &'a RobotState,
+    /// The live backend's state, also during replay: the arm that a program would move, so a
+    /// program's pre-flight starts from it (moving the replay cursor checks nothing again).
+    pub live_robot: &'a RobotState,
     /// The state for numeric readouts: `robot`, refreshed at [`READOUT_HZ`] while the arm
     /// moves and at once when it stops. Text that changes every frame costs a fresh text layout
     /// every frame; nobody reads digits faster than this anyway.

@@ -115,7 +115,7 @@ impl ReplayAnalysis {
                 tracing::debug!("a recording's dynamics analysis finished after it was superseded");
             }
         };
-        match std::thread::Builder::new().name("parol6-dynamics-replay".into()).spawn(work) {
+        match crate::background::spawn("parol6-dynamics-replay", work) {
             Ok(_) => self.pending = Some(Pending { data: Arc::clone(data), result: rx, cancel }),
             Err(e) => {
                 let result = Err(format!("cannot start the analysis thread: {e}"));

@@ -99,7 +99,7 @@ impl CheckJob {
         let progress = Arc::new(CheckProgress::default());
         let p = Arc::clone(&progress);
         let started = Instant::now();
-        std::thread::Builder::new().name("parol6-program-check".into()).spawn(move || {
+        crate::background::spawn("parol6-program-check", move || {
             let answer = work(&p).map(|(loaded, checked, overlay)| Checked {
                 loaded,
                 checked: Arc::new(checked),

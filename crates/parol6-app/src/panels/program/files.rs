@@ -157,7 +157,7 @@ impl ProgramPanel {
     /// the program and "loaded …"); on an error the program in memory stays as it is. A newer
     /// open or check supersedes this one. `Err` when the worker cannot start.
     pub fn load_file(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<(), String> {
-        let start_q = ctx.robot.commanded.q.clone();
+        let start_q = ctx.live_robot.commanded.q.clone();
         // the G-code A/B/C setting is a default: a file's `; parol6: abc=…` header wins
         let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
         self.start_load(ctx.model, path, abc, start_q)
@@ -182,7 +182,7 @@ impl ProgramPanel {
     /// from that file. `Ok`: the message to show ("saved …", and what the format made of the
     /// gripper and output steps, `files::export_notes`).
     pub fn save_to(&mut self, path: &Path, ctx: &mut PanelContext<'_>) -> Result<String, String> {
-        let start_q = ctx.robot.commanded.q.clone();
+        let start_q = ctx.live_robot.commanded.q.clone();
         self.save_with(path, ctx.model, &start_q, ctx.settings)?;
         let mut message = format!("saved {}", path.display());
         if let Ok(format) = ProgramFormat::from_path(path) {

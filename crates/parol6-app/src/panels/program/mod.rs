@@ -315,7 +315,7 @@ impl ProgramPanel {
 /// whose freeing would stall a frame. When no thread can be started it is dropped here.
 fn drop_elsewhere<T: Send + 'static>(value: Option<T>) {
     if let Some(v) = value {
-        let spawned = std::thread::Builder::new().name("parol6-drop".into()).spawn(move || drop(v));
+        let spawned = crate::background::spawn("parol6-drop", move || drop(v));
         if let Err(e) = spawned {
             eprintln!("parol6: freeing a program's check on the UI thread ({e})");
         }
@@ -341,8 +341,10 @@ impl Panel for ProgramPanel {
             self.file_row(ui, ctx);
         });
         self.poll_job(ctx);
-        if !running && !ctx.robot.moving {
-            self.refresh_check(ctx.model, &ctx.robot.commanded.q.clone());
+        // from the live arm, also during replay: the recording at the cursor is not where a run
+        // would start, and checking again at every cursor move would take the CPU from frames
+        if !running && !ctx.live_robot.moving {
+            self.refresh_check(ctx.model, &ctx.live_robot.commanded.q.clone());
         }
         if self.job.is_some() {
             // the progress line moves while a worker loads or checks

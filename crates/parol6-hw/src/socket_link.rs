@@ -248,6 +248,34 @@ pub struct SocketServer {
     conn: Option<UnixStream>,
 }
 
+/// The start of a fake robot's socket file name: `parol6-fake-robot-PID-N.sock`.
+const SOCKET_PREFIX: &str = "parol6-fake-robot-";
+
+/// Removes the socket files in `dir` left by fake robots of processes that have ended without
+/// removing theirs (a crash, a kill): a file whose process id names no running process. Files
+/// that cannot be read or removed are left as they are: they block nothing.
+fn remove_stale_sockets(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(SOCKET_PREFIX))
+            .and_then(|rest| rest.split('-').next())
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let is_socket = entry.file_type().is_ok_and(|t| t.is_socket());
+        if is_socket && pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            match std::fs::remove_file(entry.path()) {
+                // another user's file, or one removed meanwhile: it blocks nothing
+                Ok(()) | Err(_) => {}
+            }
+        }
+    }
+}
+
 /// Makes each server's path unique within the process.
 static NEXT_SERVER: AtomicU64 = AtomicU64::new(0);
 
@@ -255,7 +283,10 @@ impl SocketServer {
     /// Listens on a new private path in the temporary folder.
     pub fn bind() -> io::Result<SocketServer> {
         let n = NEXT_SERVER.fetch_add(1, Ordering::Relaxed);
-        let path = std::env::temp_dir().join(format!("parol6-fake-robot-{}-{n}.sock", std::process::id()));
+        if n == 0 {
+            remove_stale_sockets(&std::env::temp_dir());
+        }
+        let path = std::env::temp_dir().join(format!("{SOCKET_PREFIX}{}-{n}.sock", std::process::id()));
         // a stale file of an earlier process with the same id
         match std::fs::remove_file(&path) {
             Ok(()) => {}

@@ -111,3 +111,24 @@ fn a_serial_device_path_is_not_taken_for_a_socket() {
     let server = SocketServer::bind().expect("bind");
     assert!(is_socket(server.path().to_str().expect("utf-8")));
 }
+
+/// A crashed process left its socket file in the temporary folder for good (issue 32's last
+/// trial). The first fake robot of a process removes the files of processes that no longer
+/// run; a live process's socket and any other file stay.
+#[test]
+fn the_socket_files_of_ended_processes_are_removed() {
+    let dir = std::env::temp_dir().join(format!("parol6-stale-sockets-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // no process has the largest id; ours runs
+    let stale = dir.join(format!("{SOCKET_PREFIX}{}-0.sock", u32::MAX));
+    let ours = dir.join(format!("{SOCKET_PREFIX}{}-7.sock", std::process::id()));
+    let not_a_socket = dir.join(format!("{SOCKET_PREFIX}{}-1.sock", u32::MAX));
+    let _stale = UnixListener::bind(&stale).unwrap();
+    let _ours = UnixListener::bind(&ours).unwrap();
+    std::fs::write(&not_a_socket, b"x").unwrap();
+    remove_stale_sockets(&dir);
+    assert!(!stale.exists(), "the ended process's socket is removed");
+    assert!(ours.exists(), "a running process's socket stays");
+    assert!(not_a_socket.exists(), "a file that is no socket stays");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -63,7 +63,8 @@ const PANELS: [(&str, &str); 9] = [
     (
         "Program",
         "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, \
-         F10 single step; STOP or Esc ends a run.",
+         F10 single step; STOP or Esc ends a run. The Edit menu holds the editing actions (undo / redo, teach, \
+         duplicate, delete, move a step, the point table) with their keys.",
     ),
 ];
 

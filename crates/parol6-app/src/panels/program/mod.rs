@@ -6,6 +6,7 @@
 //! progress (step n of m, time left).
 //!
 //! - `edit`: the step list with selection, the edit toolbar, the step editor, shortcuts;
+//! - `edit_menu`: the menu bar's Edit menu (the same editing actions, with their keys);
 //! - `files`: open / save / save as, the file dialog, recent files;
 //! - `table`: the point-table window (every step's numbers in a grid).
 //!
@@ -21,6 +22,7 @@
 mod checker;
 mod confirm;
 mod edit;
+mod edit_menu;
 mod files;
 mod table;
 

@@ -73,6 +73,21 @@ impl Parol6App {
         &mut self.settings
     }
 
+    /// The persistent settings as they are now.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// The 3D view's camera (`None`: no 3D view).
+    pub fn view_camera(&self) -> Option<crate::viewport::OrbitCamera> {
+        self.viewport.as_ref().map(|v| *v.camera())
+    }
+
+    /// Where the 3D view was laid out in the last frame.
+    pub fn view_rect(&self) -> Option<eframe::egui::Rect> {
+        self.view_rect
+    }
+
     /// Shows the plots panel with `quantity` alone (as a click on its toggle does).
     pub fn show_plot(&mut self, quantity: parol6_core::telemetry::Quantity) {
         self.settings.show_plots = true;

@@ -117,6 +117,8 @@ impl Parol6App {
                     // Menus of toggles stay open while the operator clicks them.
                     let stay_open = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
                     MenuButton::new("File").config(stay_open.clone()).ui(ui, |ui| files.ui(ui, pctx));
+                    // the program editor's actions; each closes the menu (none moves the arm)
+                    MenuButton::new("Edit").ui(ui, |ui| panels.program.edit_menu(ui, pctx));
                     MenuButton::new("View").config(stay_open.clone()).ui(ui, |ui| {
                         ui.checkbox(&mut pctx.settings.show_left, "Joints panel");
                         ui.checkbox(&mut pctx.settings.show_right, "TCP / jog / target panel");

@@ -37,6 +37,7 @@ pub mod measurement;
 mod panel_groups;
 mod perf;
 mod quit;
+pub mod remembered;
 mod replay;
 mod scene;
 pub mod settings;
@@ -291,6 +292,7 @@ impl Parol6App {
                 anyhow::bail!("--record {}: the recording did not start (see the notice above)", path.display());
             }
         }
+        app.restore_remembered();
         if let Some((path, data, read_s)) = opts.replay {
             app.open_loaded_recording(path, data, read_s);
         }
@@ -521,11 +523,7 @@ impl Parol6App {
         if !commands.is_empty() {
             self.repaint_until = Instant::now() + COMMAND_REPAINT_WINDOW;
         }
-        if let Some(v) = &self.viewport
-            && v.options != self.settings.view
-        {
-            self.settings.view = v.options;
-        }
+        self.remember();
 
         // Repaint policy: continuous only while something moves or the link is live.
         let busy = live_moving

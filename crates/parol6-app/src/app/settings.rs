@@ -1,11 +1,15 @@
 //! UI settings that survive a restart ([`Settings`], saved by `app/settings_store.rs` to
 //! [`crate::app::settings_path`]): the angle unit, panels shown, speeds, the profile, the last
 //! port, the 3D view's toggles, recent programs, the lower panel's height and tab, tracking, the live
-//! sharing address. The app owns them; panels change them through `PanelContext::settings`.
+//! sharing address, and what the panels hold that survives a restart (`app/remembered.rs`: the
+//! last program, the Cartesian jog's frame, mode and increments, the forward-dynamics form, the
+//! camera). Every field has a default: a file from an older version, without the newer keys,
+//! loads. The app owns them; panels change them through `PanelContext::settings`.
 
 use parol6_core::profile::ProfileKind;
 use serde::{Deserialize, Serialize};
 
+use super::remembered::{CameraSetting, CartesianJogSetting, LastProgram, TorqueFormSetting};
 use crate::panels::{AbcConvention, AngleConvention, AngleUnit};
 
 /// UI settings that survive a restart (see [`crate::app::settings_path`]).
@@ -59,6 +63,33 @@ pub struct Settings {
     pub ros2_router: String,
     /// ROS domain id of the node (ROS_DOMAIN_ID of the other nodes), 0–232.
     pub ros2_domain: u32,
+    /// The program reopened at start: the file last opened or saved, or the built-in last
+    /// picked (`None`: the first built-in).
+    #[serde(deserialize_with = "or_default")]
+    pub last_program: Option<LastProgram>,
+    /// The Cartesian jog's frame, mode and increments.
+    #[serde(deserialize_with = "or_default")]
+    pub cartesian_jog: CartesianJogSetting,
+    /// The forward-dynamics form (`None`: as a fresh form).
+    #[serde(deserialize_with = "or_default")]
+    pub torque_form: Option<TorqueFormSetting>,
+    /// The 3D view's camera (`None`: the default view).
+    #[serde(deserialize_with = "or_default")]
+    pub camera: Option<CameraSetting>,
+}
+
+/// A remembered panel state as read, or its default when it does not read (a NaN written as
+/// `null`, a key of another version): one entry that does not fit never costs the others.
+fn or_default<'de, D, T>(d: D) -> Result<T, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: serde::de::DeserializeOwned + Default,
+{
+    let value = serde_json::Value::deserialize(d)?;
+    Ok(serde_json::from_value(value).unwrap_or_else(|e| {
+        tracing::warn!("settings: an entry is ignored ({e}); its default is used");
+        T::default()
+    }))
 }
 
 /// Height of the area under the 3D view (replay timeline, plots) when it first opens, points.
@@ -96,8 +127,9 @@ impl Settings {
         self.angle_convention.labels()
     }
 
-    /// Puts `path` first in the recent program files.
+    /// Puts `path` first in the recent program files; it is the program reopened at start.
     pub fn remember_program(&mut self, path: &str) {
+        self.last_program = Some(LastProgram::File(path.to_string()));
         self.recent_programs.retain(|p| p != path);
         self.recent_programs.insert(0, path.to_string());
         self.recent_programs.truncate(RECENT_PROGRAMS);
@@ -128,6 +160,10 @@ impl Default for Settings {
             share_live_address: format!("127.0.0.1:{}", crate::live::FOXGLOVE_DEFAULT_PORT),
             ros2_router: "tcp/127.0.0.1:7447".into(),
             ros2_domain: 0,
+            last_program: None,
+            cartesian_jog: CartesianJogSetting::default(),
+            torque_form: None,
+            camera: None,
         }
     }
 }

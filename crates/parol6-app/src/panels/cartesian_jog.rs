@@ -22,6 +22,7 @@ use super::entry::{self, EntryEvent};
 use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AngleUnit, AppCommand, Panel, PanelContext};
+use crate::app::remembered::CartesianJogSetting;
 use crate::palette;
 
 /// The step increments an operator may type, mm and degrees (a step is a jog: small, and
@@ -113,6 +114,27 @@ impl CartesianJogPanel {
     /// The increments of step mode: mm and degrees.
     pub fn step_increments(&self) -> (f64, f64) {
         (self.step_mm, self.step_deg)
+    }
+
+    /// True in step mode (each click one increment), false in hold mode.
+    pub fn step_mode(&self) -> bool {
+        self.step_mode
+    }
+
+    /// The frame, mode and increments, as the settings keep them.
+    pub fn remembered(&self) -> CartesianJogSetting {
+        CartesianJogSetting {
+            frame: self.frame,
+            step_mode: self.step_mode,
+            step_mm: self.step_mm,
+            step_deg: self.step_deg,
+        }
+    }
+
+    /// Takes the frame, mode and increments remembered from the last session (checked by the
+    /// caller: `CartesianJogSetting::checked`).
+    pub fn restore(&mut self, s: CartesianJogSetting) {
+        (self.frame, self.step_mode, self.step_mm, self.step_deg) = (s.frame, s.step_mode, s.step_mm, s.step_deg);
     }
 
     /// Plans the jog the backend is about to run, to show where and why it will stop.

@@ -62,7 +62,9 @@ const PANELS: [(&str, &str); 9] = [
     ),
     (
         "Program",
-        "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, F10 single step; STOP or Esc ends a run.",
+        "Built-in programs or a file; pre-flight shown as a green / amber / red path. F5 run or resume, F6 pause, \
+         F10 single step; STOP or Esc ends a run. The Edit menu holds the editing actions (undo / redo, teach, \
+         duplicate, delete, move a step, the point table) with their keys.",
     ),
 ];
 
@@ -147,8 +149,10 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
             ui.label(format!(
                 "Units, panel and 3D view toggles, the height of the panel under the 3D view and which of the \
                  plots and dynamics is in front where they share it as tabs, speeds, profile, \
-                 tracking mode, the recent programs and their folder, and the last port are saved half a \
-                 second after each change, and on exit, to {} (set PAROL6_SETTINGS to use another file).",
+                 tracking mode, the recent programs and their folder, the last port, the program last \
+                 opened, saved or picked (reopened at start), the Cartesian jog's frame, mode and \
+                 increments, the forward-dynamics form and the camera are saved half a second after each \
+                 change, and on exit, to {} (set PAROL6_SETTINGS to use another file).",
                 p.display()
             ));
         }

@@ -187,13 +187,19 @@ pub const SHORTCUTS: &[Shortcut] = &[
     press(Key::F6, NONE, Action::PauseProgram, Scope::Program, "pause the program"),
     press(Key::F10, NONE, Action::SingleStep, Scope::Program, "run one step of the program"),
     press(Key::S, CMD, Action::SaveProgram, Scope::Program, "save the program"),
-    press(Key::Z, CMD, Action::Undo, Scope::Program, "undo an edit of the program"),
-    press(Key::Z, CMD_SHIFT, Action::Redo, Scope::Program, "redo"),
-    press(Key::Y, CMD, Action::Redo, Scope::Program, "redo"),
-    press(Key::D, CMD, Action::DuplicateStep, Scope::Program, "duplicate the selected step"),
-    press(Key::Delete, NONE, Action::DeleteStep, Scope::Program, "delete the selected step"),
-    press(Key::ArrowUp, ALT, Action::MoveStepUp, Scope::Program, "move the selected step up / down"),
-    press(Key::ArrowDown, ALT, Action::MoveStepDown, Scope::Program, "move the selected step up / down"),
+    press(Key::Z, CMD, Action::Undo, Scope::Program, "undo an edit of the program (also Edit menu)"),
+    press(Key::Z, CMD_SHIFT, Action::Redo, Scope::Program, "redo (also Edit menu)"),
+    press(Key::Y, CMD, Action::Redo, Scope::Program, "redo (also Edit menu)"),
+    press(Key::D, CMD, Action::DuplicateStep, Scope::Program, "duplicate the selected step (also Edit menu)"),
+    press(Key::Delete, NONE, Action::DeleteStep, Scope::Program, "delete the selected step (also Edit menu)"),
+    press(Key::ArrowUp, ALT, Action::MoveStepUp, Scope::Program, "move the selected step up / down (also Edit menu)"),
+    press(
+        Key::ArrowDown,
+        ALT,
+        Action::MoveStepDown,
+        Scope::Program,
+        "move the selected step up / down (also Edit menu)",
+    ),
     hold(Key::A, NONE, Action::JogCartesian(X, -1), Scope::CartesianJog, JOG_XYZ),
     hold(Key::D, NONE, Action::JogCartesian(X, 1), Scope::CartesianJog, JOG_XYZ),
     hold(Key::S, NONE, Action::JogCartesian(Y, -1), Scope::CartesianJog, JOG_XYZ),
@@ -381,6 +387,11 @@ pub fn chord(s: &Shortcut) -> String {
     out
 }
 
+/// Every chord bound to `action`, as a menu shows them ("Ctrl+Shift+Z, Ctrl+Y").
+pub fn chords(action: Action) -> String {
+    SHORTCUTS.iter().filter(|s| s.action == action).map(chord).collect::<Vec<_>>().join(", ")
+}
+
 /// The help's rows (keys, what, where): the table in order, consecutive rows with the same
 /// text and scope as one row.
 pub fn help_rows() -> Vec<(String, &'static str, &'static str)> {
@@ -432,5 +443,13 @@ mod tests {
         assert!(rows.iter().any(|r| r.0 == "A, D, S, W, Q, E" && r.1 == JOG_XYZ), "{rows:?}");
         assert!(rows.iter().any(|r| r.0.ends_with("+S") && r.1 == "save the program"));
         assert!(rows.iter().any(|r| r.0 == "F5") && rows.iter().any(|r| r.0 == "F10"));
+    }
+
+    #[test]
+    fn the_edit_menu_shows_the_tables_chords() {
+        let ctrl = if cfg!(target_os = "macos") { "Cmd" } else { "Ctrl" };
+        assert_eq!(chords(Action::Undo), format!("{ctrl}+Z"));
+        assert_eq!(chords(Action::Redo), format!("{ctrl}+Shift+Z, {ctrl}+Y"));
+        assert_eq!(chords(Action::DeleteStep), "Delete");
     }
 }

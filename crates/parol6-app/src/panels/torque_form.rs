@@ -9,12 +9,13 @@ use std::time::{Duration, Instant};
 use eframe::egui;
 use parol6_core::sim::torque_profile::{MAX_PROFILE_TORQUE_NM, MAX_RUN_S};
 use parol6_core::sim::{TorqueProfile, TorqueRun};
+use serde::{Deserialize, Serialize};
 
 use super::entry::{EntryEvent, numeric_entry};
 use super::{AppCommand, PanelContext};
 
 /// Shape of one joint's profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ProfileShape {
     /// One torque throughout.
     Constant,
@@ -47,7 +48,7 @@ impl ProfileShape {
 }
 
 /// One joint's row: its shape and three numbers (see `ProfileShape::extra_fields`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct JointRow {
     /// Shape.
     pub shape: ProfileShape,

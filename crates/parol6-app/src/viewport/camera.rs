@@ -16,6 +16,8 @@ const DEFAULT_DISTANCE_M: f32 = 0.95;
 const DISTANCE_RANGE_M: (f32, f32) = (0.05, 20.0);
 /// Pitch limit, rad (just short of the poles).
 const PITCH_LIMIT_RAD: f32 = 1.55;
+/// How far from the robot's base a remembered orbit target may be, m (farther: the default view).
+const TARGET_RANGE_M: f32 = 10.0;
 /// Views narrower than this (width / height) widen their vertical field of view so that the
 /// horizontal one stays that of this aspect: a tall, narrow view still shows the whole arm.
 const MIN_FIT_ASPECT: f32 = 1.3;
@@ -57,6 +59,24 @@ impl OrbitCamera {
     /// Back to the default view.
     pub fn reset(&mut self) {
         *self = Self::default();
+    }
+
+    /// A view read back from the settings (see [`Self::reset`]'s default): the pitch clamped
+    /// to its limit, the yaw wrapped to one turn; `None` (the default view, then) for a NaN or
+    /// infinite number, a distance outside the zoom range or a target farther than 10 m.
+    pub fn remembered(target_m: [f32; 3], yaw_rad: f32, pitch_rad: f32, distance_m: f32) -> Option<Self> {
+        let finite = target_m.iter().chain([&yaw_rad, &pitch_rad, &distance_m]).all(|v| v.is_finite());
+        let (near, far) = DISTANCE_RANGE_M;
+        if !finite || !(near..=far).contains(&distance_m) || target_m.iter().any(|v| v.abs() > TARGET_RANGE_M) {
+            return None;
+        }
+        Some(Self {
+            target_m: Vector3::from(target_m),
+            yaw_rad: yaw_rad.rem_euclid(std::f32::consts::TAU),
+            pitch_rad: pitch_rad.clamp(-PITCH_LIMIT_RAD, PITCH_LIMIT_RAD),
+            distance_m,
+            ..Self::default()
+        })
     }
 
     /// Camera position, world m.
@@ -206,6 +226,24 @@ mod tests {
         assert!(cam.target_m.z.is_finite());
         cam.reset();
         assert_eq!(cam, OrbitCamera::default());
+    }
+
+    #[test]
+    fn a_remembered_view_is_clamped_or_refused() {
+        let cam = OrbitCamera::remembered([0.1, -0.2, 0.3], 7.0, 3.0, 2.0).expect("a sane view");
+        assert_eq!(cam.pitch_rad, PITCH_LIMIT_RAD);
+        assert!((cam.yaw_rad - (7.0 - std::f32::consts::TAU)).abs() < 1e-6);
+        assert_eq!((cam.distance_m, cam.target_m.x), (2.0, 0.1));
+        for bad in [
+            ([0.0, 0.0, f32::NAN], 0.0, 0.0, 1.0),
+            ([0.0; 3], f32::INFINITY, 0.0, 1.0),
+            ([0.0; 3], 0.0, 0.0, 1e9),
+            ([0.0; 3], 0.0, 0.0, 0.0),
+            ([0.0; 3], 0.0, 0.0, -1.0),
+            ([50.0, 0.0, 0.0], 0.0, 0.0, 1.0),
+        ] {
+            assert_eq!(OrbitCamera::remembered(bad.0, bad.1, bad.2, bad.3), None, "{bad:?}");
+        }
     }
 
     #[test]

@@ -277,6 +277,11 @@ impl Viewport {
         &self.camera
     }
 
+    /// Puts the camera where `camera` is (a view remembered from the last session).
+    pub fn set_camera(&mut self, camera: OrbitCamera) {
+        self.camera = camera;
+    }
+
     /// Empties the TCP trail.
     pub fn clear_trail(&mut self) {
         if let Ok(mut f) = self.shared.lock() {

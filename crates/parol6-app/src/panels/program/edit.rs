@@ -88,7 +88,7 @@ impl ProgramPanel {
     }
 
     /// Inserts a taught step after the selection (or at the end) and selects it.
-    fn teach(&mut self, step: Step, ctx: &mut PanelContext<'_>) {
+    pub(super) fn teach(&mut self, step: Step, ctx: &mut PanelContext<'_>) {
         let at = self.selected.map_or(self.editor.program().steps.len(), |i| i + 1);
         let r = self.editor.insert(at, step);
         if self.edited(r, ctx).is_some() {
@@ -97,13 +97,13 @@ impl ProgramPanel {
         }
     }
 
-    fn undo(&mut self) {
+    pub(super) fn undo(&mut self) {
         if self.editor.undo() {
             self.program_changed();
         }
     }
 
-    fn redo(&mut self) {
+    pub(super) fn redo(&mut self) {
         if self.editor.redo() {
             self.program_changed();
         }
@@ -125,7 +125,7 @@ impl ProgramPanel {
         }
     }
 
-    fn move_selected(&mut self, up: bool, ctx: &mut PanelContext<'_>) {
+    pub(super) fn move_selected(&mut self, up: bool, ctx: &mut PanelContext<'_>) {
         if let Some(i) = self.selected {
             let r = self.editor.move_step(i, up);
             if let Some(j) = self.edited(r, ctx) {

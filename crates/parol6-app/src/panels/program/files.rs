@@ -142,7 +142,9 @@ impl ProgramPanel {
     fn open_now(&mut self, request: OpenRequest, ctx: &mut PanelContext<'_>) {
         match request {
             OpenRequest::Builtin(name) => {
-                self.load_builtin(&name);
+                if self.load_builtin(&name) {
+                    ctx.settings.last_program = Some(crate::app::remembered::LastProgram::Builtin(name));
+                }
             }
             OpenRequest::File(path) => {
                 if let Err(e) = self.load_file(&path, ctx) {
@@ -160,7 +162,25 @@ impl ProgramPanel {
         let start_q = ctx.live_robot.commanded.q.clone();
         // the G-code A/B/C setting is a default: a file's `; parol6: abc=…` header wins
         let abc = AbcChoice::default_to(ctx.settings.gcode_abc);
+        self.reopening = None;
         self.start_load(ctx.model, path, abc, start_q)
+    }
+
+    /// At start: reopens the program file of the last session from `start_q`, read and
+    /// checked on the worker as any open (until it arrives the built-in default is shown; if it
+    /// cannot be read, a notice names the file and why, and the default stays). `Err`: the
+    /// worker could not start (the message names the file).
+    pub fn reopen(
+        &mut self,
+        model: &parol6_core::RobotModel,
+        path: PathBuf,
+        abc: AbcChoice,
+        start_q: Vec<f64>,
+    ) -> Result<(), String> {
+        self.start_load(model, &path, abc, start_q)
+            .map_err(|e| format!("the last program, {}, was not reopened: {e}", path.display()))?;
+        self.reopening = Some(path);
+        Ok(())
     }
 
     /// [`Self::load_file`] without a frame's context: G-code `A B C` by `abc`, from `start_q`.

@@ -6,6 +6,7 @@
 //! progress (step n of m, time left).
 //!
 //! - `edit`: the step list with selection, the edit toolbar, the step editor, shortcuts;
+//! - `edit_menu`: the menu bar's Edit menu (the same editing actions, with their keys);
 //! - `files`: open / save / save as, the file dialog, recent files;
 //! - `table`: the point-table window (every step's numbers in a grid).
 //!
@@ -21,6 +22,7 @@
 mod checker;
 mod confirm;
 mod edit;
+mod edit_menu;
 mod files;
 mod table;
 
@@ -104,6 +106,8 @@ pub struct ProgramPanel {
     hide_last_run: bool,
     /// The finished run the progress line no longer shows.
     hidden_run: Option<RunProgress>,
+    /// The file of the last session being reopened at start (its failure names it as such).
+    reopening: Option<PathBuf>,
 }
 
 impl ProgramPanel {
@@ -132,6 +136,7 @@ impl ProgramPanel {
             confirm_run: None,
             hide_last_run: false,
             hidden_run: None,
+            reopening: None,
         }
     }
 
@@ -208,6 +213,7 @@ impl ProgramPanel {
     fn set_program(&mut self, program: Program, source: String, file: Option<PathBuf>) {
         self.editor.replace(program);
         self.job = None; // a load or check in flight is superseded
+        self.reopening = None;
         self.source = source;
         self.file = file;
         self.selected = None;
@@ -270,6 +276,7 @@ impl ProgramPanel {
                 self.selected = None;
                 self.hide_last_run = true;
                 self.check_error = None;
+                self.reopening = None;
                 self.path_text = shown.clone();
                 if let Some(ctx) = ctx {
                     ctx.settings.remember_program(&shown);
@@ -289,7 +296,12 @@ impl ProgramPanel {
                     self.overlay = Some(done.overlay);
                 }
             }
-            (Err(e), Some(_)) => match ctx {
+            (Err(e), Some(path)) => match ctx {
+                Some(ctx) if self.reopening.take().is_some_and(|p| p == path) => ctx.error(format!(
+                    "the last program, {}, was not reopened: {e}; started with {}",
+                    path.display(),
+                    self.program.name
+                )),
                 Some(ctx) => ctx.error(e),
                 None => self.check_error = Some(e),
             },

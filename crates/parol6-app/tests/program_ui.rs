@@ -197,6 +197,9 @@ fn a_manual_motion_while_a_program_runs_is_refused_and_the_program_goes_on() {
     until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
     h.get_by_label("Run (F5)").click();
     until(&mut h, "step 3", 30.0, |h| has_label(h, "Draw: step 3 of 9"));
+    // the jog buttons are greyed with the reason (a refused jog was reported as "released after
+    // 64.42 mm", the program's own motion)
+    assert!(h.get_by_label("+X").accesskit_node().is_disabled(), "+X greyed while the program runs");
     let j4_deg = h.state().backend().state().commanded.q[3].to_degrees() + 20.0;
     ui_support::type_into(&mut h, "J4 target", &format!("{j4_deg:.2}"));
     h.run_steps(2);

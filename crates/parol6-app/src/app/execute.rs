@@ -8,6 +8,7 @@ use std::time::Instant;
 use parol6_core::motion::{CartesianAxis, IoCommand, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
+use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING};
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
 
@@ -48,14 +49,6 @@ fn refused_by_estop(cmd: &AppCommand) -> bool {
     sets_arm_moving(cmd)
         || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
 }
-
-/// Why a manual motion is refused while a program runs (not paused): the runner's next step would
-/// start where the arm no longer is.
-pub const PROGRAM_RUNNING: &str = "a program is running: pause (F6) or stop it first";
-
-/// Why a manual motion is refused while an ISO 9283 test drives the arm: a pose would be measured
-/// off its target.
-pub const MEASUREMENT_RUNNING: &str = "an ISO 9283 test is moving the arm: Abort it (or STOP) first";
 
 /// True for a command an operator gives by hand that sets the arm moving: a joint or Cartesian jog,
 /// a move (typed joint, slider, Go, HOME, Move to target) or the controller's homing routine; not

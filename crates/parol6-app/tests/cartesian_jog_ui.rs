@@ -135,6 +135,9 @@ fn panel_harness() -> Harness<'static, Bench> {
     };
     let mut h = Harness::builder().with_size(egui::vec2(800.0, 700.0)).with_accessibility_check(false).build_ui_state(
         |ui, b: &mut Bench| {
+            // the app tells the key table where the pointer is; here the panel stands alone, and
+            // the jog keys are tried as with the pointer over the 3D view
+            parol6_app::panels::shortcuts::set_pointer_over_view(ui.ctx(), true);
             egui::Panel::left("test_column").exact_size(350.0).resizable(false).show(ui, |ui| {
                 let mut ctx = PanelContext {
                     model: &b.model,

@@ -265,3 +265,27 @@ fn the_torque_plot_labels_at_least_two_ticks_on_its_value_axis() {
     let values: Vec<f64> = numbers.iter().filter(|(p, _)| row_of(*p) != time_row).map(|(_, v)| *v).collect();
     assert!(values.len() >= 2, "value-axis labels {values:?} (all numbers painted: {numbers:?})");
 }
+
+/// trial8: at 1024×700 the forward-dynamics row (run time, gravity compensation, hold other
+/// joints, Run torques, Stop torques) was one plain row wider than the centre column: "Run
+/// torques" and "Stop torques" lay under the right panel, out of reach, so the forward dynamics
+/// could not be run at the smallest window size. The row wraps now; both buttons lie inside
+/// the centre column at every size of the hand trial.
+#[test]
+fn the_torque_run_buttons_lie_inside_the_centre_column_at_every_window_size() {
+    for size in [egui::vec2(1024.0, 700.0), egui::vec2(1280.0, 800.0), egui::vec2(1600.0, 1000.0)] {
+        let mut h = app_harness(size);
+        h.state_mut().settings_mut().show_dynamics = true;
+        h.run_steps(4);
+        let (left, right) = (LEFT_PANEL_WIDTH, size.x - RIGHT_PANEL_WIDTH);
+        for label in ["Run torques", "Stop torques"] {
+            let r = rect_of(&h, label).unwrap_or_else(|| panic!("at {size:?} no {label} button"));
+            assert!(
+                r.left() >= left - 1.0 && r.right() <= right + 1.0,
+                "at {size:?} {label} at x {:.0}–{:.0}, the centre column is {left:.0}–{right:.0}",
+                r.left(),
+                r.right()
+            );
+        }
+    }
+}

@@ -247,3 +247,57 @@ fn shift_let_go_before_the_letter_does_not_turn_an_orientation_jog_into_a_linear
     assert!(linear.is_empty(), "D held on after Shift jogged along X (the TCP moved {moved_mm:.4} mm): {linear:?}");
     assert!(moved_mm < 0.01, "the orientation jog moved the TCP by {moved_mm:.4} mm");
 }
+
+/// trial8: in a real window a click on the left column (no text field) and D held jogged the
+/// robot +X 41.6 mm: the Cartesian jog keys acted wherever no field had the keyboard, although
+/// the guide says "with the 3D view focused", and A D S W Q E are letters of typed text
+/// ("0.5rad" typed beside a field jogged −X, then +X). They act only with the pointer over the
+/// 3D view now, and a jog key held while the pointer leaves the view stops for good.
+#[test]
+fn a_cartesian_jog_key_acts_only_with_the_pointer_over_the_3d_view() {
+    let mut h = harness("view-only");
+    // a click on the left column (a plain label under the step list): no field has the keyboard
+    let off = h.get_by_label_contains("Click a step to edit").rect().center();
+    h.hover_at(off);
+    for pressed in [true, false] {
+        let modifiers = Modifiers::NONE;
+        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+    assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
+    for key in [Key::A, Key::D, Key::S, Key::W, Key::Q, Key::E] {
+        press(&mut h, key, Modifiers::NONE, 4);
+        press(&mut h, key, Modifiers::SHIFT, 4);
+    }
+    assert_eq!(moves(&h), [] as [String; 0], "a jog key acted with the pointer off the 3D view");
+
+    // held on the view, then the pointer leaves it: the jog stops and does not come back
+    focus_view(&mut h);
+    h.event(egui::Event::Key {
+        key: Key::D,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(3);
+    assert!(moves(&h).iter().any(|m| m.contains("CartesianJog")), "D on the view jogs: {:?}", moves(&h));
+    h.hover_at(off);
+    h.run_steps(1);
+    let after_leaving = moves(&h).len();
+    h.run_steps(3);
+    assert_eq!(moves(&h).len(), after_leaving, "the jog went on with the pointer off the view");
+    let view = h.get_by_label_contains("3D view unavailable").rect().center();
+    h.hover_at(view);
+    h.run_steps(3);
+    h.event(egui::Event::Key {
+        key: Key::D,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(2);
+    assert_eq!(moves(&h).len(), after_leaving, "the jog came back with D still held: {:?}", moves(&h));
+}

@@ -131,3 +131,39 @@ fn go_to_joint_pose_opens_from_a_button_in_a_short_window() {
     h.get_by_label("Go").click();
     until(&mut h, "J1 to move", 10.0, |h| (h.state().sim().snapshot().q[0] - q0).abs() > 0.01);
 }
+
+/// trial8: with the left column scrolled to its end on the fake robot,
+/// Disconnect swapped the connection section's LEDs, link health and jog for the shorter port
+/// list; the column's scroll clamped and everything moved down 244 px, so the pointer left on
+/// Disconnect hovered OUTPUT 1. The section keeps its height while unfolded now.
+#[test]
+fn disconnecting_at_the_end_of_the_scrolled_left_column_moves_nothing_under_the_pointer() {
+    use parol6_app::app::{ConnectTarget, LaunchOptions};
+    use parol6_core::motion::StateSource;
+    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 800.0));
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    for _ in 0..20 {
+        h.event(egui::Event::PointerMoved(egui::pos2(170.0, 400.0)));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -2000.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(30); // egui's smooth scrolling runs out
+    let before = h.get_by_label("Move gripper").rect();
+    let disconnect = h.get_by_label("Disconnect").rect();
+    assert!(disconnect.max.y <= 800.0, "Disconnect in view: {disconnect:?}");
+    h.get_by_label("Disconnect").click();
+    until(&mut h, "the simulation", 10.0, |h| h.state().backend().state().source != StateSource::Robot);
+    h.run_steps(30);
+    let after = h.get_by_label("Move gripper").rect();
+    assert!((after.min - before.min).length() < 0.5, "Move gripper moved from {before:?} to {after:?} on Disconnect");
+}

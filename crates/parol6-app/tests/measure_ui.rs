@@ -130,3 +130,31 @@ fn the_set_up_refuses_a_typed_value_outside_its_range_and_converts_units() {
     let roll = h.state_mut().measure_panel().plan.cube.orientation_rpy_deg[0];
     assert!((roll - 0.5_f64.to_degrees()).abs() < 0.01, "0.5rad in degrees: {roll}");
 }
+
+/// trial8: during an ISO 9283 test a Cartesian jog (D held with the 3D view focused) moved the
+/// arm 41 mm off the test's pose in a real window, and the test went on measuring. While a test
+/// drives the arm, a manual motion is refused with a notice now, and nothing of it is sent.
+#[test]
+fn a_manual_motion_during_a_measurement_is_refused() {
+    let mut h = app_harness(egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the pre-flight", 10.0, |h| count(h, "pre-flight: every pose reachable") == 1);
+    h.state_mut().measure_panel().plan.cycles = 2;
+    h.run_steps(2);
+    h.get_by_label("Run test").click();
+    until(&mut h, "progress", 20.0, |h| count(h, "% ") >= 1 && h.state().backend().state().moving);
+    let before = h.state().moves_sent().count();
+    let j4_deg = h.state().backend().state().commanded.q[3].to_degrees() + 20.0;
+    ui_support::type_into(&mut h, "J4 target", &format!("{j4_deg:.2}"));
+    h.get_by_label("HOME").click();
+    h.run_steps(2);
+    let sent: Vec<String> = h.state().moves_sent().skip(before).map(str::to_string).collect();
+    assert!(sent.is_empty(), "manual motions reached the arm during the test: {sent:?}");
+    assert!(
+        h.state().notices().iter().any(|n| n.error && n.text.contains("Abort it (or STOP) first")),
+        "no refusal: {:?}",
+        h.state().notices()
+    );
+    assert!(h.state().measurement().running(), "the test goes on");
+    h.get_by_label("Abort").click();
+    until(&mut h, "the abort", 10.0, |h| !h.state().backend().state().moving);
+}

@@ -184,3 +184,38 @@ fn a_joint_typed_while_a_program_is_paused_moves_only_that_joint() {
         assert!(moved < 0.01, "J{} moved {moved:.3}° although only J4 was typed: {paused:?} → {after:?}", j + 1);
     }
 }
+
+/// trial8: while a program ran (not paused), a joint typed, HOME or Go was sent to the arm at once:
+/// the arm left the program's path while the panel still said "step 3 of 9", and the next step was
+/// refused ("the trajectory starts 29.4° away from the commanded position"), ending the run. A
+/// manual motion while a program runs is now refused with a notice naming the way out (pause or
+/// stop), and the program goes on to its end; paused, the arm may still be moved (trial7).
+#[test]
+fn a_manual_motion_while_a_program_runs_is_refused_and_the_program_goes_on() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "step 3", 30.0, |h| has_label(h, "Draw: step 3 of 9"));
+    // the jog buttons are greyed with the reason (a refused jog was reported as "released after
+    // 64.42 mm", the program's own motion)
+    assert!(h.get_by_label("+X").accesskit_node().is_disabled(), "+X greyed while the program runs");
+    let j4_deg = h.state().backend().state().commanded.q[3].to_degrees() + 20.0;
+    ui_support::type_into(&mut h, "J4 target", &format!("{j4_deg:.2}"));
+    h.run_steps(2);
+    h.get_by_label("HOME").click();
+    h.run_steps(2);
+    assert!(
+        h.state().notices().iter().any(|n| n.error && n.text.contains("pause (F6) or stop it first")),
+        "no refusal: {:?}",
+        h.state().notices()
+    );
+    until(&mut h, "the run's end", 60.0, |h| h.state().program_progress().is_some_and(|p| p.state.is_finished()));
+    let state = h.state().program_progress().map(|p| p.state.clone());
+    assert_eq!(state, Some(parol6_core::program::runner::RunState::Done), "the run did not end well");
+    let moves: Vec<String> = h.state().moves_sent().map(str::to_string).collect();
+    assert!(
+        !moves.iter().any(|m| m.starts_with("Motion(")),
+        "a manual motion reached the arm during the run: {moves:?}"
+    );
+}

@@ -101,7 +101,7 @@ impl Parol6App {
     }
 
     /// True while the pointer is over the 3D view and no window covers it there.
-    fn pointer_over_view(&self, ctx: &egui::Context) -> bool {
+    pub(super) fn pointer_over_view(&self, ctx: &egui::Context) -> bool {
         let Some(pos) = ctx.pointer_hover_pos() else { return false };
         self.view_rect.is_some_and(|r| r.contains(pos))
             && ctx.layer_id_at(pos).is_none_or(|l| l.order == egui::Order::Background)

@@ -8,6 +8,7 @@ use std::time::Instant;
 use parol6_core::motion::{CartesianAxis, IoCommand, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
+use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING};
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
 
@@ -49,14 +50,29 @@ fn refused_by_estop(cmd: &AppCommand) -> bool {
         || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
 }
 
+/// True for a command an operator gives by hand that sets the arm moving: a joint or Cartesian jog,
+/// a move (typed joint, slider, Go, HOME, Move to target) or the controller's homing routine; not
+/// STOP, a jog release, a program control or a run that checks itself for a running one.
+fn manual_motion(cmd: &AppCommand) -> bool {
+    match cmd {
+        AppCommand::Motion(m) => !matches!(m, MotionCommand::Stop | MotionCommand::JogRelease),
+        AppCommand::Jog(held) => held.is_some(),
+        AppCommand::CartesianJog(held) => held.is_some(),
+        AppCommand::Link(l) => matches!(l, LinkCommand::Home),
+        _ => false,
+    }
+}
+
 impl Parol6App {
     pub(super) fn execute(&mut self, cmd: AppCommand) {
         let refused_by = if self.estop {
-            Some(crate::panels::io_gripper::ESTOP_LATCHED)
+            Some(crate::panels::io_gripper::ESTOP_LATCHED).filter(|_| refused_by_estop(&cmd))
+        } else if self.state.replaying() {
+            Some(super::state::REPLAY_OPEN).filter(|_| refused_by_estop(&cmd))
         } else {
-            self.state.replaying().then_some(super::state::REPLAY_OPEN)
+            self.automatic_run().filter(|_| manual_motion(&cmd))
         };
-        if let Some(why) = refused_by.filter(|_| refused_by_estop(&cmd)) {
+        if let Some(why) = refused_by {
             if matches!(cmd, AppCommand::Jog(_) | AppCommand::CartesianJog(_)) {
                 self.jog_held = None;
                 self.cartesian_jog_held = None;
@@ -164,6 +180,18 @@ impl Parol6App {
             AppCommand::EStop(true) => self.press_estop(),
             AppCommand::EStop(false) => self.release_estop(),
         }
+    }
+
+    /// Why a manual motion is refused now: a program runs (preparing, running, returning to its
+    /// path; not paused) or a measurement drives the arm, and the motion would pull the arm off
+    /// the planned path.
+    fn automatic_run(&self) -> Option<&'static str> {
+        use parol6_core::program::runner::RunState;
+        let program = self
+            .program
+            .as_ref()
+            .is_some_and(|r| matches!(r.progress().state, RunState::Preparing | RunState::Running));
+        if program { Some(PROGRAM_RUNNING) } else { self.state.measurement.running().then_some(MEASUREMENT_RUNNING) }
     }
 
     /// The E-stop button: ends a program or measurement, STOP and DISABLE to the active backend,

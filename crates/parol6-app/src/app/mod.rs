@@ -359,7 +359,9 @@ impl Parol6App {
 
     fn keyboard(&mut self, ctx: &egui::Context, arm_moving: bool) {
         use crate::panels::shortcuts::{self, Action};
-        // the held jog keys see this frame's key presses before any panel consumes one
+        // the held jog keys see this frame's key presses before any panel consumes one; the
+        // Cartesian jog keys act only with the pointer over the 3D view
+        shortcuts::set_pointer_over_view(ctx, self.pointer_over_view(ctx));
         shortcuts::update_held(ctx);
         // Esc closes the topmost dialog where nothing moves and the 3D view or a motion
         // control does not have it (`escape`); else it is STOP

@@ -21,6 +21,14 @@ use crate::panels::connection::LinkView;
 
 /// Why motion is refused while a recording is open: the shown state's `blocked` during replay,
 /// and every refusal names it.
+/// Why a manual motion is refused while a program runs (not paused): the runner's next step would
+/// start where the arm no longer is.
+pub const PROGRAM_RUNNING: &str = "a program is running: pause (F6) or stop it first";
+
+/// Why a manual motion is refused while an ISO 9283 test drives the arm: a pose would be measured
+/// off its target.
+pub const MEASUREMENT_RUNNING: &str = "an ISO 9283 test is moving the arm: Abort it (or STOP) first";
+
 pub const REPLAY_OPEN: &str = "REPLAY: the read-outs show the recording; motion refused until the recording is closed";
 
 /// The state the app owns and the panels read.

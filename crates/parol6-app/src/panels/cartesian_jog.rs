@@ -302,9 +302,9 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
             ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
         });
-        // the latched E-stop or an open recording refuses every jog: the buttons and keys are
-        // off, the hover says why
-        let refused = ctx.motion_refused();
+        // the latched E-stop, an open recording, a running program or ISO test refuses every
+        // jog: the buttons and keys are off, the hover says why
+        let refused = ctx.manual_motion_refused();
         let latched = refused.is_some();
         let buttons = ui.add_enabled_ui(!latched, |ui| self.buttons(ui, ctx));
         buttons.response.on_disabled_hover_text(refused.unwrap_or_default());

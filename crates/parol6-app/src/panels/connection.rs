@@ -62,6 +62,11 @@ pub struct ConnectionPanel {
     jog: Option<(usize, i8)>,
     /// A link was open last frame (the section unfolds when one opens).
     was_linked: bool,
+    /// The tallest the unfolded section's body has been, points: it never gets shorter while
+    /// unfolded, so a disconnect (the LEDs, link health and jog give way to the shorter port
+    /// list) does not pull everything above it down under the pointer when the column is
+    /// scrolled to its end.
+    body_height_pt: f32,
 }
 
 impl ConnectionPanel {
@@ -291,9 +296,17 @@ impl Panel for ConnectionPanel {
         egui::CollapsingHeader::new(egui::RichText::new(self.title()).heading())
             .id_salt("robot_connection")
             .open(just_linked.then_some(true))
-            .show(ui, |ui| match &link {
-                Some(link) => self.connected_ui(ui, ctx, link),
-                None => self.disconnected_ui(ui, ctx),
+            .show(ui, |ui| {
+                let top = ui.cursor().top();
+                match &link {
+                    Some(link) => self.connected_ui(ui, ctx, link),
+                    None => self.disconnected_ui(ui, ctx),
+                }
+                let used = ui.cursor().top() - top;
+                if used < self.body_height_pt {
+                    ui.add_space(self.body_height_pt - used);
+                }
+                self.body_height_pt = self.body_height_pt.max(used);
             });
     }
 }

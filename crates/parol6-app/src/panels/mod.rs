@@ -287,6 +287,20 @@ impl PanelContext<'_> {
         }
     }
 
+    /// Why a jog by hand is refused now: [`Self::motion_refused`], or a program runs (not paused)
+    /// or an ISO 9283 test drives the arm (the app refuses the command too; the jog panel greys
+    /// its buttons and keys with the reason instead of reporting a jog that never ran).
+    pub fn manual_motion_refused(&self) -> Option<&'static str> {
+        use parol6_core::program::runner::RunState;
+        self.motion_refused().or_else(|| {
+            if self.app.program.as_ref().is_some_and(|p| matches!(p.state, RunState::Preparing | RunState::Running)) {
+                Some(crate::app::state::PROGRAM_RUNNING)
+            } else {
+                self.app.measurement.running().then_some(crate::app::state::MEASUREMENT_RUNNING)
+            }
+        })
+    }
+
     /// Queues a command.
     pub fn send(&mut self, command: AppCommand) {
         self.commands.push(command);

@@ -5,6 +5,8 @@
 //!
 //! Safety rules, kept here for every key:
 //! - a key that moves the arm acts only while no text field, menu or popup has the keyboard;
+//!   a Cartesian jog key (A D S W Q E, letters of typed text) only with the pointer over the
+//!   3D view, too;
 //! - a shortcut without Ctrl / Alt / Cmd in the table does nothing while one of them is held
 //!   (Ctrl+S saves, it never jogs along S);
 //! - a held key (jog) counts only when it went down while nothing of the above was true, and
@@ -111,7 +113,9 @@ pub enum Scope {
     Program,
     /// The robot connection panel with a robot connected, no text field, menu or popup.
     Robot,
-    /// The Cartesian jog panel in hold mode, no text field, menu or popup.
+    /// The Cartesian jog panel in hold mode, the pointer over the 3D view, no text field, menu
+    /// or popup: the letters A D S W Q E come in typed text ("0.5rad"), so they jog only where
+    /// nothing can be typed.
     CartesianJog,
     /// The pointer over the 3D view, no text field, menu or popup.
     View,
@@ -125,7 +129,7 @@ impl Scope {
             Scope::NoField => "no field typed in",
             Scope::Program => "program panel",
             Scope::Robot => "robot connected",
-            Scope::CartesianJog => "Cartesian jog, hold mode",
+            Scope::CartesianJog => "pointer over the 3D view, Cartesian jog in hold mode",
             Scope::View => "pointer over the 3D view",
         }
     }
@@ -246,8 +250,32 @@ fn command_modifier(m: Modifiers) -> bool {
     m.ctrl || m.alt || m.command || m.mac_cmd
 }
 
-fn scope_open(scope: Scope, taken: bool) -> bool {
-    scope == Scope::Always || !taken
+fn scope_open(ctx: &egui::Context, scope: Scope, taken: bool) -> bool {
+    match scope {
+        Scope::Always => true,
+        Scope::CartesianJog => !taken && pointer_over_view(ctx),
+        _ => !taken,
+    }
+}
+
+fn view_hover_id() -> egui::Id {
+    egui::Id::unique("parol6_shortcuts_pointer_over_view")
+}
+
+/// Tells the table whether the pointer is over the 3D view (no window covering it there) this
+/// frame; the app calls it before [`update_held`]. Until it is told, the Cartesian jog keys do
+/// nothing.
+pub fn set_pointer_over_view(ctx: &egui::Context, over: bool) {
+    ctx.data_mut(|d| d.insert_temp(view_hover_id(), over));
+}
+
+fn pointer_over_view(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp::<bool>(view_hover_id())).unwrap_or(false)
+}
+
+/// True for a key held to jog the arm in Cartesian space.
+fn is_cartesian_jog_key(key: Key) -> bool {
+    SHORTCUTS.iter().any(|s| s.trigger == Trigger::Hold && s.scope == Scope::CartesianJog && s.key == key)
 }
 
 fn mods_match(mods: Mods, held: Modifiers) -> bool {
@@ -265,7 +293,7 @@ pub fn pressed(ctx: &egui::Context, action: Action) -> bool {
     let taken = keyboard_taken(ctx);
     let mut hit = false;
     for s in SHORTCUTS.iter().filter(|s| s.action == action && s.trigger == Trigger::Press) {
-        if !scope_open(s.scope, taken) {
+        if !scope_open(ctx, s.scope, taken) {
             continue;
         }
         ctx.input_mut(|i| {
@@ -309,6 +337,7 @@ pub fn update_held(ctx: &egui::Context) {
         return;
     }
     let taken = keyboard_taken(ctx);
+    let over_view = pointer_over_view(ctx);
     let (events, modifiers, down) = ctx.input(|i| (i.events.clone(), i.modifiers, i.keys_down.clone()));
     ctx.data_mut(|d| {
         let h = d.get_temp_mut_or_default::<HeldKeys>(held_keys_id());
@@ -329,6 +358,11 @@ pub fn update_held(ctx: &egui::Context) {
         if taken || command_modifier(modifiers) {
             h.armed.clear();
         }
+        // a Cartesian jog key counts only while the pointer stays over the 3D view: pressed
+        // elsewhere, or the pointer gone off the view, it stops for good (until pressed again)
+        if !over_view {
+            h.armed.retain(|k, _| !is_cartesian_jog_key(*k));
+        }
         h.armed.retain(|k, shift| down.contains(k) && *shift == modifiers.shift);
     });
 }
@@ -343,7 +377,7 @@ pub fn held(ctx: &egui::Context, action: Action) -> bool {
     SHORTCUTS
         .iter()
         .filter(|s| s.action == action && s.trigger == Trigger::Hold)
-        .any(|s| scope_open(s.scope, taken) && mods_match(s.mods, modifiers) && armed.contains_key(&s.key))
+        .any(|s| scope_open(ctx, s.scope, taken) && mods_match(s.mods, modifiers) && armed.contains_key(&s.key))
 }
 
 /// The name of a key as the help shows it.

@@ -202,7 +202,7 @@ impl TorqueForm {
                 ui.end_row();
             }
         });
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             match numeric_entry(ui, "Run time", self.duration_s, 2, 56.0, "s").1 {
                 // refused when typed, as the other fields' ranges are, not only at Run torques
                 Some(EntryEvent::Committed(x)) if x > 0.0 && x <= MAX_RUN_S => self.duration_s = x,
@@ -219,6 +219,10 @@ impl TorqueForm {
                 .on_hover_text("add the gravity torques of the current pose at every step");
             ui.checkbox(&mut self.hold_others, "hold other joints")
                 .on_hover_text("joints without a torque (constant 0 N·m) stay on their position motors");
+        });
+        // a row of their own, at the column's left: at 1024 px the centre column is about 350 pt
+        // wide, and at the end of the row above they lay under the right panel, out of reach
+        ui.horizontal(|ui| {
             if ui.button("Run torques").clicked() {
                 match self.run() {
                     Ok(run) => {

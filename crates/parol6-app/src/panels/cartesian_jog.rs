@@ -54,6 +54,17 @@ struct JogView {
     moved: Option<f64>,
 }
 
+/// The last click of Step mode: what the line under the buttons says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct StepView {
+    frame: JogFrame,
+    axis: CartesianAxis,
+    /// Signed distance, m or rad.
+    distance: f64,
+    /// Clicks in a row of this same step.
+    count: usize,
+}
+
 /// TCP travel, m, and turn, rad, away from where a jog was refused after which the refusal is
 /// no longer shown (it described the pose it was asked at).
 const STALE_REFUSAL_M: f64 = 0.5e-3;
@@ -72,7 +83,10 @@ pub struct CartesianJogPanel {
     /// Step increment, degrees.
     step_deg: f64,
     held: Option<(CartesianAxis, i8)>,
+    /// The hold jog being held, or the last one (none after a step).
     view: Option<JogView>,
+    /// The last step (none after a hold jog).
+    stepped: Option<StepView>,
     guard: Option<Arc<CollisionGuard>>,
     caps: Option<MotionCaps>,
 }
@@ -86,6 +100,7 @@ impl Default for CartesianJogPanel {
             step_deg: 1.0,
             held: None,
             view: None,
+            stepped: None,
             guard: None,
             caps: None,
         }
@@ -130,6 +145,7 @@ impl CartesianJogPanel {
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
         self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q), moved: None });
+        self.stepped = None;
     }
 
     fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
@@ -176,6 +192,15 @@ impl CartesianJogPanel {
             distance,
             speed_fraction: ctx.settings.cartesian_jog_fraction.clamp(0.01, 1.0),
         });
+        // the line says this step, not the last hold jog
+        self.view = None;
+        let mut step = StepView { frame: self.frame, axis, distance, count: 1 };
+        if let Some(last) = self.stepped
+            && last == (StepView { count: last.count, ..step })
+        {
+            step.count = last.count + 1;
+        }
+        self.stepped = Some(step);
     }
 
     /// The held key, if any (see [`super::shortcuts`]: not while typing or a menu is open, not
@@ -210,6 +235,16 @@ impl CartesianJogPanel {
             if moved_m > STALE_REFUSAL_M || now.rotation.angle_to(&v.start.rotation) > STALE_REFUSAL_RAD {
                 self.view = None;
             }
+        }
+        if let Some(s) = &self.stepped {
+            let dir = if s.distance > 0.0 { "+" } else { "−" };
+            let step = display(s.axis, s.distance.abs(), ctx.settings.unit);
+            let mut text = format!("{dir}{} ({}) step {step}", s.axis.label(), frame_name(s.frame));
+            if s.count > 1 {
+                let all = display(s.axis, s.distance.abs() * s.count as f64, ctx.settings.unit);
+                text.push_str(&format!(" ({} steps in a row: {all})", s.count));
+            }
+            return (egui::RichText::new(text), MESSAGE_LINES);
         }
         let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
@@ -277,8 +312,15 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.frame, JogFrame::Tool, "Tool")
                 .on_hover_text("the TCP's own axes (as they are when the jog starts)");
             ui.separator();
-            ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
-            ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+            let hold =
+                ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
+            let step =
+                ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+            if hold.changed() || step.changed() {
+                // the other mode's last line no longer says what the buttons do
+                self.view = None;
+                self.stepped = None;
+            }
         });
         // the latched E-stop or an open recording refuses every jog: the buttons and keys are
         // off, the hover says why

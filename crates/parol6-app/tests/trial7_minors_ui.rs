@@ -242,6 +242,19 @@ fn a_click_in_step_mode_says_its_step_not_the_last_hold_jog() {
     settle(&mut h, 0.3);
     assert!(has_label(&h, "2 steps in a row: 2.00 mm"), "{:?}", labels_with(&h, "(world)"));
     assert!(!has_label(&h, "released after"));
+    assert!(!has_label(&h, "moved"), "both steps were taken: {:?}", labels_with(&h, "(world)"));
+
+    // a step refused (the wrist singular at the standby pose) is said, not claimed
+    h.state_mut().teleport(parol6_core::parol6::standby_rad().to_vec()).expect("teleport");
+    settle(&mut h, 0.3);
+    h.get_by_label("+X").click();
+    settle(&mut h, 0.8);
+    assert!(
+        has_label(&h, "+X (world) step 1.00 mm: moved 0.00 mm (see the notices)"),
+        "{:?}; notices {:?}",
+        labels_with(&h, "(world)"),
+        h.state().notices()
+    );
 }
 
 /// Trial 7: the ISO test's Edge field showed two tooltips, one above the other ("edge: type a

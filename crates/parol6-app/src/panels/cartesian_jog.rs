@@ -54,8 +54,8 @@ struct JogView {
     moved: Option<f64>,
 }
 
-/// The last click of Step mode: what the line under the buttons says.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The last clicks of Step mode (the same step in a row): what the line under the buttons says.
+#[derive(Debug, Clone, Copy)]
 struct StepView {
     frame: JogFrame,
     axis: CartesianAxis,
@@ -63,7 +63,16 @@ struct StepView {
     distance: f64,
     /// Clicks in a row of this same step.
     count: usize,
+    /// TCP (commanded) where the row of steps started.
+    start: parol6_core::na::Isometry3<f64>,
+    /// When the last click was.
+    clicked: std::time::Instant,
+    /// The arm has moved since that click.
+    seen_moving: bool,
 }
+
+/// Time after a click after which an arm that has not moved has not taken the step (refused).
+const STEP_SETTLE: std::time::Duration = std::time::Duration::from_millis(300);
 
 /// TCP travel, m, and turn, rad, away from where a jog was refused after which the refusal is
 /// no longer shown (it described the pose it was asked at).
@@ -194,13 +203,20 @@ impl CartesianJogPanel {
         });
         // the line says this step, not the last hold jog
         self.view = None;
-        let mut step = StepView { frame: self.frame, axis, distance, count: 1 };
-        if let Some(last) = self.stepped
-            && last == (StepView { count: last.count, ..step })
-        {
-            step.count = last.count + 1;
-        }
-        self.stepped = Some(step);
+        let clicked = std::time::Instant::now();
+        let same = self.stepped.filter(|l| l.frame == self.frame && l.axis == axis && l.distance == distance);
+        self.stepped = Some(match same {
+            Some(l) => StepView { count: l.count + 1, clicked, seen_moving: false, ..l },
+            None => StepView {
+                frame: self.frame,
+                axis,
+                distance,
+                count: 1,
+                start: ctx.model.tcp_isometry(&ctx.robot.commanded.q),
+                clicked,
+                seen_moving: false,
+            },
+        });
     }
 
     /// The held key, if any (see [`super::shortcuts`]: not while typing or a menu is open, not
@@ -236,13 +252,32 @@ impl CartesianJogPanel {
                 self.view = None;
             }
         }
-        if let Some(s) = &self.stepped {
+        if let Some(s) = &mut self.stepped {
+            let unit = ctx.settings.unit;
             let dir = if s.distance > 0.0 { "+" } else { "−" };
-            let step = display(s.axis, s.distance.abs(), ctx.settings.unit);
-            let mut text = format!("{dir}{} ({}) step {step}", s.axis.label(), frame_name(s.frame));
+            let asked = s.distance.abs() * s.count as f64;
+            let mut text = format!(
+                "{dir}{} ({}) step {}",
+                s.axis.label(),
+                frame_name(s.frame),
+                display(s.axis, s.distance.abs(), unit)
+            );
             if s.count > 1 {
-                let all = display(s.axis, s.distance.abs() * s.count as f64, ctx.settings.unit);
-                text.push_str(&format!(" ({} steps in a row: {all})", s.count));
+                text.push_str(&format!(" ({} steps in a row: {})", s.count, display(s.axis, asked, unit)));
+            }
+            // at rest: a step refused (or cut short) is said, not claimed
+            s.seen_moving |= ctx.robot.moving;
+            if !ctx.robot.moving && (s.seen_moving || s.clicked.elapsed() > STEP_SETTLE) {
+                let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+                let (moved, tolerance) = if s.axis.is_rotation() {
+                    (now.rotation.angle_to(&s.start.rotation), 0.01f64.to_radians())
+                } else {
+                    ((now.translation.vector - s.start.translation.vector).norm(), 0.01e-3)
+                };
+                if (moved - asked).abs() > tolerance {
+                    text.push_str(&format!(": moved {} (see the notices)", display(s.axis, moved, unit)));
+                    return (egui::RichText::new(text).color(palette::rgb(palette::WARN_TEXT)), MESSAGE_LINES);
+                }
             }
             return (egui::RichText::new(text), MESSAGE_LINES);
         }

@@ -26,3 +26,62 @@ fn the_window_without_a_display_says_so_once_and_exits_1() {
         assert!(!err.contains(not_said), "says {not_said}: {err}");
     }
 }
+
+/// A display number nobody serves here (no X socket, no lock file), away from the numbers the
+/// hand trials use.
+fn unserved_display() -> String {
+    let free = (150..400)
+        .find(|n| {
+            !std::path::Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
+                && !std::path::Path::new(&format!("/tmp/.X{n}-lock")).exists()
+        })
+        .expect("a free display number");
+    format!(":{free}")
+}
+
+/// Runs the window with `display` / `wayland` as DISPLAY / WAYLAND_DISPLAY (`None`: unset) and
+/// checks that it says once, in plain words, that no display could be reached, and exits 1.
+fn says_no_display_once(display: Option<&str>, wayland: Option<&str>) {
+    let runtime = std::env::temp_dir().join(format!("parol6-no-display-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_parol6"));
+    cmd.env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").env_remove("WAYLAND_SOCKET");
+    cmd.env("XDG_RUNTIME_DIR", &runtime)
+        .env("PAROL6_SETTINGS", std::env::temp_dir().join("parol6-no-display-settings.json"));
+    if let Some(d) = display {
+        cmd.env("DISPLAY", d);
+    }
+    if let Some(w) = wayland {
+        cmd.env("WAYLAND_DISPLAY", w);
+    }
+    let out = cmd.output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let what = format!("DISPLAY={display:?} WAYLAND_DISPLAY={wayland:?}");
+    assert_eq!(out.status.code(), Some(1), "{what}: {err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{what}: one message: {err}");
+    for said in ["no display", "ssh -X", "parol6 --help", "parol6 screenshot"] {
+        assert!(err.contains(said), "{what}: does not say {said}: {err}");
+    }
+    for named in display.into_iter().chain(wayland) {
+        assert!(err.contains(named), "{what}: does not name {named}: {err}");
+    }
+    for not_said in ["winit", "XDG_RUNTIME_DIR", ".rs:", "os error"] {
+        assert!(!err.contains(not_said), "{what}: says {not_said}: {err}");
+    }
+}
+
+/// Issue 32's last minor: with DISPLAY set to a display nobody serves (an SSH session whose X
+/// forwarding went away), the window's error was winit's, with its source path. It says, as
+/// without a display, that none could be reached and what to do, and exits 1.
+#[test]
+fn the_window_with_an_unreachable_x_display_says_so_once_and_exits_1() {
+    says_no_display_once(Some(&unserved_display()), None);
+}
+
+/// The same for a Wayland socket that is not there (alone, and with an unreachable X display).
+#[test]
+fn the_window_with_a_missing_wayland_socket_says_so_once_and_exits_1() {
+    says_no_display_once(None, Some("parol6-no-such-wayland-socket"));
+    says_no_display_once(Some(&unserved_display()), Some("parol6-no-such-wayland-socket"));
+}

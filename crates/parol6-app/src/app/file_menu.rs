@@ -1,12 +1,13 @@
 //! The File menu: open a recording for replay (a typed path, or *Browse…*: a file dialog that
 //! lists `.mcap` files), the live servers, record to a file, and Quit. Its one-shot actions close
-//! it, so their outcome (or error) is seen; a toggle keeps it open unless it fails (the app
-//! closes any menu over a new error).
+//! it, so their outcome (or error) is seen; a toggle (the sharing switches, Start / Stop
+//! recording) keeps it open unless it fails (the app closes any menu over a new error).
 
 use std::path::{Path, PathBuf};
 
 use eframe::egui;
 
+use super::layout::status_row;
 use crate::panels::{AppCommand, PanelContext};
 
 /// The id of the recording dialog's window (`egui::Id::unique` of it).
@@ -67,27 +68,32 @@ impl FileMenu {
         ui.separator();
         super::layout::live_menu_ui(ui, pctx);
         ui.separator();
-        match &pctx.app.recording {
-            Some(r) => {
-                ui.label(format!("recording to {}", r.path.display()));
-                if ui.button("Stop recording").clicked() {
-                    pctx.send(AppCommand::Record(None));
-                    ui.close();
+        // Start and Stop are one toggle in one place: the rows keep their heights and the menu
+        // stays open, as for the sharing toggles (a failure closes it over its error)
+        let recording = pctx.app.recording.as_ref().map(|r| r.path.display().to_string());
+        match &recording {
+            Some(path) => status_row(ui, egui::RichText::new(format!("recording to {path}"))),
+            None => status_row(ui, egui::RichText::new("Record the active backend (.mcap)")),
+        }
+        ui.horizontal(|ui| {
+            let label = ui.label("Record to");
+            match recording {
+                Some(mut path) => {
+                    let edit = egui::TextEdit::singleline(&mut path).desired_width(240.0);
+                    ui.add_enabled(false, edit).labelled_by(label.id);
+                    if ui.button("Stop recording").clicked() {
+                        pctx.send(AppCommand::Record(None));
+                    }
                 }
-            }
-            None => {
-                ui.label("Record the active backend (.mcap)");
-                ui.horizontal(|ui| {
-                    let label = ui.label("Record to");
+                None => {
                     let edit = egui::TextEdit::singleline(&mut self.record_path).desired_width(240.0);
                     ui.add(edit.hint_text("out.mcap")).labelled_by(label.id);
                     if ui.button("Start recording").clicked() && !self.record_path.trim().is_empty() {
                         pctx.send(AppCommand::Record(Some(self.record_path.trim().into())));
-                        ui.close();
                     }
-                });
+                }
             }
-        }
+        });
         ui.separator();
         if ui.button("Quit (Ctrl+Q)").clicked() {
             self.quit_clicked = true;

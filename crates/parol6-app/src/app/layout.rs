@@ -45,8 +45,11 @@ pub(super) fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
             .labelled_by(label.id)
             .on_hover_text("IP:PORT; only this PC unless another address is given (0.0.0.0:8765: every interface)");
     });
-    if let Some(addr) = &pctx.live.sharing {
-        ui.label(format!("sharing at {addr}"));
+    // the status rows are always there (greyed while off): toggling inserts no line, so the
+    // checkboxes below stay under the pointer
+    match &pctx.live.sharing {
+        Some(addr) => status_row(ui, egui::RichText::new(format!("sharing at {addr}"))),
+        None => status_row(ui, egui::RichText::new("not sharing").weak()),
     }
     ui.separator();
     let mut ros2 = pctx.live.ros2.is_some() || pctx.live.ros2_starting;
@@ -66,9 +69,11 @@ pub(super) fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
         ui.add_enabled(!ros2, domain).labelled_by(label.id).on_hover_text("ROS_DOMAIN_ID of the other nodes, 0–232");
     });
     if pctx.live.ros2_starting {
-        ui.label("ROS 2 node starting…");
+        status_row(ui, egui::RichText::new("ROS 2 node starting…"));
     } else if let Some(addr) = &pctx.live.ros2 {
-        ui.label(format!("ROS 2 node parol6: {addr}"));
+        status_row(ui, egui::RichText::new(format!("ROS 2 node parol6: {addr}")));
+    } else {
+        status_row(ui, egui::RichText::new("ROS 2 node off").weak());
     }
     ui.separator();
     let mut remote = pctx.live.remote_control;
@@ -77,6 +82,12 @@ pub(super) fn live_menu_ui(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>) {
     if ui.checkbox(&mut remote, "Allow remote control").on_hover_text(hover).changed() {
         pctx.send(AppCommand::RemoteControl(remote));
     }
+}
+
+/// One status line of the File menu: a single row, left-aligned (never justified), cut with
+/// "…" when longer than the menu (egui shows the whole text on hover).
+pub(super) fn status_row(ui: &mut egui::Ui, text: egui::RichText) {
+    ui.add(egui::Label::new(text).truncate());
 }
 
 /// What the menu bar and the help window act on.
@@ -232,9 +243,13 @@ impl Parol6App {
         }
         files.dialog_ui(ui.ctx(), pctx);
         if *show_help {
-            // room below it for the notices in a low window (1024×700: they covered the right
-            // panel's read-outs beside it)
-            let max_h = (ui.ctx().content_rect().height() - 80.0 - NOTICES_MIN_HEIGHT).max(200.0);
+            // in the 3D view (what the panels left), below the menu bar: never over HOME / STOP /
+            // E-STOP, a jog button or the menus
+            let view = ui.available_rect_before_wrap();
+            let (at, width) = help_place(view);
+            // room below it in the view for the notices (beside it they would cover a side
+            // panel's read-outs in a narrow window)
+            let max_h = (view.bottom() - at.y - NOTICES_MIN_HEIGHT - 16.0).max(200.0);
             egui::Window::new(super::escape::HELP_WINDOW)
                 // its area's id by its name (egui's own hashes the title's text as an `Option`),
                 // so the notices and Esc find it
@@ -244,7 +259,8 @@ impl Parol6App {
                 // the first on a software rasterizer
                 .fade_in(false)
                 .fade_out(false)
-                .default_size([600.0, max_h.min(720.0)])
+                .default_pos(at)
+                .default_size([width, max_h.min(720.0)])
                 .max_height(max_h)
                 .vscroll(true)
                 .show(ui.ctx(), |ui| help::help_ui(ui, settings_path));
@@ -304,6 +320,19 @@ impl Parol6App {
             notices_ui(ui.ctx(), place, &self.notices, self.settings.unit);
         });
     }
+}
+
+/// Widest the help window opens, pt.
+const HELP_WIDTH: f32 = 600.0;
+/// Narrowest the help window opens, pt (in a 3D view narrower than this it covers part of a
+/// side panel's lower half rather than becoming unreadable).
+const HELP_MIN_WIDTH: f32 = 300.0;
+
+/// Where the help window first opens and its width: the top left of the 3D view (`view`),
+/// 16 pt in, as wide as the view leaves (at most [`HELP_WIDTH`]).
+fn help_place(view: egui::Rect) -> (egui::Pos2, f32) {
+    let width = (view.width() - 32.0).clamp(HELP_MIN_WIDTH, HELP_WIDTH);
+    (view.left_top() + egui::vec2(16.0, 16.0), width)
 }
 
 /// The notices' area (tests find their rectangle by it).

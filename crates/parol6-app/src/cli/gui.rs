@@ -92,10 +92,14 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
 
     let exit_code = std::sync::Arc::new(std::sync::atomic::AtomicI32::new(0));
     let exit_slot = std::sync::Arc::clone(&exit_code);
+    // whether the window came up: an event-loop error before it is the display's
+    let created = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let created_slot = std::sync::Arc::clone(&created);
     let result = eframe::run_native(
         &title,
         native,
         Box::new(move |cc| {
+            created_slot.store(true, Ordering::SeqCst);
             cc.egui_ctx.set_visuals(crate::theme::visuals());
             // before retained painting, which must see the whole frame
             crate::app::frame_reuse::install(&cc.egui_ctx);
@@ -114,8 +118,14 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
             Ok(Box::new(app))
         }),
     );
-    if let Err(e) = result {
-        return Err(CliError::runtime(format!("cannot open the window: {e}")));
+    match result {
+        // DISPLAY or WAYLAND_DISPLAY set, but nothing answers there (winit's error names its
+        // source file): the same plain words as with neither set
+        Err(eframe::Error::WinitEventLoop(_)) if !created.load(Ordering::SeqCst) => {
+            return Err(no_display(&unreachable(&display_vars())));
+        }
+        Err(e) => return Err(CliError::runtime(format!("cannot open the window: {e}"))),
+        Ok(()) => {}
     }
     if super::interrupt::requested() {
         return Err(super::interrupt::error("the window closed"));
@@ -133,13 +143,43 @@ fn no_display_check() -> Result<(), CliError> {
     if cfg!(any(target_os = "windows", target_os = "macos")) {
         return Ok(());
     }
-    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
-    if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
-        return Ok(());
+    if display_vars().is_empty() {
+        return Err(no_display("DISPLAY and WAYLAND_DISPLAY are not set"));
     }
-    Err(CliError::runtime(
-        "no display was found (DISPLAY and WAYLAND_DISPLAY are not set), so the window cannot open: start it in a \
-         desktop session, over SSH with `ssh -X`, or use the command line: `parol6 --help`, `parol6 screenshot`",
+    Ok(())
+}
+
+/// The display variables set (not empty), as `NAME=value`: Wayland's first, as winit tries them.
+fn display_vars() -> Vec<String> {
+    ["WAYLAND_SOCKET", "WAYLAND_DISPLAY", "DISPLAY"]
+        .into_iter()
+        .filter_map(|name| {
+            let v = std::env::var_os(name).filter(|v| !v.is_empty())?;
+            Some(format!("{name}={}", v.to_string_lossy()))
+        })
+        .collect()
+}
+
+/// Why the display variables set (`vars`, from [`display_vars`]) gave no display: winit tries
+/// only Wayland while a Wayland variable is set, so a stale one hides a working DISPLAY.
+fn unreachable(vars: &[String]) -> String {
+    let (wayland, x): (Vec<&String>, Vec<&String>) = vars.iter().partition(|v| v.starts_with("WAYLAND"));
+    match (wayland.first(), x.first()) {
+        (Some(w), Some(x)) => {
+            let name = w.split('=').next().unwrap_or("WAYLAND_DISPLAY");
+            format!("none answers at {w}; the window tries Wayland first: `unset {name}` to use {x}")
+        }
+        (Some(w), None) => format!("none answers at {w}"),
+        (None, Some(x)) => format!("none answers at {x}"),
+        (None, None) => "none answers".to_string(),
+    }
+}
+
+/// The one message when the window finds no display (`why`: what was looked at), exit 1.
+fn no_display(why: &str) -> CliError {
+    CliError::runtime(format!(
+        "no display was found ({why}), so the window cannot open: start it in a desktop session, over SSH \
+         with `ssh -X`, or use the command line: `parol6 --help`, `parol6 screenshot`"
     ))
 }
 

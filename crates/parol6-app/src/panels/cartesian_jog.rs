@@ -55,6 +55,26 @@ struct JogView {
     moved: Option<f64>,
 }
 
+/// The last clicks of Step mode (the same step in a row): what the line under the buttons says.
+#[derive(Debug, Clone, Copy)]
+struct StepView {
+    frame: JogFrame,
+    axis: CartesianAxis,
+    /// Signed distance, m or rad.
+    distance: f64,
+    /// Clicks in a row of this same step.
+    count: usize,
+    /// TCP (commanded) where the row of steps started.
+    start: parol6_core::na::Isometry3<f64>,
+    /// When the last click was.
+    clicked: std::time::Instant,
+    /// The arm has moved since that click.
+    seen_moving: bool,
+}
+
+/// Time after a click after which an arm that has not moved has not taken the step (refused).
+const STEP_SETTLE: std::time::Duration = std::time::Duration::from_millis(300);
+
 /// TCP travel, m, and turn, rad, away from where a jog was refused after which the refusal is
 /// no longer shown (it described the pose it was asked at).
 const STALE_REFUSAL_M: f64 = 0.5e-3;
@@ -73,7 +93,10 @@ pub struct CartesianJogPanel {
     /// Step increment, degrees.
     step_deg: f64,
     held: Option<(CartesianAxis, i8)>,
+    /// The hold jog being held, or the last one (none after a step).
     view: Option<JogView>,
+    /// The last step (none after a hold jog).
+    stepped: Option<StepView>,
     guard: Option<Arc<CollisionGuard>>,
     caps: Option<MotionCaps>,
 }
@@ -87,6 +110,7 @@ impl Default for CartesianJogPanel {
             step_deg: 1.0,
             held: None,
             view: None,
+            stepped: None,
             guard: None,
             caps: None,
         }
@@ -152,6 +176,7 @@ impl CartesianJogPanel {
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
         self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q), moved: None });
+        self.stepped = None;
     }
 
     fn buttons(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) -> Option<(CartesianAxis, i8)> {
@@ -198,6 +223,22 @@ impl CartesianJogPanel {
             distance,
             speed_fraction: ctx.settings.cartesian_jog_fraction.clamp(0.01, 1.0),
         });
+        // the line says this step, not the last hold jog
+        self.view = None;
+        let clicked = std::time::Instant::now();
+        let same = self.stepped.filter(|l| l.frame == self.frame && l.axis == axis && l.distance == distance);
+        self.stepped = Some(match same {
+            Some(l) => StepView { count: l.count + 1, clicked, seen_moving: false, ..l },
+            None => StepView {
+                frame: self.frame,
+                axis,
+                distance,
+                count: 1,
+                start: ctx.model.tcp_isometry(&ctx.robot.commanded.q),
+                clicked,
+                seen_moving: false,
+            },
+        });
     }
 
     /// The held key, if any (see [`super::shortcuts`]: not while typing or a menu is open, not
@@ -232,6 +273,35 @@ impl CartesianJogPanel {
             if moved_m > STALE_REFUSAL_M || now.rotation.angle_to(&v.start.rotation) > STALE_REFUSAL_RAD {
                 self.view = None;
             }
+        }
+        if let Some(s) = &mut self.stepped {
+            let unit = ctx.settings.unit;
+            let dir = if s.distance > 0.0 { "+" } else { "−" };
+            let asked = s.distance.abs() * s.count as f64;
+            let mut text = format!(
+                "{dir}{} ({}) step {}",
+                s.axis.label(),
+                frame_name(s.frame),
+                display(s.axis, s.distance.abs(), unit)
+            );
+            if s.count > 1 {
+                text.push_str(&format!(" ({} steps in a row: {})", s.count, display(s.axis, asked, unit)));
+            }
+            // at rest: a step refused (or cut short) is said, not claimed
+            s.seen_moving |= ctx.robot.moving;
+            if !ctx.robot.moving && (s.seen_moving || s.clicked.elapsed() > STEP_SETTLE) {
+                let now = ctx.model.tcp_isometry(&ctx.robot.commanded.q);
+                let (moved, tolerance) = if s.axis.is_rotation() {
+                    (now.rotation.angle_to(&s.start.rotation), 0.01f64.to_radians())
+                } else {
+                    ((now.translation.vector - s.start.translation.vector).norm(), 0.01e-3)
+                };
+                if (moved - asked).abs() > tolerance {
+                    text.push_str(&format!(": moved {} (see the notices)", display(s.axis, moved, unit)));
+                    return (egui::RichText::new(text).color(palette::rgb(palette::WARN_TEXT)), MESSAGE_LINES);
+                }
+            }
+            return (egui::RichText::new(text), MESSAGE_LINES);
         }
         let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
@@ -299,8 +369,15 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.frame, JogFrame::Tool, "Tool")
                 .on_hover_text("the TCP's own axes (as they are when the jog starts)");
             ui.separator();
-            ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
-            ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+            let hold =
+                ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
+            let step =
+                ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+            if hold.changed() || step.changed() {
+                // the other mode's last line no longer says what the buttons do
+                self.view = None;
+                self.stepped = None;
+            }
         });
         // the latched E-stop, an open recording, a running program or ISO test refuses every
         // jog: the buttons and keys are off, the hover says why

@@ -10,7 +10,7 @@ use parol6_core::kinematics::iso_from_xyz_rpy;
 
 use super::angle_text::in_unit;
 use super::entry::{self, EntryEvent};
-use super::{Panel, PanelContext};
+use super::{AngleUnit, Panel, PanelContext};
 
 /// The Cartesian target panel.
 #[derive(Debug, Default)]
@@ -31,6 +31,39 @@ pub struct CartesianTargetPanel {
     dirty: bool,
     /// The joints the last solve was seeded with (the distances shown are to these).
     solved_seed: Vec<f64>,
+}
+
+/// Largest orientation angle the target takes, rad (one turn, ±360°): beyond it a typed
+/// angle is refused, not wrapped (45.5 rad was a slip, not 7 turns).
+const MAX_TARGET_ANGLE_RAD: f64 = std::f64::consts::TAU;
+
+/// The refusal of an angle `v` (in `unit`) typed into the target's field `name` beyond a turn.
+fn beyond_a_turn(name: &str, v: f64, unit: AngleUnit) -> String {
+    let typed = unit.fmt(unit.to_rad(v));
+    let turn = unit.fmt(MAX_TARGET_ANGLE_RAD);
+    // radians chosen and a number of degrees typed: say how to type degrees (as "deg": the
+    // notices show every "°" value in radians)
+    let hint = if unit == AngleUnit::Rad { format!("; for degrees type {v}deg") } else { String::new() };
+    format!("target {name}: {typed} is beyond one turn (±{turn}){hint}; the target stays as it was")
+}
+
+/// The note when the target's angles, after `name` was typed as `typed` (rad; `angles`: what
+/// was asked, `shown`: what the fields now show for the same rotation, each in its
+/// convention's range) read otherwise than typed; `None` when they read as typed.
+fn respelled(
+    name: &str,
+    typed: f64,
+    angles: &[f64; 3],
+    shown: &[f64; 3],
+    labels: &[&str; 3],
+    unit: AngleUnit,
+) -> Option<String> {
+    let changed: Vec<String> = (0..3)
+        .filter(|&j| unit.fmt(angles[j]) != unit.fmt(shown[j]))
+        .map(|j| format!("{} {}", labels[j], unit.fmt(shown[j])))
+        .collect();
+    (!changed.is_empty())
+        .then(|| format!("target {name} {}: the same rotation is shown as {}", unit.fmt(typed), changed.join(", ")))
 }
 
 fn solution_label(s: &IkSolution) -> String {
@@ -223,9 +256,21 @@ impl CartesianTargetPanel {
             match event {
                 Some(EntryEvent::Committed(v)) if k < 3 => self.xyz_mm[k] = v,
                 Some(EntryEvent::Committed(v)) => {
+                    let name = labels[k - 3];
                     let mut angles = ctx.settings.tcp_readout_rad(self.rpy);
-                    angles[k - 3] = unit.to_rad(v);
+                    let typed = unit.to_rad(v);
+                    if typed.abs() > MAX_TARGET_ANGLE_RAD + 1e-9 {
+                        ctx.error(beyond_a_turn(name, v, unit));
+                        continue;
+                    }
+                    angles[k - 3] = typed;
                     self.rpy = ctx.settings.rpy_from_shown_rad(angles);
+                    // the fields show the same rotation in the convention's ranges: a typed angle
+                    // shown otherwise (270° as −90°, a pitch beyond 90°) is said, never silent
+                    let shown = ctx.settings.tcp_readout_rad(self.rpy);
+                    if let Some(note) = respelled(name, typed, &angles, &shown, &labels, unit) {
+                        ctx.info(note);
+                    }
                 }
                 Some(EntryEvent::Invalid(why)) => {
                     let name = if k < 3 { ["X", "Y", "Z"][k] } else { labels[k - 3] };

@@ -109,6 +109,42 @@ pub fn unit_entry(
     suffix: &str,
     unit: &str,
 ) -> (egui::Response, Option<EntryEvent>) {
+    entry(ui, name, value, (decimals, width), (suffix, unit), None)
+}
+
+/// [`unit_entry`] for a field that takes values in `range` (checked by the caller, e.g. with
+/// [`in_range`]): its one hover hint names the range.
+pub fn ranged_entry(
+    ui: &mut egui::Ui,
+    name: &str,
+    value: f64,
+    (decimals, width): (usize, f32),
+    (suffix, unit): (&str, &str),
+    range: (f64, f64),
+) -> (egui::Response, Option<EntryEvent>) {
+    entry(ui, name, value, (decimals, width), (suffix, unit), Some(range))
+}
+
+/// The hover hint of an entry (the only one: a caller adds none of its own, or two tooltips
+/// stack): what to type and, for a field with a range, the range.
+fn hint(name: &str, unit: &str, range: Option<(f64, f64)>) -> String {
+    match range {
+        None => format!("{name}: type a value, then Enter or Tab"),
+        Some((lo, hi)) => {
+            let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+            format!("{name}: type a value ({lo}–{hi}{u}), then Enter or Tab")
+        }
+    }
+}
+
+fn entry(
+    ui: &mut egui::Ui,
+    name: &str,
+    value: f64,
+    (decimals, width): (usize, f32),
+    (suffix, unit): (&str, &str),
+    range: Option<(f64, f64)>,
+) -> (egui::Response, Option<EntryEvent>) {
     let id = ui.make_persistent_id(name);
     let buffer_id = id.with("typed");
     let typed: Option<String> = ui.data(|d| d.get_temp(buffer_id));
@@ -122,7 +158,7 @@ pub fn unit_entry(
                 egui::TextEdit::singleline(&mut text).id(id).align(egui::Align2::RIGHT_CENTER),
             );
             let shown = text.clone();
-            let r = r.on_hover_text(format!("{name}: type a value, then Enter or Tab"));
+            let r = r.on_hover_text(hint(name, unit, range));
             r.widget_info(|| {
                 let mut info = egui::WidgetInfo::text_edit(true, &shown, &shown, "");
                 info.label = Some(name.to_string());

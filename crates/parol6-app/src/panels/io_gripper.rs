@@ -12,7 +12,7 @@ use eframe::egui;
 use parol6_core::limits::LimitZone;
 use parol6_core::motion::{DIGITAL_PORTS, GRIPPER_CURRENT_MA, IoCommand};
 
-use super::entry::{EntryEvent, in_range, unit_entry};
+use super::entry::{EntryEvent, in_range, ranged_entry};
 use super::{AppCommand, Panel, PanelContext, on_off_led, zone_color};
 use crate::palette;
 
@@ -74,7 +74,7 @@ impl IoGripperPanel {
         unit: &str,
         range: (f64, f64),
     ) -> Option<f64> {
-        let (_, ev) = unit_entry(ui, name, value, 0, 60.0, unit, unit);
+        let (_, ev) = ranged_entry(ui, name, value, (0, 60.0), (unit, unit), range);
         match ev {
             Some(EntryEvent::Committed(v)) => match in_range(name, v, range, unit, true) {
                 Ok(v) => Some(v),

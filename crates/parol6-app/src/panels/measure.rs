@@ -169,8 +169,7 @@ fn setup_field(
     unit: &str,
     refused: &mut Vec<String>,
 ) -> bool {
-    let (response, event) = entry::unit_entry(ui, name, *value, decimals, 64.0, "", unit);
-    response.on_hover_text(format!("{name}: type a value ({}–{} {unit}) and press Enter", range.0, range.1));
+    let (_, event) = entry::ranged_entry(ui, name, *value, (decimals, 64.0), ("", unit), range);
     match event {
         Some(EntryEvent::Committed(v)) => match entry::in_range(name, v, range, unit, whole) {
             Ok(v) => {

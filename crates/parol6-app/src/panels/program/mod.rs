@@ -83,6 +83,8 @@ pub struct ProgramPanel {
     pub table_open: bool,
     /// A row the step list scrolls into view next frame (a newly taught step, the running one).
     scroll_to: Option<usize>,
+    /// A step the point table scrolls into view next frame (a row just added).
+    table_scroll_to: Option<usize>,
     /// The running step the list last followed.
     followed_step: Option<usize>,
     /// Typed path of a program file to open.
@@ -123,6 +125,7 @@ impl ProgramPanel {
             file: None,
             selected: None,
             scroll_to: None,
+            table_scroll_to: None,
             followed_step: None,
             files: files::FileState::default(),
             table_open: false,

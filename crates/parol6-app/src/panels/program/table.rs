@@ -89,7 +89,15 @@ impl ProgramPanel {
                 // only the rows in view are laid out (a 1 000-step program took 170 ms a frame)
                 let rows = table_rows(&program, ctx.settings);
                 let row_h = ui.spacing().interact_size.y + TABLE_ROW_SPACING;
-                egui::ScrollArea::both().auto_shrink([false, false]).show_rows(ui, row_h, rows.len(), |ui, range| {
+                let mut scroll = egui::ScrollArea::both().auto_shrink([false, false]);
+                // a row just added: in the middle of the view (it is selected)
+                if let Some(step) = self.table_scroll_to.take()
+                    && let Some(k) = rows.iter().position(|r| matches!(r, TableRow::Step(i, _) if *i == step))
+                {
+                    let view_h = ui.available_height();
+                    scroll = scroll.vertical_scroll_offset((k as f32 * row_h - 0.5 * (view_h - row_h)).max(0.0));
+                }
+                scroll.show_rows(ui, row_h, rows.len(), |ui, range| {
                     egui::Grid::new("program-point-table-grid").striped(true).spacing([4.0, TABLE_ROW_SPACING]).show(
                         ui,
                         |ui| {
@@ -153,6 +161,8 @@ impl ProgramPanel {
             }
             if self.selected.is_some() {
                 self.duplicate(ctx);
+                // the new row (selected by the copy) comes into view next frame
+                self.table_scroll_to = self.selected;
             } else {
                 ctx.error("the program has no row to copy: teach a step first");
             }

@@ -301,3 +301,27 @@ fn a_cartesian_jog_key_acts_only_with_the_pointer_over_the_3d_view() {
     h.run_steps(2);
     assert_eq!(moves(&h).len(), after_leaving, "the jog came back with D still held: {:?}", moves(&h));
 }
+
+/// H (HOME) acted wherever no field had the keyboard (the last trial): a path typed beside its
+/// field ("/home/…") after a click on a panel sent the arm home. H and Ctrl+H now act as the
+/// jog letters do, only with the pointer over the 3D view.
+#[test]
+fn home_acts_only_with_the_pointer_over_the_3d_view() {
+    let mut h = harness("home-view-only");
+    let off = h.get_by_label_contains("Click a step to edit").rect().center();
+    h.hover_at(off);
+    for pressed in [true, false] {
+        let modifiers = Modifiers::NONE;
+        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+    assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
+    press(&mut h, Key::H, Modifiers::NONE, 2);
+    press(&mut h, Key::H, Modifiers::COMMAND, 2);
+    assert_eq!(moves(&h), [] as [String; 0], "H acted with the pointer off the 3D view");
+
+    focus_view(&mut h);
+    press(&mut h, Key::H, Modifiers::NONE, 2);
+    assert!(moves(&h).iter().any(|m| m.contains("Home")), "H on the view homes: {:?}", moves(&h));
+}

@@ -267,7 +267,7 @@ fn the_jog_readout_is_frozen_at_release_and_its_message_keeps_one_height() {
     assert_eq!(y_held, y0, "the held jog's message moved the panel below");
     assert_eq!(below(&h), y0, "the released jog's message moved the panel below");
     // a later motion (HOME) does not change what the jog moved
-    pointer_on_panel(&mut h);
+    pointer_on_view(&mut h);
     press(&mut h, Key::H);
     until(&mut h, "HOME moving", 10.0, |h| h.state().backend().state().moving);
     settle(&mut h, 0.3);

@@ -95,6 +95,10 @@ fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     assert!(has_label(&h, reason), "the joints panel shows why motion is refused");
     h.get_by_label("HOME").click();
     h.run_steps(2);
+    // H acts with the pointer over the 3D view
+    let view = h.get_by_label_contains("3D view unavailable").rect().center();
+    h.hover_at(view);
+    h.run_steps(1);
     h.key_press(egui::Key::H);
     h.run_steps(2);
     assert_eq!(h.state().moves_sent().count(), 0, "nothing moved: {:?}", h.state().moves_sent().collect::<Vec<_>>());

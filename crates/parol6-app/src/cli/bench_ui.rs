@@ -340,7 +340,18 @@ fn program_actions(b: &mut Bench, program: &Path) -> Result<(), CliError> {
         |a| !a.dynamics_panel().computing() && a.dynamics_panel().torques().is_some(),
     )?;
     // HOME moves the arm; where it comes to rest the program and its torques are analysed again
-    b.press("dynamics_refresh_after_home", egui::Key::H, 30, quiet)?;
+    // (H acts with the pointer over the 3D view, as a user presses it)
+    b.act(
+        "dynamics_refresh_after_home",
+        30,
+        |h| {
+            let view = h.app.view_rect().ok_or_else(|| CliError::runtime("the window has no 3D view"))?;
+            let mut events = vec![egui::Event::PointerMoved(view.center())];
+            events.extend(key(egui::Key::H, egui::Modifiers::NONE));
+            Ok(events)
+        },
+        quiet,
+    )?;
     b.h.app.settings_mut().show_dynamics = false;
     b.settle(quiet)
 }

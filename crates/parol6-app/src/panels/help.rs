@@ -98,8 +98,8 @@ pub fn help_ui(ui: &mut egui::Ui, settings_path: Option<&Path>) {
     ui.heading("Mouse and keys");
     ui.label(
         "Keys that move the arm act only while no text field, menu or popup has the keyboard, and never \
-         while Ctrl, Alt, Cmd or Super is held unless the table names it (Ctrl+H); the Cartesian jog keys act \
-         only with the pointer over the 3D view. A jog key counts only when \
+         while Ctrl, Alt, Cmd or Super is held unless the table names it (Ctrl+H); the letters that move it (the \
+         Cartesian jog keys, H) act only with the pointer over the 3D view. A jog key counts only when \
          pressed on its own: let it go and press it again after using a modifier. Esc always stops.",
     );
     // both text columns wrap: at 1024 px the longest rows ran past the window's edge

@@ -117,7 +117,8 @@ pub enum Scope {
     /// or popup: the letters A D S W Q E come in typed text ("0.5rad"), so they jog only where
     /// nothing can be typed.
     CartesianJog,
-    /// The pointer over the 3D view, no text field, menu or popup.
+    /// The pointer over the 3D view, no text field, menu or popup: the camera's keys, and H
+    /// (HOME), a letter that comes in typed text ("/home/…") as the jog letters do.
     View,
 }
 
@@ -183,8 +184,8 @@ const ESC: &str = "STOP (also cancels a demo). With nothing moving, the pointer 
 /// Every keyboard shortcut of the window.
 pub const SHORTCUTS: &[Shortcut] = &[
     press(Key::Escape, Mods::Any, Action::Stop, Scope::Always, ESC),
-    press(Key::H, NONE, Action::Home, Scope::NoField, "HOME (profiled move to standby)"),
-    press(Key::H, CMD, Action::Home, Scope::NoField, "HOME (as H)"),
+    press(Key::H, NONE, Action::Home, Scope::View, "HOME (profiled move to standby)"),
+    press(Key::H, CMD, Action::Home, Scope::View, "HOME (as H)"),
     press(Key::F1, NONE, Action::ToggleHelp, Scope::Always, "this help"),
     press(Key::Q, CMD, Action::Quit, Scope::Always, "quit (asks first when a program has unsaved edits)"),
     press(Key::F5, NONE, Action::RunProgram, Scope::Program, "run the program, or resume it"),
@@ -253,7 +254,7 @@ fn command_modifier(m: Modifiers) -> bool {
 fn scope_open(ctx: &egui::Context, scope: Scope, taken: bool) -> bool {
     match scope {
         Scope::Always => true,
-        Scope::CartesianJog => !taken && pointer_over_view(ctx),
+        Scope::CartesianJog | Scope::View => !taken && pointer_over_view(ctx),
         _ => !taken,
     }
 }

@@ -393,8 +393,12 @@ impl Panel for CartesianJogPanel {
             ui.label("Speed");
             ui.spacing_mut().slider_width = 80.0;
             let mut pct = ctx.settings.cartesian_jog_fraction * 100.0;
-            if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
+            let (r, refused) = entry::typed_slider(ui, "Jog speed", &mut pct, 1.0..=100.0, (" %", "%"), 0);
+            if r.changed() {
                 ctx.settings.cartesian_jog_fraction = (pct / 100.0).clamp(0.01, 1.0);
+            }
+            if let Some(message) = refused {
+                ctx.error(message);
             }
             let f = ctx.settings.cartesian_jog_fraction;
             // the turning speed in the chosen angle unit (it stayed in °/s in radians); wraps

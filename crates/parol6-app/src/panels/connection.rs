@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use parol6_core::limits::LimitZone;
 
+use super::entry;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, LinkCommand, Panel, PanelContext, on_off_led, zone_color};
 
@@ -178,8 +179,12 @@ impl ConnectionPanel {
         ui.horizontal(|ui| {
             ui.label("Jog speed");
             let mut pct = ctx.settings.jog_speed_fraction * 100.0;
-            if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
+            let (r, refused) = entry::typed_slider(ui, "Jog speed", &mut pct, 1.0..=100.0, (" %", "%"), 0);
+            if r.changed() {
                 ctx.settings.jog_speed_fraction = (pct / 100.0).clamp(0.01, 1.0);
+            }
+            if let Some(message) = refused {
+                ctx.error(message);
             }
         });
         // Keyboard (the table in `shortcuts`): 1–6 select, Page Up / Page Down held = jog.

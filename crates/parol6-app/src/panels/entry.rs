@@ -125,6 +125,48 @@ pub fn ranged_entry(
     entry(ui, name, value, (decimals, width), (suffix, unit), Some(range))
 }
 
+/// A slider whose value box reads typed text as the entries do ([`parse_in`]: `.` or `,` as
+/// the decimal mark, the field's `unit` or none) and only once Enter, Tab or a click elsewhere
+/// commits it. A typed value outside `range`, or text that is no number, is refused, never
+/// clamped: the value stays, and the message (naming `name`, the range and the value kept) is
+/// returned for a notice. Dragging moves within the range as on any slider. (egui's own box
+/// read every keystroke and clamped it: "0,5" became its minimum, 0.05, without a word.)
+pub fn typed_slider(
+    ui: &mut egui::Ui,
+    name: &str,
+    value: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    (suffix, unit): (&str, &str),
+    decimals: usize,
+) -> (egui::Response, Option<String>) {
+    let (lo, hi) = (*range.start(), *range.end());
+    let before = *value;
+    let refusal = std::cell::RefCell::new(None);
+    let parse = |text: &str| {
+        let typed = parse_in(text, unit)
+            .map_err(|e| format!("{name}: {e}"))
+            .and_then(|v| in_range(name, v, (lo, hi), unit, false));
+        match typed {
+            Ok(v) => Some(v),
+            Err(e) => {
+                let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+                refusal.replace(Some(format!("{e}; it stays {}{u}", fmt_fixed(before, decimals))));
+                None
+            }
+        }
+    };
+    let slider = egui::Slider::new(value, range)
+        .suffix(suffix)
+        .max_decimals(decimals)
+        .update_while_editing(false)
+        .custom_parser(parse);
+    let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    let response = ui
+        .add(slider)
+        .on_hover_text(format!("{name}: drag, or click the value and type one ({lo}–{hi}{u}), then Enter or Tab"));
+    (response, refusal.into_inner())
+}
+
 /// The hover hint of an entry (the only one: a caller adds none of its own, or two tooltips
 /// stack): what to type and, for a field with a range, the range.
 fn hint(name: &str, unit: &str, range: Option<(f64, f64)>) -> String {

@@ -423,8 +423,12 @@ impl Panel for JointsPanel {
         ui.horizontal(|ui| {
             ui.label("Speed");
             let mut pct = ctx.settings.speed_fraction * 100.0;
-            if ui.add(egui::Slider::new(&mut pct, 1.0..=100.0).suffix(" %").max_decimals(0)).changed() {
+            let (r, refused) = entry::typed_slider(ui, "Speed", &mut pct, 1.0..=100.0, (" %", "%"), 0);
+            if r.changed() {
                 ctx.settings.speed_fraction = (pct / 100.0).clamp(0.01, 1.0);
+            }
+            if let Some(message) = refused {
+                ctx.error(message);
             }
         });
         ui.horizontal(|ui| {

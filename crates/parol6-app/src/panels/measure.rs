@@ -316,7 +316,9 @@ impl MeasurePanel {
         });
         ui.horizontal(|ui| {
             ui.label("Speed");
-            ui.add(egui::Slider::new(&mut self.plan.speed_fraction, 0.01..=1.0).fixed_decimals(2));
+            let (_, speed_refused) =
+                entry::typed_slider(ui, "test speed", &mut self.plan.speed_fraction, 0.01..=1.0, ("", ""), 2);
+            refused.extend(speed_refused);
             ui.checkbox(&mut self.show_cube, "Cube in 3D");
         });
         refused

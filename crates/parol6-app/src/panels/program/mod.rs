@@ -48,6 +48,7 @@ pub const TABLE_ID: &str = "program-point-table";
 
 use super::AngleUnit;
 use super::angle_text::in_unit;
+use super::entry;
 use super::fixed_box;
 use super::shortcuts::{self, Action};
 use super::{AppCommand, Panel, PanelContext};
@@ -517,9 +518,13 @@ impl ProgramPanel {
             ui.horizontal(|ui| {
                 ui.checkbox(&mut self.looping, "Loop");
                 ui.label("Speed ×");
-                let r = ui.add(egui::Slider::new(&mut self.speed_override, 0.05..=1.0).max_decimals(2));
+                let (r, refused) =
+                    entry::typed_slider(ui, "Speed ×", &mut self.speed_override, 0.05..=1.0, ("", ""), 2);
                 if r.changed() {
                     drop_elsewhere(self.checked.take()); // planned again at the new speed
+                }
+                if let Some(message) = refused {
+                    ctx.error(message);
                 }
             });
         });

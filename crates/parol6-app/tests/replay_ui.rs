@@ -349,3 +349,35 @@ fn the_programs_pre_flight_stays_the_live_arms_during_replay() {
     assert!(std::sync::Arc::ptr_eq(&before, &during), "the live arm's check is kept during replay");
     std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
+
+/// Issue 32's minor: "Replay reports "6209 samples" in one place and "17497" in another" (seen
+/// again by the last trial: the opening notice counted the samples replay keeps, the timeline
+/// the samples in the file). Both now give the file's count; the notice names what it keeps.
+#[test]
+fn the_replays_notice_and_header_give_the_same_sample_count() {
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-count");
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.run_steps(2);
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
+    let data = std::sync::Arc::clone(&h.state().replay().expect("open").data);
+    let in_file = format!("{} samples in the file", data.samples_in_file);
+    let notice = h.state().notices().iter().map(|n| n.text.clone()).find(|t| t.starts_with("replaying"));
+    let notice = notice.expect("the opening notice");
+    assert!(
+        notice.contains(&format!("({:.1} s, {in_file}", 50.0f64.min(1e9))) || notice.contains(&in_file),
+        "{notice}"
+    );
+    if (data.store.len() as u64) < data.samples_in_file {
+        assert!(
+            notice.contains(&format!(", {} replayed at", data.store.len())),
+            "what replay keeps is named: {notice}"
+        );
+    }
+    assert!(
+        h.query_all_by_label_contains(&in_file).next().is_some(),
+        "the timeline's header gives the same count as the notice: {in_file}"
+    );
+    std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
+}

@@ -95,12 +95,19 @@ impl Parol6App {
                 for w in &data.warnings {
                     self.notice(format!("{}: {w}", path.display()), true);
                 }
-                let samples = data.store.len();
+                // the file's count, as the timeline's header gives it; what replay keeps (at
+                // most the live view's rate) is said beside it where it is fewer
+                let (in_file, kept) = (data.samples_in_file, data.store.len() as u64);
+                let kept = if kept < in_file {
+                    format!(", {kept} replayed at {} Hz", parol6_core::telemetry::replay::REPLAY_RATE_HZ)
+                } else {
+                    String::new()
+                };
                 let replay = Replay::new(path.clone(), Arc::new(data));
                 let (t0, t1) = replay.span_s();
                 self.notice(
                     format!(
-                        "replaying {} ({:.1} s, {samples} samples, read in {read_s:.2} s): the 3D view shows the recording",
+                        "replaying {} ({:.1} s, {in_file} samples in the file{kept}, read in {read_s:.2} s): the 3D view shows the recording",
                         path.display(),
                         t1 - t0
                     ),

@@ -365,10 +365,7 @@ fn the_replays_notice_and_header_give_the_same_sample_count() {
     let in_file = format!("{} samples in the file", data.samples_in_file);
     let notice = h.state().notices().iter().map(|n| n.text.clone()).find(|t| t.starts_with("replaying"));
     let notice = notice.expect("the opening notice");
-    assert!(
-        notice.contains(&format!("({:.1} s, {in_file}", 50.0f64.min(1e9))) || notice.contains(&in_file),
-        "{notice}"
-    );
+    assert!(notice.contains(&in_file), "the notice gives the file's count: {notice}");
     if (data.store.len() as u64) < data.samples_in_file {
         assert!(
             notice.contains(&format!(", {} replayed at", data.store.len())),

@@ -318,3 +318,20 @@ fn a_target_angle_beyond_a_turn_is_refused_and_a_respelled_one_is_said() {
         h.state().notices()
     );
 }
+
+/// The last trial: the target's X took 1e9 mm, shown cut off, and only the IK then said
+/// "unreachable". A coordinate beyond ±2000 mm is refused with the range, the target kept.
+#[test]
+fn a_target_position_far_beyond_any_reach_is_refused_with_the_range() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.run_steps(3);
+    let before = field_value(&h, "target X");
+    type_into(&mut h, "target X", "1e9");
+    let refused = h.state().notices().iter().any(|n| {
+        n.error && n.text.contains("target X: 1000000000 mm is outside -2000–2000 mm; the target stays as it was")
+    });
+    assert!(refused, "{:?}", h.state().notices());
+    assert_eq!(field_value(&h, "target X"), before, "the target stays as it was");
+    type_into(&mut h, "target X", "-1,5m");
+    assert_eq!(field_value(&h, "target X"), "-1500.00", "a length in range is taken, converted");
+}

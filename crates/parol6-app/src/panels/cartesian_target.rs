@@ -37,6 +37,11 @@ pub struct CartesianTargetPanel {
 /// angle is refused, not wrapped (45.5 rad was a slip, not 7 turns).
 const MAX_TARGET_ANGLE_RAD: f64 = std::f64::consts::TAU;
 
+/// Largest position coordinate the target takes, mm: several times any PAROL6 reach (about
+/// 0.45 m), so that what lies beyond it is a slip ("1e9"), refused with the range, not a pose
+/// the IK then calls unreachable while the field shows a number cut off.
+const MAX_TARGET_POSITION_MM: f64 = 2000.0;
+
 /// The refusal of an angle `v` (in `unit`) typed into the target's field `name` beyond a turn.
 fn beyond_a_turn(name: &str, v: f64, unit: AngleUnit) -> String {
     let typed = unit.fmt(unit.to_rad(v));
@@ -254,7 +259,16 @@ impl CartesianTargetPanel {
         });
         for (k, event) in events {
             match event {
-                Some(EntryEvent::Committed(v)) if k < 3 => self.xyz_mm[k] = v,
+                Some(EntryEvent::Committed(v)) if k < 3 => {
+                    let name = format!("target {}", ["X", "Y", "Z"][k]);
+                    match entry::in_range(&name, v, (-MAX_TARGET_POSITION_MM, MAX_TARGET_POSITION_MM), "mm", false) {
+                        Ok(v) => self.xyz_mm[k] = v,
+                        Err(e) => {
+                            ctx.error(format!("{e}; the target stays as it was"));
+                            continue;
+                        }
+                    }
+                }
                 Some(EntryEvent::Committed(v)) => {
                     let name = labels[k - 3];
                     let mut angles = ctx.settings.tcp_readout_rad(self.rpy);

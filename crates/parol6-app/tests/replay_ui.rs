@@ -119,9 +119,9 @@ fn replay_shows_the_recording_in_every_readout_and_refuses_motion() {
     std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
 }
 
-/// A robot recording of `n` samples 10 ms apart at standby whose link is lost at sample `lost_at`
-/// with the E-stop pressed.
-fn robot_recording(model: &RobotModel, n: u64, lost_at: u64) -> Vec<u8> {
+/// A robot recording of `n` samples 10 ms apart at standby from motion time `start_s` whose link
+/// is lost at sample `lost_at` with the E-stop pressed.
+fn robot_recording(model: &RobotModel, n: u64, lost_at: u64, start_s: f64) -> Vec<u8> {
     use parol6_core::telemetry::writer::{McapSink, RecordingInfo};
     use parol6_core::telemetry::{DriveKind, JointTelemetry, LinkHealth, TelemetrySample};
     let info = RecordingInfo {
@@ -150,7 +150,7 @@ fn robot_recording(model: &RobotModel, n: u64, lost_at: u64) -> Vec<u8> {
         let lost = k >= lost_at;
         let sample = TelemetrySample {
             seq: k,
-            time_s: k as f64 * 0.01,
+            time_s: start_s + k as f64 * 0.01,
             joints,
             drive: DriveKind::StepsPerS,
             tcp: model.fk(&q),
@@ -183,7 +183,7 @@ fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
     let dir = std::env::temp_dir().join(format!("parol6-replay-link-ui-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let path = dir.join("robot.mcap");
-    std::fs::write(&path, robot_recording(&model, 500, 300)).expect("write");
+    std::fs::write(&path, robot_recording(&model, 500, 300, 0.0)).expect("write");
 
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.run_steps(2);
@@ -377,4 +377,35 @@ fn the_replays_notice_and_header_give_the_same_sample_count() {
         "the timeline's header gives the same count as the notice: {in_file}"
     );
     std::fs::remove_dir_all(path.parent().expect("the recording's folder")).expect("remove the temporary folder");
+}
+
+/// The last trial: in replay the Dynamics panel said "at the cursor (t = 30.61 s)" while the
+/// timeline said 3.55 s: the panel gave the recording's motion time, the timeline the time from
+/// its start. Both now count from the recording's start.
+#[test]
+fn the_dynamics_panel_in_replay_counts_time_from_the_recordings_start_as_the_timeline() {
+    let model = RobotModel::parol6();
+    let dir = std::env::temp_dir().join(format!("parol6-replay-dyn-origin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("late.mcap");
+    // a recording made 30 s after the simulation started, 5 s long
+    std::fs::write(&path, robot_recording(&model, 500, 1000, 30.0)).expect("write");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(2);
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: late.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    until(&mut h, "the recording's analysis", 60.0, |h| {
+        h.query_all_by_label_contains("at the cursor (t = ").next().is_some() && !h.state().dynamics_panel().computing()
+    });
+    let (t0, _) = h.state().replay().expect("open").span_s();
+    let cursor = h.state().replay().expect("open").cursor_s;
+    assert!(t0 > 29.0, "the recording starts late: {t0}");
+    let from_start = format!("at the cursor (t = {:.2} s):", cursor - t0);
+    assert!(shows(&h, &from_start), "the panel counts from the recording's start: {from_start}");
+    assert!(shows(&h, &format!("{:.2} s", cursor - t0)), "as the timeline does");
+    std::fs::remove_dir_all(&dir).expect("remove the temporary folder");
 }

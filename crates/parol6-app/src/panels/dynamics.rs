@@ -284,13 +284,14 @@ impl DynamicsPanel {
                 (Ok(t), at_cursor) => {
                     let names = model.joint_names();
                     ui.horizontal_wrapped(|ui| {
-                        ui.label(format!("at the cursor (t = {:.2} s):", r.cursor_s));
+                        // times from the recording's start, as the timeline gives them
+                        ui.label(format!("at the cursor (t = {:.2} s):", r.cursor_s - r.span_s().0));
                         for (j, tau) in at_cursor.unwrap_or_default().iter().enumerate() {
                             let name = names.get(j).copied().unwrap_or("?");
                             ui.label(egui::RichText::new(format!("{name} {tau:.2} N·m")).color(joint_color(j)));
                         }
                     });
-                    torque_view(ui, model, t, &done.lines, Some(r.cursor_s));
+                    torque_view(ui, model, t, &done.lines, Some((r.cursor_s, r.span_s().0)));
                 }
             },
         }
@@ -304,8 +305,14 @@ fn torque_view(
     model: &RobotModel,
     t: &ProgramTorques,
     lines: &[Vec<[f64; 2]>],
-    cursor_s: Option<f64>,
+    replay: Option<(f64, f64)>,
 ) {
+    // a recording's times (its cursor, its stretches, the plot) are shown from its start, as the
+    // timeline shows them; a program's from 0
+    let (cursor_s, origin_s) = match replay {
+        Some((cursor_s, start_s)) => (Some(cursor_s - start_s), start_s),
+        None => (None, 0.0),
+    };
     let names = model.joint_names();
     ui.horizontal_wrapped(|ui| {
         for (j, peak) in t.peak_abs_nm.iter().enumerate() {
@@ -338,12 +345,12 @@ fn torque_view(
                         w.joint,
                         w.peak_nm,
                         w.limit_nm,
-                        w.peak_s,
+                        w.peak_s - origin_s,
                         // a recording's stretch has no program line
                         if w.line > 0 { format!("line {}, ", w.line) } else { String::new() },
                         w.step_kind,
-                        w.start_s,
-                        w.end_s
+                        w.start_s - origin_s,
+                        w.end_s - origin_s
                     ),
                 );
             }
@@ -371,7 +378,8 @@ fn torque_view(
         }
         for (j, pts) in lines.iter().enumerate() {
             let name = names.get(j).copied().unwrap_or("?").to_string();
-            pui.line(Line::new(name, PlotPoints::new(pts.clone())).color(joint_color(j)));
+            let shown: Vec<[f64; 2]> = pts.iter().map(|&[t, v]| [t - origin_s, v]).collect();
+            pui.line(Line::new(name, PlotPoints::new(shown)).color(joint_color(j)));
             if let Some(limit) = t.limits_nm.as_ref().and_then(|l| l.get(j)) {
                 for y in [*limit, -*limit] {
                     pui.hline(HLine::new("", y).color(joint_color(j)).style(LineStyle::dashed_loose()).width(0.8));

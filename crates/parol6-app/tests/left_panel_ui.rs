@@ -1,7 +1,8 @@
 //! Issue 32 major 6: the left panel's widgets do not move under the pointer. The rectangles of
 //! the buttons below each changing part are recorded before and after the change (the
 //! pre-flight count, the step editor opening, STOP pressed during a run, the connection
-//! section unfolding) and must stay where they were.
+//! section unfolding) and must stay where they were. The right column's Cartesian target too:
+//! its IK result changes with every typed value.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -166,4 +167,54 @@ fn disconnecting_at_the_end_of_the_scrolled_left_column_moves_nothing_under_the_
     h.run_steps(30);
     let after = h.get_by_label("Move gripper").rect();
     assert!((after.min - before.min).length() < 0.5, "Move gripper moved from {before:?} to {after:?} on Disconnect");
+}
+
+/// trial9, 1024x700 with the right column scrolled to its end: a value typed into the Cartesian
+/// target changed its IK result (two solutions, one, "No solution: …" over three lines); the
+/// column's scroll clamped and the target's fields moved 14–30 px, so the next click typed the
+/// pitch into Roll and the yaw into Pitch. The result has a fixed height now.
+#[test]
+fn a_typed_cartesian_target_moves_nothing_in_the_scrolled_right_column() {
+    let mut h = ui_support::app_harness(egui::vec2(1024.0, 700.0));
+    for _ in 0..20 {
+        h.event(egui::Event::PointerMoved(egui::pos2(860.0, 500.0)));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -2000.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(30); // egui's smooth scrolling runs out
+    let watched = ["target X", "target Pitch", "target Yaw", "Solve IK", "Move to target", "Run test"];
+    let rects =
+        |h: &Harness<'_, Parol6App>| -> Vec<egui::Rect> { watched.iter().map(|l| h.get_by_label(l).rect()).collect() };
+    let before = rects(&h);
+    assert!(before[5].max.y <= 700.0, "the column is scrolled to its end: Run test at {:?}", before[5]);
+    let mut moved = Vec::new();
+    // X, Y, Z as typed in the trial (no solution over three lines), beyond reach, back to a
+    // pose with two solutions, and back where the arm is (one solution, singular)
+    for (field, text) in [
+        ("target X", "3in"),
+        ("target Y", "3in"),
+        ("target Z", "0.2m"),
+        ("target Z", "2000"),
+        ("target Y", "200"),
+        ("target Z", "300"),
+        ("target X", "0"),
+        ("target Y", "236.77"),
+        ("target Z", "334"),
+    ] {
+        ui_support::type_into(&mut h, field, text);
+        h.run_steps(30);
+        for ((l, a), b) in watched.iter().zip(&before).zip(rects(&h)) {
+            let d = (a.min - b.min).length();
+            if d >= 0.5 {
+                moved.push(format!("{l} moved by {d:.1} px after {field} = {text}"));
+            }
+        }
+    }
+    assert!(moved.is_empty(), "{moved:#?}");
 }

@@ -10,6 +10,7 @@ use parol6_core::kinematics::iso_from_xyz_rpy;
 
 use super::angle_text::in_unit;
 use super::entry::{self, EntryEvent};
+use super::fixed_box;
 use super::{AngleUnit, Panel, PanelContext};
 
 /// The Cartesian target panel.
@@ -32,6 +33,10 @@ pub struct CartesianTargetPanel {
     /// The joints the last solve was seeded with (the distances shown are to these).
     solved_seed: Vec<f64>,
 }
+
+/// Text rows the IK result keeps, whatever it says: the header and about two solutions (each
+/// may take two rows in a narrow column); more scroll inside.
+const RESULT_ROWS: usize = 5;
 
 /// Largest orientation angle the target takes, rad (one turn, ±360°): beyond it a typed
 /// angle is refused, not wrapped (45.5 rad was a slip, not 7 turns).
@@ -313,7 +318,12 @@ impl CartesianTargetPanel {
             self.solve(ctx);
         }
 
-        match &self.result {
+        // The result has a fixed height (more solutions scroll inside): a typed value changes it
+        // (two solutions, one, a "No solution" of three lines), and a height that followed it
+        // moved the fields above under the pointer in a column scrolled to its end (trial9).
+        let rows = RESULT_ROWS as f32;
+        let result_h = rows * ui.spacing().interact_size.y + (rows - 1.0) * ui.spacing().item_spacing.y;
+        fixed_box::fixed_height(ui, "cartesian-target-result", result_h, |ui| match &self.result {
             None => {
                 ui.weak("Edit the target or press Solve IK.");
             }
@@ -344,7 +354,7 @@ impl CartesianTargetPanel {
                     self.selected_label = sols.get(i).map(solution_label);
                 }
             }
-        }
+        });
         let chosen = self.chosen().cloned();
         ui.horizontal(|ui| {
             let refused = ctx.motion_refused();

@@ -423,3 +423,33 @@ fn a_file_menu_action_that_fails_closes_the_menu_over_its_error() {
     assert!(!menu_open(&h), "the File menu closed over the error of Start recording");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Trial 9: E-STOP during a run ended it with "Draw stopped: halted: refused: controller is
+/// disabled: enable it first", the refusal that followed, not its cause. It now says the
+/// operator pressed E-STOP, once.
+#[test]
+fn an_estop_during_a_run_says_once_that_the_operator_pressed_it() {
+    use parol6_app::app::{ConnectTarget, LaunchOptions};
+    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == parol6_app::panels::StateSource::Robot && s.blocked.is_none()
+    });
+    assert!(h.state_mut().start_program("Draw", false));
+    until(&mut h, "the program moving the arm", 60.0, |h| {
+        h.state().program_running() && h.state().backend().state().moving
+    });
+    settle(&mut h, 0.3);
+    h.get_by_label("E-STOP").click();
+    settle(&mut h, 1.5);
+    let notices: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();
+    assert!(
+        !notices.iter().any(|n| n.contains("Draw stopped") && n.contains("disabled")),
+        "no refusal as the cause: {notices:?}"
+    );
+    let said = notices.iter().filter(|n| n.contains("Draw stopped: the operator pressed E-STOP")).count();
+    assert_eq!(said, 1, "said once: {notices:?}");
+    h.get_by_label("Release E-STOP").click();
+    settle(&mut h, 0.5);
+}

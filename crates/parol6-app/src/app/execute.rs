@@ -15,6 +15,10 @@ use crate::panels::{AppCommand, LinkCommand, RobotState};
 /// A port that has not answered within this long is reported as "no controller answers".
 const ANSWER_TIMEOUT_S: f64 = 3.0;
 
+/// A program's outcome when the operator's E-STOP ended it (not the refusals of the disabled
+/// controller that follow).
+const RUN_ESTOP: &str = "the operator pressed E-STOP";
+
 /// True for a command that sets the arm moving (not STOP, a pause or a jog release).
 fn sets_arm_moving(cmd: &AppCommand) -> bool {
     use parol6_core::program::runner::RunnerControl;
@@ -139,7 +143,7 @@ impl Parol6App {
                     Ok(r) => {
                         self.state.program = Some(r.progress());
                         self.program = Some(r);
-                        self.run_disconnected = false;
+                        self.run_ended_by = None;
                         self.note_program_start(&name);
                     }
                     Err(e) => self.notice(format!("cannot start {name}: {e}"), true),
@@ -198,6 +202,9 @@ impl Parol6App {
     /// and latches (motion refused here until released) even when the backend refused them.
     fn press_estop(&mut self) {
         self.estop = true;
+        if self.program_running() {
+            self.run_ended_by = Some(RUN_ESTOP);
+        }
         self.stop_program();
         self.state.measurement.abort();
         self.jog_held = None;

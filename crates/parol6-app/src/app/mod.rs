@@ -128,9 +128,9 @@ pub struct Parol6App {
     hw: Option<HwLink>,
     /// The running (or last) program, on the backend that was active when it started.
     program: Option<ProgramRunner>,
-    /// The running program was ended by the operator's Disconnect: its outcome says so, once,
-    /// instead of the refusals of the link going down.
-    run_disconnected: bool,
+    /// What ended the running program by the operator's hand (Disconnect, E-STOP): its outcome
+    /// says so, once, instead of the refusals of the link going down or of a disabled controller.
+    run_ended_by: Option<&'static str>,
     /// What the panels read (the open recording, the program's progress, the file being
     /// written, the link): changed here only, on their [`AppCommand`]s.
     state: state::AppState,
@@ -229,7 +229,7 @@ impl Parol6App {
             sim,
             hw: None,
             program: None,
-            run_disconnected: false,
+            run_ended_by: None,
             state: state::AppState::default(),
             jog_held: None,
             cartesian_jog_held: None,
@@ -326,7 +326,7 @@ impl Parol6App {
 
     fn disconnect(&mut self) {
         if self.program_running() && self.hw.is_some() {
-            self.run_disconnected = true;
+            self.run_ended_by = Some(RUN_DISCONNECTED);
         }
         self.stop_program();
         if self.state.recording.as_ref().is_some_and(|r| r.on_robot) {
@@ -421,8 +421,8 @@ impl Parol6App {
         let robot: &RobotState = &robot_arc;
         if let Some(run) = &self.program {
             let mut p = run.progress();
-            if self.run_disconnected && p.state.is_finished() {
-                p.state = parol6_core::program::runner::RunState::Failed(RUN_DISCONNECTED.into());
+            if let Some(why) = self.run_ended_by.filter(|_| p.state.is_finished()) {
+                p.state = parol6_core::program::runner::RunState::Failed(why.into());
                 p.stop_failed = None;
             }
             if let parol6_core::program::runner::RunState::Failed(why) = &p.state

@@ -9,7 +9,7 @@ mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use ui_support::{app_harness, has_label, until};
 
 use parol6_app::app::Parol6App;
@@ -407,5 +407,38 @@ fn the_dynamics_panel_in_replay_counts_time_from_the_recordings_start_as_the_tim
     let from_start = format!("at the cursor (t = {:.2} s):", cursor - t0);
     assert!(shows(&h, &from_start), "the panel counts from the recording's start: {from_start}");
     assert!(shows(&h, &format!("{:.2} s", cursor - t0)), "as the timeline does");
+    std::fs::remove_dir_all(&dir).expect("remove the temporary folder");
+}
+
+/// Trial 9: in replay the plots' time axis (and the pointer's read-out) gave the recording's
+/// clock, 100–130 s, while the timeline counted from 0. They now count from the recording's
+/// start too.
+#[test]
+fn the_plots_in_replay_count_time_from_the_recordings_start_as_the_timeline() {
+    let model = RobotModel::parol6();
+    let dir = std::env::temp_dir().join(format!("parol6-replay-plot-origin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("late.mcap");
+    std::fs::write(&path, robot_recording(&model, 500, 1000, 30.0)).expect("write");
+
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    h.run_steps(2);
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: late.mcap"));
+    h.key_press(egui::Key::Escape);
+    until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));
+    let export = h.get_by_label("Export to").rect();
+    h.hover_at(egui::pos2(export.left() + 300.0, export.bottom() + 80.0));
+    h.run_steps(2);
+    let readout =
+        h.query_all_by_label_contains("\nJ1: ").find_map(|n| n.value().or_else(|| n.accesskit_node().label()));
+    let text = readout.expect("a hover read-out");
+    let t: f64 = text
+        .strip_prefix("t = ")
+        .and_then(|r| r.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("a time in {text:?}"));
+    // the recording runs from 30 s of motion time; the plot's window may reach past its end
+    assert!((0.0..29.0).contains(&t), "the pointer's time counts from the recording's start: {text}");
     std::fs::remove_dir_all(&dir).expect("remove the temporary folder");
 }

@@ -66,6 +66,18 @@ pub fn decimals_for_step(step: f64) -> usize {
     (-step.log10() - 1e-9).ceil().clamp(0.0, 12.0) as usize
 }
 
+/// The time axis of a recording's plots counted from its start `origin_s`, as the timeline and
+/// the Dynamics panel count: marks at round times from the start (egui_plot's own powers of ten,
+/// moved), labelled from it. A live plot keeps the simulation's clock.
+pub fn time_from(plot: egui_plot::Plot<'_>, origin_s: f64) -> egui_plot::Plot<'_> {
+    let spacer = egui_plot::log_grid_spacer(10);
+    plot.x_grid_spacer(move |input: GridInput| {
+        let from_start = GridInput { bounds: (input.bounds.0 - origin_s, input.bounds.1 - origin_s), ..input };
+        spacer(from_start).into_iter().map(|m| GridMark { value: m.value + origin_s, ..m }).collect()
+    })
+    .x_axis_formatter(move |mark, _| tick_label(mark.value - origin_s, mark.step_size))
+}
+
 /// A tick label: the value with the decimals its step needs, never "-0".
 pub fn tick_label(value: f64, step: f64) -> String {
     let decimals = decimals_for_step(step);

@@ -380,6 +380,8 @@ impl Panel for PlotsPanel {
         let mut interacted = false;
         let mut seek = None;
         let cursor = self.replay.as_ref().map(|(_, c)| *c);
+        // a recording's times are shown from its start (the timeline's clock); live, the simulation's
+        let origin_s = self.replay.as_ref().and_then(|(d, _)| d.store.time_range_s()).map_or(0.0, |(t0, _)| t0);
         let switches = if self.replay.is_some() { Vec::new() } else { self.switches() };
         let id_lists: Vec<Vec<SeriesId>> = shown.iter().map(|q| self.selected(*q)).collect();
         let mut drawn_s = Vec::new();
@@ -409,7 +411,10 @@ impl Panel for PlotsPanel {
                     .show_background(false)
                     .allow_scroll(false);
                 if k + 1 == shown.len() {
-                    plot = plot.x_axis_label("time (s)");
+                    plot = plot.x_axis_label(if origin_s == 0.0 { "time (s)" } else { "time from the start (s)" });
+                }
+                if origin_s != 0.0 {
+                    plot = plot_axis::time_from(plot, origin_s);
                 }
                 let resp = plot.show(ui, |pui| {
                     let b = pui.plot_bounds();
@@ -464,7 +469,7 @@ impl Panel for PlotsPanel {
                     let b = pui.plot_bounds();
                     let value_step = (b.max()[1] - b.min()[1]) / f64::from(pui.transform().frame().height().max(1.0))
                         * plot_axis::LABEL_SPACING_PT;
-                    let hover = hover_t.map(|t| plot_axis::hover_text(t, &hover_values, unit, value_step));
+                    let hover = hover_t.map(|t| plot_axis::hover_text(t - origin_s, &hover_values, unit, value_step));
                     ((x0, x1), group, clicked_at.map(|p| p.x), hover)
                 });
                 let ((x0, x1), group, clicked_at, hover) = resp.inner;

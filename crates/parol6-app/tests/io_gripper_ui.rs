@@ -167,6 +167,9 @@ fn stop_and_the_estop_stay_on_screen_with_the_joints_panel_hidden() {
     h.get_by_label("E-STOP").click();
     until(&mut h, "the simulated drives are disabled", 5.0, |h| h.state().sim().state().io.drives_disabled);
     assert!(h.state().estop_latched());
+    // the button reads "Release E-STOP" from the frame after the latch (the drives may be off
+    // before that frame is laid out)
+    until(&mut h, "the release button", 5.0, |h| has_label(h, "Release E-STOP"));
     h.get_by_label("Release E-STOP").click();
     until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
     // shown again, the panel has them, the menu bar not

@@ -74,10 +74,11 @@ pub enum EntryEvent {
 /// A typed value is never clamped or rounded without a word.
 pub fn in_range(name: &str, v: f64, range: (f64, f64), unit: &str, whole: bool) -> Result<f64, String> {
     let u = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+    let (shown, lo, hi) = (plain(v), plain(range.0), plain(range.1));
     if !(range.0..=range.1).contains(&v) {
-        Err(format!("{name}: {v}{u} is outside {}–{}{u}", range.0, range.1))
+        Err(format!("{name}: {shown}{u} is outside {lo}–{hi}{u}"))
     } else if whole && v.fract() != 0.0 {
-        Err(format!("{name}: {v}{u} is not a whole number ({}–{}{u})", range.0, range.1))
+        Err(format!("{name}: {shown}{u} is not a whole number ({lo}–{hi}{u})"))
     } else {
         Ok(v)
     }
@@ -167,6 +168,19 @@ pub fn typed_slider(
     (response, refusal.into_inner())
 }
 
+/// `v` for a message: at most 6 decimals, without the float noise of a unit conversion
+/// ("1000000000.0000001" → "1000000000", "0.30000000000000004" → "0.3") and never "-0".
+fn plain(v: f64) -> String {
+    let rounded = (v * 1e6).round() / 1e6;
+    if rounded.is_finite() && rounded != 0.0 {
+        format!("{rounded}")
+    } else if v.is_finite() {
+        "0".into()
+    } else {
+        format!("{v}")
+    }
+}
+
 /// The hover hint of an entry (the only one: a caller adds none of its own, or two tooltips
 /// stack): what to type and, for a field with a range, the range.
 fn hint(name: &str, unit: &str, range: Option<(f64, f64)>) -> String {
@@ -250,6 +264,19 @@ fn entry(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Trial 9: a step angle typed in radians was refused as "1000000000.0000001 is outside
+    /// 0.01–90 °" (the conversion's float noise).
+    #[test]
+    fn a_refusal_shows_its_numbers_without_float_noise() {
+        let e = in_range("step", 1e9 * (1.0 + f64::EPSILON), (0.01, 90.0), "°", false).unwrap_err();
+        assert_eq!(e, "step: 1000000000 ° is outside 0.01–90 °");
+        let e = in_range("speed", 0.1 + 0.2 + 1.0, (0.0, 1.0), "", false).unwrap_err();
+        assert_eq!(e, "speed: 1.3 is outside 0–1");
+        let e = in_range("cycles", -0.5, (2.0, 1000.0), "", true).unwrap_err();
+        assert_eq!(e, "cycles: -0.5 is outside 2–1000");
+        assert_eq!(plain(-1e-9), "0");
+    }
 
     #[test]
     fn fixed_format_has_no_negative_zero() {

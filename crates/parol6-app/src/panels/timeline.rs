@@ -33,7 +33,7 @@ pub enum ReplayControl {
 pub struct TimelinePanel {
     /// Sizes of the event buttons, points, as last laid out, and the scale they were laid out
     /// at: the events row lays out only the buttons it shows (see [`events_row`]).
-    event_sizes_pt: (Vec<egui::Vec2>, f32),
+    event_sizes_pt: (Vec<egui::Vec2>, f32, super::AngleUnit),
 }
 
 impl Panel for TimelinePanel {
@@ -102,7 +102,7 @@ impl Panel for TimelinePanel {
                 commands.push(AppCommand::Replay(ReplayControl::Scrub(at)));
             }
         });
-        if let Some(t) = events_row(ui, r, &mut self.event_sizes_pt, t0) {
+        if let Some(t) = events_row(ui, r, &mut self.event_sizes_pt, t0, ctx.settings.unit) {
             commands.push(AppCommand::SeekReplay(t));
         }
         ctx.commands.append(&mut commands);
@@ -114,17 +114,25 @@ impl Panel for TimelinePanel {
 /// had when last laid out (all of them the first time, and again at a new scale). Laying out
 /// the hidden ones cost a text layout each on every frame that draws the panels, and with
 /// frame reuse (`app/frame_reuse`) each of those frames laid them out anew.
-fn events_row(ui: &mut egui::Ui, r: &Replay, event_sizes_pt: &mut (Vec<egui::Vec2>, f32), t0: f64) -> Option<f64> {
+fn events_row(
+    ui: &mut egui::Ui,
+    r: &Replay,
+    event_sizes_pt: &mut (Vec<egui::Vec2>, f32, super::AngleUnit),
+    t0: f64,
+    unit: super::AngleUnit,
+) -> Option<f64> {
     let events = &r.data.events;
     if events.is_empty() {
         return None;
     }
     let shown = events.len().min(EVENTS_SHOWN);
     let ppp = ui.ctx().pixels_per_point();
-    let (sizes, sizes_ppp) = event_sizes_pt;
-    if *sizes_ppp != ppp || sizes.len() != shown {
+    let (sizes, sizes_ppp, sizes_unit) = event_sizes_pt;
+    // the texts' angles are in the chosen unit: another unit, other widths
+    if *sizes_ppp != ppp || *sizes_unit != unit || sizes.len() != shown {
         sizes.clear();
         *sizes_ppp = ppp;
+        *sizes_unit = unit;
     }
     let mut jump = None;
     ui.scope(|ui| {
@@ -148,7 +156,8 @@ fn events_row(ui: &mut egui::Ui, r: &Replay, event_sizes_pt: &mut (Vec<egui::Vec
                         3 => palette::WARN_TEXT,
                         _ => palette::ERROR_TEXT,
                     });
-                    let text = egui::RichText::new(format!("{:.1} s {}", e.time_s - t0, e.message)).color(color);
+                    let message = super::angle_text::in_unit(&e.message, unit);
+                    let text = egui::RichText::new(format!("{:.1} s {message}", e.time_s - t0)).color(color);
                     let button = ui.small_button(text).on_hover_text("jump here");
                     if button.clicked() {
                         jump = Some(e.time_s);

@@ -103,7 +103,8 @@ impl EventDetector {
                 out.push(TelemetryEvent {
                     time_s: s.time_s,
                     kind: EventKind::LimitWarning { joint: i, zone: now },
-                    message: format!("J{} {} (q = {:.4} rad)", i + 1, now.label(), joint.q_rad),
+                    // in degrees, as every message: a window in radians converts what it shows
+                    message: format!("J{} {} (q = {:.2}°)", i + 1, now.label(), joint.q_rad.to_degrees()),
                 });
             }
             *zone = now;
@@ -165,6 +166,41 @@ mod tests {
     use super::*;
     use crate::model::RobotModel;
     use crate::motion::StateSource;
+
+    /// Issue 32's minor (seen again by trial 10): a limit event read "J5 at limit (q = 1.2579
+    /// rad)" in a window showing degrees. Like every message it is now in degrees, which a
+    /// window in radians converts.
+    #[test]
+    fn a_limit_event_gives_the_joint_position_in_degrees() {
+        use crate::limits::LimitZone;
+        use crate::telemetry::{DriveKind, JointTelemetry};
+        let joint = |q_rad, zone| JointTelemetry {
+            cmd_q_rad: q_rad,
+            cmd_qd_rad_s: 0.0,
+            cmd_qdd_rad_s2: 0.0,
+            q_rad,
+            qd_rad_s: 0.0,
+            qdd_rad_s2: 0.0,
+            drive: 0.0,
+            zone,
+        };
+        let sample = |zone| TelemetrySample {
+            seq: 1,
+            time_s: 2.0,
+            joints: vec![joint(0.0, LimitZone::Safe), joint(1.2579, zone)],
+            drive: DriveKind::StepsPerS,
+            tcp: crate::kinematics::TcpPose::from_xyz_rpy([0.0; 3], [0.0; 3]),
+            worst_zone: None,
+            program_step: None,
+            link: None,
+        };
+        let mut d = EventDetector::new();
+        let mut out = Vec::new();
+        d.observe_sample(&sample(LimitZone::Safe), &mut out);
+        d.observe_sample(&sample(LimitZone::Critical), &mut out);
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert_eq!(out[0].message, "J2 at limit (q = 72.07°)");
+    }
 
     #[test]
     fn refusal_and_blocked_are_reported_once() {

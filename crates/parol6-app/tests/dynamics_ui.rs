@@ -289,3 +289,70 @@ fn the_torque_run_buttons_lie_inside_the_centre_column_at_every_window_size() {
         }
     }
 }
+
+/// trial10, 1024×700: with the dynamics panel scrolled to its forward-dynamics form, each time
+/// the arm stood still again (after a torque run, a jog or a program) the inverse dynamics was
+/// recomputed and showed one "computing…" line instead of its plot: the panel's scroll clamped
+/// and the form jumped away from the pointer (Run torques went to the top of the panel, a
+/// second click landed on the torque plot). The section keeps its height while it computes.
+#[test]
+fn a_torque_run_ending_moves_nothing_in_the_scrolled_dynamics_panel() {
+    let size = egui::vec2(1024.0, 700.0);
+    let mut h = app_harness(size);
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(4);
+    until(&mut h, "the program's torques", 20.0, |h| {
+        has_label(h, "J2 peak") && !h.state().dynamics_panel().computing()
+    });
+    // the panel under the 3D view scrolled to its end: the forward-dynamics form in sight
+    let over_panel = egui::pos2((LEFT_PANEL_WIDTH + size.x - RIGHT_PANEL_WIDTH) / 2.0, size.y - 60.0);
+    for _ in 0..20 {
+        h.event(egui::Event::PointerMoved(over_panel));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -2000.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(30); // egui's smooth scrolling runs out
+    let before = h.get_by_label("Run torques").rect();
+    assert!(in_sight(Some(before), size), "Run torques in sight: {before:?}");
+    h.get_by_label("hold other joints").click();
+    h.run_steps(2);
+    type_into(&mut h, "J1 torque", "0.2");
+    type_into(&mut h, "Run time", "0.6");
+    let before = h.get_by_label("Run torques").rect();
+    h.get_by_label("Run torques").click();
+    until(&mut h, "the run to start", 10.0, |h| h.state().sim().snapshot().moving);
+    let mut worst = (0.0_f32, before);
+    let mut recomputed = false;
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    // through the run, its end, the new analysis and its result
+    loop {
+        h.run_steps(1);
+        let now = h.get_by_label("Run torques").rect();
+        let moved = (now.min - before.min).length();
+        if moved > worst.0 {
+            worst = (moved, now);
+        }
+        let panel = h.state().dynamics_panel();
+        recomputed |= panel.computing();
+        if recomputed && !panel.computing() && !h.state().sim().snapshot().moving {
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "timed out waiting for the new analysis");
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.run_steps(30);
+    let after = h.get_by_label("Run torques").rect();
+    assert!(has_label(&h, "torque run done"), "the run ended");
+    assert!(
+        worst.0 < 0.5 && (after.min - before.min).length() < 0.5,
+        "Run torques moved from {before:?} to {:?} (by {:.0} pt) while the torques were recomputed, ending at {after:?}",
+        worst.1,
+        worst.0
+    );
+}

@@ -68,6 +68,10 @@ pub struct DynamicsPanel {
     pub form: TorqueForm,
     /// The analysis of the open recording (replay).
     replay: replay::ReplayAnalysis,
+    /// The height the last drawn analysis took and the width it was drawn at: while a new one
+    /// is computed the section keeps that height, so the forward-dynamics form below it does not
+    /// jump away from the pointer each time the arm stops (trial10).
+    shown_height: Option<(f32, f32)>,
 }
 
 impl DynamicsPanel {
@@ -79,6 +83,7 @@ impl DynamicsPanel {
             pending: None,
             form: TorqueForm::new(joints),
             replay: Default::default(),
+            shown_height: None,
         }
     }
 
@@ -233,6 +238,7 @@ impl Panel for DynamicsPanel {
             ui.heading(self.title());
             ui.label(format!("— joint torques of \"{}\" from the current pose, before it runs", self.program.name));
         });
+        let (top, width) = (ui.cursor().top(), ui.available_width());
         match self.computed.as_ref().map(|c| (&c.result, &c.lines)) {
             _ if self.pending.is_some() => {
                 ui.horizontal(|ui| {
@@ -240,6 +246,12 @@ impl Panel for DynamicsPanel {
                     ui.weak("computing the joint torques…");
                 });
                 ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+                // the last analysis's height kept: the form below stays where it was
+                if let Some((shown_width, shown_height)) = self.shown_height
+                    && (shown_width - width).abs() < 0.5
+                {
+                    ui.add_space((shown_height - (ui.cursor().top() - top)).max(0.0));
+                }
             }
             None => {
                 ui.weak("computed once the arm stands still");
@@ -247,7 +259,10 @@ impl Panel for DynamicsPanel {
             Some((Err(e), _)) => {
                 ui.colored_label(palette::rgb(palette::ERROR_TEXT), format!("cannot plan the program: {e}"));
             }
-            Some((Ok(t), lines)) => torque_view(ui, ctx.model, t, lines, None),
+            Some((Ok(t), lines)) => {
+                torque_view(ui, ctx.model, t, lines, None);
+                self.shown_height = Some((width, ui.cursor().top() - top));
+            }
         }
         ui.separator();
         self.form.ui(ui, ctx);

@@ -50,6 +50,21 @@ fn focus_view(h: &mut Harness<'_, Parol6App>) {
     h.run_steps(1);
 }
 
+/// Clicks a plain label on the left column, under the step list (the pointer stays there, off
+/// the 3D view; no widget has the keyboard); where it clicked.
+fn click_off_the_view(h: &mut Harness<'_, Parol6App>) -> egui::Pos2 {
+    let off = h.get_by_label_contains("Click a step to edit").rect().center();
+    h.hover_at(off);
+    for pressed in [true, false] {
+        let modifiers = Modifiers::NONE;
+        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+    assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
+    off
+}
+
 /// Clicks the J1 target entry (it keeps the keyboard).
 fn focus_field(h: &mut Harness<'_, Parol6App>) {
     h.get_by_label("J1 target").click();
@@ -256,16 +271,7 @@ fn shift_let_go_before_the_letter_does_not_turn_an_orientation_jog_into_a_linear
 #[test]
 fn a_cartesian_jog_key_acts_only_with_the_pointer_over_the_3d_view() {
     let mut h = harness("view-only");
-    // a click on the left column (a plain label under the step list): no field has the keyboard
-    let off = h.get_by_label_contains("Click a step to edit").rect().center();
-    h.hover_at(off);
-    for pressed in [true, false] {
-        let modifiers = Modifiers::NONE;
-        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
-        h.run_steps(1);
-    }
-    h.run_steps(2);
-    assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
+    let off = click_off_the_view(&mut h);
     for key in [Key::A, Key::D, Key::S, Key::W, Key::Q, Key::E] {
         press(&mut h, key, Modifiers::NONE, 4);
         press(&mut h, key, Modifiers::SHIFT, 4);
@@ -308,15 +314,7 @@ fn a_cartesian_jog_key_acts_only_with_the_pointer_over_the_3d_view() {
 #[test]
 fn home_acts_only_with_the_pointer_over_the_3d_view() {
     let mut h = harness("home-view-only");
-    let off = h.get_by_label_contains("Click a step to edit").rect().center();
-    h.hover_at(off);
-    for pressed in [true, false] {
-        let modifiers = Modifiers::NONE;
-        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
-        h.run_steps(1);
-    }
-    h.run_steps(2);
-    assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
+    click_off_the_view(&mut h);
     press(&mut h, Key::H, Modifiers::NONE, 2);
     press(&mut h, Key::H, Modifiers::COMMAND, 2);
     assert_eq!(moves(&h), [] as [String; 0], "H acted with the pointer off the 3D view");

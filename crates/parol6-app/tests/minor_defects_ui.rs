@@ -329,10 +329,8 @@ fn opening_another_program_clears_the_last_runs_status() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 32 minor: "Disconnect mid-program reports "halted: refused: link is Lost": say that
-/// the operator disconnected, once, in plain words."
-#[test]
-fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
+/// The window on the built-in emulator with Draw running and the arm moving.
+fn draw_running_on_the_fake_robot() -> Harness<'static, Parol6App> {
     use parol6_app::app::{ConnectTarget, LaunchOptions};
     let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
     let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 2400.0));
@@ -345,6 +343,14 @@ fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
         h.state().program_running() && h.state().backend().state().moving
     });
     settle(&mut h, 0.3);
+    h
+}
+
+/// Issue 32 minor: "Disconnect mid-program reports "halted: refused: link is Lost": say that
+/// the operator disconnected, once, in plain words."
+#[test]
+fn disconnecting_mid_program_says_once_that_the_operator_disconnected() {
+    let mut h = draw_running_on_the_fake_robot();
     h.get_by_label("Disconnect").click();
     settle(&mut h, 1.5);
     let notices: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();
@@ -429,18 +435,7 @@ fn a_file_menu_action_that_fails_closes_the_menu_over_its_error() {
 /// operator pressed E-STOP, once.
 #[test]
 fn an_estop_during_a_run_says_once_that_the_operator_pressed_it() {
-    use parol6_app::app::{ConnectTarget, LaunchOptions};
-    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
-    let mut h = ui_support::harness_with(opts, egui::vec2(1280.0, 2400.0));
-    until(&mut h, "the emulator answers", 15.0, |h| {
-        let s = h.state().backend().state();
-        s.source == parol6_app::panels::StateSource::Robot && s.blocked.is_none()
-    });
-    assert!(h.state_mut().start_program("Draw", false));
-    until(&mut h, "the program moving the arm", 60.0, |h| {
-        h.state().program_running() && h.state().backend().state().moving
-    });
-    settle(&mut h, 0.3);
+    let mut h = draw_running_on_the_fake_robot();
     h.get_by_label("E-STOP").click();
     settle(&mut h, 1.5);
     let notices: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();

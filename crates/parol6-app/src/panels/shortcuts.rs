@@ -117,9 +117,13 @@ pub enum Scope {
     /// or popup: the letters A D S W Q E come in typed text ("0.5rad"), so they jog only where
     /// nothing can be typed.
     CartesianJog,
-    /// The pointer over the 3D view, no text field, menu or popup: the camera's keys, and H
-    /// (HOME), a letter that comes in typed text ("/home/…") as the jog letters do.
+    /// The pointer over the 3D view, no text field, menu or popup: the camera's keys (the 3D
+    /// view reads them only while the pointer is over it).
     View,
+    /// A letter that moves the arm, H (HOME): it comes in typed text ("/home/…") as the jog
+    /// letters do, so it acts only with the pointer over the 3D view (the app tells the table
+    /// where the pointer is), no text field, menu or popup.
+    ViewArm,
 }
 
 impl Scope {
@@ -131,7 +135,7 @@ impl Scope {
             Scope::Program => "program panel",
             Scope::Robot => "robot connected",
             Scope::CartesianJog => "pointer over the 3D view, Cartesian jog in hold mode",
-            Scope::View => "pointer over the 3D view",
+            Scope::View | Scope::ViewArm => "pointer over the 3D view",
         }
     }
 }
@@ -184,8 +188,8 @@ const ESC: &str = "STOP (also cancels a demo). With nothing moving, the pointer 
 /// Every keyboard shortcut of the window.
 pub const SHORTCUTS: &[Shortcut] = &[
     press(Key::Escape, Mods::Any, Action::Stop, Scope::Always, ESC),
-    press(Key::H, NONE, Action::Home, Scope::View, "HOME (profiled move to standby)"),
-    press(Key::H, CMD, Action::Home, Scope::View, "HOME (as H)"),
+    press(Key::H, NONE, Action::Home, Scope::ViewArm, "HOME (profiled move to standby)"),
+    press(Key::H, CMD, Action::Home, Scope::ViewArm, "HOME (as H)"),
     press(Key::F1, NONE, Action::ToggleHelp, Scope::Always, "this help"),
     press(Key::Q, CMD, Action::Quit, Scope::Always, "quit (asks first when a program has unsaved edits)"),
     press(Key::F5, NONE, Action::RunProgram, Scope::Program, "run the program, or resume it"),
@@ -254,7 +258,7 @@ fn command_modifier(m: Modifiers) -> bool {
 fn scope_open(ctx: &egui::Context, scope: Scope, taken: bool) -> bool {
     match scope {
         Scope::Always => true,
-        Scope::CartesianJog | Scope::View => !taken && pointer_over_view(ctx),
+        Scope::CartesianJog | Scope::ViewArm => !taken && pointer_over_view(ctx),
         _ => !taken,
     }
 }

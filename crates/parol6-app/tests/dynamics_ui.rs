@@ -306,18 +306,7 @@ fn a_torque_run_ending_moves_nothing_in_the_scrolled_dynamics_panel() {
     });
     // the panel under the 3D view scrolled to its end: the forward-dynamics form in sight
     let over_panel = egui::pos2((LEFT_PANEL_WIDTH + size.x - RIGHT_PANEL_WIDTH) / 2.0, size.y - 60.0);
-    for _ in 0..20 {
-        h.event(egui::Event::PointerMoved(over_panel));
-        h.event(egui::Event::MouseWheel {
-            unit: egui::MouseWheelUnit::Point,
-            delta: egui::vec2(0.0, -2000.0),
-            phase: egui::TouchPhase::Move,
-            source: egui::MouseWheelSource::Unknown,
-            modifiers: egui::Modifiers::NONE,
-        });
-        h.run_steps(1);
-    }
-    h.run_steps(30); // egui's smooth scrolling runs out
+    ui_support::scroll_to_the_end(&mut h, over_panel);
     let before = h.get_by_label("Run torques").rect();
     assert!(in_sight(Some(before), size), "Run torques in sight: {before:?}");
     h.get_by_label("hold other joints").click();

@@ -41,25 +41,25 @@ fn press(h: &mut Harness<'_, Parol6App>, key: Key, modifiers: Modifiers, frames:
 /// Clicks the 3D view (the pointer stays over it; no widget has the keyboard).
 fn focus_view(h: &mut Harness<'_, Parol6App>) {
     let at = h.get_by_label_contains("3D view unavailable").rect().center();
+    click_at(h, at);
+    h.run_steps(1);
+}
+
+/// A primary click at `at`, the pointer left there.
+fn click_at(h: &mut Harness<'_, Parol6App>, at: egui::Pos2) {
     h.hover_at(at);
     for pressed in [true, false] {
         let modifiers = Modifiers::NONE;
         h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed, modifiers });
         h.run_steps(1);
     }
-    h.run_steps(1);
 }
 
 /// Clicks a plain label on the left column, under the step list (the pointer stays there, off
 /// the 3D view; no widget has the keyboard); where it clicked.
 fn click_off_the_view(h: &mut Harness<'_, Parol6App>) -> egui::Pos2 {
     let off = h.get_by_label_contains("Click a step to edit").rect().center();
-    h.hover_at(off);
-    for pressed in [true, false] {
-        let modifiers = Modifiers::NONE;
-        h.event(egui::Event::PointerButton { pos: off, button: egui::PointerButton::Primary, pressed, modifiers });
-        h.run_steps(1);
-    }
+    click_at(h, off);
     h.run_steps(2);
     assert!(h.ctx.memory(|m| m.focused().is_none()), "no widget has the keyboard");
     off

@@ -147,18 +147,7 @@ fn disconnecting_at_the_end_of_the_scrolled_left_column_moves_nothing_under_the_
         let s = h.state().backend().state();
         s.source == StateSource::Robot && s.blocked.is_none()
     });
-    for _ in 0..20 {
-        h.event(egui::Event::PointerMoved(egui::pos2(170.0, 400.0)));
-        h.event(egui::Event::MouseWheel {
-            unit: egui::MouseWheelUnit::Point,
-            delta: egui::vec2(0.0, -2000.0),
-            phase: egui::TouchPhase::Move,
-            source: egui::MouseWheelSource::Unknown,
-            modifiers: egui::Modifiers::NONE,
-        });
-        h.run_steps(1);
-    }
-    h.run_steps(30); // egui's smooth scrolling runs out
+    ui_support::scroll_to_the_end(&mut h, egui::pos2(170.0, 400.0));
     let before = h.get_by_label("Move gripper").rect();
     let disconnect = h.get_by_label("Disconnect").rect();
     assert!(disconnect.max.y <= 800.0, "Disconnect in view: {disconnect:?}");
@@ -176,18 +165,7 @@ fn disconnecting_at_the_end_of_the_scrolled_left_column_moves_nothing_under_the_
 #[test]
 fn a_typed_cartesian_target_moves_nothing_in_the_scrolled_right_column() {
     let mut h = ui_support::app_harness(egui::vec2(1024.0, 700.0));
-    for _ in 0..20 {
-        h.event(egui::Event::PointerMoved(egui::pos2(860.0, 500.0)));
-        h.event(egui::Event::MouseWheel {
-            unit: egui::MouseWheelUnit::Point,
-            delta: egui::vec2(0.0, -2000.0),
-            phase: egui::TouchPhase::Move,
-            source: egui::MouseWheelSource::Unknown,
-            modifiers: egui::Modifiers::NONE,
-        });
-        h.run_steps(1);
-    }
-    h.run_steps(30); // egui's smooth scrolling runs out
+    ui_support::scroll_to_the_end(&mut h, egui::pos2(860.0, 500.0));
     let watched = ["target X", "target Pitch", "target Yaw", "Solve IK", "Move to target", "Run test"];
     let rects =
         |h: &Harness<'_, Parol6App>| -> Vec<egui::Rect> { watched.iter().map(|l| h.get_by_label(l).rect()).collect() };

@@ -113,3 +113,20 @@ pub fn open_recording(h: &mut Harness<'_, Parol6App>, path: &std::path::Path) {
     h.key_press(egui::Key::Enter);
     h.run_steps(1);
 }
+
+/// Scrolls the scroll area under `at` to its end (20 wheel turns with the pointer there), then
+/// lets egui's smooth scrolling run out.
+pub fn scroll_to_the_end(h: &mut Harness<'_, Parol6App>, at: egui::Pos2) {
+    for _ in 0..20 {
+        h.event(egui::Event::PointerMoved(at));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, -2000.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(30);
+}

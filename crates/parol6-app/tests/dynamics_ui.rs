@@ -11,7 +11,7 @@ mod ui_support;
 
 use eframe::egui;
 
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use parol6_app::app::{LEFT_PANEL_WIDTH, RIGHT_PANEL_WIDTH};
 use ui_support::{app_harness, has_label, type_into, until};
 
@@ -344,4 +344,172 @@ fn a_torque_run_ending_moves_nothing_in_the_scrolled_dynamics_panel() {
         worst.1,
         worst.0
     );
+}
+
+/// The app with the dynamics panel alone in a panel tall enough for the plot and the whole form.
+fn dynamics_harness() -> egui_kittest::Harness<'static, parol6_app::app::Parol6App> {
+    let mut h = app_harness(egui::vec2(1400.0, 1500.0));
+    {
+        let s = h.state_mut().settings_mut();
+        s.lower_panel_height_pt = 1200.0;
+        s.show_dynamics = true;
+        s.show_plots = false;
+    }
+    h.run_steps(3);
+    h
+}
+
+/// A key pressed and let go, no modifier.
+fn press(h: &mut egui_kittest::Harness<'_, parol6_app::app::Parol6App>, key: egui::Key) {
+    let modifiers = egui::Modifiers::NONE;
+    h.event(egui::Event::Key { key, pressed: true, modifiers, repeat: false, physical_key: None });
+    h.run_steps(2);
+    h.event(egui::Event::Key { key, pressed: false, modifiers, repeat: false, physical_key: None });
+    h.run_steps(2);
+}
+
+/// trial9 m5: during a forward-dynamics torque run, H over the 3D view homed the arm and a jog
+/// key jogged it: the run ended at once without a word. Manual motion is refused during a
+/// torque run as during a program, with a notice naming the run; the run goes on to its end.
+#[test]
+fn a_torque_run_refuses_home_jogs_and_joint_moves_with_a_notice_naming_it() {
+    let mut h = dynamics_harness();
+    h.get_by_label("hold other joints").click();
+    h.run_steps(2);
+    type_into(&mut h, "J1 torque", "0.05");
+    type_into(&mut h, "Run time", "30");
+    h.get_by_label("Run torques").click();
+    until(&mut h, "the run to start", 10.0, |h| has_label(h, "torque run: ") && h.state().sim().snapshot().moving);
+    let sent = h.state().moves_sent().count();
+    let said = "refused: a forward-dynamics torque run is driving the arm";
+    // a refusal raised (or renewed) since `t`
+    let refused = |h: &egui_kittest::Harness<'_, parol6_app::app::Parol6App>, t: std::time::Instant| {
+        h.state().notices().iter().any(|n| n.error && n.text.starts_with(said) && n.at >= t)
+    };
+    // H and a held jog letter with the pointer over the 3D view
+    ui_support::pointer_on_view(&mut h);
+    let t = std::time::Instant::now();
+    press(&mut h, egui::Key::H);
+    assert_eq!(h.state().moves_sent().skip(sent).collect::<Vec<_>>(), [] as [&str; 0], "H ended the torque run");
+    assert!(refused(&h, t), "H: {:?}", h.state().notices());
+    let t = std::time::Instant::now();
+    h.event(egui::Event::Key {
+        key: egui::Key::D,
+        pressed: true,
+        modifiers: egui::Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(4);
+    assert!(refused(&h, t), "the jog key D: {:?}", h.state().notices());
+    h.event(egui::Event::Key {
+        key: egui::Key::D,
+        pressed: false,
+        modifiers: egui::Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(2);
+    // the jog buttons are greyed with the reason, a typed joint target is refused
+    assert!(h.get_by_label("+X").accesskit_node().is_disabled(), "+X greyed during the torque run");
+    let t = std::time::Instant::now();
+    type_into(&mut h, "J2 target", "10");
+    assert!(refused(&h, t), "a typed joint target: {:?}", h.state().notices());
+    let moved: Vec<String> = h.state().moves_sent().skip(sent).map(str::to_string).collect();
+    assert!(moved.is_empty(), "motion sent during the torque run: {moved:?}");
+    assert!(h.state().sim().snapshot().moving && has_label(&h, "torque run: "), "the torque run goes on");
+    // STOP still ends it, and the form says so
+    press(&mut h, egui::Key::Escape);
+    until(&mut h, "the run to end", 10.0, |h| has_label(h, "torque run stopped after"));
+}
+
+/// trial10 n5: on the robot, Run torques was refused with a notice, yet the form's line then
+/// said "torque run stopped after 0.5 s: J1 0.00°, …" as if a run had happened. A refused run
+/// is said on the form's line, with the reason, and nothing else.
+#[test]
+fn run_torques_refused_on_the_robot_says_so_on_the_forms_line() {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    let mut h = dynamics_harness();
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the emulator answers", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    type_into(&mut h, "J1 torque", "0.1");
+    h.get_by_label("Run torques").click();
+    h.run_steps(2);
+    let line = "torque run refused: torque runs drive the simulation only: disconnect the robot first";
+    assert!(has_label(&h, line), "the form's line says why");
+    assert!(h.state().notices().iter().any(|n| n.error && n.text == line), "{:?}", h.state().notices());
+    // past the time the form waited for a run to start
+    let until_s = std::time::Instant::now() + Duration::from_millis(1500);
+    while std::time::Instant::now() < until_s {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert!(!has_label(&h, "torque run stopped") && !has_label(&h, "torque run done"), "no run was reported");
+    assert!(has_label(&h, line), "the line still says why");
+}
+
+/// trial9 m4: a torque of 1e9 was taken and shown cut ("10000("), refused only at Run torques.
+/// The form's numbers are refused when typed, with the field's range and unit, and keep their
+/// value, as the window's other numeric fields do.
+#[test]
+fn a_torque_outside_its_range_is_refused_when_typed() {
+    let mut h = dynamics_harness();
+    for (typed, shown) in [("1e9", "1000000000"), ("-100.5", "-100.5")] {
+        type_into(&mut h, "J3 torque", typed);
+        let said = format!("J3 torque: {shown} N·m is outside -100–100 N·m; it stays 0.000 N·m");
+        assert!(h.state().notices().iter().any(|n| n.error && n.text == said), "{typed}: {:?}", h.state().notices());
+        assert_eq!(h.get_by_label("J3 torque").value().as_deref(), Some("0.000"), "{typed} is not taken");
+    }
+    let t = std::time::Instant::now();
+    type_into(&mut h, "J3 torque", "-100");
+    assert_eq!(h.get_by_label("J3 torque").value().as_deref(), Some("-100.000"), "the bound is taken");
+    assert!(h.state().notices().iter().all(|n| !n.error || n.at < t), "{:?}", h.state().notices());
+}
+
+/// trial10 n6: the mouse wheel over the program's torque plot panned its value axis (−8…8 →
+/// −26…−44 N·m, the lines out of sight) while the panel scrolled. The wheel scrolls the panel
+/// only: the plot's value axis stays as it was.
+#[test]
+fn the_wheel_over_the_torque_plot_scrolls_the_panel_not_the_plot() {
+    let size = egui::vec2(1024.0, 700.0);
+    let mut h = app_harness(size);
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(4);
+    until(&mut h, "the program's torques", 20.0, |h| {
+        has_label(h, "J2 peak") && !h.state().dynamics_panel().computing()
+    });
+    h.run_steps(3);
+    let (left, right) = (LEFT_PANEL_WIDTH, size.x - RIGHT_PANEL_WIDTH);
+    let limits = h.get_by_label_contains("limits: motor holding torque").rect();
+    let numbers = |h: &egui_kittest::Harness<'_, parol6_app::app::Parol6App>| {
+        let mut v: Vec<f64> = painted_numbers(h, limits.bottom(), size.y)
+            .into_iter()
+            .filter(|(p, _)| p.x > left && p.x < right)
+            .map(|(_, v)| v)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let before = numbers(&h);
+    assert!(before.len() >= 2, "the plot's labels: {before:?}");
+    let over_plot = egui::pos2((left + right) / 2.0, limits.bottom() + 70.0);
+    let run_before = h.get_by_label("Run torques").rect();
+    // up, at the panel's top: the panel cannot scroll, the plot must not pan
+    for dy in [300.0, 300.0] {
+        h.event(egui::Event::PointerMoved(over_plot));
+        h.event(egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Point,
+            delta: egui::vec2(0.0, dy),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(30);
+    assert_eq!(numbers(&h), before, "the wheel panned the torque plot");
+    // down: the panel scrolls towards the form
+    ui_support::scroll_to_the_end(&mut h, over_plot);
+    let run_after = h.get_by_label("Run torques").rect();
+    assert!(run_after.top() < run_before.top() - 20.0, "the panel scrolled: {run_before:?} → {run_after:?}");
 }

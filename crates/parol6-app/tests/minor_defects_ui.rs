@@ -10,7 +10,7 @@ mod ui_support;
 use eframe::egui::{self, Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use ui_support::{app_harness, open_program_file, type_into, until};
+use ui_support::{app_harness, open_program_file, pointer_on_view, type_into, until};
 
 use parol6_app::app::Parol6App;
 use parol6_core::program::{PoseMm, Program, Step, json};
@@ -33,20 +33,6 @@ fn press(h: &mut Harness<'_, Parol6App>, key: Key) {
 fn pointer_on_panel(h: &mut Harness<'_, Parol6App>) {
     let at = h.get_by_label("Program file").rect().center();
     h.hover_at(at);
-    h.run_steps(1);
-}
-
-/// The pointer over a part of the 3D view that no window covers.
-fn pointer_on_view(h: &mut Harness<'_, Parol6App>) {
-    let view = h.get_by_label_contains("3D view unavailable").rect();
-    let free = (1..10)
-        .flat_map(|i| (1..10).map(move |j| (i, j)))
-        .map(|(i, j)| {
-            egui::pos2(view.left() + view.width() * i as f32 / 10.0, view.top() + view.height() * j as f32 / 10.0)
-        })
-        .find(|&p| h.ctx.layer_id_at(p).is_some_and(|l| l.order == egui::Order::Background))
-        .expect("a part of the 3D view no window covers");
-    h.hover_at(free);
     h.run_steps(1);
 }
 

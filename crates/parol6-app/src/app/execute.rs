@@ -8,7 +8,7 @@ use std::time::Instant;
 use parol6_core::motion::{CartesianAxis, IoCommand, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
-use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING};
+use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING, PROGRAM_UNFINISHED, TORQUE_ON_ROBOT, TORQUE_RUNNING};
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
 
@@ -74,19 +74,19 @@ impl Parol6App {
         } else if self.state.replaying() {
             Some(super::state::REPLAY_OPEN).filter(|_| refused_by_estop(&cmd))
         } else {
-            self.automatic_run().filter(|_| manual_motion(&cmd))
+            // a torque run is ended by any motion: a program or a measurement is refused too
+            // (Run torques again replaces the run, as the form says)
+            let ends_torque_run = |why: &&str| {
+                *why == TORQUE_RUNNING && sets_arm_moving(&cmd) && !matches!(cmd, AppCommand::RunTorques(_))
+            };
+            self.automatic_run().filter(|why| manual_motion(&cmd) || ends_torque_run(why))
         };
         if let Some(why) = refused_by {
             if matches!(cmd, AppCommand::Jog(_) | AppCommand::CartesianJog(_)) {
                 self.jog_held = None;
                 self.cartesian_jog_held = None;
             }
-            // one notice, kept up while the refused command repeats (a held jog key)
-            let text = format!("refused: {why}");
-            match self.notices.iter_mut().find(|n| n.text == text) {
-                Some(n) => n.at = Instant::now(),
-                None => self.notice(text, true),
-            }
+            self.refusal_notice(why);
             return;
         }
         if sets_arm_moving(&cmd) {
@@ -130,7 +130,7 @@ impl Parol6App {
             AppCommand::CartesianJog(held) => self.cartesian_jog(held),
             AppCommand::RunProgram { program, checked, opts } => {
                 if self.program_running() {
-                    self.notice("a program is running: stop it first".to_string(), true);
+                    self.notice(PROGRAM_UNFINISHED.to_string(), true);
                     return;
                 }
                 let name = program.name.clone();
@@ -164,9 +164,11 @@ impl Parol6App {
             }
             AppCommand::RunTorques(run) => {
                 if self.hw.is_some() {
-                    self.notice("torque runs drive the simulation only: disconnect the robot first", true);
+                    self.notice(format!("torque run refused: {TORQUE_ON_ROBOT}"), true);
                 } else if self.program_running() {
-                    self.notice("a program is running: stop it first", true);
+                    self.notice(format!("torque run refused: {PROGRAM_UNFINISHED}"), true);
+                } else if self.state.measurement.running() {
+                    self.notice(format!("torque run refused: {MEASUREMENT_RUNNING}"), true);
                 } else if let Err(e) = self.sim.send(parol6_core::sim::SimCommand::RunJointTorques(run)) {
                     self.notice(format!("torque run refused: {e}"), true);
                 }
@@ -186,16 +188,50 @@ impl Parol6App {
         }
     }
 
+    /// "refused: `why`": one notice, kept up while the refused command repeats (a held jog key).
+    fn refusal_notice(&mut self, why: &str) {
+        let text = format!("refused: {why}");
+        match self.notices.iter_mut().find(|n| n.text == text) {
+            Some(n) => n.at = Instant::now(),
+            None => self.notice(text, true),
+        }
+    }
+
+    /// A Cartesian jog key held over the 3D view while manual motion is refused (the latched
+    /// E-stop, replay, a program, an ISO test or a torque run): the jog panel greys its buttons
+    /// and ignores its keys then; the notice says why the key does nothing.
+    pub(super) fn refuse_held_jog_keys(&mut self, ctx: &eframe::egui::Context) {
+        use crate::panels::shortcuts::{Action, held};
+        let why = if self.estop {
+            Some(crate::panels::io_gripper::ESTOP_LATCHED)
+        } else if self.state.replaying() {
+            Some(super::state::REPLAY_OPEN)
+        } else {
+            self.automatic_run()
+        };
+        let Some(why) = why else { return };
+        let jog = |axis| [-1, 1].into_iter().any(|dir| held(ctx, Action::JogCartesian(axis, dir)));
+        if CartesianAxis::ALL.into_iter().any(jog) {
+            self.refusal_notice(why);
+        }
+    }
+
     /// Why a manual motion is refused now: a program runs (preparing, running, returning to its
     /// path; not paused) or a measurement drives the arm, and the motion would pull the arm off
-    /// the planned path.
+    /// the planned path; or a torque run drives the simulation, and the motion would end it.
     fn automatic_run(&self) -> Option<&'static str> {
         use parol6_core::program::runner::RunState;
         let program = self
             .program
             .as_ref()
             .is_some_and(|r| matches!(r.progress().state, RunState::Preparing | RunState::Running));
-        if program { Some(PROGRAM_RUNNING) } else { self.state.measurement.running().then_some(MEASUREMENT_RUNNING) }
+        if program {
+            Some(PROGRAM_RUNNING)
+        } else if self.state.measurement.running() {
+            Some(MEASUREMENT_RUNNING)
+        } else {
+            self.state.torque_run.then_some(TORQUE_RUNNING)
+        }
     }
 
     /// The E-stop button: ends a program or measurement, STOP and DISABLE to the active backend,

@@ -363,6 +363,7 @@ impl Parol6App {
         // Cartesian jog keys act only with the pointer over the 3D view
         shortcuts::set_pointer_over_view(ctx, self.pointer_over_view(ctx));
         shortcuts::update_held(ctx);
+        self.refuse_held_jog_keys(ctx);
         // Esc closes the topmost dialog where nothing moves and the 3D view or a motion
         // control does not have it (`escape`); else it is STOP
         let closes = self.escape_closes(ctx, arm_moving);
@@ -380,9 +381,7 @@ impl Parol6App {
             self.commands.push(AppCommand::Motion(MotionCommand::Home { speed_fraction, profile }));
         }
         self.quit_requests(ctx, quit);
-        if help {
-            self.show_help = !self.show_help;
-        }
+        self.show_help ^= help;
     }
 
     /// Draws one frame of the whole UI into `ui` and executes the commands it produced.
@@ -401,6 +400,7 @@ impl Parol6App {
         self.update_perf(t0, &snap);
 
         self.state.link = self.hw.as_ref().map(|l| l.view(&l.session.snapshot()));
+        self.state.torque_run = snap.torque_run && self.hw.is_none();
         self.link_notices();
         let live_arc = self.robot_state();
         self.source_marks(&ctx, live_arc.source);

@@ -19,8 +19,6 @@ use parol6_core::telemetry::ReplayData;
 use crate::panels::RunProgress;
 use crate::panels::connection::LinkView;
 
-/// Why motion is refused while a recording is open: the shown state's `blocked` during replay,
-/// and every refusal names it.
 /// Why a manual motion is refused while a program runs (not paused): the runner's next step would
 /// start where the arm no longer is.
 pub const PROGRAM_RUNNING: &str = "a program is running: pause (F6) or stop it first";
@@ -29,6 +27,19 @@ pub const PROGRAM_RUNNING: &str = "a program is running: pause (F6) or stop it f
 /// off its target.
 pub const MEASUREMENT_RUNNING: &str = "an ISO 9283 test is moving the arm: Abort it (or STOP) first";
 
+/// Why a manual motion (or a program, a measurement) is refused while a forward-dynamics torque
+/// run drives the simulation: the motion would end the run half-way without a word (trial9).
+pub const TORQUE_RUNNING: &str =
+    "a forward-dynamics torque run is driving the arm: wait for its end or press Stop torques (or STOP) first";
+
+/// Why a program run or a torque run is refused while a program runs or is paused.
+pub const PROGRAM_UNFINISHED: &str = "a program is running: stop it first";
+
+/// Why Run torques is refused while the robot is connected.
+pub const TORQUE_ON_ROBOT: &str = "torque runs drive the simulation only: disconnect the robot first";
+
+/// Why motion is refused while a recording is open: the shown state's `blocked` during replay,
+/// and every refusal names it.
 pub const REPLAY_OPEN: &str = "REPLAY: the read-outs show the recording; motion refused until the recording is closed";
 
 /// The state the app owns and the panels read.
@@ -44,6 +55,9 @@ pub struct AppState {
     pub link: Option<LinkView>,
     /// The ISO 9283 pose test: the running one and the last finished run on each backend.
     pub measurement: super::measurement::MeasurementState,
+    /// A forward-dynamics torque run drives the simulation, and the simulation is shown (not
+    /// the robot): manual motion is refused with [`TORQUE_RUNNING`] until it ends.
+    pub torque_run: bool,
 }
 
 /// A file being written.

@@ -386,7 +386,11 @@ fn torque_view(
         .height(PLOT_HEIGHT)
         .legend(egui_plot::Legend::default())
         .custom_y_axes(vec![super::plot_axis::value_axis("torque (N·m)".into())])
-        .y_grid_spacer(super::plot_axis::value_marks);
+        .y_grid_spacer(super::plot_axis::value_marks)
+        // the wheel scrolls the panel, never the plot: it panned the value axis (lines out of
+        // sight) while the panel scrolled to the form (trial10); a drag still pans
+        .allow_scroll(false)
+        .allow_zoom(false);
     plot.x_axis_label("t (s)").show(ui, |pui| {
         if let Some(c) = cursor_s {
             pui.vline(VLine::new("cursor", c).color(palette::rgb(palette::WARN_TEXT)).width(1.0));

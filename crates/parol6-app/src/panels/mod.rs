@@ -287,16 +287,37 @@ impl PanelContext<'_> {
         }
     }
 
-    /// Why a jog by hand is refused now: [`Self::motion_refused`], or a program runs (not paused)
-    /// or an ISO 9283 test drives the arm (the app refuses the command too; the jog panel greys
-    /// its buttons and keys with the reason instead of reporting a jog that never ran).
+    /// Why a jog by hand is refused now: [`Self::motion_refused`], or a program runs (not paused),
+    /// an ISO 9283 test drives the arm or a torque run the simulation (the app refuses the
+    /// command too; the jog panel greys its buttons and keys with the reason instead of
+    /// reporting a jog that never ran).
     pub fn manual_motion_refused(&self) -> Option<&'static str> {
+        use crate::app::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING, TORQUE_RUNNING};
         use parol6_core::program::runner::RunState;
         self.motion_refused().or_else(|| {
             if self.app.program.as_ref().is_some_and(|p| matches!(p.state, RunState::Preparing | RunState::Running)) {
-                Some(crate::app::state::PROGRAM_RUNNING)
+                Some(PROGRAM_RUNNING)
+            } else if self.app.measurement.running() {
+                Some(MEASUREMENT_RUNNING)
             } else {
-                self.app.measurement.running().then_some(crate::app::state::MEASUREMENT_RUNNING)
+                self.app.torque_run.then_some(TORQUE_RUNNING)
+            }
+        })
+    }
+
+    /// Why Run torques is refused now (the app refuses the command for the same reasons): the
+    /// latched E-stop or an open recording, the robot connected, a program not finished (paused
+    /// too) or an ISO 9283 test running. A torque run under way is not a reason: a new run
+    /// replaces it.
+    pub fn torque_run_refused(&self) -> Option<&'static str> {
+        use crate::app::state::{MEASUREMENT_RUNNING, PROGRAM_UNFINISHED, TORQUE_ON_ROBOT};
+        self.motion_refused().or_else(|| {
+            if self.app.link.is_some() {
+                Some(TORQUE_ON_ROBOT)
+            } else if self.app.program.as_ref().is_some_and(|p| !p.state.is_finished()) {
+                Some(PROGRAM_UNFINISHED)
+            } else {
+                self.app.measurement.running().then_some(MEASUREMENT_RUNNING)
             }
         })
     }

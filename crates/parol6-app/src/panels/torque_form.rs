@@ -11,7 +11,7 @@ use parol6_core::sim::torque_profile::{MAX_PROFILE_TORQUE_NM, MAX_RUN_S};
 use parol6_core::sim::{TorqueProfile, TorqueRun};
 use serde::{Deserialize, Serialize};
 
-use super::entry::{EntryEvent, numeric_entry};
+use super::entry::{EntryEvent, fmt_fixed, in_range, numeric_entry, ranged_entry};
 use super::{AppCommand, PanelContext};
 
 /// Shape of one joint's profile.
@@ -44,6 +44,20 @@ impl ProfileShape {
             ProfileShape::Step => [("after", "N·m"), ("at", "s")],
             ProfileShape::Sine => [("amplitude", "N·m"), ("period", "s")],
         }
+    }
+}
+
+/// Shortest sine period a field takes, s.
+const MIN_PERIOD_S: f64 = 0.01;
+
+/// The range a field of the form takes, in its unit: a torque up to the core's bound either
+/// way, a step time within the longest run, a period from [`MIN_PERIOD_S`] (refused when
+/// typed, as the other numeric fields of the window are: "1e9" was taken and shown cut).
+fn field_range(name: &str, unit: &str) -> (f64, f64) {
+    match (unit, name.ends_with("period")) {
+        ("N·m", _) => (-MAX_PROFILE_TORQUE_NM, MAX_PROFILE_TORQUE_NM),
+        (_, true) => (MIN_PERIOD_S, MAX_RUN_S),
+        _ => (0.0, MAX_RUN_S),
     }
 }
 
@@ -98,17 +112,22 @@ pub struct TorqueForm {
     pub outcome: Option<String>,
 }
 
-/// A run the form sent and follows.
+/// A run the form sent and follows: its outcome is told once the simulation reported it
+/// running (`AppState::torque_run`) and no longer does, or that the simulation refused it.
 #[derive(Debug, Clone, PartialEq)]
 struct ActiveRun {
     started: Instant,
     duration_s: f64,
     start_q: Vec<f64>,
-    /// The simulation reported motion since the run was sent.
-    seen_moving: bool,
+    /// The simulation reported the run under way since it was sent.
+    seen_running: bool,
+    /// The id of the shown state's last refusal when the run was sent: a newer one before the
+    /// run started is the simulation refusing it.
+    refusal_before: Option<u64>,
 }
 
-/// How long after sending a run the form waits for the simulation to report motion.
+/// How long after sending a run the form waits for the simulation to report it under way
+/// (beyond the run time: a run shorter than a frame may end before the window sees it).
 const START_GRACE: Duration = Duration::from_millis(500);
 
 impl TorqueForm {
@@ -175,14 +194,16 @@ impl TorqueForm {
                         }
                     },
                 );
-                let mut field = |ui: &mut egui::Ui, name: String, v: &mut f64, unit: &str| match numeric_entry(
-                    ui, &name, *v, 3, 56.0, unit,
-                )
-                .1
-                {
-                    Some(EntryEvent::Committed(x)) => *v = x,
-                    Some(EntryEvent::Invalid(e)) => invalid = Some(format!("{name}: {e}")),
-                    None => {}
+                let mut field = |ui: &mut egui::Ui, name: String, v: &mut f64, unit: &str| {
+                    let range = field_range(&name, unit);
+                    match ranged_entry(ui, &name, *v, (3, 56.0), (unit, unit), range).1 {
+                        Some(EntryEvent::Committed(x)) => match in_range(&name, x, range, unit, false) {
+                            Ok(x) => *v = x,
+                            Err(e) => invalid = Some(format!("{e}; it stays {} {unit}", fmt_fixed(*v, 3))),
+                        },
+                        Some(EntryEvent::Invalid(e)) => invalid = Some(format!("{name}: {e}")),
+                        None => {}
+                    }
                 };
                 // every number named beside it: "torque", "after" / "at", "amplitude" / "period"
                 let first = if row.shape == ProfileShape::Sine { "offset" } else { "torque" };
@@ -224,18 +245,20 @@ impl TorqueForm {
         // wide, and at the end of the row above they lay under the right panel, out of reach
         ui.horizontal(|ui| {
             if ui.button("Run torques").clicked() {
-                match self.run() {
+                // a refused run is said on the form's line too, never reported as a run (trial10)
+                match ctx.torque_run_refused().map(str::to_string).map_or_else(|| self.run(), Err) {
                     Ok(run) => {
                         self.active = Some(ActiveRun {
                             started: Instant::now(),
                             duration_s: run.duration_s,
                             start_q: ctx.robot.q.clone(),
-                            seen_moving: false,
+                            seen_running: false,
+                            refusal_before: ctx.robot.last_refusal.as_ref().map(|(id, _)| *id),
                         });
                         self.outcome = None;
                         ctx.send(AppCommand::RunTorques(run));
                     }
-                    Err(e) => ctx.error(format!("torque run refused: {e}")),
+                    Err(e) => self.refused(ctx, &e),
                 }
             }
             if ui.button("Stop torques").clicked() {
@@ -248,13 +271,27 @@ impl TorqueForm {
         }
     }
 
+    /// A run not started: the notice and the form's line say why.
+    fn refused(&mut self, ctx: &mut PanelContext<'_>, why: &str) {
+        let text = format!("torque run refused: {why}");
+        self.outcome = Some(text.clone());
+        self.active = None;
+        ctx.error(text);
+    }
+
     /// The running run's progress bar, or the last run's outcome (one line each, always there).
     fn progress_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         if let Some(run) = &mut self.active {
-            run.seen_moving |= ctx.robot.moving;
+            let running = ctx.app.torque_run;
+            run.seen_running |= running;
             let elapsed_s = run.started.elapsed().as_secs_f64();
-            let over = !ctx.robot.moving && (run.seen_moving || run.started.elapsed() > START_GRACE);
-            if over {
+            let refusal = ctx.robot.last_refusal.as_ref().filter(|(id, _)| Some(*id) != run.refusal_before);
+            let waited = run.started.elapsed() > START_GRACE + Duration::from_secs_f64(run.duration_s);
+            if let Some((_, why)) = refusal.filter(|_| !run.seen_running) {
+                // the simulation refused it (the app shows its refusal as a notice already)
+                self.outcome = Some(format!("torque run refused: {why}"));
+                self.active = None;
+            } else if !running && (run.seen_running || waited) {
                 let stopped = elapsed_s + 0.05 < run.duration_s;
                 self.outcome = Some(outcome_text(ctx, &run.start_q, elapsed_s.min(run.duration_s), stopped));
                 self.active = None;

@@ -130,3 +130,18 @@ pub fn scroll_to_the_end(h: &mut Harness<'_, Parol6App>, at: egui::Pos2) {
     }
     h.run_steps(30);
 }
+
+/// The pointer over a part of the 3D view that no window covers (the jog letters and H act
+/// there).
+pub fn pointer_on_view(h: &mut Harness<'_, Parol6App>) {
+    let view = h.get_by_label_contains("3D view unavailable").rect();
+    let free = (1..10)
+        .flat_map(|i| (1..10).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            egui::pos2(view.left() + view.width() * i as f32 / 10.0, view.top() + view.height() * j as f32 / 10.0)
+        })
+        .find(|&p| h.ctx.layer_id_at(p).is_some_and(|l| l.order == egui::Order::Background))
+        .expect("a part of the 3D view no window covers");
+    h.hover_at(free);
+    h.run_steps(1);
+}

@@ -576,6 +576,7 @@ impl Simulation {
             zones: self.model.limits.zone_reports(&self.q, &self.qd, &self.config.thresholds),
             collision: self.collision.clone(),
             moving: self.is_moving(),
+            torque_run: self.torque_run.is_some(),
             mode: self.mode,
             last_step_ns: self.last_step_ns,
             step_rate_hz: self.step_rate_hz,

@@ -197,6 +197,8 @@ pub struct SimSnapshot {
     pub collision: Option<CollisionReport>,
     /// True while a move or jog is under way.
     pub moving: bool,
+    /// True while a forward-dynamics torque run ([`SimCommand::RunJointTorques`]) drives the joints.
+    pub torque_run: bool,
     /// Current mode.
     pub mode: SimMode,
     /// Wall time of the last step, ns.

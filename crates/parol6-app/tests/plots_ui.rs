@@ -269,10 +269,12 @@ fn hovering_a_plot_reads_out_the_time_and_each_lines_value_with_its_unit() {
     h.get_by_label("Draw").click();
     until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
     h.get_by_label("Run (F5)").click();
-    h.run_steps(300);
-    // inside the plot, below the export row
+    until(&mut h, "4 s of samples", 20.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > 4.0)
+    });
+    // inside the plot, below the export row, over the newest samples (none before the first)
     let export = h.get_by_label("Export to").rect();
-    let inside = egui::pos2(export.left() + 300.0, export.bottom() + 80.0);
+    let inside = egui::pos2(1280.0 - parol6_app::app::RIGHT_PANEL_WIDTH - 40.0, export.bottom() + 80.0);
     h.hover_at(inside);
     h.run_steps(2);
     // (the status bar's simulated time reads "t = …" too)
@@ -459,4 +461,85 @@ fn the_csv_of_a_window_across_a_backend_switch_puts_each_drive_value_under_its_o
         sim_rows > 100 && robot_rows > 10,
         "both stretches exported: {sim_rows} simulation, {robot_rows} robot rows"
     );
+}
+
+/// The hover read-out as painted: the rectangle of its text, the rectangle it is clipped to (the
+/// plot it belongs to) and its text.
+fn painted_readout(h: &Harness<'_, Parol6App>) -> Option<(egui::Rect, egui::Rect, String)> {
+    fn walk(shape: &egui::Shape, clip: egui::Rect, out: &mut Option<(egui::Rect, egui::Rect, String)>) {
+        match shape {
+            egui::Shape::Text(t) if t.galley.text().contains("\nJ1: ") => {
+                *out = Some((t.visual_bounding_rect(), clip, t.galley.text().to_string()));
+            }
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, clip, out)),
+            _ => {}
+        }
+    }
+    let mut out = None;
+    for clipped in &h.output().shapes {
+        walk(&clipped.shape, clipped.clip_rect, &mut out);
+    }
+    out
+}
+
+/// The app at 1024×700 with the position plot alone (over the last 30 s), `s` seconds of live
+/// samples in it.
+fn small_window_with_positions(s: f64) -> Harness<'static, Parol6App> {
+    let mut h = app_harness(egui::vec2(1024.0, 700.0));
+    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+    until(&mut h, "live samples", 20.0, |h| {
+        h.state().plots_panel().store().time_range_s().is_some_and(|(first, last)| last - first > s)
+    });
+    h
+}
+
+/// Hovers the points at `x` below the plots' export row, top to bottom, until a read-out shows;
+/// returns it (see [`painted_readout`]).
+fn hover_readout(h: &mut Harness<'_, Parol6App>, x: f32) -> Option<(egui::Rect, egui::Rect, String)> {
+    let export = h.get_by_label("Export to").rect();
+    let bottom = h.ctx.content_rect().bottom();
+    let mut y = export.bottom() + 10.0;
+    while y < bottom {
+        h.hover_at(egui::pos2(x, y));
+        h.run_steps(3);
+        if let Some(r) = painted_readout(h) {
+            return Some(r);
+        }
+        y += 10.0;
+    }
+    None
+}
+
+/// trial10 n6: at 1024×700, in replay (the timeline above the plots), the plots panel's one
+/// plot is shorter than the read-out's seven rows (the time and six joints): the box was cut at
+/// J3 by the plot's bottom. Where the rows do not fit its values stand side by side: the whole
+/// box lies inside the plot.
+#[test]
+fn the_hover_readout_fits_inside_a_short_plot() {
+    let (dir, mut h) = replaying("readout", "short.mcap", 0.5, 250.0, egui::vec2(1024.0, 700.0));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(5);
+    let (left, right) = (parol6_app::app::LEFT_PANEL_WIDTH, 1024.0 - parol6_app::app::RIGHT_PANEL_WIDTH);
+    let (rect, plot, text) = hover_readout(&mut h, (left + right) / 2.0).expect("a read-out");
+    // the values side by side: seven rows would not fit (the old box reached out of the plot)
+    assert!(text.lines().count() < 7, "the test needs a plot shorter than seven rows: {plot:?}\n{text}");
+    assert!(plot.contains_rect(rect.shrink(0.5)), "the read-out {rect:?} reaches out of its plot {plot:?}:\n{text}");
+    for j in 1..=6 {
+        assert!(text.contains(&format!("J{j}: ")), "J{j} in the read-out: {text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// trial9 m3: hovering a plot before its first sample (or past its last) read out the nearest
+/// sample's values at a time with none ("t = -4.6 s"). There is no read-out outside the data.
+#[test]
+fn no_hover_readout_where_the_plot_has_no_samples() {
+    let mut h = small_window_with_positions(6.0);
+    let (first, last) = h.state().plots_panel().store().time_range_s().unwrap();
+    assert!(last - first < 10.0, "the 30 s window starts well before the data: {first}–{last}");
+    let (left, right) = (parol6_app::app::LEFT_PANEL_WIDTH, 1024.0 - parol6_app::app::RIGHT_PANEL_WIDTH);
+    // the middle of the window: about 15 s before the newest sample, before the first
+    assert_eq!(hover_readout(&mut h, (left + right) / 2.0), None, "a read-out before the data");
+    // near the right end: the newest samples
+    assert!(hover_readout(&mut h, right - 30.0).is_some(), "and one over the samples");
 }

@@ -128,15 +128,52 @@ pub fn show_readout(ctx: &egui::Context, id: egui::Id, pointer: egui::Pos2, plot
         .fixed_pos(pos)
         .constrain_to(plot)
         .show(ctx, |ui| {
-            egui::Frame::popup(ui.style()).show(ui, |ui| {
-                ui.label(egui::RichText::new(text).monospace());
+            let frame = egui::Frame::popup(ui.style());
+            // the rows that fit in the plot: a short plot (1024×700) cut the box at J3
+            let row_pt = ui.text_style_height(&egui::TextStyle::Monospace);
+            let rows = ((plot.height() - frame.total_margin().sum().y) / row_pt).floor().max(0.0) as usize;
+            frame.show(ui, |ui| {
+                ui.label(egui::RichText::new(fit_rows(&text, rows)).monospace());
             });
         });
+}
+
+/// The read-out `text` (the time, then one value per line) in at most `rows` rows: where its
+/// lines do not fit, the values stand side by side in columns under the time (two rows at
+/// least: the time and the values).
+pub fn fit_rows(text: &str, rows: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let rows = rows.max(2);
+    let Some((time, values)) = lines.split_first().filter(|_| lines.len() > rows) else {
+        return text.to_string();
+    };
+    let per_row = values.len().div_ceil(rows - 1);
+    let width = values.iter().map(|v| v.chars().count()).max().unwrap_or(0);
+    let mut out = time.to_string();
+    for row in values.chunks(per_row) {
+        let cells: Vec<String> = row.iter().map(|v| format!("{v:<width$}")).collect();
+        out.push('\n');
+        out.push_str(cells.join("  ").trim_end());
+    }
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_readout_too_tall_for_its_plot_puts_its_values_side_by_side() {
+        let text = "t = 1.000 s\nJ1: 1.0 °\nJ2: -22.5 °\nJ3: 3.0 °\nJ4: 4.0 °\nJ5: 5.0 °\nJ6: 6.0 °";
+        assert_eq!(fit_rows(text, 7), text, "it fits: as it was");
+        assert_eq!(
+            fit_rows(text, 4),
+            "t = 1.000 s\nJ1: 1.0 °    J2: -22.5 °\nJ3: 3.0 °    J4: 4.0 °\nJ5: 5.0 °    J6: 6.0 °"
+        );
+        assert_eq!(fit_rows(text, 3).lines().count(), 3);
+        assert_eq!(fit_rows(text, 0).lines().count(), 2, "the time and one row of values at least");
+        assert_eq!(fit_rows("t = 1.000 s", 1), "t = 1.000 s");
+    }
 
     fn marks(lo: f64, hi: f64, height_pt: f64) -> Vec<GridMark> {
         let base_step_size = (hi - lo) / height_pt * EGUI_BASE_SPACING_PT;

@@ -446,7 +446,9 @@ impl Panel for PlotsPanel {
                         for run in runs.iter().filter(|r| !r.is_empty()) {
                             let (a, b) = (run[0][0], run[run.len() - 1][0]);
                             drawn = Some(drawn.map_or((a, b), |(lo, hi)| (lo.min(a), hi.max(b))));
-                            let at_t = hover_t.filter(|t| (a..=b).contains(t) || runs.len() == 1);
+                            // a value only within the line's time span (a column's width of
+                            // slack at its ends): none before its first sample or past its last
+                            let at_t = hover_t.filter(|t| (a - pad_s..=b + pad_s).contains(t));
                             if let Some(v) = at_t.and_then(|t| plot_axis::value_at(run, t)) {
                                 hover_values.push((series_name(*id), v));
                             }
@@ -469,7 +471,10 @@ impl Panel for PlotsPanel {
                     let b = pui.plot_bounds();
                     let value_step = (b.max()[1] - b.min()[1]) / f64::from(pui.transform().frame().height().max(1.0))
                         * plot_axis::LABEL_SPACING_PT;
-                    let hover = hover_t.map(|t| plot_axis::hover_text(t - origin_s, &hover_values, unit, value_step));
+                    // no read-out where no line has a sample (it gave the nearest sample's values)
+                    let hover = hover_t
+                        .filter(|_| !hover_values.is_empty())
+                        .map(|t| plot_axis::hover_text(t - origin_s, &hover_values, unit, value_step));
                     ((x0, x1), group, clicked_at.map(|p| p.x), hover)
                 });
                 let ((x0, x1), group, clicked_at, hover) = resp.inner;

@@ -543,3 +543,51 @@ fn no_hover_readout_where_the_plot_has_no_samples() {
     // near the right end: the newest samples
     assert!(hover_readout(&mut h, right - 30.0).is_some(), "and one over the samples");
 }
+
+/// trial9 m3: closing a replay left the live plots without their history from before it (the
+/// lines started at the last disconnect); a connection and a disconnection alone kept it. The
+/// live history stays over a replay, with none of the recording's samples in it.
+#[test]
+fn closing_a_replay_keeps_the_live_plot_history() {
+    use parol6_app::panels::{AppCommand, LinkCommand, StateSource};
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    simulation_then_robot(&mut h, parol6_core::telemetry::Quantity::Position, 1.0);
+    // a recording of the robot, as the trials made it: File → Record, a program, Stop
+    let dir = temp_dir("replay-history");
+    let path = dir.join("r.mcap");
+    h.state_mut().queue_command(AppCommand::Record(Some(path.clone())));
+    h.run_steps(2);
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.get_by_label("Run (F5)").click();
+    let t = std::time::Instant::now();
+    while t.elapsed() < std::time::Duration::from_secs(2) {
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(15));
+    }
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    until(&mut h, "rows of the simulation after the robot's", 15.0, |h| h.state().plots_panel().switches().len() == 2);
+    h.run_steps(20);
+    let (first, before_s) = h.state().plots_panel().store().time_range_s().unwrap();
+    let switches = h.state().plots_panel().switches();
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: r.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.get_by_label("Play").click();
+    let t = std::time::Instant::now();
+    while t.elapsed() < std::time::Duration::from_secs(1) {
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(15));
+    }
+    h.state_mut().queue_command(AppCommand::CloseRecording);
+    until(&mut h, "live rows after the replay", 10.0, |h| {
+        h.state().replay().is_none()
+            && h.state().plots_panel().store().time_range_s().is_some_and(|(_, last)| last > before_s + 1.0)
+    });
+    let p = h.state().plots_panel();
+    let (first_after, _) = p.store().time_range_s().unwrap();
+    assert_eq!(first_after, first, "the live history from before the replay is kept");
+    assert_eq!(p.switches(), switches, "with its backend switches");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -44,6 +44,10 @@ pub struct AppState {
     pub link: Option<LinkView>,
     /// The ISO 9283 pose test: the running one and the last finished run on each backend.
     pub measurement: super::measurement::MeasurementState,
+    /// How many motions other than a Cartesian step were set going (a program run, HOME, a joint
+    /// move, a jog, a measurement, a torque run, the controller's homing): the Cartesian jog
+    /// panel's row of steps ends when this changes.
+    pub other_motions: u64,
 }
 
 /// A file being written.

@@ -1,0 +1,92 @@
+//! Minor defects of trials 9 and 10, driven headless through egui's kittest harness on the full
+//! app: the Cartesian jog's row of steps ends when another motion starts, the point table stays
+//! open (read-only) while a program runs, and notices keep clear of the open windows' title
+//! bars and of an open menu.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use parol6_app::app::Parol6App;
+use parol6_app::panels::AppCommand;
+use parol6_core::motion::MotionCommand;
+use ui_support::{app_harness, has_label, until};
+
+/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
+fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
+    let until = Instant::now() + Duration::from_secs_f64(s);
+    while Instant::now() < until {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
+/// A pose away from the standby wrist singularity (J5 = 34°).
+fn work_pose() -> Vec<f64> {
+    let mut q = parol6_core::parol6::standby_rad().to_vec();
+    q[1] += 0.2;
+    q[2] -= 0.3;
+    q[4] = 0.6;
+    q
+}
+
+/// Every label (or text value) of the window that contains `part`.
+fn labels_with(h: &Harness<'_, Parol6App>, part: &str) -> Vec<String> {
+    h.query_all_by_label_contains(part).filter_map(|n| n.accesskit_node().label().or_else(|| n.value())).collect()
+}
+
+/// Waits until the simulated arm has come to rest.
+fn at_rest(h: &mut Harness<'_, Parol6App>) {
+    settle(h, 0.3);
+    until(h, "the arm at rest", 20.0, |h| !h.state().backend().state().moving);
+    settle(h, 0.2);
+}
+
+/// trial9 m1: the Step-mode line compared the TCP with where its row of steps started at every
+/// frame, so after a joint move or HOME it said "+Z (world) step 1.00 mm (2 steps in a row: 2.00
+/// mm): moved 77.61 mm (see the notices)", and the next step counted as the third in the row.
+/// Another motion ends the row: the line empties, and the next step starts a new row.
+#[test]
+fn another_motion_ends_the_row_of_jog_steps() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.state_mut().teleport(work_pose()).expect("teleport");
+    settle(&mut h, 0.3);
+    h.get_by_label("Step").click();
+    h.run_steps(2);
+    for _ in 0..2 {
+        h.get_by_label("+Z").click();
+        at_rest(&mut h);
+    }
+    assert!(has_label(&h, "+Z (world) step 1.00 mm (2 steps in a row: 2.00 mm)"), "{:?}", labels_with(&h, "(world)"));
+
+    // a joint move ends the row
+    let mut goal = work_pose();
+    goal[0] += 0.3;
+    h.state_mut().queue_command(AppCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal,
+        speed_fraction: 0.5,
+        profile: parol6_core::profile::ProfileKind::Trapezoidal,
+    }));
+    settle(&mut h, 0.2);
+    assert!(!has_label(&h, "(world) step"), "the row ended with the joint move: {:?}", labels_with(&h, "(world)"));
+    at_rest(&mut h);
+    assert!(!has_label(&h, "(world) step"), "still empty at rest: {:?}", labels_with(&h, "(world)"));
+
+    // the next step is the first of a new row, taken in full
+    h.get_by_label("+Z").click();
+    at_rest(&mut h);
+    let line = labels_with(&h, "(world) step");
+    assert_eq!(line, vec!["+Z (world) step 1.00 mm".to_string()], "a new row of one step");
+
+    // HOME ends it too
+    h.get_by_label("HOME").click();
+    settle(&mut h, 0.2);
+    assert!(!has_label(&h, "(world) step"), "the row ended with HOME: {:?}", labels_with(&h, "(world)"));
+    at_rest(&mut h);
+    assert!(!has_label(&h, "(world) step"), "{:?}", labels_with(&h, "(world)"));
+}

@@ -90,3 +90,32 @@ fn another_motion_ends_the_row_of_jog_steps() {
     at_rest(&mut h);
     assert!(!has_label(&h, "(world) step"), "{:?}", labels_with(&h, "(world)"));
 }
+
+/// trial10 n1: the point table vanished while a program ran (it came back after Stop) without a
+/// word. It stays open, read-only, and says that editing waits for the run to end.
+#[test]
+fn the_point_table_stays_open_read_only_while_a_program_runs() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("Draw").click();
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.state_mut().program_panel_mut().table_open = true;
+    h.run_steps(3);
+    assert!(has_label(&h, "Type a value, then Enter or Tab"), "the table is open");
+    assert!(!h.get_by_label("Add row").accesskit_node().is_disabled(), "editable before the run");
+    h.get_by_label("Run (F5)").click();
+    until(&mut h, "the run", 10.0, |h| has_label(h, "Draw: step"));
+    h.run_steps(2);
+    assert!(h.state().program_running());
+    assert!(h.state().program_panel().table_open, "the table stays open during the run");
+    assert!(has_label(&h, "Add row"), "and shown");
+    assert!(has_label(&h, "editing waits for the run to end"), "it says why it cannot be edited");
+    assert!(h.get_by_label("Add row").accesskit_node().is_disabled(), "Add row greyed during the run");
+    let cells: Vec<bool> =
+        h.query_all_by_label_contains("table 1 ").map(|n| n.accesskit_node().is_disabled()).collect();
+    assert!(!cells.is_empty() && cells.iter().all(|d| *d), "the cells are read-only: {cells:?}");
+    h.get_by_label("Stop program").click();
+    until(&mut h, "the run ended", 10.0, |h| !h.state().program_running());
+    h.run_steps(3);
+    assert!(!has_label(&h, "editing waits for the run to end"));
+    assert!(!h.get_by_label("Add row").accesskit_node().is_disabled(), "editable again after the run");
+}

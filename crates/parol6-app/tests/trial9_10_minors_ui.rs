@@ -119,3 +119,65 @@ fn the_point_table_stays_open_read_only_while_a_program_runs() {
     assert!(!has_label(&h, "editing waits for the run to end"));
     assert!(!h.get_by_label("Add row").accesskit_node().is_disabled(), "editable again after the run");
 }
+
+fn area(h: &Harness<'_, Parol6App>, id: &str) -> Option<egui::Rect> {
+    h.ctx.memory(|m| m.area_rect(egui::Id::unique(id)))
+}
+
+/// Raises an error notice (a recording that does not exist) and returns the notices' rectangle.
+fn raise_notice(h: &mut Harness<'_, Parol6App>, tag: &str) -> egui::Rect {
+    let dir = std::env::temp_dir().join(format!("parol6-trial9-10-minors-{tag}-{}", std::process::id()));
+    h.state_mut().queue_command(AppCommand::OpenRecording(dir.join("no such recording.mcap")));
+    until(h, "the notice", 10.0, |h| area(h, "parol6-notices").is_some() && !h.state().notices().is_empty());
+    h.run_steps(3);
+    area(h, "parol6-notices").expect("the notices' rectangle")
+}
+
+/// trial9 m8, trial10 n8: notices covered the title of the point table and of the save dialog,
+/// and the open File menu's "Browse recordings…" at 1024×700. They keep clear of an open
+/// window's title bar and of an open menu, also with the plots open under a short 3D view.
+#[test]
+fn notices_keep_clear_of_window_titles_and_open_menus() {
+    for (size, plots) in
+        [(egui::vec2(1024.0, 700.0), false), (egui::vec2(1024.0, 700.0), true), (egui::vec2(1280.0, 800.0), false)]
+    {
+        let mut h = app_harness(size);
+        if plots {
+            h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+            h.run_steps(3);
+        }
+        h.state_mut().program_panel_mut().table_open = true;
+        h.run_steps(3);
+        let table = area(&h, parol6_app::panels::program::TABLE_ID).expect("the point table's rectangle");
+        let notices = raise_notice(&mut h, "table");
+        let title = egui::Rect::from_min_max(table.min, egui::pos2(table.right(), table.top() + 26.0));
+        assert!(!notices.intersects(title), "at {size:?} the notices {notices:?} cover the table's title {title:?}");
+        h.state_mut().program_panel_mut().table_open = false;
+        h.run_steps(3);
+
+        // the File menu, with a notice raised while it is open
+        h.query_all_by_label("File").next().expect("the File menu").click();
+        h.run_steps(2);
+        assert!(egui::Popup::is_any_open(&h.ctx), "the File menu is open");
+        let browse = h.get_by_label("Browse recordings…").rect();
+        let notices = raise_notice(&mut h, "menu");
+        let size = (size, plots);
+        assert!(egui::Popup::is_any_open(&h.ctx), "the File menu is still open");
+        assert!(
+            !notices.intersects(browse),
+            "at {size:?} the notices {notices:?} cover the File menu's Browse recordings… {browse:?}"
+        );
+        let menus: Vec<egui::Rect> = h.ctx.memory(|m| {
+            m.areas()
+                .visible_layer_ids()
+                .into_iter()
+                .filter(|l| l.order == egui::Order::Foreground)
+                .filter_map(|l| m.area_rect(l.id))
+                .collect()
+        });
+        assert!(!menus.is_empty(), "the open menu's rectangle");
+        for menu in menus {
+            assert!(!notices.intersects(menu), "at {size:?} the notices {notices:?} cover the open menu {menu:?}");
+        }
+    }
+}

@@ -181,3 +181,20 @@ fn notices_keep_clear_of_window_titles_and_open_menus() {
         }
     }
 }
+
+/// trial10 n2: "0.5A" in the gripper current field (mA) was refused ("A does not fit this
+/// field"). Amperes are converted where a current is typed, without float noise (the field
+/// takes whole mA); a length is still refused there, a current in a length field too.
+#[test]
+fn amperes_are_converted_in_a_milliampere_field() {
+    use parol6_app::panels::entry::parse_in;
+    assert_eq!(parse_in("0.5A", "mA"), Ok(500.0));
+    assert_eq!(parse_in("1,001 A", "mA"), Ok(1001.0), "no float noise: the field takes whole mA");
+    assert_eq!(parse_in("750 mA", "mA"), Ok(750.0));
+    assert_eq!(parse_in("0.001 m", "mm"), Ok(1.0));
+    assert_eq!(parse_in("250 mA", "A"), Ok(0.25));
+    let e = parse_in("2 mm", "mA").unwrap_err();
+    assert!(e.contains("mm does not fit") && e.contains("mA or A"), "{e}");
+    let e = parse_in("0.5 A", "mm").unwrap_err();
+    assert!(e.contains("A does not fit"), "{e}");
+}

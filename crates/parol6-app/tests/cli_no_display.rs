@@ -85,3 +85,39 @@ fn the_window_with_a_missing_wayland_socket_says_so_once_and_exits_1() {
     says_no_display_once(None, Some("parol6-no-such-wayland-socket"));
     says_no_display_once(Some(&unserved_display()), Some("parol6-no-such-wayland-socket"));
 }
+
+/// trial10 n4: every failure of the window system's start was reported as "no display was found",
+/// also when a display answered and something else failed, hiding the cause. With WAYLAND_DISPLAY
+/// naming a socket that accepts and hangs up (a display server that fails, not a missing one), the
+/// window names that failure with its cause, not a missing display, and exits 1.
+#[test]
+fn a_window_system_failure_that_is_not_a_missing_display_is_named() {
+    let runtime = std::env::temp_dir().join(format!("parol6-failing-wayland-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).unwrap();
+    let socket = runtime.join("parol6-hangs-up");
+    if socket.exists() {
+        std::fs::remove_file(&socket).unwrap();
+    }
+    let listener = std::os::unix::net::UnixListener::bind(&socket).unwrap();
+    // each connection is accepted and closed at once
+    std::thread::spawn(move || {
+        for conn in listener.incoming() {
+            drop(conn);
+        }
+    });
+    let out = Command::new(env!("CARGO_BIN_EXE_parol6"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .env("WAYLAND_DISPLAY", "parol6-hangs-up")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .env("PAROL6_SETTINGS", std::env::temp_dir().join("parol6-no-display-settings.json"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let last = err.lines().rfind(|l| !l.trim().is_empty()).unwrap_or_default();
+    assert!(!err.contains("no display"), "a display that fails is not a missing display: {err}");
+    assert!(last.starts_with("error: cannot open the window at WAYLAND_DISPLAY=parol6-hangs-up: "), "{err}");
+    assert!(last.contains("Broken pipe") || last.contains("Connection reset"), "keeps the cause: {err}");
+    assert!(!last.contains(".rs:"), "no source path: {err}");
+}

@@ -188,6 +188,8 @@ fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
     let mut h = app_harness(egui::vec2(1280.0, 1000.0));
     h.run_steps(2);
     assert!(!shows(&h, "REPLAY link"), "no recorded link while live");
+    let heading = |h: &Harness<'_, Parol6App>| h.get_by_label("Robot connection").rect();
+    let live_heading = heading(&h);
     ui_support::open_recording(&mut h, &path);
     until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: robot.mcap"));
     h.key_press(egui::Key::Escape);
@@ -196,6 +198,8 @@ fn replay_of_a_robot_recording_shows_its_link_health_at_the_cursor() {
     until(&mut h, "the recorded link", 5.0, |h| {
         h.query_all_by_label_contains("Connected  loop 99 Hz  missing 3  losses 0").next().is_some()
     });
+    // trial9 m9: the recorded link's row pushed the section's heading down 38 px
+    assert_eq!(heading(&h), live_heading, "opening the replay moved the Robot connection heading");
     // the cursor after the loss: lost, with the E-stop
     h.get_by_label_contains("after the loss").click();
     until(&mut h, "the recorded loss", 5.0, |h| {

@@ -89,6 +89,10 @@ impl Parol6App {
             self.refusal_notice(why);
             return;
         }
+        let step = matches!(cmd, AppCommand::Motion(MotionCommand::CartesianStep { .. }));
+        if (sets_arm_moving(&cmd) && !step) || matches!(cmd, AppCommand::Link(LinkCommand::Home)) {
+            self.state.other_motions += 1;
+        }
         if sets_arm_moving(&cmd) {
             if self.moves_sent.len() >= 256 {
                 self.moves_sent.pop_front();

@@ -317,6 +317,8 @@ impl Parol6App {
                 .then(|| ui.ctx().memory(|m| m.area_rect(egui::Id::unique(super::escape::HELP_WINDOW))))
                 .flatten();
             let place = notices_place(rect, ui.ctx().content_rect(), help);
+            // and clear of the open windows (the point table, a file dialog) and menus
+            let place = clear_of_windows(ui.ctx(), place, rect, self.notices.len());
             notices_ui(ui.ctx(), place, &self.notices, self.settings.unit);
         });
     }
@@ -374,6 +376,96 @@ pub(super) fn notices_place(view: egui::Rect, screen: egui::Rect, help: Option<e
     // a help window as large as the window: the wider side, however narrow
     let (x, width) = sides(screen)[0];
     (egui::pos2(x, top), width.max(60.0))
+}
+
+/// Height of a window's title bar that the notices keep clear of when they cannot clear the
+/// whole window, pt.
+const TITLE_BAR_HEIGHT: f32 = 30.0;
+
+/// Height of one notice of one line, pt (the column's height before it was first laid out).
+const NOTICE_HEIGHT: f32 = 31.0;
+
+/// What the notices keep clear of: the open windows (the point table, the file dialogs, the help,
+/// a question) and the open menus and pop-ups, as (whole rectangle, the part that must stay
+/// clear when nothing else is: a window's title bar, a menu's whole rectangle).
+fn open_windows_and_menus(ctx: &egui::Context) -> Vec<(egui::Rect, egui::Rect)> {
+    ctx.memory(|m| {
+        m.areas()
+            .visible_layer_ids()
+            .into_iter()
+            .filter_map(|layer| {
+                let r = m.area_rect(layer.id)?;
+                match layer.order {
+                    egui::Order::Middle => {
+                        let title = egui::Rect::from_min_max(r.min, egui::pos2(r.right(), r.top() + TITLE_BAR_HEIGHT));
+                        Some((r, title))
+                    }
+                    egui::Order::Foreground => Some((r, r)),
+                    _ => None,
+                }
+            })
+            .filter(|(r, _)| r.is_positive())
+            .collect()
+    })
+}
+
+/// `place` (from [`notices_place`]) moved clear of the open windows and menus
+/// ([`open_windows_and_menus`]): trial 9 and 10 saw notices over the title of the save dialog and
+/// the point table, and over the File menu's "Browse recordings…". The column (its size of the
+/// last frame, or `count` one-line notices) slides down below what it meets, within the 3D view
+/// (`view`) and then within the window (over the plots under a short 3D view), or else goes right
+/// of it in the view; when none of these clears the whole windows, the same with their title
+/// bars only (a notice may cover a window's content, never its title or a menu).
+fn clear_of_windows(
+    ctx: &egui::Context,
+    place: (egui::Pos2, f32),
+    view: egui::Rect,
+    count: usize,
+) -> (egui::Pos2, f32) {
+    if count == 0 {
+        return place;
+    }
+    let obstacles = open_windows_and_menus(ctx);
+    if obstacles.is_empty() {
+        return place;
+    }
+    let screen = ctx.content_rect();
+    let last = ctx.memory(|m| m.area_rect(egui::Id::unique(NOTICES_AREA)));
+    let shown = count.min(4) as f32;
+    let size = |width: f32| {
+        let w = last.map_or(width.min(400.0), |r| r.width()).min(width);
+        let h = last.map_or(0.0, |r| r.height()).max(NOTICE_HEIGHT * shown);
+        egui::vec2(w, h)
+    };
+    let (start, width) = place;
+    for whole in [true, false] {
+        let rects: Vec<egui::Rect> = obstacles.iter().map(|(w, t)| if whole { *w } else { *t }).collect();
+        let clear = |column: egui::Rect| !rects.iter().any(|r| r.intersects(column));
+        // down, past each window or menu in the way: within the view, then within the window
+        for bounds in [view, screen] {
+            let mut at = start;
+            for _ in 0..=rects.len() {
+                let column = egui::Rect::from_min_size(at, size(width));
+                if !bounds.contains_rect(column) {
+                    break;
+                }
+                match rects.iter().filter(|r| r.intersects(column)).map(|r| r.bottom()).reduce(f32::max) {
+                    None => return (at, width),
+                    Some(bottom) => at.y = bottom + 8.0,
+                }
+            }
+        }
+        // right of what lies in the column's band at the top
+        let band = egui::Rect::from_min_size(start, egui::vec2(view.right() - start.x, size(width).y));
+        if let Some(right) = rects.iter().filter(|r| r.intersects(band)).map(|r| r.right()).reduce(f32::max) {
+            let at = egui::pos2(right + 10.0, start.y);
+            let w = view.right() - at.x - 10.0;
+            if w >= NOTICES_MIN_WIDTH && clear(egui::Rect::from_min_size(at, size(w))) {
+                return (at, w);
+            }
+        }
+    }
+    place
 }
 
 /// The notices (newest first) at `place` (from [`notices_place`]), on a layer in front of every

@@ -58,6 +58,10 @@ pub struct AppState {
     /// A forward-dynamics torque run drives the simulation, and the simulation is shown (not
     /// the robot): manual motion is refused with [`TORQUE_RUNNING`] until it ends.
     pub torque_run: bool,
+    /// How many motions other than a Cartesian step were set going (a program run, HOME, a joint
+    /// move, a jog, a measurement, a torque run, the controller's homing): the Cartesian jog
+    /// panel's row of steps ends when this changes.
+    pub other_motions: u64,
 }
 
 /// A file being written.

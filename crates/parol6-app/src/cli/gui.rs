@@ -120,9 +120,16 @@ pub fn run(robot: &RobotArgs, connection: &ConnectArgs, record: Option<&Path>, r
     );
     match result {
         // DISPLAY or WAYLAND_DISPLAY set, but nothing answers there (winit's error names its
-        // source file): the same plain words as with neither set
-        Err(eframe::Error::WinitEventLoop(_)) if !created.load(Ordering::SeqCst) => {
-            return Err(no_display(&unreachable(&display_vars())));
+        // source file): the same plain words as with neither set; any other start-up failure
+        // (a library that does not load, an X error) is named as it is, not called "no display"
+        Err(eframe::Error::WinitEventLoop(e)) if !created.load(Ordering::SeqCst) => {
+            let vars = display_vars();
+            if display_unreachable(&e.to_string()) {
+                return Err(no_display(&unreachable(&vars)));
+            }
+            let text = e.to_string();
+            let cause = without_source_path(&text);
+            return Err(CliError::runtime(format!("cannot open the window at {}: {cause}", vars.join(" "))));
         }
         Err(e) => return Err(CliError::runtime(format!("cannot open the window: {e}"))),
         Ok(()) => {}
@@ -172,6 +179,34 @@ fn unreachable(vars: &[String]) -> String {
         (Some(w), None) => format!("none answers at {w}"),
         (None, Some(x)) => format!("none answers at {x}"),
         (None, None) => "none answers".to_string(),
+    }
+}
+
+/// True when winit's start-up error `text` says that no display answers (the X server does not
+/// accept the connection, no Wayland compositor at the socket, no display variable set), not
+/// that something else failed once one answered.
+fn display_unreachable(text: &str) -> bool {
+    const NO_DISPLAY: [&str; 4] = [
+        // x11: XOpenDisplay failed
+        "Failed to open connection to X server",
+        // wayland: nothing at WAYLAND_DISPLAY; a WAYLAND_SOCKET that is no socket
+        "Could not find wayland compositor",
+        "WAYLAND_SOCKET was set but contained garbage",
+        // no variable set (checked before, in `no_display_check`)
+        "is not set",
+    ];
+    NO_DISPLAY.iter().any(|said| text.contains(said))
+}
+
+/// winit's error text without the source file it names ("winit EventLoopError: os error at
+/// …/mod.rs:92: Backend error: …" → "Backend error: …"): the cause, in the words of the library
+/// that failed.
+fn without_source_path(text: &str) -> &str {
+    match text.split_once("os error at ") {
+        Some((_, rest)) => {
+            rest.split_once(".rs:").and_then(|(_, line)| line.split_once(": ")).map_or(rest, |(_, cause)| cause)
+        }
+        None => text,
     }
 }
 

@@ -70,6 +70,9 @@ struct StepView {
     clicked: std::time::Instant,
     /// The arm has moved since that click.
     seen_moving: bool,
+    /// `AppState::other_motions` at the first click: another motion (a program run, HOME, a
+    /// joint move, a replay) ends the row.
+    other_motions: u64,
 }
 
 /// Time after a click after which an arm that has not moved has not taken the step (refused).
@@ -226,7 +229,12 @@ impl CartesianJogPanel {
         // the line says this step, not the last hold jog
         self.view = None;
         let clicked = std::time::Instant::now();
-        let same = self.stepped.filter(|l| l.frame == self.frame && l.axis == axis && l.distance == distance);
+        let same = self.stepped.filter(|l| {
+            l.frame == self.frame
+                && l.axis == axis
+                && l.distance == distance
+                && l.other_motions == ctx.app.other_motions
+        });
         self.stepped = Some(match same {
             Some(l) => StepView { count: l.count + 1, clicked, seen_moving: false, ..l },
             None => StepView {
@@ -237,6 +245,7 @@ impl CartesianJogPanel {
                 start: ctx.model.tcp_isometry(&ctx.robot.commanded.q),
                 clicked,
                 seen_moving: false,
+                other_motions: ctx.app.other_motions,
             },
         });
     }
@@ -273,6 +282,12 @@ impl CartesianJogPanel {
             if moved_m > STALE_REFUSAL_M || now.rotation.angle_to(&v.start.rotation) > STALE_REFUSAL_RAD {
                 self.view = None;
             }
+        }
+        // another motion since the row started (or a replay opened) ends it: the line empties,
+        // the next click starts a new row (it compared the TCP after a program run or HOME
+        // with where the row started: trial9 m1)
+        if self.stepped.is_some_and(|s| s.other_motions != ctx.app.other_motions) || ctx.app.replaying() {
+            self.stepped = None;
         }
         if let Some(s) = &mut self.stepped {
             let unit = ctx.settings.unit;
@@ -369,10 +384,12 @@ impl Panel for CartesianJogPanel {
             ui.selectable_value(&mut self.frame, JogFrame::Tool, "Tool")
                 .on_hover_text("the TCP's own axes (as they are when the jog starts)");
             ui.separator();
-            let hold =
-                ui.selectable_value(&mut self.step_mode, false, "Hold").on_hover_text("move while a button is held");
-            let step =
-                ui.selectable_value(&mut self.step_mode, true, "Step").on_hover_text("each click moves one increment");
+            let hold = ui
+                .selectable_value(&mut self.step_mode, false, "Hold")
+                .on_hover_text("move while a button (or its key) is held");
+            let step = ui
+                .selectable_value(&mut self.step_mode, true, "Step")
+                .on_hover_text("each click moves one increment (the jog keys act in Hold mode only)");
             if hold.changed() || step.changed() {
                 // the other mode's last line no longer says what the buttons do
                 self.view = None;

@@ -20,7 +20,7 @@ pub fn fmt_fixed(v: f64, decimals: usize) -> String {
 /// `rad`, `mm`, `s`, … or `""` for a plain number): a decimal number with `.` or `,` as the
 /// decimal mark, optionally followed by a unit, surrounding blanks ignored. A unit that fits the
 /// field is converted to the field's unit (`rad`, `deg`, `°` in an angle field; `mm`, `m`, `in`
-/// in a millimetre field; the field's own unit anywhere); one that does not is refused, saying
+/// in a millimetre field; `mA`, `A` in a current field; the field's own unit anywhere); one that does not is refused, saying
 /// which units the field takes.
 pub fn parse_in(text: &str, field_unit: &str) -> Result<f64, String> {
     let t = text.trim();
@@ -35,18 +35,29 @@ pub fn parse_in(text: &str, field_unit: &str) -> Result<f64, String> {
     }
     let field = field_unit.trim();
     let factor = match (field, unit) {
-        (f, u) if f == u && !f.is_empty() => Some(1.0),
-        ("°" | "deg", "°" | "deg") | ("rad", "rad") => Some(1.0),
-        ("°" | "deg", "rad") => Some(180.0 / std::f64::consts::PI),
-        ("rad", "°" | "deg") => Some(std::f64::consts::PI / 180.0),
-        ("mm", "m") => Some(1000.0),
-        ("mm", "in") => Some(25.4),
+        (f, u) if f == u && !f.is_empty() => Some(Scale::Times(1.0)),
+        ("°" | "deg", "°" | "deg") | ("rad", "rad") => Some(Scale::Times(1.0)),
+        ("°" | "deg", "rad") => Some(Scale::Times(180.0 / std::f64::consts::PI)),
+        ("rad", "°" | "deg") => Some(Scale::Times(std::f64::consts::PI / 180.0)),
+        ("mm", "m") | ("mA", "A") => Some(Scale::TenTo(3)),
+        ("A", "mA") => Some(Scale::TenTo(-3)),
+        ("mm", "in") => Some(Scale::Times(25.4)),
         _ => None,
     };
     match factor {
-        Some(k) => Ok(v * k),
+        Some(Scale::Times(k)) => Ok(v * k),
+        // the decimal point moved in the text: "1.001 A" is 1001 mA, not 1000.9999999999999
+        Some(Scale::TenTo(e)) => {
+            Ok(format!("{}e{e}", number.replace(',', ".")).parse::<f64>().unwrap_or(v * 10f64.powi(e)))
+        }
         None => Err(format!("\"{t}\": {unit} does not fit this field; {}", accepts(field))),
     }
+}
+
+/// How a typed unit becomes the field's: a factor, or a power of ten (exact in decimal).
+enum Scale {
+    Times(f64),
+    TenTo(i32),
 }
 
 /// What a field showing `unit` accepts, in words.
@@ -54,6 +65,7 @@ fn accepts(unit: &str) -> String {
     match unit {
         "°" | "deg" | "rad" => format!("it takes an angle: a plain number (in {unit}) or one ending in °, deg or rad"),
         "mm" => "it takes a length: a plain number (in mm) or one ending in mm, m or in".to_string(),
+        "mA" | "A" => format!("it takes a current: a plain number (in {unit}) or one ending in mA or A"),
         "" => "it takes a plain number".to_string(),
         u => format!("it takes a plain number (in {u}) or one ending in {u}"),
     }

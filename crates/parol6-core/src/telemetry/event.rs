@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::limits::LimitZone;
+use crate::limits::{JointLimits, LimitZone, ZoneThresholds};
 use crate::motion::RobotState;
 
 use super::sample::{LinkHealth, TelemetrySample};
@@ -84,12 +84,35 @@ pub struct EventDetector {
     blocked: Option<String>,
     link: Option<LinkHealth>,
     seen_state: bool,
+    /// The joints' limits and the zone thresholds the samples' zones were found with: a zone
+    /// raised by the prediction alone is named as the prediction it is.
+    limits: Option<(JointLimits, ZoneThresholds)>,
 }
 
 impl EventDetector {
-    /// A detector that has seen nothing yet.
+    /// A detector that has seen nothing yet (and cannot tell a predicted zone from a reached
+    /// one: see [`Self::with_limits`]).
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A detector for samples whose zones came from `limits` and `thresholds`: a joint whose zone
+    /// got worse only by the prediction (its position is in a better zone) is reported as
+    /// "J5 will reach its limit in ≤ 0.5 s", not as "at limit" 18° from it.
+    pub fn with_limits(limits: JointLimits, thresholds: ZoneThresholds) -> Self {
+        Self { limits: Some((limits, thresholds)), ..Self::default() }
+    }
+
+    /// The words for joint `i` (0-based) entering `zone` at `q_rad`.
+    fn limit_words(&self, i: usize, zone: LimitZone, q_rad: f64) -> String {
+        let predicted = self.limits.as_ref().and_then(|(limits, t)| {
+            let l = limits.get(i)?;
+            (t.zone(l, q_rad) < zone).then_some(t.predict_horizon_s)
+        });
+        match predicted {
+            Some(horizon_s) => format!("will reach its limit in ≤ {horizon_s} s"),
+            None => zone.label().to_string(),
+        }
     }
 
     /// A joint whose zone got worse since the previous sample gives a limit warning (one per
@@ -97,17 +120,18 @@ impl EventDetector {
     pub fn observe_sample(&mut self, s: &TelemetrySample, out: &mut Vec<TelemetryEvent>) {
         let n = s.joints.len();
         self.zones.resize(n, LimitZone::Safe);
-        for (i, (zone, joint)) in self.zones.iter_mut().zip(&s.joints).enumerate() {
+        for (i, joint) in s.joints.iter().enumerate() {
             let now = joint.zone;
-            if now > *zone {
+            if now > self.zones[i] {
+                let words = self.limit_words(i, now, joint.q_rad);
                 out.push(TelemetryEvent {
                     time_s: s.time_s,
                     kind: EventKind::LimitWarning { joint: i, zone: now },
                     // in degrees, as every message: a window in radians converts what it shows
-                    message: format!("J{} {} (q = {:.2}°)", i + 1, now.label(), joint.q_rad.to_degrees()),
+                    message: format!("J{} {words} (q = {:.2}°)", i + 1, joint.q_rad.to_degrees()),
                 });
             }
-            *zone = now;
+            self.zones[i] = now;
         }
     }
 
@@ -200,6 +224,66 @@ mod tests {
         d.observe_sample(&sample(LimitZone::Critical), &mut out);
         assert_eq!(out.len(), 1, "{out:?}");
         assert_eq!(out[0].message, "J2 at limit (q = 72.07°)");
+    }
+
+    /// trial10 n7: "J5 at limit (q = 1.2579 rad)" at J5 = 72°, 18° from its limit: the zone was
+    /// raised by the 0.5 s prediction. Such an event says that the joint will reach its limit,
+    /// and one reached by position still says "near limit" / "at limit".
+    #[test]
+    fn a_limit_event_raised_by_the_prediction_says_so() {
+        use crate::limits::LimitZone;
+        use crate::telemetry::{DriveKind, JointTelemetry};
+        let model = RobotModel::parol6();
+        let thresholds = ZoneThresholds::default();
+        let j5 = model.limits.get(4).expect("J5").clone();
+        let sample = |q5: f64, qd5: f64| {
+            let joints = (0..6)
+                .map(|i| {
+                    let l = model.limits.get(i).expect("a joint");
+                    let q_rad = if i == 4 { q5 } else { 0.5 * (l.min + l.max) };
+                    let qd_rad_s = if i == 4 { qd5 } else { 0.0 };
+                    let zone = thresholds.predictive_zone(l, q_rad, qd_rad_s).zone;
+                    JointTelemetry {
+                        cmd_q_rad: q_rad,
+                        cmd_qd_rad_s: qd_rad_s,
+                        cmd_qdd_rad_s2: 0.0,
+                        q_rad,
+                        qd_rad_s,
+                        qdd_rad_s2: 0.0,
+                        drive: 0.0,
+                        zone,
+                    }
+                })
+                .collect();
+            TelemetrySample {
+                seq: 1,
+                time_s: 1.0,
+                joints,
+                drive: DriveKind::StepsPerS,
+                tcp: crate::kinematics::TcpPose::from_xyz_rpy([0.0; 3], [0.0; 3]),
+                worst_zone: None,
+                program_step: None,
+                link: None,
+            }
+        };
+        // a fifth of the range from the upper limit (a safe position), moving toward it: 0.4 s away
+        let q5 = j5.max - 0.2 * j5.range();
+        let fast = sample(q5, 0.2 * j5.range() / 0.4);
+        assert_eq!(fast.joints[4].zone, LimitZone::Warning, "raised by the prediction");
+        assert_eq!(thresholds.zone(&j5, q5), LimitZone::Safe, "a safe position");
+        let mut d = EventDetector::with_limits(model.limits.clone(), thresholds);
+        let mut out = Vec::new();
+        d.observe_sample(&sample(q5, 0.0), &mut out);
+        d.observe_sample(&fast, &mut out);
+        assert_eq!(out.len(), 1, "{out:?}");
+        let deg = q5.to_degrees();
+        assert_eq!(out[0].message, format!("J5 will reach its limit in ≤ 0.5 s (q = {deg:.2}°)"));
+        assert!(!out[0].message.contains("at limit") && !out[0].message.contains("rad"), "{}", out[0].message);
+        // at its limit by position: "at limit"
+        let at = j5.max - 0.5f64.to_radians();
+        d.observe_sample(&sample(at, 0.0), &mut out);
+        assert_eq!(out.len(), 2, "{out:?}");
+        assert_eq!(out[1].message, format!("J5 at limit (q = {:.2}°)", at.to_degrees()));
     }
 
     #[test]

@@ -228,7 +228,7 @@ impl Recorder {
         });
         let worker = Worker {
             builder: SampleBuilder::new(model.clone(), config.thresholds),
-            detector: EventDetector::new(),
+            detector: EventDetector::with_limits(model.limits.clone(), config.thresholds),
             ring: LiveRing::new(model.dof(), config.live_span_s, config.live_full_rate_s, config.live_rate_hz),
             sink: None,
             last_seq: None,

@@ -83,7 +83,8 @@ impl ProgramPanel {
         }
         ui.separator();
         let table = if self.table_open { "Close point table" } else { "Point table" };
-        if entry(ui, table, None, busy) {
+        // the table opens during a run too, read-only
+        if entry(ui, table, None, None) {
             self.table_open = !self.table_open;
             acted = true;
         }

@@ -389,8 +389,9 @@ impl Panel for ProgramPanel {
         }
         self.dialogs(ui, ctx);
         self.run_confirmation(ui, ctx);
-        if self.table_open && !running {
-            self.table_window(ui, ctx);
+        // open during a run too, read-only (it vanished without a word: trial10 n1)
+        if self.table_open {
+            self.table_window(ui, ctx, running);
         }
     }
 }

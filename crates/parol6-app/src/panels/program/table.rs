@@ -2,7 +2,8 @@
 //! positions in mm, orientations in the chosen convention, speeds), each cell committed on
 //! Enter or focus loss as one undoable edit. A header row is repeated where the columns
 //! change (a joint step after Cartesian ones). Steps without numbers here (arcs, splines,
-//! gripper, I/O) show their summary.
+//! gripper, I/O) show their summary. While a program runs (or is paused) the table stays open,
+//! read-only, and says that editing waits for the run to end.
 
 use eframe::egui;
 
@@ -13,6 +14,9 @@ use crate::panels::step_fields::{FieldSlot, step_fields, with_field};
 
 /// Width of one number cell, px.
 const CELL_WIDTH: f32 = 62.0;
+/// What the table says while a program runs (its cells and row buttons are greyed).
+pub const READ_ONLY_WHILE_RUNNING: &str = "A program is running: read-only; editing waits for the run to end.";
+
 /// Space between two rows of the table, px.
 const TABLE_ROW_SPACING: f32 = 2.0;
 
@@ -50,8 +54,9 @@ fn header_row(ui: &mut egui::Ui, labels: &[String]) {
 }
 
 impl ProgramPanel {
-    /// Shows the window while [`ProgramPanel::table_open`].
-    pub(super) fn table_window(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+    /// Shows the window while [`ProgramPanel::table_open`]; read-only while `running` (the run
+    /// steps through the program it started with: an edit now would not reach it).
+    pub(super) fn table_window(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, running: bool) {
         let mut open = true;
         let mut change: Option<(usize, FieldSlot, f64, String)> = None;
         let mut select = None;
@@ -68,13 +73,22 @@ impl ProgramPanel {
             .default_size([640.0, 360.0])
             .resizable(true)
             .show(ui.ctx(), |ui| {
-                ui.weak(format!(
-                    "{} steps. Type a value, then Enter or Tab; Ctrl+Z undoes. Angles: {}, {}.",
-                    program.steps.len(),
-                    ctx.settings.unit.suffix().trim(),
-                    ctx.settings.angle_convention.describe()
-                ));
+                // one line in either case: the rows below do not move when a run starts or ends
+                if running {
+                    ui.colored_label(crate::palette::rgb(crate::palette::WARN_TEXT), READ_ONLY_WHILE_RUNNING);
+                } else {
+                    ui.weak(format!(
+                        "{} steps. Type a value, then Enter or Tab; Ctrl+Z undoes. Angles: {}, {}.",
+                        program.steps.len(),
+                        ctx.settings.unit.suffix().trim(),
+                        ctx.settings.angle_convention.describe()
+                    ));
+                }
                 ui.horizontal(|ui| {
+                    // greyed while a program runs; the rows still scroll
+                    if running {
+                        ui.disable();
+                    }
                     add_row = ui
                         .button("Add row")
                         .on_hover_text("a copy of the selected row (or the last one), after it; edit its numbers")
@@ -98,6 +112,9 @@ impl ProgramPanel {
                     scroll = scroll.vertical_scroll_offset((k as f32 * row_h - 0.5 * (view_h - row_h)).max(0.0));
                 }
                 scroll.show_rows(ui, row_h, rows.len(), |ui, range| {
+                    if running {
+                        ui.disable();
+                    }
                     egui::Grid::new("program-point-table-grid").striped(true).spacing([4.0, TABLE_ROW_SPACING]).show(
                         ui,
                         |ui| {

@@ -112,3 +112,25 @@ fn quit_in_the_file_menu_asks_as_ctrl_q_does() {
     h.run_steps(1);
     assert!(closes(&h), "then quits");
 }
+
+/// Trial11 (issue 32, safety): while the quit question was open (Ctrl+Q over unsaved edits, a
+/// program running) its backdrop took the click on E-STOP: the question closed, the drives stayed
+/// on and the arm went on moving. STOP and E-STOP now act on the first click above a question.
+#[test]
+fn stop_and_estop_act_on_the_first_click_while_the_quit_question_is_open() {
+    let dir = std::env::temp_dir().join(format!("parol6-quit-estop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut h = edited(&dir.join("edited.json"));
+    ctrl_q(&mut h);
+    h.run_steps(2);
+    assert!(h.state().quit_prompt_open(), "no question");
+    // the pointer presses wherever the button is drawn (under the question, or above it)
+    h.query_all_by_label("STOP").next().expect("STOP").click();
+    h.run_steps(2);
+    assert!(h.state().quit_prompt_open(), "the click on STOP only closed the question");
+    h.query_all_by_label("E-STOP").next().expect("E-STOP").click();
+    ui_support::until(&mut h, "the E-stop latches", 5.0, |h| h.state().estop_latched());
+    assert!(h.state().quit_prompt_open(), "the question stays until answered");
+    assert!(!closes(&h));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

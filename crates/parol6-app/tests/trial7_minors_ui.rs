@@ -177,6 +177,33 @@ fn stop_recording_keeps_the_file_menu_open_with_start_in_its_place() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Trial11 (issue 32): *Start recording* over an existing file (the field keeps the last
+/// recording's path, also while that recording replays) replaced an 8-minute recording with
+/// the new 16 s one when it stopped, without a word. The first click now says the file exists
+/// and that a second click replaces it.
+#[test]
+fn start_recording_over_an_existing_file_asks_before_replacing_it() {
+    let dir = temp_dir("replace");
+    let path = dir.join("kept.mcap");
+    std::fs::write(&path, b"the last recording").unwrap();
+    let mut h = ui_support::harness_with(ui_support::launch_options(), egui::vec2(1280.0, 800.0));
+    open_file_menu(&mut h);
+    h.get_by_label("Record to").click();
+    h.run_steps(1);
+    h.get_by_label("Record to").type_text(&path.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Start recording").click();
+    h.run_steps(3);
+    assert!(h.state().recording_path().is_none(), "a recording started over an existing file without asking");
+    assert!(has_label(&h, "kept.mcap exists: Start recording again replaces it when stopped"));
+    h.get_by_label("Start recording").click();
+    until(&mut h, "the recording starts on the second click", 5.0, |h| h.state().recording_path().is_some());
+    h.run_steps(2);
+    h.get_by_label("Stop recording").click();
+    until(&mut h, "the recording closed", 10.0, |h| has_label(h, "Start recording"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Trial 7: the point table's *Add row* added the row out of view (at the end of a long
 /// program, the table scrolled to the top). The new row is selected and in view.
 #[test]

@@ -267,8 +267,25 @@ const STOP_BUTTON_HEIGHT: f32 = 28.0;
 
 /// The red STOP button (Esc) and the E-STOP beside it, `height` points tall: in the joints
 /// panel, and in the menu bar while the joints panel is hidden (View menu), so that both are
-/// always on screen.
+/// always on screen. While a question is open (a modal: the quit question, the torque
+/// question), which dims and blocks everything under it, both are drawn once more, live, above
+/// it in the same place: the first click on them acts (it used to close the question only,
+/// and the arm went on moving).
 pub fn stop_buttons(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) {
+    let layout = *ui.layout();
+    let rect = ui.scope(|ui| stop_buttons_here(ui, ctx, height)).response.rect;
+    if ui.ctx().memory(|m| m.top_modal_layer()).is_some() {
+        egui::Area::new(ui.scope_id().with("stop_buttons_above_a_question"))
+            .order(egui::Order::Tooltip)
+            .fixed_pos(rect.min)
+            .show(ui.ctx(), |ui| {
+                ui.allocate_ui_with_layout(rect.size(), layout, |ui| stop_buttons_here(ui, ctx, height));
+            });
+    }
+}
+
+/// STOP and E-STOP, laid out by `ui`.
+fn stop_buttons_here(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) {
     let stop = egui::Button::new(egui::RichText::new("STOP").strong().color(palette::rgb(palette::STOP_TEXT)))
         .fill(palette::rgb(palette::STOP_FILL))
         .min_size(egui::vec2(90.0, height));

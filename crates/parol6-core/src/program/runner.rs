@@ -311,7 +311,7 @@ impl Run<'_> {
         if s.moving || s.mode != PlannerMode::Hold {
             return Err(Halt::Refused("the arm is moving: stop it before running a program".into()));
         }
-        let start_q = s.commanded.q.clone();
+        let start_q = pausing::hold_position(&s);
         let check_opts = CheckOptions { speed_override: opts.speed_override };
         let reusable = self.checked.as_ref().filter(|c| c.opts == check_opts && c.is_from(&start_q));
         let first_error = match reusable {
@@ -350,7 +350,7 @@ impl Run<'_> {
         let mut next = 0; // first step not yet scheduled
         let mut slots: VecDeque<Slot> = VecDeque::new();
         let s0 = self.backend.state();
-        self.start_q = s0.commanded.q.clone();
+        self.start_q = pausing::hold_position(&s0);
         self.see_delay(&s0);
         let mut clock = start_clock(schedule_clock(&s0));
         let mut refusal = s0.last_refusal.as_ref().map_or(0, |r| r.0);

@@ -82,6 +82,9 @@ pub struct SyncedFile {
     out: BufWriter<KeptBytes<File>>,
     /// Where the recording goes when it is finished, if it is written beside an existing file.
     replaces: Option<(PathBuf, PathBuf)>,
+    /// That existing file, held open and locked until it is replaced, so that no other
+    /// recording starts on it meanwhile (a file written in place is locked through `out`).
+    _replaced: Option<File>,
 }
 
 impl SyncedFile {
@@ -198,21 +201,21 @@ impl McapSink<SyncedFile> {
     /// renames it over the old one. A `path` that is not a regular file is refused.
     pub fn create_file(path: &Path, model: &RobotModel, info: &RecordingInfo) -> Result<Self, TelemetryError> {
         let exists = std::fs::symlink_metadata(path).is_ok();
-        let (file, replaces) = if exists {
+        let io = |e: std::io::Error| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() };
+        let (file, replaces, replaced) = if exists {
             crate::fsio::check_regular(path)?;
             let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-            let (tmp, file) = create_beside(&target)
-                .map_err(|e| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() })?;
-            (file, Some((tmp, target)))
+            let replaced = File::open(&target).map_err(io)?;
+            lock_for_recording(&replaced, path)?;
+            let (tmp, file) = create_beside(&target).map_err(io)?;
+            (file, Some((tmp, target)), Some(replaced))
         } else {
-            let file = std::fs::OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(path)
-                .map_err(|e| TelemetryError::Io { path: path.display().to_string(), reason: e.to_string() })?;
-            (file, None)
+            let file = std::fs::OpenOptions::new().write(true).create_new(true).open(path).map_err(io)?;
+            lock_for_recording(&file, path)?;
+            (file, None, None)
         };
-        let out = SyncedFile { out: BufWriter::with_capacity(1 << 16, KeptBytes::new(file)), replaces };
+        let out =
+            SyncedFile { out: BufWriter::with_capacity(1 << 16, KeptBytes::new(file)), replaces, _replaced: replaced };
         Self::new(out, model, info)
     }
 
@@ -221,6 +224,24 @@ impl McapSink<SyncedFile> {
         let (summary, file) = self.finish_into_inner()?;
         file.commit()?;
         Ok(summary)
+    }
+}
+
+/// Locks `file` (at `path`) as a recording's target for as long as it stays open: a window
+/// and `parol6 record` recording to one file replaced each other's recording, and the one
+/// reported as saved was lost. Refused while another recording holds it; on a file system
+/// without locks the recording goes on unlocked.
+fn lock_for_recording(file: &File, path: &Path) -> Result<(), TelemetryError> {
+    match file.try_lock() {
+        Ok(()) => Ok(()),
+        Err(std::fs::TryLockError::WouldBlock) => Err(TelemetryError::Io {
+            path: path.display().to_string(),
+            reason: "it is being recorded to now (by another window or parol6 record): stop that \
+                     recording first, or choose another file"
+                .into(),
+        }),
+        // no locks here (e.g. some network file systems): nothing to hold
+        Err(std::fs::TryLockError::Error(_)) => Ok(()),
     }
 }
 

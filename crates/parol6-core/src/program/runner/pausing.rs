@@ -16,6 +16,19 @@ pub const REGAIN_SPEED_FRACTION: f64 = 0.2;
 /// The longest the move back to the program's path may take, s of wall time.
 const REGAIN_TIMEOUT: Duration = Duration::from_secs(120);
 
+/// Where a run plans from: the hold position when the planner holds, the point a trajectory
+/// handed to it must start from. A robot's `commanded` is the setpoint of the frame the board
+/// answered, one frame late: just after a move ends it can lie a fraction of a motor step short
+/// of the hold, and a pass planned from there was refused ("the trajectory starts 0.0001° away
+/// from the commanded position"), ending a looping run between passes.
+pub(super) fn hold_position(s: &RobotState) -> Vec<f64> {
+    if s.mode == PlannerMode::Hold && !s.moving && s.target_q.len() == s.commanded.q.len() {
+        s.target_q.clone()
+    } else {
+        s.commanded.q.clone()
+    }
+}
+
 impl Run<'_> {
     /// Between the passes of a looping run: waits until the arm is at rest (a robot's measured
     /// joints lag the commanded ones and settle after the last step ends), at most

@@ -288,3 +288,46 @@ fn pause_on_the_first_line(
     runner.control(RunnerControl::Pause);
     start
 }
+
+/// The simulation, except that at rest it reports as its commanded setpoint a point 2 µrad (a
+/// fraction of a motor step) on J1 beside where the planner holds the arm, as a robot does just
+/// after a move ends: its `commanded` is the setpoint of the frame the board answered, one frame
+/// late.
+struct AnswersOneFrameLate(Arc<SimHandle>);
+
+impl RobotBackend for AnswersOneFrameLate {
+    fn submit(&self, cmd: MotionCommand, at_s: Option<f64>) -> Result<(), BackendError> {
+        self.0.submit(cmd, at_s)
+    }
+
+    fn state(&self) -> Arc<RobotState> {
+        let s = self.0.state();
+        if s.mode != PlannerMode::Hold || s.moving {
+            return s;
+        }
+        let mut late = s.as_ref().clone();
+        late.commanded.q[0] -= 2e-6;
+        Arc::new(late)
+    }
+
+    fn io(&self, cmd: IoCommand) -> Result<(), BackendError> {
+        self.0.io(cmd)
+    }
+}
+
+/// Regression (trial11, issue 32): a looping Pick & place on the fake robot stopped between two
+/// passes with "step 1: … refused: the trajectory starts 0.0001° away from the commanded
+/// position": the runner planned the pass from the reported setpoint, one frame late, instead of
+/// from where the planner holds the arm.
+#[test]
+fn a_looping_run_plans_each_pass_from_where_the_planner_holds_the_arm() {
+    let (model, sim) = sim(4.0);
+    let (_, steps) = square(&model);
+    let backend = Arc::new(AnswersOneFrameLate(sim.clone()));
+    let opts = RunOptions { looping: true, ..RunOptions::default() };
+    let runner = ProgramRunner::start(backend, model, Program::from_steps("square", steps), opts).expect("thread");
+    wait_for(&runner, "the second pass", |p| p.passes >= 1 && p.steps_done >= 2);
+    runner.control(RunnerControl::Stop);
+    let done = runner.join();
+    assert_eq!(done.state, RunState::Stopped, "{done:?}");
+}

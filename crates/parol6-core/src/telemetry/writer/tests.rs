@@ -130,6 +130,32 @@ fn a_recording_over_an_existing_one_keeps_it_until_finished() {
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
+/// Trial11 (issue 32): a second window on the same HOME recording to the file a first one was
+/// still writing replaced it when it finished; the first window's recording, reported as
+/// "recorded 17662 samples (45.4 s) to …/dup.mcap", was lost. A file that a recording is
+/// written to, or will replace, is now refused as the target of another until that one is
+/// finished.
+#[test]
+fn a_file_being_recorded_is_refused_as_the_target_of_another_recording() {
+    let model = RobotModel::parol6();
+    let dir = scratch_dir("busy");
+    let path = dir.join("run.mcap");
+    // the first recording is written in place
+    let first = McapSink::create_file(&path, &model, &info()).expect("first");
+    let e = McapSink::create_file(&path, &model, &info()).expect_err("a second recording to the same file");
+    assert!(e.to_string().contains("being recorded"), "{e}");
+    assert!(!dir.join("run.mcap.recording").exists());
+    first.finish_file().expect("finish");
+    // the next one is written beside the finished file, which it will replace: as busy
+    let second = McapSink::create_file(&path, &model, &info()).expect("over the finished one");
+    let e = McapSink::create_file(&path, &model, &info()).expect_err("a third recording to the same file");
+    assert!(e.to_string().contains("being recorded"), "{e}");
+    second.finish_file().expect("finish");
+    McapSink::create_file(&path, &model, &info()).expect("free again").finish_file().expect("finish");
+    assert!(crate::telemetry::read_recording(&std::fs::read(&path).expect("read")).is_ok());
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
 /// Issue 29 item 1: a FIFO or a device as the recording was opened and written (a FIFO blocked
 /// the start until a reader came); now it is refused before anything is opened.
 #[test]

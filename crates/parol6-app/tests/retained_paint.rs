@@ -344,3 +344,72 @@ fn a_new_window_size_is_drawn_over_two_frames_and_then_matches_a_full_frame() {
         }
     }
 }
+
+/// Frame `step` of a UI with a side panel on each side of the 3D view, each holding a mesh of
+/// 4 800 small triangles whose shades all change at step 2 (with the arm): a window-wide change
+/// of more work than two frames should take (`retained::spread::FRAME_PART_US`).
+fn frame_three_columns_changing(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let mut q = parol6::standby_rad().to_vec();
+    let changed = step >= 2;
+    if changed {
+        q[0] += 0.8;
+    }
+    let scene = SceneFrame::from_joints(model, &q, None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 * 0.1),
+        ..Default::default()
+    };
+    let shades = |ui: &mut egui::Ui| {
+        let rect = ui.max_rect();
+        let mut mesh = egui::Mesh::default();
+        for row in 0..60 {
+            for col in 0..40 {
+                let min = rect.min + egui::vec2(5.0 * col as f32, 6.0 * row as f32);
+                let shade = ((row * 7 + col * 3 + if changed { 50 } else { 0 }) % 200) as u8 + 40;
+                mesh.add_colored_rect(
+                    egui::Rect::from_min_size(min, egui::vec2(4.0, 5.0)),
+                    egui::Color32::from_gray(shade),
+                );
+            }
+        }
+        ui.painter().add(egui::Shape::mesh(mesh));
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        egui::Panel::left("left").exact_size(200.0).show(ui, shades);
+        egui::Panel::right("right").exact_size(200.0).show(ui, shades);
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+/// A window-wide change of much work is redrawn over three frames, a column each
+/// (`retained::spread`): no frame draws more than one column, and the third shows every pixel
+/// as a full frame does.
+#[test]
+fn a_window_wide_change_of_much_work_is_drawn_over_three_frames_and_then_matches_a_full_frame() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    for step in 0..6 {
+        let a = frame_three_columns_changing(&mut direct, &model, step);
+        let b = frame_three_columns_changing(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        match step {
+            2 | 3 => {
+                assert!(!stats.full_redraw, "spread: {stats:?}");
+                assert!(
+                    stats.redrawn_px > 0.2 * stats.screen_px && stats.redrawn_px < 0.45 * stats.screen_px,
+                    "one column a frame: {stats:?}"
+                );
+                assert!(b.pixels.chunks_exact(4).all(|px| px[3] == 255), "no empty pixel");
+            }
+            _ => assert_same_image(&a, &b, "three parts", step, &stats),
+        }
+    }
+}

@@ -239,7 +239,7 @@ impl RetainedPainter {
         if self.target.as_ref().map(|t| t.size_px) != Some(screen.size_in_pixels) {
             let new = self.make_target(device, screen.size_in_pixels);
             match self.target.take() {
-                // a new size drawn over two frames: until the next, the part not yet drawn
+                // a new size drawn over two or three frames: until then, the part not yet drawn
                 // shows the last image (where it fits) instead of an empty one
                 Some(old) if !frame.full => {
                     let [w, h] = [old.size_px[0].min(new.size_px[0]), old.size_px[1].min(new.size_px[1])];

@@ -403,13 +403,17 @@ fn a_window_wide_change_of_much_work_is_drawn_over_three_frames_and_then_matches
         match step {
             2 | 3 => {
                 assert!(!stats.full_redraw, "spread: {stats:?}");
+                assert_eq!(stats.frames_left, 4 - step, "frames still needed: {stats:?}");
                 assert!(
                     stats.redrawn_px > 0.2 * stats.screen_px && stats.redrawn_px < 0.45 * stats.screen_px,
                     "one column a frame: {stats:?}"
                 );
                 assert!(b.pixels.chunks_exact(4).all(|px| px[3] == 255), "no empty pixel");
             }
-            _ => assert_same_image(&a, &b, "three parts", step, &stats),
+            _ => {
+                assert_eq!(stats.frames_left, 0, "{stats:?}");
+                assert_same_image(&a, &b, "three parts", step, &stats);
+            }
         }
     }
 }

@@ -88,8 +88,10 @@ struct Redraw {
     triangles: usize,
     /// Draw jobs (backgrounds, meshes, paint callbacks).
     jobs: usize,
-    /// Whether it was redrawn in full (first frame, new size, texture change).
+    /// Whether it was redrawn in full at once (first frame, texture change).
     full: bool,
+    /// Frames after it that its change still needed (a large change is spread over up to three).
+    frames_left: usize,
 }
 
 /// One measured frame ([`Bench::frame`]).
@@ -136,6 +138,7 @@ impl Bench {
             triangles: r.triangles,
             jobs: r.jobs,
             full: r.full_redraw,
+            frames_left: r.frames_left,
         });
         Ok(Frame { frame_ms: t.frame_ms, app_ms: t.app_ms, ui_ms: t.ui_cpu_ms, redraw, cpu_ms })
     }

@@ -50,6 +50,8 @@ pub struct RetainedStats {
     pub triangles: usize,
     /// Whether the last frame was redrawn in full.
     pub full_redraw: bool,
+    /// Frames after the last one that a change spread over several still needs (0–2).
+    pub frames_left: usize,
     /// CPU time of comparing, uploading and recording the last frame, ms.
     pub prepare_ms: f64,
 }
@@ -233,7 +235,9 @@ impl egui::Plugin for RetainedPaint {
             pending.push(output.textures_delta.clone());
         }
         let full = rects == [screen_pt];
-        let callback = RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { rects, primitives, full })) };
+        let frames_left = usize::from(!self.deferred_next.is_empty()) + usize::from(!self.deferred_after.is_empty());
+        let frame = RetainedFrame { rects, primitives, full, frames_left };
+        let callback = RetainedFrameCallback { frame: Mutex::new(Some(frame)) };
         output.shapes = vec![ClippedShape {
             clip_rect: screen,
             shape: egui::Shape::Callback(egui_wgpu::Callback::new_paint_callback(screen, callback)),

@@ -44,6 +44,11 @@ fn painter(model: &RobotModel, retained_on: bool) -> Option<Painter> {
     // on whatever the adapter (the window turns it on for software rasterizers only)
     let retained =
         retained_on.then(|| retained::install(&ctx, &rs, egui::Color32::from_rgb(BG[0], BG[1], BG[2]), None));
+    // the full frames compared with retained painting's: the same UI, without egui's animations
+    // (as retained painting turns them off)
+    if !retained_on {
+        ctx.all_styles_mut(|style| style.animation_time = 0.0);
+    }
     Some(Painter { renderer, rs, ctx, viewport, retained })
 }
 
@@ -415,5 +420,58 @@ fn a_window_wide_change_of_much_work_is_drawn_over_three_frames_and_then_matches
                 assert_same_image(&a, &b, "three parts", step, &stats);
             }
         }
+    }
+}
+
+/// Frame `step` (at 60 Hz) of a UI whose window (egui's default: fading in) opens at step 2.
+fn frame_dialog_opening(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let scene = SceneFrame::from_joints(model, &parol6::standby_rad(), None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 / 60.0),
+        predicted_dt: 1.0 / 60.0,
+        ..Default::default()
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        if step >= 2 {
+            egui::Window::new("dialog").fixed_pos(egui::pos2(60.0, 60.0)).show(ui.ctx(), |ui| {
+                for k in 0..6 {
+                    ui.label(format!("file {k}.gcode"));
+                }
+            });
+        }
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+/// A window opening is drawn once, whole (no fade-in redrawing it frame after frame on a
+/// software rasterizer: a file dialog's five fade frames took ~35 ms each on llvmpipe).
+#[test]
+fn a_window_opening_is_drawn_whole_at_once_and_not_again_while_it_stands() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    let mut drawn_px = 0.0;
+    for step in 0..9 {
+        let a = frame_dialog_opening(&mut direct, &model, step);
+        let b = frame_dialog_opening(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        if (2..=3).contains(&step) {
+            // egui sizes a new window in its first frame and shows it in the next
+            drawn_px += stats.redrawn_px;
+        }
+        if step == 3 {
+            assert!(drawn_px > 0.0, "the window is drawn: {stats:?}");
+        }
+        if step >= 4 {
+            assert_eq!(stats.redrawn_px, 0.0, "a standing window is not redrawn (step {step}): {stats:?}");
+        }
+        assert_same_image(&a, &b, "dialog", step, &stats);
     }
 }

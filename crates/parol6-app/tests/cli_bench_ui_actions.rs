@@ -55,16 +55,30 @@ fn bench_ui_actions_reports_the_longest_frame_of_every_action() {
     let names: Vec<&str> = actions.iter().map(|a| a["action"].as_str().unwrap()).collect();
     assert_eq!(names, ACTIONS, "{v}");
     for a in actions {
-        for field in ["frame_ms_max", "app_ms_max", "ui_cpu_ms_max", "call_ms", "settled_s", "longest_frame_cpu_ms"] {
+        for field in [
+            "frame_ms_max",
+            "app_ms_max",
+            "ui_cpu_ms_max",
+            "call_ms",
+            "settled_s",
+            "longest_frame_cpu_ms",
+            "frame_cpu_ms_max",
+        ] {
             assert!(a[field].as_f64().is_some_and(|x| x.is_finite() && x >= 0.0), "{field} of {a}");
         }
         // a frame's UI pass runs on the process's CPU: its CPU time is at least a part of it
         assert!(a["longest_frame_cpu_ms"].as_f64().unwrap() > 0.0, "the longest frame took some CPU: {a}");
+        assert!(
+            a["frame_cpu_ms_max"].as_f64().unwrap() >= a["longest_frame_cpu_ms"].as_f64().unwrap(),
+            "the costliest frame took at least the longest one's CPU: {a}"
+        );
         assert!(a["frames"].as_u64().unwrap() >= 1, "{a}");
         assert!(a["settled"].is_boolean(), "{a}");
     }
     let longest = actions.iter().map(|a| a["frame_ms_max"].as_f64().unwrap()).fold(0.0, f64::max);
     assert_eq!(v["frame_ms_max"].as_f64().unwrap(), longest, "{v}");
+    let costliest = actions.iter().map(|a| a["frame_cpu_ms_max"].as_f64().unwrap()).fold(0.0, f64::max);
+    assert_eq!(v["frame_cpu_ms_max"].as_f64().unwrap(), costliest, "{v}");
     let over: Vec<&str> = v["over_50ms"].as_array().unwrap().iter().map(|x| x.as_str().unwrap()).collect();
     let expected: Vec<&str> = actions
         .iter()

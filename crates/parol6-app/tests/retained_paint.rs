@@ -44,6 +44,11 @@ fn painter(model: &RobotModel, retained_on: bool) -> Option<Painter> {
     // on whatever the adapter (the window turns it on for software rasterizers only)
     let retained =
         retained_on.then(|| retained::install(&ctx, &rs, egui::Color32::from_rgb(BG[0], BG[1], BG[2]), None));
+    // the full frames compared with retained painting's: the same UI, without egui's animations
+    // (as retained painting turns them off)
+    if !retained_on {
+        ctx.all_styles_mut(|style| style.animation_time = 0.0);
+    }
     Some(Painter { renderer, rs, ctx, viewport, retained })
 }
 
@@ -342,5 +347,131 @@ fn a_new_window_size_is_drawn_over_two_frames_and_then_matches_a_full_frame() {
             3 => assert_same_image(&a, &b, "resize", step, &stats),
             _ => assert_same_image(&a, &b, "resize", step, &stats),
         }
+    }
+}
+
+/// Frame `step` of a UI with a side panel on each side of the 3D view, each holding a mesh of
+/// 4 800 small triangles whose shades all change at step 2 (with the arm): a window-wide change
+/// of more work than two frames should take (`retained::spread::FRAME_PART_US`).
+fn frame_three_columns_changing(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let mut q = parol6::standby_rad().to_vec();
+    let changed = step >= 2;
+    if changed {
+        q[0] += 0.8;
+    }
+    let scene = SceneFrame::from_joints(model, &q, None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 * 0.1),
+        ..Default::default()
+    };
+    let shades = |ui: &mut egui::Ui| {
+        let rect = ui.max_rect();
+        let mut mesh = egui::Mesh::default();
+        for row in 0..60 {
+            for col in 0..40 {
+                let min = rect.min + egui::vec2(5.0 * col as f32, 6.0 * row as f32);
+                let shade = ((row * 7 + col * 3 + if changed { 50 } else { 0 }) % 200) as u8 + 40;
+                mesh.add_colored_rect(
+                    egui::Rect::from_min_size(min, egui::vec2(4.0, 5.0)),
+                    egui::Color32::from_gray(shade),
+                );
+            }
+        }
+        ui.painter().add(egui::Shape::mesh(mesh));
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        egui::Panel::left("left").exact_size(200.0).show(ui, shades);
+        egui::Panel::right("right").exact_size(200.0).show(ui, shades);
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+/// A window-wide change of much work is redrawn over three frames, a column each
+/// (`retained::spread`): no frame draws more than one column, and the third shows every pixel
+/// as a full frame does.
+#[test]
+fn a_window_wide_change_of_much_work_is_drawn_over_three_frames_and_then_matches_a_full_frame() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    for step in 0..6 {
+        let a = frame_three_columns_changing(&mut direct, &model, step);
+        let b = frame_three_columns_changing(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        match step {
+            2 | 3 => {
+                assert!(!stats.full_redraw, "spread: {stats:?}");
+                assert_eq!(stats.frames_left, 4 - step, "frames still needed: {stats:?}");
+                assert!(
+                    stats.redrawn_px > 0.2 * stats.screen_px && stats.redrawn_px < 0.45 * stats.screen_px,
+                    "one column a frame: {stats:?}"
+                );
+                assert!(b.pixels.chunks_exact(4).all(|px| px[3] == 255), "no empty pixel");
+            }
+            _ => {
+                assert_eq!(stats.frames_left, 0, "{stats:?}");
+                assert_same_image(&a, &b, "three parts", step, &stats);
+            }
+        }
+    }
+}
+
+/// Frame `step` (at 60 Hz) of a UI whose window (egui's default: fading in) opens at step 2.
+fn frame_dialog_opening(p: &mut Painter, model: &RobotModel, step: usize) -> RgbaImage {
+    let scene = SceneFrame::from_joints(model, &parol6::standby_rad(), None);
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(W as f32, H as f32))),
+        time: Some(step as f64 / 60.0),
+        predicted_dt: 1.0 / 60.0,
+        ..Default::default()
+    };
+    let vp = &mut p.viewport;
+    let out = p.ctx.run_ui(input, |ui| {
+        if step >= 2 {
+            egui::Window::new("dialog").fixed_pos(egui::pos2(60.0, 60.0)).show(ui.ctx(), |ui| {
+                for k in 0..6 {
+                    ui.label(format!("file {k}.gcode"));
+                }
+            });
+        }
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            vp.ui(ui, &scene);
+        });
+    });
+    let prims = p.ctx.tessellate(out.shapes, out.pixels_per_point);
+    p.renderer.render_egui(&p.rs, &prims, &out.textures_delta, out.pixels_per_point, BG).expect("render")
+}
+
+/// A window opening is drawn once, whole (no fade-in redrawing it frame after frame on a
+/// software rasterizer: a file dialog's five fade frames took ~35 ms each on llvmpipe).
+#[test]
+fn a_window_opening_is_drawn_whole_at_once_and_not_again_while_it_stands() {
+    let model = RobotModel::parol6();
+    let Some(mut direct) = painter(&model, false) else { return };
+    let Some(mut retained) = painter(&model, true) else { return };
+    let mut drawn_px = 0.0;
+    for step in 0..9 {
+        let a = frame_dialog_opening(&mut direct, &model, step);
+        let b = frame_dialog_opening(&mut retained, &model, step);
+        let stats = retained.retained.as_ref().map(RetainedHandle::stats).expect("stats");
+        eprintln!("step {step}: {stats:?}");
+        if (2..=3).contains(&step) {
+            // egui sizes a new window in its first frame and shows it in the next
+            drawn_px += stats.redrawn_px;
+        }
+        if step == 3 {
+            assert!(drawn_px > 0.0, "the window is drawn: {stats:?}");
+        }
+        if step >= 4 {
+            assert_eq!(stats.redrawn_px, 0.0, "a standing window is not redrawn (step {step}): {stats:?}");
+        }
+        assert_same_image(&a, &b, "dialog", step, &stats);
     }
 }

@@ -67,6 +67,9 @@ struct Measured {
     /// during the longest frame, ms: the work the frame cost, whatever else the host ran. A
     /// `frame_ms_max` well above it means the frame waited for a core.
     longest_frame_cpu_ms: f64,
+    /// The most CPU time the whole process spent in any one frame of the action, ms: what the
+    /// action's costliest frame asks of the host, whichever frame the host's load stretched most.
+    frame_cpu_ms_max: f64,
     settled_s: f64,
     settled: bool,
     /// What the longest frame redrew (retained painting on a software rasterizer; none where
@@ -85,8 +88,10 @@ struct Redraw {
     triangles: usize,
     /// Draw jobs (backgrounds, meshes, paint callbacks).
     jobs: usize,
-    /// Whether it was redrawn in full (first frame, new size, texture change).
+    /// Whether it was redrawn in full at once (first frame, texture change).
     full: bool,
+    /// Frames after it that its change still needed (a large change is spread over up to three).
+    frames_left: usize,
 }
 
 /// One measured frame ([`Bench::frame`]).
@@ -133,6 +138,7 @@ impl Bench {
             triangles: r.triangles,
             jobs: r.jobs,
             full: r.full_redraw,
+            frames_left: r.frames_left,
         });
         Ok(Frame { frame_ms: t.frame_ms, app_ms: t.app_ms, ui_ms: t.ui_cpu_ms, redraw, cpu_ms })
     }
@@ -164,6 +170,7 @@ impl Bench {
         let (mut frame_ms_max, mut app_ms_max, mut ui_cpu_ms_max, mut frames) =
             (call_ms + first.frame_ms, first.app_ms, first.ui_ms, 1);
         let (mut longest_redraw, mut longest_frame_cpu_ms) = (first.redraw, first.cpu_ms);
+        let mut frame_cpu_ms_max = first.cpu_ms;
         let settled = loop {
             if frames >= min_frames && done(&self.h.app) {
                 break true;
@@ -178,6 +185,7 @@ impl Bench {
             frame_ms_max = frame_ms_max.max(f.frame_ms);
             app_ms_max = app_ms_max.max(f.app_ms);
             ui_cpu_ms_max = ui_cpu_ms_max.max(f.ui_ms);
+            frame_cpu_ms_max = frame_cpu_ms_max.max(f.cpu_ms);
             frames += 1;
         };
         let settled_s = t0.elapsed().as_secs_f64();
@@ -189,6 +197,7 @@ impl Bench {
             ui_cpu_ms_max,
             call_ms,
             longest_frame_cpu_ms,
+            frame_cpu_ms_max,
             settled_s,
             settled,
             longest_redraw,
@@ -275,6 +284,7 @@ fn measure(args: &UiActionsArgs, dir: &Path) -> Result<serde_json::Value, CliErr
     let over: Vec<&str> = b.out.iter().filter(|m| m.frame_ms_max > STALL_MS).map(|m| m.action).collect();
     let unsettled: Vec<&str> = b.out.iter().filter(|m| !m.settled).map(|m| m.action).collect();
     let longest = b.out.iter().map(|m| m.frame_ms_max).fold(0.0, f64::max);
+    let costliest = b.out.iter().map(|m| m.frame_cpu_ms_max).fold(0.0, f64::max);
     Ok(json!({
         "target": "ui-actions",
         "steps": steps,
@@ -286,6 +296,7 @@ fn measure(args: &UiActionsArgs, dir: &Path) -> Result<serde_json::Value, CliErr
         "stall_ms": STALL_MS,
         "actions": b.out,
         "frame_ms_max": longest,
+        "frame_cpu_ms_max": costliest,
         "over_50ms": over,
         "not_settled": unsettled,
         "pass": over.is_empty() && unsettled.is_empty(),
@@ -385,7 +396,7 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
     let scrub_frames = 60;
     let t = Instant::now();
     let mut max = (0.0f64, 0.0f64, 0.0f64);
-    let (mut longest_redraw, mut longest_frame_cpu_ms) = (None, 0.0);
+    let (mut longest_redraw, mut longest_frame_cpu_ms, mut frame_cpu_ms_max) = (None, 0.0, 0.0f64);
     for k in 0..=scrub_frames {
         let at = t0 + (t1 - t0) * f64::from(k) / f64::from(scrub_frames);
         b.h.app.queue_command(AppCommand::Replay(ReplayControl::Scrub(at)));
@@ -394,6 +405,7 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
             (longest_redraw, longest_frame_cpu_ms) = (f.redraw, f.cpu_ms);
         }
         max = (max.0.max(f.frame_ms), max.1.max(f.app_ms), max.2.max(f.ui_ms));
+        frame_cpu_ms_max = frame_cpu_ms_max.max(f.cpu_ms);
     }
     b.out.push(Measured {
         action: "replay_scrub",
@@ -403,6 +415,7 @@ fn replay_actions(b: &mut Bench, recording: &Path) -> Result<(), CliError> {
         ui_cpu_ms_max: max.2,
         call_ms: 0.0,
         longest_frame_cpu_ms,
+        frame_cpu_ms_max,
         settled_s: t.elapsed().as_secs_f64(),
         settled: true,
         longest_redraw,

@@ -50,6 +50,8 @@ pub struct RetainedStats {
     pub triangles: usize,
     /// Whether the last frame was redrawn in full.
     pub full_redraw: bool,
+    /// Frames after the last one that a change spread over several still needs (0–2).
+    pub frames_left: usize,
     /// CPU time of comparing, uploading and recording the last frame, ms.
     pub prepare_ms: f64,
 }
@@ -113,7 +115,8 @@ pub fn install(
         handle: handle.clone(),
         last_shapes: Vec::new(),
         last_screen: None,
-        deferred: Vec::new(),
+        deferred_next: Vec::new(),
+        deferred_after: Vec::new(),
     });
     handle
 }
@@ -135,7 +138,9 @@ struct RetainedPaint {
     /// The last frame's size in pixels and pixels per point (none before the first frame).
     last_screen: Option<([u32; 2], f32)>,
     /// What a large change left for this frame to redraw (columns or a band, [`spread::plan`]).
-    deferred: Vec<egui::Rect>,
+    deferred_next: Vec<egui::Rect>,
+    /// ... and for the frame after it (columns).
+    deferred_after: Vec<egui::Rect>,
 }
 
 /// Whether `shape` paints anything inside one of `rects`.
@@ -186,24 +191,33 @@ impl egui::Plugin for RetainedPaint {
             || self.handle.shared.need_full.swap(false, Ordering::Relaxed)
             || textures_changed;
         let rects = if full {
-            self.deferred.clear();
+            self.deferred_next.clear();
+            self.deferred_after.clear();
             vec![screen_pt]
         } else {
-            let overdue: Vec<egui::Rect> =
-                self.deferred.drain(..).map(|r| r.intersect(screen_pt)).filter(|r| r.is_positive()).collect();
+            let on_screen = |v: &mut Vec<egui::Rect>| -> Vec<egui::Rect> {
+                v.drain(..).map(|r| r.intersect(screen_pt)).filter(|r| r.is_positive()).collect()
+            };
+            let (overdue, soon) = (on_screen(&mut self.deferred_next), on_screen(&mut self.deferred_after));
             // a new size or scale changes the whole window (spread as any window-wide change)
             let changed = if self.last_screen != Some((size_px, ppp)) {
                 vec![screen_pt]
             } else {
                 damage::changed_rects(&self.last_shapes, &shapes, &hints)
             };
-            let (now, later) =
-                spread::plan(screen_pt, || shapes.iter().map(spread::ShapeCost::of).collect(), ppp, changed, &overdue);
-            self.deferred = later;
-            now
+            let spread = spread::plan(
+                screen_pt,
+                || shapes.iter().map(spread::ShapeCost::of).collect(),
+                ppp,
+                changed,
+                &overdue,
+                &soon,
+            );
+            (self.deferred_next, self.deferred_after) = (spread.next, spread.after);
+            spread.now
         };
-        if !self.deferred.is_empty() {
-            // the columns left are drawn by the next frame: there must be one, at once (an
+        if !self.deferred_next.is_empty() {
+            // the parts left are drawn by the next frames: there must be one, at once (an
             // idle window would otherwise show them stale until its next repaint)
             ctx.request_repaint();
             if let Some(v) = output.viewport_output.get_mut(&egui::ViewportId::ROOT) {
@@ -221,7 +235,9 @@ impl egui::Plugin for RetainedPaint {
             pending.push(output.textures_delta.clone());
         }
         let full = rects == [screen_pt];
-        let callback = RetainedFrameCallback { frame: Mutex::new(Some(RetainedFrame { rects, primitives, full })) };
+        let frames_left = usize::from(!self.deferred_next.is_empty()) + usize::from(!self.deferred_after.is_empty());
+        let frame = RetainedFrame { rects, primitives, full, frames_left };
+        let callback = RetainedFrameCallback { frame: Mutex::new(Some(frame)) };
         output.shapes = vec![ClippedShape {
             clip_rect: screen,
             shape: egui::Shape::Callback(egui_wgpu::Callback::new_paint_callback(screen, callback)),

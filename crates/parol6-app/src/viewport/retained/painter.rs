@@ -22,6 +22,8 @@ pub(super) struct RetainedFrame {
     pub primitives: Vec<ClippedPrimitive>,
     /// The rectangles are the whole window.
     pub full: bool,
+    /// Frames after this one that a spread change still needs (0–2, [`super::spread`]).
+    pub frames_left: usize,
 }
 
 /// The paint callback that stands for the whole UI in egui's output.
@@ -239,7 +241,7 @@ impl RetainedPainter {
         if self.target.as_ref().map(|t| t.size_px) != Some(screen.size_in_pixels) {
             let new = self.make_target(device, screen.size_in_pixels);
             match self.target.take() {
-                // a new size drawn over two frames: until the next, the part not yet drawn
+                // a new size drawn over two or three frames: until then, the part not yet drawn
                 // shows the last image (where it fits) instead of an empty one
                 Some(old) if !frame.full => {
                     let [w, h] = [old.size_px[0].min(new.size_px[0]), old.size_px[1].min(new.size_px[1])];
@@ -260,7 +262,7 @@ impl RetainedPainter {
             self.target = Some(new);
         }
         let [w, h] = screen.size_in_pixels;
-        let (full, rects) = (frame.full, frame.rects);
+        let (full, rects, frames_left) = (frame.full, frame.rects, frame.frames_left);
         let (jobs, fills) = self.jobs(&frame.primitives, &rects);
         let mut cmds = Vec::new();
         if let Some(target) = &self.target
@@ -316,6 +318,7 @@ impl RetainedPainter {
                 jobs: jobs.len(),
                 triangles,
                 full_redraw: full,
+                frames_left,
                 prepare_ms: started.elapsed().as_secs_f64() * 1e3,
             };
         }

@@ -1,11 +1,12 @@
-//! Spreading a costly redraw over two frames: what a large change costs a software rasterizer,
-//! and which part of it to draw now and which in the next frame.
+//! Spreading a costly redraw over two or three frames: what a large change costs a software
+//! rasterizer, and which part of it to draw now and which in the next frames.
 //!
 //! A window-wide change (a recording opened, the window resized) is cut into whole columns at
-//! the panels' edges ([`spread_columns`]); a costly change over part of the window (a window
-//! such as the point table appearing over the panels) into two bands, top and bottom
-//! ([`spread_bands`]). Either way nothing is more than one frame behind: what the last frame
-//! left is drawn first.
+//! the panels' edges ([`spread_columns`]), in parts of about [`FRAME_PART_US`] of work, at most
+//! [`MAX_SPREAD_FRAMES`]; a costly change over part of the window (a window such as the point
+//! table appearing over the panels) into two bands, top and bottom ([`spread_bands`]). Either
+//! way nothing is more than two frames behind: what the last frame left for this one is drawn
+//! first, and what it left for the one after is drawn by then.
 
 use eframe::egui;
 use egui::epaint::{ClippedShape, Shape};
@@ -30,6 +31,30 @@ pub const SPREAD_ABOVE_US: f32 = 30_000.0;
 const ESTIMATE_ABOVE_SHARE: f32 = 0.08;
 /// A window-wide change is cut into at most this many columns.
 pub const MAX_SPREAD_COLUMNS: usize = 8;
+/// A window-wide change is drawn in parts of about this much work each, µs of CPU (with the
+/// rasterizer's two threads and the frame's own work, about 15 ms of a frame on two idle
+/// cores: a resize or a recording opening redraws ~55 ms of CPU work in all)...
+pub const FRAME_PART_US: f32 = 15_000.0;
+/// ... over at least two frames and at most this many.
+pub const MAX_SPREAD_FRAMES: usize = 3;
+
+/// What one frame redraws now and what it leaves for the next two.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Spread {
+    /// Redrawn in this frame.
+    pub now: Vec<Rect>,
+    /// Left for the next frame.
+    pub next: Vec<Rect>,
+    /// Left for the frame after it.
+    pub after: Vec<Rect>,
+}
+
+impl Spread {
+    /// All of it now.
+    fn at_once(now: Vec<Rect>) -> Self {
+        Self { now, ..Self::default() }
+    }
+}
 
 /// One shape as the estimate sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,33 +130,44 @@ pub fn cost(shapes: &[ShapeCost], rects: &[Rect], ppp: f32) -> f32 {
     shapes.iter().map(|s| rects.iter().map(|&r| s.cost_within(r, ppp)).sum::<f32>()).sum()
 }
 
-/// The rectangles to redraw now and those left for the next frame, for the frame whose new
-/// changes are `changed` (points, not yet merged) after the last frame left `overdue`. The
-/// whole window (`screen`) as one rectangle is cut into columns; a change over part of it
-/// costing more than [`SPREAD_ABOVE_US`] into two bands; anything else is drawn now.
-/// `shapes` gives the frame's shapes' estimates, asked for only when the change is large.
+/// The rectangles to redraw now and those left for the next frames, for the frame whose new
+/// changes are `changed` (points, not yet merged) after the last frames left `overdue` (for
+/// this frame) and `soon` (for the next). The whole window (`screen`) as one rectangle is cut
+/// into columns; a change over part of it costing more than [`SPREAD_ABOVE_US`] into two bands;
+/// anything else is drawn now. `shapes` gives the frame's shapes' estimates, asked for only
+/// when the change is large.
 pub fn plan(
     screen: Rect,
     shapes: impl FnOnce() -> Vec<ShapeCost>,
     ppp: f32,
     changed: Vec<Rect>,
     overdue: &[Rect],
-) -> (Vec<Rect>, Vec<Rect>) {
+    soon: &[Rect],
+) -> Spread {
     let new = merge(changed, ppp, screen);
     let all = merge(new.iter().chain(overdue).copied().collect(), ppp, screen);
+    // what waits for the next frame, but what this one draws anyway
+    let with_soon = |now: &[Rect], mut next: Vec<Rect>| {
+        next.extend(soon.iter().filter(|s| !now.iter().any(|n| n.contains_rect(**s))));
+        next
+    };
     let area: f32 = all.iter().map(Rect::area).sum();
     if area < ESTIMATE_ABOVE_SHARE * screen.area() {
-        return (all, Vec::new());
+        let next = with_soon(&all, Vec::new());
+        return Spread { now: all, next, after: Vec::new() };
     }
     let shapes = shapes();
     if all == [screen] {
-        return spread_columns(screen, &shapes, ppp, overdue);
+        return spread_columns(screen, &shapes, ppp, overdue, soon);
     }
     let total = cost(&shapes, &all, ppp);
-    if total <= SPREAD_ABOVE_US {
-        return (all, Vec::new());
-    }
-    spread_bands(screen, &shapes, ppp, &new, overdue, total)
+    let (now, later) = if total <= SPREAD_ABOVE_US {
+        (all, Vec::new())
+    } else {
+        spread_bands(screen, &shapes, ppp, &new, overdue, total)
+    };
+    let next = with_soon(&now, later);
+    Spread { now, next, after: Vec::new() }
 }
 
 /// A costly change over part of the window (`new`, merged) in two horizontal bands: what the
@@ -179,11 +215,12 @@ fn spread_bands(
 
 /// Splits the window `screen` into columns at the side edges of its tall clip rectangles (the
 /// docked panels and the 3D view: clips at least half the window high), each column at most
-/// half the window wide where the edges allow, and returns the columns to redraw now and those
-/// left for the next frame. Now: every column that reaches into `first` (what the last frame
-/// left: nothing waits two frames), with the others chosen so that now costs as near half of
-/// the whole as they allow. A window with no such edge is not split (all now).
-pub fn spread_columns(screen: Rect, shapes: &[ShapeCost], ppp: f32, first: &[Rect]) -> (Vec<Rect>, Vec<Rect>) {
+/// half the window wide where the edges allow, and shares them out over two or three frames
+/// (one part per [`FRAME_PART_US`] of work), the costliest part as light as the columns allow.
+/// Every column that reaches into `overdue` (what the last frame left for this one) is drawn
+/// now, every one that reaches into `soon` (left for the next) by the next frame. A window with
+/// no such edge is not split (all now).
+pub fn spread_columns(screen: Rect, shapes: &[ShapeCost], ppp: f32, overdue: &[Rect], soon: &[Rect]) -> Spread {
     let (x0, x1) = (screen.min.x, screen.max.x);
     let mut cuts: Vec<f32> = shapes
         .iter()
@@ -209,30 +246,61 @@ pub fn spread_columns(screen: Rect, shapes: &[ShapeCost], ppp: f32, first: &[Rec
         start = end;
     }
     if columns.len() < 2 || columns.len() > MAX_SPREAD_COLUMNS {
-        return (vec![screen], Vec::new());
+        return Spread::at_once(vec![screen]);
     }
     let cost: Vec<f32> = columns.iter().map(|&c| self::cost(shapes, &[c], ppp)).collect();
     let total: f32 = cost.iter().sum();
-    let overdue: u32 = (0..columns.len())
-        .filter(|&k| first.iter().any(|f| columns[k].intersect(*f).is_positive()))
-        .fold(0, |m, k| m | 1 << k);
-    // every choice of columns that draws the overdue ones: the one nearest half of the cost
-    let all = (1u32 << columns.len()) - 1;
-    let best = (1..all)
-        .filter(|m| m & overdue == overdue)
-        .min_by(|a, b| {
-            let off = |m: &u32| {
-                let c: f32 = (0..columns.len()).filter(|k| m & (1 << k) != 0).map(|k| cost[k]).sum();
-                (c - 0.5 * total).abs()
-            };
-            off(a).total_cmp(&off(b))
+    let parts = ((total / FRAME_PART_US).ceil() as usize).clamp(2, MAX_SPREAD_FRAMES).min(columns.len());
+    let reaches = |k: usize, rects: &[Rect]| rects.iter().any(|r| columns[k].intersect(*r).is_positive());
+    // the latest part each column may go to: now for what waited, the next frame for what
+    // waits for it
+    let latest: Vec<usize> = (0..columns.len())
+        .map(|k| {
+            if reaches(k, overdue) {
+                0
+            } else if reaches(k, soon) {
+                1
+            } else {
+                parts - 1
+            }
         })
-        .unwrap_or(all);
-    let (mut now, mut later) = (Vec::new(), Vec::new());
-    for (k, c) in columns.into_iter().enumerate() {
-        if best & (1 << k) != 0 { now.push(c) } else { later.push(c) }
+        .collect();
+    // every share-out of the columns (at most 3^8), the one whose costliest part is lightest
+    let mut best: Option<(f32, Vec<usize>)> = None;
+    let mut part_of = vec![0usize; columns.len()];
+    for code in 0..parts.pow(columns.len() as u32) {
+        let mut c = code;
+        for p in part_of.iter_mut() {
+            *p = c % parts;
+            c /= parts;
+        }
+        if part_of.iter().zip(&latest).any(|(p, l)| p > l) || !part_of.contains(&0) {
+            continue;
+        }
+        let mut load = [0.0f32; MAX_SPREAD_FRAMES];
+        for (k, &p) in part_of.iter().enumerate() {
+            load[p] += cost[k];
+        }
+        let heaviest = load.iter().copied().fold(0.0, f32::max);
+        if best.as_ref().is_none_or(|(h, _)| heaviest < *h) {
+            best = Some((heaviest, part_of.clone()));
+        }
     }
-    if later.is_empty() { (vec![screen], Vec::new()) } else { (now, later) }
+    let Some((_, part_of)) = best else {
+        return Spread::at_once(vec![screen]);
+    };
+    let mut spread = Spread::default();
+    for (c, p) in columns.into_iter().zip(part_of) {
+        match p {
+            0 => spread.now.push(c),
+            1 => spread.next.push(c),
+            _ => spread.after.push(c),
+        }
+    }
+    if spread.next.is_empty() {
+        spread.next = std::mem::take(&mut spread.after);
+    }
+    if spread.next.is_empty() { Spread::at_once(vec![screen]) } else { spread }
 }
 
 #[cfg(test)]
@@ -249,36 +317,77 @@ mod tests {
         ShapeCost { clip, painted, triangles, fills }
     }
 
-    #[test]
-    fn a_window_wide_change_is_spread_over_two_frames_by_whole_columns_of_about_half_the_work() {
+    /// The left column, the 3D view, the right column (text: triangles, no fill), `scale` times
+    /// the triangles; a plot's short clip is no edge; the screen-wide menu bar neither.
+    fn window_columns(scale: f32) -> Vec<ShapeCost> {
         let screen = screen();
         let tall = |x0: f32, x1: f32| Rect::from_min_max(pos2(x0, 24.0), pos2(x1, 776.0));
         let plot = Rect::from_min_max(pos2(400.0, 500.0), pos2(700.0, 700.0));
-        // the left column, the 3D view, the right column (text: triangles, no fill); a plot's
-        // short clip is no edge; the screen-wide menu bar neither
-        let shapes = [
-            shape(tall(0.0, 350.0), tall(0.0, 350.0), 4000.0, false),
-            shape(tall(350.0, 960.0), tall(350.0, 960.0), 1500.0, false),
-            shape(plot, plot, 500.0, false),
-            shape(tall(960.0, 1280.0), tall(960.0, 1280.0), 4000.0, false),
+        vec![
+            shape(tall(0.0, 350.0), tall(0.0, 350.0), 4000.0 * scale, false),
+            shape(tall(350.0, 960.0), tall(350.0, 960.0), 1500.0 * scale, false),
+            shape(plot, plot, 500.0 * scale, false),
+            shape(tall(960.0, 1280.0), tall(960.0, 1280.0), 4000.0 * scale, false),
             shape(screen, Rect::from_min_max(pos2(0.0, 0.0), pos2(1280.0, 24.0)), 100.0, false),
-        ];
-        let (now, later) = plan(screen, || shapes.to_vec(), 1.0, vec![screen], &[]);
-        let xs = |v: &[Rect]| v.iter().map(|r| (r.min.x, r.max.x)).collect::<Vec<_>>();
+        ]
+    }
+
+    fn xs(v: &[Rect]) -> Vec<(f32, f32)> {
+        v.iter().map(|r| (r.min.x, r.max.x)).collect()
+    }
+
+    const LEFT: (f32, f32) = (0.0, 350.0);
+    const MIDDLE: (f32, f32) = (350.0, 960.0);
+    const RIGHT: (f32, f32) = (960.0, 1280.0);
+
+    #[test]
+    fn a_window_wide_change_is_spread_over_two_frames_by_whole_columns_of_about_half_the_work() {
+        let screen = screen();
+        let shapes = window_columns(0.5);
+        assert!(cost(&shapes, &[screen], 1.0) <= 2.0 * FRAME_PART_US, "two parts' work");
+        let s = plan(screen, || shapes.clone(), 1.0, vec![screen], &[], &[]);
         // the text-heavy columns go to different frames: 40 / 61 of the work, not 80 / 21
-        let left = (0.0, 350.0);
-        let right = (960.0, 1280.0);
-        assert_eq!(now.len() + later.len(), 3);
-        assert!(xs(&now).contains(&left) != xs(&now).contains(&right), "{:?} / {:?}", xs(&now), xs(&later));
-        let area: f32 = now.iter().chain(&later).map(Rect::area).sum();
+        assert_eq!(s.now.len() + s.next.len(), 3);
+        assert!(s.after.is_empty(), "{s:?}");
+        assert!(xs(&s.now).contains(&LEFT) != xs(&s.now).contains(&RIGHT), "{s:?}");
+        let area: f32 = s.now.iter().chain(&s.next).map(Rect::area).sum();
         assert_eq!(area, screen.area(), "the columns cover the window once");
-        assert!(now.iter().chain(&later).all(|r| r.y_range() == screen.y_range()));
+        assert!(s.now.iter().chain(&s.next).all(|r| r.y_range() == screen.y_range()));
         // the next frame changing as much again: what waited is drawn first
-        let (next, _) = plan(screen, || shapes.to_vec(), 1.0, vec![screen], &later);
-        assert!(xs(&later).iter().all(|c| xs(&next).contains(c)), "{:?} then {:?}", xs(&later), xs(&next));
+        let again = plan(screen, || shapes.clone(), 1.0, vec![screen], &s.next, &[]);
+        assert!(xs(&s.next).iter().all(|c| xs(&again.now).contains(c)), "{s:?} then {again:?}");
         // no edge to cut at: the window is drawn at once
         let one = [shape(screen, screen, 1.0, false)];
-        assert_eq!(plan(screen, || one.to_vec(), 1.0, vec![screen], &[]), (vec![screen], Vec::new()));
+        assert_eq!(plan(screen, || one.to_vec(), 1.0, vec![screen], &[], &[]), Spread::at_once(vec![screen]));
+    }
+
+    #[test]
+    fn a_window_wide_change_of_much_work_is_spread_over_three_frames_and_nothing_waits_longer() {
+        let screen = screen();
+        let shapes = window_columns(1.0);
+        assert!(cost(&shapes, &[screen], 1.0) > 2.0 * FRAME_PART_US, "more than two parts' work");
+        let s = plan(screen, || shapes.clone(), 1.0, vec![screen], &[], &[]);
+        // a column a frame, each once
+        assert_eq!((s.now.len(), s.next.len(), s.after.len()), (1, 1, 1), "{s:?}");
+        let mut all = xs(&s.now);
+        all.extend(xs(&s.next));
+        all.extend(xs(&s.after));
+        all.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert_eq!(all, vec![LEFT, MIDDLE, RIGHT]);
+        // nothing changes: what waited for this frame now, what waits for the next after it
+        let second = plan(screen, || shapes.clone(), 1.0, Vec::new(), &s.next, &s.after);
+        assert_eq!((second.now.clone(), second.next.clone()), (s.next.clone(), s.after.clone()), "{second:?}");
+        let third = plan(screen, || shapes.clone(), 1.0, Vec::new(), &second.next, &second.after);
+        assert_eq!(third, Spread::at_once(s.after.clone()));
+        // the window resized again meanwhile: the column left for this frame is drawn now and
+        // the one left for the next by then, however the rest is shared out
+        let resized = plan(screen, || shapes.clone(), 1.0, vec![screen], &s.next, &s.after);
+        assert!(xs(&resized.now).contains(&xs(&s.next)[0]), "{resized:?}");
+        let by_next: Vec<(f32, f32)> = xs(&resized.now).into_iter().chain(xs(&resized.next)).collect();
+        assert!(by_next.contains(&xs(&s.after)[0]), "{resized:?}");
+        // the costliest part is no heavier than one text-heavy column and the menu bar
+        let heaviest = [&resized.now, &resized.next, &resized.after].map(|p| cost(&shapes, p, 1.0));
+        assert!(heaviest.iter().all(|&c| c <= 20_500.0), "{heaviest:?}");
     }
 
     /// The point table appearing over the panels: a 640 × 360 window of text fields and 6 500
@@ -304,8 +413,9 @@ mod tests {
         let (window, shapes) = table_window();
         let total = cost(&shapes, &[window], 1.0);
         assert!(total > SPREAD_ABOVE_US, "the table costs {total} µs");
-        let (now, later) = plan(screen(), || shapes.clone(), 1.0, vec![window], &[]);
+        let Spread { now, next: later, after } = plan(screen(), || shapes.clone(), 1.0, vec![window], &[], &[]);
         assert!(!later.is_empty(), "spread: {now:?}");
+        assert!(after.is_empty());
         // two bands that together are the window, the top one now
         let (top, bottom) = (now[0], later[0]);
         assert_eq!((now.len(), later.len()), (1, 1));
@@ -317,10 +427,10 @@ mod tests {
         let (a, b) = (cost(&shapes, &now, 1.0), cost(&shapes, &later, 1.0));
         assert!((a - b).abs() < 0.25 * total, "{a} / {b} of {total} µs");
         // the next frame draws what waited, even when nothing else changed
-        let (next, after) = plan(screen(), || shapes.clone(), 1.0, Vec::new(), &later);
-        assert_eq!((next, after), (later.clone(), Vec::new()));
+        let s = plan(screen(), || shapes.clone(), 1.0, Vec::new(), &later, &[]);
+        assert_eq!(s, Spread::at_once(later.clone()));
         // ... and with the same change again, what waited first and the rest balanced
-        let (next, after) = plan(screen(), || shapes.clone(), 1.0, vec![window], &later);
+        let Spread { now: next, next: after, .. } = plan(screen(), || shapes.clone(), 1.0, vec![window], &later, &[]);
         assert!(next.contains(&bottom), "{next:?}");
         assert!(!after.is_empty() && after.iter().all(|r| window.contains_rect(*r)), "{after:?}");
     }
@@ -330,10 +440,14 @@ mod tests {
         let (window, shapes) = table_window();
         // a few labels over the same window: well under the threshold
         let few: Vec<ShapeCost> = shapes.iter().take(9).copied().collect();
-        assert_eq!(plan(screen(), || few.clone(), 1.0, vec![window], &[]), (vec![window], Vec::new()));
+        assert_eq!(plan(screen(), || few.clone(), 1.0, vec![window], &[], &[]), Spread::at_once(vec![window]));
         // one cell of the table changing
         let cell = shapes[1].painted;
-        assert_eq!(plan(screen(), || shapes.clone(), 1.0, vec![cell], &[]), (vec![cell], Vec::new()));
+        assert_eq!(plan(screen(), || shapes.clone(), 1.0, vec![cell], &[], &[]), Spread::at_once(vec![cell]));
+        // ... and what an earlier frame left for the next one keeps waiting for it
+        let left = Rect::from_min_size(pos2(900.0, 0.0), vec2(380.0, 800.0));
+        let s = plan(screen(), || shapes.clone(), 1.0, vec![cell], &[], &[left]);
+        assert_eq!((s.now, s.next, s.after), (vec![cell], vec![left], Vec::new()));
     }
 
     #[test]

@@ -227,10 +227,12 @@ impl ConnectionPanel {
             on_off_led(ui, link.estop, red, "E-stop input");
             on_off_led(ui, link.homing, zone_color(LimitZone::Warning), "homing");
         });
-        if !link.homing_text.is_empty() {
-            let color = if link.homing { zone_color(LimitZone::Warning) } else { ui.visuals().text_color() };
-            ui.colored_label(color, &link.homing_text);
-        }
+        // always a row, empty until a homing is asked for: its line appearing moved the jog
+        // buttons below it under the pointer (trial11 n9)
+        let color = if link.homing { zone_color(LimitZone::Warning) } else { ui.visuals().text_color() };
+        let homing_text = if link.homing_text.is_empty() { " " } else { link.homing_text.as_str() };
+        ui.add(egui::Label::new(egui::RichText::new(homing_text).color(color)).truncate())
+            .on_hover_text("where the last homing stands");
         ui.horizontal(|ui| {
             ui.label("homed");
             for (i, h) in link.homed.iter().enumerate() {
@@ -249,6 +251,11 @@ impl ConnectionPanel {
                 ctx.send(AppCommand::Link(LinkCommand::Home));
             }
         });
+        ui.separator();
+        self.jog_ui(ui, ctx, link);
+        // below the jog, what changes height (the health wrapping as its numbers grow, an error
+        // appearing) moves no jog button
+        ui.separator();
         // wraps inside the column (it was cut at the column's edge)
         let health = format!(
             "loop {:.0} Hz  jitter {:.2} ms  dropped {}  implausible {}",
@@ -261,8 +268,6 @@ impl ConnectionPanel {
         if let Some(e) = &link.last_error {
             ui.colored_label(palette::rgb(palette::ERROR_TEXT), e);
         }
-        ui.separator();
-        self.jog_ui(ui, ctx, link);
     }
 }
 

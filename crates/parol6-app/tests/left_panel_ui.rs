@@ -222,3 +222,29 @@ fn homing_on_the_fake_robot_moves_no_jog_button() {
     let after = h.get_by_label("Jog speed").rect();
     assert!((after.min - before.min).length() < 0.5, "the jog moved from {before:?} to {after:?} when homing ended");
 }
+
+/// trial12, 1280×800: STOP and E-STOP were the joints panel's second row, inside the left
+/// column's scroll, so scrolling the column to the program's status, the gripper or the robot
+/// connection (as a run on the robot asks for) took both off the screen; only Esc (STOP, not
+/// DISABLE) was left. The joints panel's heading, HOME, STOP and E-STOP are pinned above the
+/// column's scroll now: in view and live whatever the scroll.
+#[test]
+fn stop_and_estop_stay_on_screen_with_the_left_column_scrolled_to_its_end() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 800.0));
+    h.run_steps(2);
+    let home = h.get_by_label("HOME").rect();
+    let robot_connection = h.get_by_label("Robot connection").rect();
+    assert!(robot_connection.min.y > 800.0, "the column needs scrolling: Robot connection at {robot_connection:?}");
+    ui_support::scroll_to_the_end(&mut h, egui::pos2(170.0, 400.0));
+    let robot_connection = h.get_by_label("Robot connection").rect();
+    assert!(robot_connection.max.y <= 800.0, "the column is scrolled: Robot connection at {robot_connection:?}");
+    for label in ["HOME", "STOP", "E-STOP"] {
+        let r = h.get_by_label(label).rect();
+        assert!(r.min.y >= home.min.y - 0.5 && r.max.y <= home.max.y + 0.5, "{label} scrolled away: at {r:?}");
+    }
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the E-stop latch", 5.0, |h| has_label(h, "Release E-STOP"));
+    assert!(h.state().estop_latched(), "E-STOP latched with the column scrolled");
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "the release", 5.0, |h| has_label(h, "E-STOP"));
+}

@@ -222,6 +222,10 @@ impl Parol6App {
                 // nothing in a column may be wider than it (the ISO figures table scrolls
                 // sideways): a panel gives the width taken beyond it to the 3D view and the
                 // plots, which then paint over the column's left side
+                // first what stays on screen whatever the scroll (STOP and E-STOP)
+                for (_, p) in docked.iter_mut().filter(|(d, _)| *d == dock) {
+                    p.pinned_ui(ui, pctx);
+                }
                 egui::ScrollArea::vertical().id_salt(id).auto_shrink([false, false]).show(ui, |ui| {
                     let mut first = true;
                     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == dock) {

@@ -403,9 +403,10 @@ impl Panel for JointsPanel {
         "Joints"
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        self.sync(ctx);
-        self.editing = false;
+    /// The heading and HOME / STOP / E-STOP, pinned above the left column's scroll: scrolling
+    /// the column to the program, the gripper or the robot connection used to take STOP and
+    /// E-STOP off the screen.
+    fn pinned_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.horizontal(|ui| {
             ui.heading(self.title());
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
@@ -423,6 +424,11 @@ impl Panel for JointsPanel {
             }
             stop_buttons(ui, ctx, STOP_BUTTON_HEIGHT);
         });
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        self.sync(ctx);
+        self.editing = false;
         Self::status_line(ui, ctx);
         ui.add_space(4.0);
         // an open recording (or the latched E-stop) refuses motion: the rows show the recording

@@ -46,6 +46,9 @@ pub trait Panel {
     fn title(&self) -> &'static str;
     /// Draws the panel for this frame.
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>);
+    /// Draws what must stay on screen whatever the column's scroll (default: nothing), above
+    /// the scrolled part of a side column: the joints panel's HOME, STOP and E-STOP.
+    fn pinned_ui(&mut self, _ui: &mut egui::Ui, _ctx: &mut PanelContext<'_>) {}
     /// Whether the panel is shown now (default: always), from the settings and the app's state.
     fn shown(&self, _ctx: &PanelContext<'_>) -> bool {
         true

@@ -64,6 +64,7 @@ impl<P: Panel> Bench<P> {
             preview: &mut self.preview,
             live: &Default::default(),
         };
+        self.panel.pinned_ui(ui, &mut ctx);
         self.panel.ui(ui, &mut ctx);
     }
 

@@ -248,3 +248,28 @@ fn stop_and_estop_stay_on_screen_with_the_left_column_scrolled_to_its_end() {
     h.get_by_label("Release E-STOP").click();
     until(&mut h, "the release", 5.0, |h| has_label(h, "E-STOP"));
 }
+
+/// trial12 n-h: on the fake robot, E-STOP inserted "E-STOP latched: …" (two lines) above the
+/// joint jog rows, which moved 33 px under the pointer. The line sits below the jog now.
+#[test]
+fn the_estop_latch_moves_no_jog_button_on_the_fake_robot() {
+    use parol6_app::app::{ConnectTarget, LaunchOptions};
+    use parol6_core::motion::StateSource;
+    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
+    let mut h = ui_support::harness_with(opts, egui::vec2(1024.0, 700.0));
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    ui_support::scroll_to_the_end(&mut h, egui::pos2(170.0, 400.0));
+    h.run_steps(5);
+    let before = h.get_by_label("Jog speed").rect();
+    assert!(before.max.y <= 700.0, "the jog in view: {before:?}");
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the E-stop latch", 5.0, |h| has_label(h, "Release E-STOP"));
+    h.run_steps(5);
+    let after = h.get_by_label("Jog speed").rect();
+    h.get_by_label("Release E-STOP").click();
+    h.run_steps(2);
+    assert!((after.min - before.min).length() < 0.5, "the jog moved from {before:?} to {after:?} when E-STOP latched");
+}

@@ -432,11 +432,19 @@ fn the_plots_in_replay_count_time_from_the_recordings_start_as_the_timeline() {
     h.key_press(egui::Key::Escape);
     until(&mut h, "the plots", 10.0, |h| has_label(h, "Export to"));
     let export = h.get_by_label("Export to").rect();
-    h.hover_at(egui::pos2(export.left() + 300.0, export.bottom() + 80.0));
-    h.run_steps(2);
-    let readout =
-        h.query_all_by_label_contains("\nJ1: ").find_map(|n| n.value().or_else(|| n.accesskit_node().label()));
-    let text = readout.expect("a hover read-out");
+    // along the plot until the pointer is over the recording's samples (a read-out is given only
+    // where a line has samples; the plot's window may reach past the recording's 5 s)
+    let mut readout = None;
+    for dx in (0..16).map(|k| 40.0 + 40.0 * k as f32) {
+        h.hover_at(egui::pos2(export.left() + dx, export.bottom() + 80.0));
+        h.run_steps(2);
+        readout =
+            h.query_all_by_label_contains("\nJ1: ").find_map(|n| n.value().or_else(|| n.accesskit_node().label()));
+        if readout.is_some() {
+            break;
+        }
+    }
+    let text = readout.expect("a hover read-out over the recording's samples");
     let t: f64 = text
         .strip_prefix("t = ")
         .and_then(|r| r.split(' ').next())

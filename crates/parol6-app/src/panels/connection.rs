@@ -151,9 +151,6 @@ impl ConnectionPanel {
         let allowed = link.link_ok && link.enabled && !link.estop && !latched;
         ui.label(egui::RichText::new("Jog (hold)").strong())
             .on_hover_text("Press and hold a button, or select a joint with 1–6 and hold Page Up / Page Down");
-        if latched {
-            ui.colored_label(palette::rgb(palette::ERROR_TEXT), super::io_gripper::ESTOP_LATCHED);
-        }
         egui::Grid::new("jog_grid").num_columns(4).spacing([6.0, 3.0]).show(ui, |ui| {
             for i in 0..n {
                 let name = ctx.model.joints.get(i).map(|j| j.name.as_str()).unwrap_or("?");
@@ -187,6 +184,11 @@ impl ConnectionPanel {
                 ctx.error(message);
             }
         });
+        // below the rows: above them its two lines moved every jog button under the pointer
+        // when E-STOP latched (trial12 n-h)
+        if latched {
+            ui.colored_label(palette::rgb(palette::ERROR_TEXT), super::io_gripper::ESTOP_LATCHED);
+        }
         // Keyboard (the table in `shortcuts`): 1–6 select, Page Up / Page Down held = jog.
         for i in 0..n {
             if shortcuts::pressed(ui.ctx(), Action::SelectJoint(i)) {

@@ -290,6 +290,17 @@ fn the_torque_run_buttons_lie_inside_the_centre_column_at_every_window_size() {
     }
 }
 
+/// The window at `size` with the Dynamics panel open and the program's torques drawn.
+fn dynamics_at_1024(size: egui::Vec2) -> egui_kittest::Harness<'static, parol6_app::app::Parol6App> {
+    let mut h = app_harness(size);
+    h.state_mut().settings_mut().show_dynamics = true;
+    h.run_steps(4);
+    until(&mut h, "the program's torques", 20.0, |h| {
+        has_label(h, "J2 peak") && !h.state().dynamics_panel().computing()
+    });
+    h
+}
+
 /// trial10, 1024×700: with the dynamics panel scrolled to its forward-dynamics form, each time
 /// the arm stood still again (after a torque run, a jog or a program) the inverse dynamics was
 /// recomputed and showed one "computing…" line instead of its plot: the panel's scroll clamped
@@ -298,12 +309,7 @@ fn the_torque_run_buttons_lie_inside_the_centre_column_at_every_window_size() {
 #[test]
 fn a_torque_run_ending_moves_nothing_in_the_scrolled_dynamics_panel() {
     let size = egui::vec2(1024.0, 700.0);
-    let mut h = app_harness(size);
-    h.state_mut().settings_mut().show_dynamics = true;
-    h.run_steps(4);
-    until(&mut h, "the program's torques", 20.0, |h| {
-        has_label(h, "J2 peak") && !h.state().dynamics_panel().computing()
-    });
+    let mut h = dynamics_at_1024(size);
     // the panel under the 3D view scrolled to its end: the forward-dynamics form in sight
     let over_panel = egui::pos2((LEFT_PANEL_WIDTH + size.x - RIGHT_PANEL_WIDTH) / 2.0, size.y - 60.0);
     ui_support::scroll_to_the_end(&mut h, over_panel);
@@ -472,12 +478,7 @@ fn a_torque_outside_its_range_is_refused_when_typed() {
 #[test]
 fn the_wheel_over_the_torque_plot_scrolls_the_panel_not_the_plot() {
     let size = egui::vec2(1024.0, 700.0);
-    let mut h = app_harness(size);
-    h.state_mut().settings_mut().show_dynamics = true;
-    h.run_steps(4);
-    until(&mut h, "the program's torques", 20.0, |h| {
-        has_label(h, "J2 peak") && !h.state().dynamics_panel().computing()
-    });
+    let mut h = dynamics_at_1024(size);
     h.run_steps(3);
     let (left, right) = (LEFT_PANEL_WIDTH, size.x - RIGHT_PANEL_WIDTH);
     let limits = h.get_by_label_contains("limits: motor holding torque").rect();

@@ -197,12 +197,9 @@ fn a_typed_cartesian_target_moves_nothing_in_the_scrolled_right_column() {
     assert!(moved.is_empty(), "{moved:#?}");
 }
 
-/// trial11 n9: on the fake robot, Home (homing) added the line "homing done: all joints homed"
-/// inside the connection section, above the joint jog, and the jog buttons moved 18 px under the
-/// pointer (the J1 hold then jogged nothing). What appears there (the homing line, the link's
-/// last error, the link health wrapping) no longer moves the jog.
-#[test]
-fn homing_on_the_fake_robot_moves_no_jog_button() {
+/// The window at 1024×700 on the fake robot, the left column scrolled to its end, and where
+/// the robot jog's "Jog speed" row is.
+fn fake_robot_with_its_jog_in_view() -> (Harness<'static, Parol6App>, egui::Rect) {
     use parol6_app::app::{ConnectTarget, LaunchOptions};
     use parol6_core::motion::StateSource;
     let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
@@ -213,8 +210,18 @@ fn homing_on_the_fake_robot_moves_no_jog_button() {
     });
     ui_support::scroll_to_the_end(&mut h, egui::pos2(170.0, 400.0));
     h.run_steps(5);
-    let before = h.get_by_label("Jog speed").rect();
-    assert!(before.max.y <= 700.0, "the jog in view: {before:?}");
+    let jog = h.get_by_label("Jog speed").rect();
+    assert!(jog.max.y <= 700.0, "the jog in view: {jog:?}");
+    (h, jog)
+}
+
+/// trial11 n9: on the fake robot, Home (homing) added the line "homing done: all joints homed"
+/// inside the connection section, above the joint jog, and the jog buttons moved 18 px under the
+/// pointer (the J1 hold then jogged nothing). What appears there (the homing line, the link's
+/// last error, the link health wrapping) no longer moves the jog.
+#[test]
+fn homing_on_the_fake_robot_moves_no_jog_button() {
+    let (mut h, before) = fake_robot_with_its_jog_in_view();
     assert!(!has_label(&h, "homing done: all joints homed"), "no homing line yet");
     h.get_by_label("Home (homing)").click();
     until(&mut h, "the homing", 30.0, |h| has_label(h, "homing done: all joints homed"));
@@ -253,18 +260,7 @@ fn stop_and_estop_stay_on_screen_with_the_left_column_scrolled_to_its_end() {
 /// joint jog rows, which moved 33 px under the pointer. The line sits below the jog now.
 #[test]
 fn the_estop_latch_moves_no_jog_button_on_the_fake_robot() {
-    use parol6_app::app::{ConnectTarget, LaunchOptions};
-    use parol6_core::motion::StateSource;
-    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
-    let mut h = ui_support::harness_with(opts, egui::vec2(1024.0, 700.0));
-    until(&mut h, "the emulator answers", 15.0, |h| {
-        let s = h.state().backend().state();
-        s.source == StateSource::Robot && s.blocked.is_none()
-    });
-    ui_support::scroll_to_the_end(&mut h, egui::pos2(170.0, 400.0));
-    h.run_steps(5);
-    let before = h.get_by_label("Jog speed").rect();
-    assert!(before.max.y <= 700.0, "the jog in view: {before:?}");
+    let (mut h, before) = fake_robot_with_its_jog_in_view();
     h.get_by_label("E-STOP").click();
     until(&mut h, "the E-stop latch", 5.0, |h| has_label(h, "Release E-STOP"));
     h.run_steps(5);

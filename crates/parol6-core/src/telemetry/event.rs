@@ -191,33 +191,41 @@ mod tests {
     use crate::model::RobotModel;
     use crate::motion::StateSource;
 
+    /// A joint at `q_rad` moving at `qd_rad_s` (commanded as measured), in `zone`.
+    fn joint_at(q_rad: f64, qd_rad_s: f64, zone: crate::limits::LimitZone) -> crate::telemetry::JointTelemetry {
+        crate::telemetry::JointTelemetry {
+            cmd_q_rad: q_rad,
+            cmd_qd_rad_s: qd_rad_s,
+            cmd_qdd_rad_s2: 0.0,
+            q_rad,
+            qd_rad_s,
+            qdd_rad_s2: 0.0,
+            drive: 0.0,
+            zone,
+        }
+    }
+
+    /// A sample at `time_s` of `joints`, nothing else in it.
+    fn sample_of(time_s: f64, joints: Vec<crate::telemetry::JointTelemetry>) -> TelemetrySample {
+        TelemetrySample {
+            seq: 1,
+            time_s,
+            joints,
+            drive: crate::telemetry::DriveKind::StepsPerS,
+            tcp: crate::kinematics::TcpPose::from_xyz_rpy([0.0; 3], [0.0; 3]),
+            worst_zone: None,
+            program_step: None,
+            link: None,
+        }
+    }
+
     /// Issue 32's minor (seen again by trial 10): a limit event read "J5 at limit (q = 1.2579
     /// rad)" in a window showing degrees. Like every message it is now in degrees, which a
     /// window in radians converts.
     #[test]
     fn a_limit_event_gives_the_joint_position_in_degrees() {
         use crate::limits::LimitZone;
-        use crate::telemetry::{DriveKind, JointTelemetry};
-        let joint = |q_rad, zone| JointTelemetry {
-            cmd_q_rad: q_rad,
-            cmd_qd_rad_s: 0.0,
-            cmd_qdd_rad_s2: 0.0,
-            q_rad,
-            qd_rad_s: 0.0,
-            qdd_rad_s2: 0.0,
-            drive: 0.0,
-            zone,
-        };
-        let sample = |zone| TelemetrySample {
-            seq: 1,
-            time_s: 2.0,
-            joints: vec![joint(0.0, LimitZone::Safe), joint(1.2579, zone)],
-            drive: DriveKind::StepsPerS,
-            tcp: crate::kinematics::TcpPose::from_xyz_rpy([0.0; 3], [0.0; 3]),
-            worst_zone: None,
-            program_step: None,
-            link: None,
-        };
+        let sample = |zone| sample_of(2.0, vec![joint_at(0.0, 0.0, LimitZone::Safe), joint_at(1.2579, 0.0, zone)]);
         let mut d = EventDetector::new();
         let mut out = Vec::new();
         d.observe_sample(&sample(LimitZone::Safe), &mut out);
@@ -232,7 +240,6 @@ mod tests {
     #[test]
     fn a_limit_event_raised_by_the_prediction_says_so() {
         use crate::limits::LimitZone;
-        use crate::telemetry::{DriveKind, JointTelemetry};
         let model = RobotModel::parol6();
         let thresholds = ZoneThresholds::default();
         let j5 = model.limits.get(4).expect("J5").clone();
@@ -242,29 +249,10 @@ mod tests {
                     let l = model.limits.get(i).expect("a joint");
                     let q_rad = if i == 4 { q5 } else { 0.5 * (l.min + l.max) };
                     let qd_rad_s = if i == 4 { qd5 } else { 0.0 };
-                    let zone = thresholds.predictive_zone(l, q_rad, qd_rad_s).zone;
-                    JointTelemetry {
-                        cmd_q_rad: q_rad,
-                        cmd_qd_rad_s: qd_rad_s,
-                        cmd_qdd_rad_s2: 0.0,
-                        q_rad,
-                        qd_rad_s,
-                        qdd_rad_s2: 0.0,
-                        drive: 0.0,
-                        zone,
-                    }
+                    joint_at(q_rad, qd_rad_s, thresholds.predictive_zone(l, q_rad, qd_rad_s).zone)
                 })
                 .collect();
-            TelemetrySample {
-                seq: 1,
-                time_s: 1.0,
-                joints,
-                drive: DriveKind::StepsPerS,
-                tcp: crate::kinematics::TcpPose::from_xyz_rpy([0.0; 3], [0.0; 3]),
-                worst_zone: None,
-                program_step: None,
-                link: None,
-            }
+            sample_of(1.0, joints)
         };
         // a fifth of the range from the upper limit (a safe position), moving toward it: 0.4 s away
         let q5 = j5.max - 0.2 * j5.range();

@@ -104,6 +104,21 @@ fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
         };
         assert!(same, "{l}: fresh {a:?}, after {b:?}");
     }
+
+    // Save report over yesterday's report: the first click says it exists, the second replaces
+    let dir = std::env::temp_dir().join(format!("parol6-measure-ui-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = dir.join("yesterday.html");
+    std::fs::write(&report, "<p>yesterday's figures</p>").unwrap();
+    h.state_mut().measure_panel().report_path = report.display().to_string();
+    h.get_by_label("Save report").click();
+    h.run_steps(2);
+    assert_eq!(std::fs::read_to_string(&report).unwrap(), "<p>yesterday's figures</p>", "replaced unasked");
+    assert_eq!(count(&h, "yesterday.html exists: Save report again replaces it"), 1);
+    h.get_by_label("Save report").click();
+    h.run_steps(2);
+    assert!(std::fs::read_to_string(&report).unwrap().contains("<svg"), "the second click saves the report");
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// trial6: the set-up's fields were drag values, which clamp what is typed without a word:

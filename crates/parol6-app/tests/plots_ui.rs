@@ -125,6 +125,10 @@ fn a_recording_opens_from_the_file_menu_plays_and_jumps_to_an_event() {
     assert!(svg.starts_with("<svg") && svg.contains("<polyline"), "{}", &svg[..80.min(svg.len())]);
     h.get_by_label("CSV of the visible window").click();
     h.run_steps(2);
+    let first = std::fs::read_to_string(&out).expect("the SVG is still there");
+    assert!(first.starts_with("<svg") && has_label(&h, "export.out exists"), "the first click over a file asks");
+    h.get_by_label("CSV of the visible window").click();
+    h.run_steps(2);
     let text = std::fs::read_to_string(&out).expect("the CSV was written");
     assert!(text.starts_with("t_s,j1_q_rad,"), "{}", &text[..80.min(text.len())]);
     assert!(text.lines().count() > 100, "the visible window's samples: {}", text.lines().count());

@@ -4,9 +4,9 @@
 //! the pointer is over the 3D view (not covered by a window), and whenever a control of the
 //! docked panels (a motion control, a joint entry) has the keyboard. Otherwise, with a dialog,
 //! menu or window open, it closes the topmost one instead: the quit question, the torque
-//! question, an open menu, then the topmost of the file dialog, the point table and the help
-//! (a field typed into inside that window first gives up the keyboard, dropping what was
-//! typed). With nothing open it is STOP again.
+//! question, a save's question, an open menu, then the topmost of the file dialog, the point
+//! table and the help (a field typed into inside that window first gives up the keyboard,
+//! dropping what was typed). With nothing open it is STOP again.
 
 use eframe::egui;
 use parol6_core::program::runner::RunState;
@@ -23,6 +23,8 @@ pub(super) enum Closable {
     QuitPrompt,
     /// The "torque over the motor limits: run anyway?" question.
     RunConfirmation,
+    /// The "replace the file?" / "the file changed on disk" question of a save.
+    SaveQuestion,
     /// An open menu or popup.
     Menu,
     /// The program panel's Open / Save-as dialog.
@@ -65,6 +67,9 @@ impl Parol6App {
         if self.panels.program.run_confirmation_open() {
             return Some(Closable::RunConfirmation);
         }
+        if self.panels.program.save_question_open() {
+            return Some(Closable::SaveQuestion);
+        }
         if egui::Popup::is_any_open(ctx) || ctx.any_popup_open() {
             return Some(Closable::Menu);
         }
@@ -90,6 +95,7 @@ impl Parol6App {
         match what {
             Closable::QuitPrompt => self.quit_prompt = false,
             Closable::RunConfirmation => self.panels.program.cancel_run_confirmation(),
+            Closable::SaveQuestion => self.panels.program.cancel_save_question(),
             Closable::Menu => egui::Popup::close_all(ctx),
             Closable::FileDialog => self.panels.program.close_file_dialog(),
             Closable::RecordingDialog => self.files.close_dialog(),

@@ -23,9 +23,9 @@ pub struct FileMenu {
     pub record_path: String,
     /// *Quit* was clicked (taken by the app, which asks first over unsaved edits, as Ctrl+Q).
     pub quit_clicked: bool,
-    /// *Start recording* was clicked on a path where a file exists: the next click replaces it
+    /// *Start recording* on a path where a file exists asks first: the next click replaces it
     /// (the field still shows the last recording's path, or the one replayed).
-    replace_asked: Option<PathBuf>,
+    replace_ask: crate::panels::replace_ask::ReplaceAsk,
     /// The *Browse…* dialog for a recording, while it is shown.
     dialog: Option<egui_file::FileDialog>,
     /// The folder that dialog last showed (this session).
@@ -76,14 +76,13 @@ impl FileMenu {
         // stays open, as for the sharing toggles (a failure closes it over its error)
         let recording = pctx.app.recording.as_ref().map(|r| r.path.display().to_string());
         let typed = PathBuf::from(self.record_path.trim());
-        match (&recording, &self.replace_asked) {
+        match (&recording, self.replace_ask.question(&typed, "Start recording again")) {
             (Some(path), _) => status_row(ui, egui::RichText::new(format!("recording to {path}"))),
-            (None, Some(asked)) if *asked == typed => {
-                let name = typed.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-                let text = format!("{name} exists: Start recording again replaces it when stopped");
+            (None, Some(text)) => {
+                let text = format!("{text} when stopped");
                 status_row(ui, egui::RichText::new(text).color(palette::rgb(palette::PATH_WARNING)));
             }
-            (None, _) => status_row(ui, egui::RichText::new("Record the active backend (.mcap)")),
+            (None, None) => status_row(ui, egui::RichText::new("Record the active backend (.mcap)")),
         }
         ui.horizontal(|ui| {
             let label = ui.label("Record to");
@@ -100,10 +99,7 @@ impl FileMenu {
                     ui.add(edit.hint_text("out.mcap")).labelled_by(label.id);
                     if ui.button("Start recording").clicked() && !self.record_path.trim().is_empty() {
                         // a recording replaces an existing file when it is finished: ask once
-                        if typed.exists() && self.replace_asked.as_ref() != Some(&typed) {
-                            self.replace_asked = Some(typed);
-                        } else {
-                            self.replace_asked = None;
+                        if self.replace_ask.may_write(&typed) {
                             pctx.send(AppCommand::Record(Some(typed)));
                         }
                     }

@@ -36,8 +36,11 @@ pub struct MeasurePanel {
     pub report_path: String,
     preflight: Option<(PoseTestPlan, Vec<f64>, Result<(), String>)>,
     overlay: Option<Arc<PathOverlay>>,
-    /// The outcome of "Save report" (text, true when an error), until the next run starts.
+    /// The outcome of "Save report" (text, true when an error or a question), until the next
+    /// run starts.
     message: Option<(String, bool)>,
+    /// "Save report" onto an existing file asks first (the same button again replaces it).
+    replace_ask: super::replace_ask::ReplaceAsk,
 }
 
 impl Default for MeasurePanel {
@@ -50,6 +53,7 @@ impl Default for MeasurePanel {
             preflight: None,
             overlay: None,
             message: None,
+            replace_ask: Default::default(),
         }
     }
 }
@@ -78,6 +82,11 @@ impl MeasurePanel {
 
     fn save_report(&mut self, model: &RobotModel, finished: &[FinishedMeasurement]) {
         let Some(last) = finished.last() else { return };
+        let path = std::path::PathBuf::from(self.report_path.trim());
+        if !self.replace_ask.may_write(&path) {
+            self.message = self.replace_ask.question(&path, "Save report again").map(|q| (q, true));
+            return;
+        }
         let figures = match pose_figures::compute(&last.samples) {
             Ok(f) => f,
             Err(e) => {
@@ -105,12 +114,10 @@ impl MeasurePanel {
             pose: Some(PoseReport { figures, samples: last.samples.clone(), simulation }),
             paths: Vec::new(),
         });
-        self.message = Some(
-            match parol6_core::fsio::write_atomic_bytes(std::path::Path::new(&self.report_path), html.as_bytes()) {
-                Ok(()) => (format!("report saved to {}", self.report_path), false),
-                Err(e) => (e.to_string(), true),
-            },
-        );
+        self.message = Some(match parol6_core::fsio::write_atomic_bytes(&path, html.as_bytes()) {
+            Ok(()) => (format!("report saved to {}", path.display()), false),
+            Err(e) => (e.to_string(), true),
+        });
     }
 }
 

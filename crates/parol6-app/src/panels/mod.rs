@@ -33,6 +33,7 @@ pub mod plot_stretches;
 pub mod plots;
 pub mod program;
 pub mod registry;
+pub mod replace_ask;
 pub mod shortcuts;
 pub mod status_bar;
 pub mod step_fields;

@@ -114,6 +114,8 @@ pub struct PlotsPanel {
     /// Decimated lines kept while data and window stay the same.
     lines: DecimationCache,
     svg_pending: Option<std::path::PathBuf>,
+    /// An export onto an existing file asks first (the same button again replaces it).
+    export_ask: super::replace_ask::ReplaceAsk,
     /// Whose live view the live rows come from now (`Some(true)`: the robot's).
     live_on_robot: Option<bool>,
     /// Added to the active backend's times: its clock started elsewhere than the first one's.
@@ -145,6 +147,7 @@ impl PlotsPanel {
             visible_s: None,
             lines: DecimationCache::default(),
             svg_pending: None,
+            export_ask: Default::default(),
             live_on_robot: None,
             live_shift_s: 0.0,
             switches: Vec::new(),
@@ -314,7 +317,11 @@ impl PlotsPanel {
                 .labelled_by(label.id);
             let path = std::path::PathBuf::from(self.export_path.trim());
             let has_path = !self.export_path.trim().is_empty();
-            if ui.add_enabled(has_path, egui::Button::new("CSV of the visible window")).clicked() {
+            let csv = ui.add_enabled(has_path, egui::Button::new("CSV of the visible window"));
+            if csv.clicked() && !self.export_ask.may_write(&path) {
+                let again = "clicking CSV of the visible window or SVG of the plots again";
+                ctx.info(self.export_ask.question(&path, again).unwrap_or_default());
+            } else if csv.clicked() {
                 // a replay's store has one drive quantity; the live history's stretches say which
                 // rows hold which
                 let replay_stretches = DriveStretches::default();
@@ -328,7 +335,12 @@ impl PlotsPanel {
                 }
             }
             if ui.add_enabled(has_path, egui::Button::new("SVG of the plots")).clicked() {
-                self.svg_pending = Some(path);
+                if self.export_ask.may_write(&path) {
+                    self.svg_pending = Some(path);
+                } else {
+                    let again = "clicking SVG of the plots or CSV of the visible window again";
+                    ctx.info(self.export_ask.question(&path, again).unwrap_or_default());
+                }
             }
         });
     }

@@ -1,6 +1,7 @@
 //! Program files in the panel: open (typed path, file dialog, recent files, built-ins), save,
 //! save as. Opening over unsaved edits asks first; a file that fails to load leaves the
-//! program in memory as it is; saving writes atomically and names the file in every message.
+//! program in memory as it is; saving writes atomically and names the file in every message,
+//! and asks before it replaces another file or one changed on disk (`file_guard`).
 
 use std::path::{Path, PathBuf};
 
@@ -38,6 +39,10 @@ pub(super) struct FileState {
     folder: Option<PathBuf>,
     /// [`Self::folder`] was read from the settings.
     folder_loaded: bool,
+    /// A save that waits for "replace it?" / "overwrite it?" (`file_guard`).
+    pub(super) question: Option<super::file_guard::SaveQuestion>,
+    /// The program's file and what it was on disk when this window last read or wrote it.
+    pub(super) disk: Option<(PathBuf, super::file_guard::DiskStamp)>,
 }
 
 /// How far into a `.json` file the dialog looks for the program header.
@@ -226,6 +231,7 @@ impl ProgramPanel {
         let fctx = FormatContext { abc, ..FormatContext::new(model, start_q) };
         write_program(self.editor.program(), path, &fctx).map_err(|e| e.to_string())?;
         self.editor.mark_saved();
+        self.stamp_file(path);
         let shown = path.display().to_string();
         self.source = shown.clone();
         self.file = Some(path.to_path_buf());
@@ -240,7 +246,8 @@ impl ProgramPanel {
     }
 
     /// Saves before the window closes: `Ok(true)` saved to its file, `Ok(false)` it has no file
-    /// yet (the Save-as dialog is opened instead), `Err` the write failed (the message says why).
+    /// yet (the Save-as dialog is opened instead), `Err` the write failed or the file changed on
+    /// disk since this window read or wrote it (the message says why; nothing is written).
     pub fn save_before_quit(
         &mut self,
         model: &parol6_core::RobotModel,
@@ -248,6 +255,11 @@ impl ProgramPanel {
         settings: &mut crate::panels::Settings,
     ) -> Result<bool, String> {
         match self.file.clone() {
+            Some(path) if self.changed_on_disk(&path) => Err(format!(
+                "{} changed on disk since this window read or saved it (another window or program wrote it); \
+                 Cancel, then Save or Save as… in the Program panel",
+                path.display()
+            )),
             Some(path) => self.save_with(&path, model, start_q, settings).map(|()| true),
             None => {
                 self.show_dialog(DialogKind::SaveAs);
@@ -283,15 +295,17 @@ impl ProgramPanel {
             .or_else(|| self.file.as_ref().and_then(|f| f.parent().map(Path::to_path_buf)))
     }
 
-    /// "Save": to the file it came from, else "Save as".
+    /// "Save": to the file it came from (asking first when it changed on disk), else "Save as".
     pub(super) fn save(&mut self, ctx: &mut PanelContext<'_>) {
         match self.file.clone() {
-            Some(path) => match self.save_to(&path, ctx) {
-                Ok(message) => ctx.info(message),
-                Err(e) => ctx.error(e),
-            },
+            Some(path) => self.save_or_ask(path, ctx),
             None => self.show_dialog(DialogKind::SaveAs),
         }
+    }
+
+    /// Opens the Save-as file dialog, as Save as… does.
+    pub(super) fn open_save_as_dialog(&mut self) {
+        self.show_dialog(DialogKind::SaveAs);
     }
 
     fn show_dialog(&mut self, kind: DialogKind) {
@@ -337,10 +351,7 @@ impl ProgramPanel {
             DialogKind::Open => self.request_open(OpenRequest::File(path), ctx),
             DialogKind::SaveAs => {
                 let path = if path.extension().is_none() { path.with_extension("json") } else { path };
-                match self.save_to(&path, ctx) {
-                    Ok(message) => ctx.info(message),
-                    Err(e) => ctx.error(e),
-                }
+                self.save_or_ask(path, ctx);
             }
         }
     }

@@ -23,6 +23,7 @@ mod checker;
 mod confirm;
 mod edit;
 mod edit_menu;
+mod file_guard;
 mod files;
 mod table;
 
@@ -282,6 +283,7 @@ impl ProgramPanel {
                 self.check_error = None;
                 self.reopening = None;
                 self.path_text = shown.clone();
+                self.stamp_file(&path);
                 if let Some(ctx) = ctx {
                     ctx.settings.remember_program(&shown);
                     ctx.info(format!(
@@ -388,6 +390,7 @@ impl Panel for ProgramPanel {
             ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
         }
         self.dialogs(ui, ctx);
+        self.save_question(ui, ctx);
         self.run_confirmation(ui, ctx);
         // open during a run too, read-only (it vanished without a word: trial10 n1)
         if self.table_open {

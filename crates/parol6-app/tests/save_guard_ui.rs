@@ -1,0 +1,148 @@
+//! A save never replaces a file's contents without a word (issue 32, "no data is ever lost"):
+//! Save as onto another existing program asks "Replace it?", and Save onto the program's own
+//! file asks when another window or an editor changed it on disk since this window read it.
+//! Both were silent: the named file, or the other window's save, was lost.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui::{self, Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::{app_harness, has_label, reopen_program_from};
+
+use parol6_app::app::Parol6App;
+use parol6_core::program::{Program, Step, json};
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("parol6-save-guard-{tag}-{}", std::process::id()));
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn press_with_ctrl(h: &mut Harness<'_, Parol6App>, key: Key) {
+    let ctrl = Modifiers::CTRL | Modifiers::COMMAND;
+    h.event(egui::Event::ModifiersChanged(ctrl));
+    h.event(egui::Event::Key { key, pressed: true, modifiers: ctrl, repeat: false, physical_key: None });
+    h.event(egui::Event::Key { key, pressed: false, modifiers: ctrl, repeat: false, physical_key: None });
+    h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+    h.run_steps(3);
+}
+
+fn ctrl_s(h: &mut Harness<'_, Parol6App>) {
+    press_with_ctrl(h, Key::S);
+}
+
+fn asked(h: &Harness<'_, Parol6App>) -> bool {
+    h.state().program_panel().save_question_open()
+}
+
+/// The file dialog's own Save button: the one below the panel's Browse… row.
+fn click_the_dialogs_save(h: &mut Harness<'_, Parol6App>) {
+    let panel_row_y = h.get_by_label("Browse…").rect().center().y;
+    let save = h.query_all_by_label("Save").find(|b| (b.rect().center().y - panel_row_y).abs() > 4.0);
+    save.expect("the dialog's Save button").click();
+    h.run_steps(3);
+}
+
+#[test]
+fn save_as_onto_another_existing_program_asks_before_replacing_it() {
+    let dir = temp_dir("replace");
+    let mine = dir.join("mine.json");
+    let theirs = dir.join("theirs.json");
+    let their_program = Program::from_steps("hours of work", vec![Step::Dwell { seconds: 1.0 }]);
+    let their_text = json::to_string(&their_program);
+    std::fs::write(&theirs, &their_text).unwrap();
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    reopen_program_from(&mut h, &mine);
+
+    // Save as… → pick theirs.json in the dialog → Save: asked, nothing written
+    h.get_by_label("Save as…").click();
+    h.run_steps(3);
+    h.get_by_label_contains("theirs.json").click();
+    h.run_steps(2);
+    click_the_dialogs_save(&mut h);
+    assert!(asked(&h), "Save as onto an existing file replaced it without asking");
+    assert!(has_label(&h, "already exists. Replace it"), "the question says what will happen");
+    assert_eq!(std::fs::read_to_string(&theirs).unwrap(), their_text);
+    // Cancel keeps it
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    assert!(!asked(&h));
+    assert_eq!(std::fs::read_to_string(&theirs).unwrap(), their_text);
+
+    // again, and Replace writes it
+    h.get_by_label("Save as…").click();
+    h.run_steps(3);
+    h.get_by_label_contains("theirs.json").click();
+    h.run_steps(2);
+    click_the_dialogs_save(&mut h);
+    assert!(asked(&h));
+    h.get_by_label("Replace").click();
+    h.run_steps(2);
+    assert!(!asked(&h));
+    let written = std::fs::read_to_string(&theirs).unwrap();
+    assert!(written != their_text && written.contains("parol6-program"), "Replace wrote the program");
+    assert_eq!(h.state().program_panel().file(), Some(theirs.as_path()));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn save_over_a_file_changed_on_disk_asks_first_and_a_save_of_our_own_does_not() {
+    let dir = temp_dir("changed");
+    let path = dir.join("shared.json");
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    reopen_program_from(&mut h, &path);
+
+    // our own saves never ask: the file is as this window left it
+    ctrl_s(&mut h);
+    assert!(!asked(&h), "a save of an unchanged file asked");
+    ctrl_s(&mut h);
+    assert!(!asked(&h), "a save after our own save asked");
+
+    // another window saves its program to the same file
+    let theirs = "{\"format\": \"parol6-program\", \"note\": \"the other window's save\"}\n";
+    std::fs::write(&path, theirs).unwrap();
+    ctrl_s(&mut h);
+    assert!(asked(&h), "Ctrl+S overwrote a file changed on disk without asking");
+    assert!(has_label(&h, "changed on disk since this window read or saved it"));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs, "nothing is written before the answer");
+    // Esc (pointer off the 3D view) cancels, the file stays theirs
+    let at = h.get_by_label("Program file").rect().center();
+    h.hover_at(at);
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert!(!asked(&h), "Esc closes the question");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+
+    // the quit question's "Save and quit" does not overwrite it either, and the window stays
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    press_with_ctrl(&mut h, Key::Q);
+    h.get_by_label("Save and quit").click();
+    h.run_steps(1);
+    let closes = h
+        .output()
+        .viewport_output
+        .get(&egui::ViewportId::ROOT)
+        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close));
+    assert!(!closes, "Save and quit overwrote the changed file and closed");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+    h.run_steps(2);
+    assert!(has_label(&h, "not saved, still open"), "the quit question says why it did not save");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+
+    // Overwrite writes ours, and then saves are quiet again
+    ctrl_s(&mut h);
+    h.get_by_label("Overwrite").click();
+    h.run_steps(2);
+    assert!(std::fs::read_to_string(&path).unwrap().contains("\"steps\""), "Overwrite wrote the program");
+    ctrl_s(&mut h);
+    assert!(!asked(&h));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

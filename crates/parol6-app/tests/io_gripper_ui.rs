@@ -257,3 +257,31 @@ fn enable_and_homing_are_refused_while_the_estop_is_latched() {
         assert!(h.get_by_label(button).accesskit_node().is_disabled(), "{button} greyed while the E-stop is latched");
     }
 }
+
+/// Regression (trial13 D2): with the plots hidden while connected, the robot's rows never reached
+/// the plots (they take the live view only while shown), and disconnecting dropped the robot's
+/// view: Plots opened afterwards showed the simulation alone, no robot stretch, no switch mark.
+/// The outgoing backend's rows are taken at the switch, shown or not.
+#[test]
+fn the_robots_rows_reach_the_plots_when_disconnecting_with_the_plots_hidden() {
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    let mut h = robot_harness();
+    assert!(!has_label(&h, "cmd - meas"), "the plots are hidden");
+    // half a second of the robot's status rows
+    let until_s = Instant::now() + Duration::from_millis(500);
+    while Instant::now() < until_s {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+    until(&mut h, "the simulation's rows after the robot's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().iter().any(|&(_, robot)| !robot)
+    });
+    let p = h.state().plots_panel();
+    let (first, _) = p.store().time_range_s().expect("rows");
+    let (at, _) = p.switches().into_iter().find(|&(_, robot)| !robot).unwrap();
+    assert!(at > first, "the robot's rows come before the switch: from {first} s to {at} s");
+}

@@ -221,3 +221,67 @@ fn the_window_title_says_robot_or_simulation() {
     assert_eq!(title, "PAROL6 Studio — ROBOT (built-in emulator)");
     assert!(has_label(&h, "built-in emulator"), "the connection section names it too");
 }
+
+/// Regression (trial13 D1, major): under the latched E-STOP, the Robot connection's *Enable* sent
+/// ENABLE and *Home (homing)* started the controller's homing: the arm moved while the window
+/// still said "E-STOP latched: drives disabled, motion refused". Both are refused under the latch
+/// (only *Release E-STOP* enables), greyed, and no ENABLE or HOME frame reaches the board.
+#[test]
+fn enable_and_homing_are_refused_while_the_estop_is_latched() {
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    let mut h = robot_harness();
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
+    until(&mut h, "the reason is shown", 5.0, |h| has_label(h, ESTOP_LATCHED));
+    h.run_steps(2);
+    h.state().emulator().unwrap().take_received();
+    // what the two buttons send, as any other way of sending them would
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Enable));
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Home));
+    let deadline = Instant::now() + Duration::from_millis(800);
+    let mut sent = Vec::new();
+    while Instant::now() < deadline {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+        sent.extend(h.state().emulator().unwrap().take_received().into_iter().map(|f| f.command.code));
+    }
+    for code in [CommandCode::Enable, CommandCode::Home] {
+        assert!(!sent.contains(&code.byte()), "{code:?} reached the board under the latched E-stop");
+    }
+    let board = h.state().emulator().unwrap().snapshot();
+    assert!(board.disabled, "the drives stay disabled");
+    assert!(h.state().estop_latched());
+    assert!(h.state().notices().iter().any(|n| n.text.contains(ESTOP_LATCHED)), "the refusal names the E-stop");
+    h.run_steps(2);
+    for button in ["Enable", "Home (homing)"] {
+        assert!(h.get_by_label(button).accesskit_node().is_disabled(), "{button} greyed while the E-stop is latched");
+    }
+}
+
+/// Regression (trial13 D2): with the plots hidden while connected, the robot's rows never reached
+/// the plots (they take the live view only while shown), and disconnecting dropped the robot's
+/// view: Plots opened afterwards showed the simulation alone, no robot stretch, no switch mark.
+/// The outgoing backend's rows are taken at the switch, shown or not.
+#[test]
+fn the_robots_rows_reach_the_plots_when_disconnecting_with_the_plots_hidden() {
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    let mut h = robot_harness();
+    assert!(!has_label(&h, "cmd - meas"), "the plots are hidden");
+    // half a second of the robot's status rows
+    let until_s = Instant::now() + Duration::from_millis(500);
+    while Instant::now() < until_s {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+    until(&mut h, "the simulation's rows after the robot's", 15.0, |h| {
+        let p = h.state().plots_panel();
+        p.switches().iter().any(|&(_, robot)| !robot)
+    });
+    let p = h.state().plots_panel();
+    let (first, _) = p.store().time_range_s().expect("rows");
+    let (at, _) = p.switches().into_iter().find(|&(_, robot)| !robot).unwrap();
+    assert!(at > first, "the robot's rows come before the switch: from {first} s to {at} s");
+}

@@ -48,10 +48,13 @@ fn move_text(cmd: &AppCommand) -> String {
 }
 
 /// True for a command the latched E-stop (or an open recording) refuses: whatever sets the arm or
-/// the gripper moving, and ENABLE other than by releasing the E-stop.
+/// the gripper moving (the controller's homing routine included), and ENABLE other than by
+/// releasing the E-stop (the I/O panel's or the Robot connection's: either re-enabled the drives
+/// under the latch, and homing then moved the arm, trial13 D1).
 fn refused_by_estop(cmd: &AppCommand) -> bool {
     sets_arm_moving(cmd)
         || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
+        || matches!(cmd, AppCommand::Link(LinkCommand::Enable | LinkCommand::Home))
 }
 
 /// True for a command an operator gives by hand that sets the arm moving: a joint or Cartesian jog,

@@ -316,6 +316,7 @@ impl Parol6App {
                     ConnectTarget::Emulator => "started the built-in emulator: waiting for it to answer".to_string(),
                 };
                 self.notice(what, false);
+                self.plots_take_rows_before_switch();
                 self.hw = Some(link);
                 // the plots now take the robot's rows: the simulation's would never be drawn
                 self.sim_recorder.as_ref().inspect(|r| r.keep_live_rows(false));
@@ -332,6 +333,7 @@ impl Parol6App {
         if self.state.recording.as_ref().is_some_and(|r| r.on_robot) {
             self.stop_file_recording();
         }
+        self.plots_take_rows_before_switch();
         if let Some(link) = self.hw.take() {
             // Hand the view back to the simulation where the robot last was (when that pose
             // is valid), so the arm does not jump back to its pose from before connecting.

@@ -50,6 +50,14 @@ impl Parol6App {
         self.active_recorder().map(Recorder::live).unwrap_or_default()
     }
 
+    /// Hands the plots the active backend's rows just before a switch of backend: the plots take
+    /// the live view only while shown, and the outgoing backend's view is dropped (the robot's)
+    /// or stops keeping rows (the simulation's), so a hidden panel lost that stretch (trial13 D2).
+    pub(super) fn plots_take_rows_before_switch(&mut self) {
+        let view = self.live_view();
+        self.panels.plots.feed_live(&view, self.hw.is_some());
+    }
+
     /// Passes this frame's state, link health and program step to the active recorder.
     pub(super) fn feed_telemetry(&mut self, robot: &Arc<RobotState>) {
         let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.state.program.as_ref());

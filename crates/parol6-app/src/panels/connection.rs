@@ -242,14 +242,19 @@ impl ConnectionPanel {
                 on_off_led(ui, *h, green, &name);
             }
         });
+        // under the latched E-STOP only Release E-STOP enables, and homing moves the arm: both greyed
+        // (the app refuses them too)
+        let latched = super::io_gripper::estop_latched(ctx);
         ui.horizontal(|ui| {
-            if ui.add_enabled(link.link_ok && !link.enabled, egui::Button::new("Enable")).clicked() {
+            let enable = ui.add_enabled(link.link_ok && !link.enabled && !latched, egui::Button::new("Enable"));
+            if latched_reason(enable, latched).clicked() {
                 ctx.send(AppCommand::Link(LinkCommand::Enable));
             }
             if ui.add_enabled(link.link_ok && link.enabled, egui::Button::new("Disable")).clicked() {
                 ctx.send(AppCommand::Link(LinkCommand::Disable));
             }
-            if ui.add_enabled(link.link_ok && !link.estop, egui::Button::new("Home (homing)")).clicked() {
+            let home = ui.add_enabled(link.link_ok && !link.estop && !latched, egui::Button::new("Home (homing)"));
+            if latched_reason(home, latched).clicked() {
                 ctx.send(AppCommand::Link(LinkCommand::Home));
             }
         });
@@ -271,6 +276,11 @@ impl ConnectionPanel {
             ui.colored_label(palette::rgb(palette::ERROR_TEXT), e);
         }
     }
+}
+
+/// A button greyed by the latched E-STOP says so on hover.
+fn latched_reason(button: egui::Response, latched: bool) -> egui::Response {
+    if latched { button.on_disabled_hover_text(super::io_gripper::ESTOP_LATCHED) } else { button }
 }
 
 /// The link's health in the open recording at the cursor: what the read-out showed then.

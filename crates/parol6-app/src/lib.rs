@@ -14,5 +14,6 @@ pub mod palette;
 pub mod panels;
 pub mod report;
 pub mod theme;
+pub mod typed_path;
 pub mod ui_screenshot;
 pub mod viewport;

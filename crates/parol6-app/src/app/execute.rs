@@ -19,6 +19,18 @@ const ANSWER_TIMEOUT_S: f64 = 3.0;
 /// controller that follow).
 const RUN_ESTOP: &str = "the operator pressed E-STOP";
 
+/// Why a run ended when STOP (the button or Esc) ended it.
+const RUN_STOP: &str = "the operator pressed STOP";
+
+/// The answer to the gripper panel's Calibrate.
+const GRIPPER_CALIBRATE_SENT: &str = "gripper calibration sent (the I/O & gripper section shows its status)";
+
+/// The answer to Clear error.
+const CLEAR_ERROR_SENT: &str = "CLEAR ERROR sent to the controller and the gripper";
+
+/// The measurement's name in the notices.
+const ISO_TEST: &str = "ISO 9283 test";
+
 /// True for a command that sets the arm moving (not STOP, a pause or a jog release).
 fn sets_arm_moving(cmd: &AppCommand) -> bool {
     use parol6_core::program::runner::RunnerControl;
@@ -125,6 +137,8 @@ impl Parol6App {
             AppCommand::RemoteControl(on) => self.set_remote_control(on),
             AppCommand::Motion(m) => {
                 if matches!(m, MotionCommand::Stop) {
+                    // said in a notice: at 1024×700 the program's status line is below the fold
+                    self.stopped_notices(RUN_STOP);
                     self.stop_program();
                     self.state.measurement.abort();
                 }
@@ -185,11 +199,15 @@ impl Parol6App {
                     r.control(control);
                 }
             }
-            AppCommand::Io(io) => {
-                if let Err(e) = self.backend().io(io) {
-                    self.notice(format!("{io:?} refused: {e}"), true);
-                }
-            }
+            AppCommand::Io(io) => match self.backend().io(io) {
+                // one-shot commands that change nothing on screen at once get an answer
+                Ok(()) => match io {
+                    IoCommand::GripperCalibrate => self.notice(GRIPPER_CALIBRATE_SENT.to_string(), false),
+                    IoCommand::ClearError => self.notice(CLEAR_ERROR_SENT.to_string(), false),
+                    _ => {}
+                },
+                Err(e) => self.notice(format!("{io:?} refused: {e}"), true),
+            },
             AppCommand::EStop(true) => self.press_estop(),
             AppCommand::EStop(false) => self.release_estop(),
         }
@@ -248,6 +266,9 @@ impl Parol6App {
         if self.program_running() {
             self.run_ended_by = Some(RUN_ESTOP);
         }
+        if self.state.measurement.running() {
+            self.notice(format!("{ISO_TEST} stopped: {RUN_ESTOP}"), true);
+        }
         self.stop_program();
         self.state.measurement.abort();
         self.jog_held = None;
@@ -264,6 +285,17 @@ impl Parol6App {
             self.notice("E-STOP: STOP and DISABLE sent; motion is refused until the E-stop is released", true);
         } else {
             self.notice(format!("E-STOP latched, but {}: motion is refused here", failed.join(", ")), true);
+        }
+    }
+
+    /// STOP (the button or Esc) ends a running program or ISO test: a notice says which, and why.
+    fn stopped_notices(&mut self, why: &str) {
+        if let Some(r) = self.program.as_ref().filter(|r| !r.is_finished()) {
+            let name = r.progress().name.clone();
+            self.notice(format!("{name} stopped: {why}"), false);
+        }
+        if self.state.measurement.running() {
+            self.notice(format!("{ISO_TEST} stopped: {why}"), false);
         }
     }
 

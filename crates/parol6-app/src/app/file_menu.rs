@@ -57,7 +57,7 @@ impl FileMenu {
             let r = ui.add(edit).labelled_by(label.id);
             let enter = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Open recording").clicked() || enter) && !self.open_path.trim().is_empty() {
-                pctx.send(AppCommand::OpenRecording(self.open_path.trim().into()));
+                pctx.send(AppCommand::OpenRecording(crate::typed_path::typed_path(&self.open_path)));
                 ui.close();
             }
             if ui.button("Browse recordings…").on_hover_text("Pick a recording (.mcap) in a file dialog").clicked() {
@@ -75,7 +75,7 @@ impl FileMenu {
         // Start and Stop are one toggle in one place: the rows keep their heights and the menu
         // stays open, as for the sharing toggles (a failure closes it over its error)
         let recording = pctx.app.recording.as_ref().map(|r| r.path.display().to_string());
-        let typed = PathBuf::from(self.record_path.trim());
+        let typed = crate::typed_path::typed_path(&self.record_path);
         match (&recording, self.replace_ask.question(&typed, "Start recording again")) {
             (Some(path), _) => status_row(ui, egui::RichText::new(format!("recording to {path}"))),
             (None, Some(text)) => {
@@ -123,7 +123,7 @@ impl FileMenu {
             .default_pos(super::layout::FLOATING_WINDOW_POS)
             .id(egui::Id::unique(RECORDING_DIALOG_ID));
         // the folder of the typed path (or the typed folder), else the one shown last
-        let typed = PathBuf::from(self.open_path.trim());
+        let typed = crate::typed_path::typed_path(&self.open_path);
         let typed_dir =
             if typed.is_dir() { Some(typed) } else { typed.parent().filter(|p| p.is_dir()).map(Path::to_path_buf) };
         if let Some(dir) = typed_dir.filter(|d| !d.as_os_str().is_empty()).or_else(|| self.folder.clone()) {
@@ -150,7 +150,7 @@ impl FileMenu {
     /// file is opened for replay, and its path is kept in the menu's field.
     pub(super) fn dialog_ui(&mut self, ctx: &egui::Context, pctx: &mut PanelContext<'_>) {
         let Some(dialog) = &mut self.dialog else { return };
-        let picked = dialog.show(ctx).selected().then(|| dialog.path().map(Path::to_path_buf)).flatten();
+        let picked = dialog.show(ctx).selected().then(|| dialog.path().map(crate::typed_path::picked_path)).flatten();
         if !dialog.visible() || picked.is_some() {
             self.close_dialog();
         }

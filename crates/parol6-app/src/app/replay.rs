@@ -22,7 +22,7 @@ pub(super) type ReplayLoading = (PathBuf, Receiver<Result<(ReplayData, f64), Str
 pub fn read_replay(path: &std::path::Path, model: &parol6_core::RobotModel) -> Result<ReplayData, String> {
     read_replay_file(path, model).map_err(|e| match e {
         ReplayError::Io { .. } => e.to_string(),
-        ReplayError::Recording(e) => format!("cannot replay {}: {e}", path.display()),
+        ReplayError::Recording(e) => super::telemetry::file_error("cannot replay ", path, &e),
     })
 }
 

@@ -138,7 +138,7 @@ impl Parol6App {
                 let what = if on_robot { "the robot" } else { "the simulation" };
                 self.notice(format!("recording {what} to {}", path.display()), false);
             }
-            Err(e) => self.notice(format!("cannot record to {}: {e}", path.display()), true),
+            Err(e) => self.notice(file_error("cannot record to ", path, &e), true),
         }
     }
 
@@ -154,7 +154,7 @@ impl Parol6App {
                 false,
             ),
             Some(Ok(None)) | None => {}
-            Some(Err(e)) => self.notice(format!("{}: {e}", r.path.display()), true),
+            Some(Err(e)) => self.notice(file_error("", &r.path, &e), true),
         }
     }
 
@@ -162,4 +162,13 @@ impl Parol6App {
     pub fn recording_path(&self) -> Option<&Path> {
         self.state.recording.as_ref().map(|r| r.path.as_path())
     }
+}
+
+/// "`what`PATH: REASON" with the path named once: the telemetry errors begin with their path
+/// already ("cannot record to P: P: it is being recorded to now" was the refusal).
+pub(super) fn file_error(what: &str, path: &Path, e: &dyn std::fmt::Display) -> String {
+    let shown = path.display().to_string();
+    let text = e.to_string();
+    let reason = text.strip_prefix(&format!("{shown}: ")).unwrap_or(&text);
+    format!("{what}{shown}: {reason}")
 }

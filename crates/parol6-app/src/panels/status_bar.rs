@@ -2,6 +2,10 @@
 //! latency, where the shown state comes from (SIM, ROBOT, or REPLAY while a recording is open), the
 //! recording being written (a red dot, its file name and the time since it started), the *Share live*
 //! toggle (with the address while on) and the remote-control banner.
+//!
+//! The toggles come first, at the bar's right end, each in a slot of fixed width, so no text that
+//! appears or changes (*moving*, a recording, *LIVE ws://…*) moves them under the pointer; the
+//! read-outs fill the rest from the left and are clipped where the window is narrow.
 
 use super::{AppCommand, Panel, PanelContext, StateSource};
 use eframe::egui;
@@ -18,48 +22,75 @@ impl Panel for StatusBar {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let p = ctx.perf;
         ui.horizontal(|ui| {
-            let src = crate::app::state::source_label(ctx.app, ctx.robot.source);
-            let (color, hover) = match (ctx.app.replaying(), ctx.robot.source) {
-                (true, _) => (palette::rgb(palette::WARN_TEXT), crate::app::state::REPLAY_OPEN),
-                (false, StateSource::Simulation) => {
-                    (palette::rgb(palette::SOURCE_SIM), "the 3D arm shows the simulation")
-                }
-                (false, StateSource::Robot) => (
-                    palette::rgb(palette::SOURCE_ROBOT),
-                    "the 3D arm mirrors the measured robot pose; the ghost is the commanded pose",
-                ),
-            };
-            ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(hover);
-            ui.separator();
-            recording_ui(ui, ctx);
-            ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
-            ui.separator();
-            ui.monospace(format!("UI {:.2} ms", p.ui_cpu_ms)).on_hover_text("CPU time of the last UI pass");
-            ui.separator();
-            ui.monospace(format!("physics {:6.0} Hz, step {:5.1} µs", p.physics_rate_hz, p.physics_step_us))
-                .on_hover_text("simulation steps per second of wall time, and the duration of the last step");
-            ui.separator();
-            let lat = match p.command_latency_ms {
-                Some(ms) => format!("cmd latency {ms:.2} ms"),
-                None => "cmd latency –".to_string(),
-            };
-            ui.monospace(lat).on_hover_text("time from sending the last command to the simulation applying it");
-            ui.separator();
-            ui.monospace(format!("t = {:.1} s", p.sim_time_s)).on_hover_text("simulated time");
-            if ctx.robot.moving {
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                live_ui(ui, ctx);
                 ui.separator();
-                ui.label(egui::RichText::new("moving").color(palette::rgb(palette::MOVING_TEXT)));
-            }
-            if let Some(link) = &ctx.app.link {
-                ui.separator();
-                ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
-            }
-            ui.separator();
-            live_ui(ui, ctx);
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    // the read-outs never reach under the toggles
+                    ui.set_clip_rect(ui.max_rect().intersect(ui.clip_rect()));
+                    readouts_ui(ui, ctx);
+                });
+            });
         });
     }
+}
+
+/// The width of the slot for the text `widest` on a button (the slots do not follow the text).
+fn slot_width(ui: &egui::Ui, widest: &str) -> f32 {
+    let galley = egui::WidgetText::from(widest).into_galley(
+        ui,
+        Some(egui::TextWrapMode::Extend),
+        f32::INFINITY,
+        egui::TextStyle::Button,
+    );
+    galley.size().x + 2.0 * ui.spacing().button_padding.x
+}
+
+/// Where the shown state comes from, the recording, whether the arm moves and the link's rate,
+/// then the performance read-outs (cut first where the window is narrow).
+fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+    let p = ctx.perf;
+    let src = crate::app::state::source_label(ctx.app, ctx.robot.source);
+    let (color, hover) = match (ctx.app.replaying(), ctx.robot.source) {
+        (true, _) => (palette::rgb(palette::WARN_TEXT), crate::app::state::REPLAY_OPEN),
+        (false, StateSource::Simulation) => (palette::rgb(palette::SOURCE_SIM), "the 3D arm shows the simulation"),
+        (false, StateSource::Robot) => (
+            palette::rgb(palette::SOURCE_ROBOT),
+            "the 3D arm mirrors the measured robot pose; the ghost is the commanded pose",
+        ),
+    };
+    ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(hover);
+    ui.separator();
+    recording_ui(ui, ctx);
+    // a slot of its own, kept while the arm rests: the link rate after it stays in place
+    let moving = egui::RichText::new("moving").color(palette::rgb(palette::MOVING_TEXT));
+    let slot = egui::vec2(slot_width(ui, "moving"), ui.spacing().interact_size.y);
+    ui.allocate_ui_with_layout(slot, egui::Layout::left_to_right(egui::Align::Center), |ui| {
+        ui.set_min_size(slot);
+        if ctx.robot.moving {
+            ui.label(moving);
+        }
+    });
+    if let Some(link) = &ctx.app.link {
+        ui.separator();
+        ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
+    }
+    ui.separator();
+    ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
+    ui.separator();
+    ui.monospace(format!("UI {:.2} ms", p.ui_cpu_ms)).on_hover_text("CPU time of the last UI pass");
+    ui.separator();
+    ui.monospace(format!("physics {:6.0} Hz, step {:5.1} µs", p.physics_rate_hz, p.physics_step_us))
+        .on_hover_text("simulation steps per second of wall time, and the duration of the last step");
+    ui.separator();
+    let lat = match p.command_latency_ms {
+        Some(ms) => format!("cmd latency {ms:.2} ms"),
+        None => "cmd latency –".to_string(),
+    };
+    ui.monospace(lat).on_hover_text("time from sending the last command to the simulation applying it");
+    ui.separator();
+    ui.monospace(format!("t = {:.1} s", p.sim_time_s)).on_hover_text("simulated time");
 }
 
 /// While a file is written: a red dot, "REC", the file's name and the time since it started
@@ -78,23 +109,13 @@ fn recording_ui(ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
     ui.ctx().request_repaint_after(std::time::Duration::from_millis(500));
 }
 
-/// The *Share live* toggle: the address while on (a click stops it); the *ROS 2* toggle; and
-/// the remote-control banner while network commands can move the arm.
+/// The *ROS 2* toggle at the right end, the *Share live* toggle (with the address while on; a
+/// click stops it) left of it, each in a slot of fixed width, and the remote-control banner left
+/// of both while network commands can move the arm (laid out right to left).
 fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-    let sharing = ctx.live.sharing.clone();
-    let (text, hover) = match &sharing {
-        Some(addr) => (
-            egui::RichText::new(format!("LIVE {addr}")).color(palette::rgb(palette::LIVE_TEXT)),
-            "sharing live (Foxglove WebSocket: Foxglove or Lichtblick, Open connection); click to stop",
-        ),
-        None => (egui::RichText::new("Share live"), "share the arm live (Foxglove WebSocket; File menu: address)"),
-    };
-    if ui.selectable_label(sharing.is_some(), text).on_hover_text(hover).clicked() {
-        ctx.send(AppCommand::ShareLive(sharing.is_none()));
-    }
-    ui.separator();
+    let height = ui.spacing().interact_size.y;
     let (text, hover) = match (&ctx.live.ros2, ctx.live.ros2_starting) {
-        (_, true) => (egui::RichText::new("ROS 2 starting…"), "the Zenoh session is opening; click to cancel"),
+        (_, true) => (egui::RichText::new(ROS2_STARTING), "the Zenoh session is opening; click to cancel"),
         (Some(_), false) => (
             egui::RichText::new("ROS 2 ON").color(palette::rgb(palette::LIVE_TEXT)),
             "ROS 2 node parol6 over Zenoh (File menu: router, domain); click to stop",
@@ -108,8 +129,28 @@ fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         Some(addr) => format!("{hover}\n{addr}"),
         None => hover.to_string(),
     };
-    if ui.selectable_label(on, text).on_hover_text(hover).clicked() {
+    let slot = egui::vec2(slot_width(ui, ROS2_STARTING), height);
+    if ui.add_sized(slot, egui::Button::selectable(on, text).truncate()).on_hover_text(hover).clicked() {
         ctx.send(AppCommand::ShareRos2(!on));
+    }
+    ui.separator();
+    let sharing = ctx.live.sharing.clone();
+    let (text, hover) = match &sharing {
+        Some(addr) => (
+            egui::RichText::new(format!("LIVE {addr}")).color(palette::rgb(palette::LIVE_TEXT)),
+            format!(
+                "sharing live at {addr} (Foxglove WebSocket: Foxglove or Lichtblick, Open connection); click to stop"
+            ),
+        ),
+        None => (
+            egui::RichText::new("Share live"),
+            "share the arm live (Foxglove WebSocket; File menu: address)".to_string(),
+        ),
+    };
+    let slot = egui::vec2(slot_width(ui, SHARE_SLOT_TEXT), height);
+    let share = egui::Button::selectable(sharing.is_some(), text).truncate();
+    if ui.add_sized(slot, share).on_hover_text(hover).clicked() {
+        ctx.send(AppCommand::ShareLive(sharing.is_none()));
     }
     if ctx.live.remote_control {
         ui.separator();
@@ -122,3 +163,9 @@ fn live_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         }
     }
 }
+
+/// The *ROS 2* toggle's longest text: its slot's width.
+const ROS2_STARTING: &str = "ROS 2 starting…";
+
+/// The *Share live* slot holds the default address in full; a longer one is cut (whole on hover).
+const SHARE_SLOT_TEXT: &str = "LIVE ws://127.0.0.1:65535";

@@ -219,3 +219,22 @@ pub fn planned_path(model: &RobotModel, checked: &CheckedProgram) -> PathOverlay
     }
     overlay
 }
+
+/// Why F5 starts nothing (Run is only greyed, and the key gives no other answer): the first
+/// pre-flight error with its step and line and how many there are, the check's own failure
+/// (`check_error`), or that the pre-flight waits for the arm to stand still.
+pub(super) fn run_refusal(name: &str, checked: Option<&CheckedProgram>, check_error: Option<&str>) -> String {
+    use parol6_core::program::check::Severity;
+    if let Some(e) = check_error {
+        return format!("Cannot run {name}: the pre-flight failed: {e}");
+    }
+    let Some(r) = checked else {
+        return format!("Cannot run {name}: the pre-flight runs once the arm stands still");
+    };
+    let errors = r.issues.iter().filter(|i| i.severity == Severity::Error).count();
+    match r.first_error() {
+        Some(first) if errors == 1 => format!("Cannot run {name}: pre-flight found 1 error: {first}"),
+        Some(first) => format!("Cannot run {name}: pre-flight found {errors} errors, the first: {first}"),
+        None => format!("Cannot run {name}: the pre-flight is not clean"),
+    }
+}

@@ -85,7 +85,7 @@ impl ProgramPanel {
                 .labelled_by(label.id);
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Open").clicked() || enter) && !self.path_text.trim().is_empty() {
-                let path = PathBuf::from(self.path_text.trim());
+                let path = crate::typed_path::typed_path(&self.path_text);
                 self.request_open(OpenRequest::File(path), ctx);
             }
         });
@@ -339,7 +339,8 @@ impl ProgramPanel {
         self.sync_dialog_folder(ctx.settings);
         let Some((kind, dialog)) = &mut self.files.dialog else { return };
         let kind = *kind;
-        let picked = dialog.show(ui.ctx()).selected().then(|| dialog.path().map(Path::to_path_buf)).flatten();
+        let picked =
+            dialog.show(ui.ctx()).selected().then(|| dialog.path().map(crate::typed_path::picked_path)).flatten();
         if !dialog.visible() {
             self.files.folder = Some(dialog.directory().to_path_buf());
             self.files.dialog = None;

@@ -494,6 +494,11 @@ impl ProgramPanel {
                     self.program.name
                 ));
             }
+            if f5 && !checking && !running && !paused && refused.is_none() && !clean {
+                let why =
+                    checker::run_refusal(&self.program.name, self.checked.as_deref(), self.check_error.as_deref());
+                ctx.error(in_unit(&why, ctx.settings.unit));
+            }
             if run.clicked() || (f5 && can_run) {
                 if paused {
                     ctx.send(AppCommand::Program(RunnerControl::Resume));
@@ -501,7 +506,9 @@ impl ProgramPanel {
                     self.start_run(ctx, false);
                 }
             }
+            let idle = if running { "" } else { NO_RUN };
             let pause = ui.add_enabled(running && !paused, egui::Button::new("Pause (F6)"));
+            let pause = pause.on_disabled_hover_text(if paused { "paused: Resume (F5) or Stop program" } else { idle });
             if pause.clicked() || (running && !paused && shortcuts::pressed(ui.ctx(), Action::PauseProgram)) {
                 ctx.send(AppCommand::Program(RunnerControl::Pause));
             }
@@ -514,7 +521,7 @@ impl ProgramPanel {
                     self.start_run(ctx, true);
                 }
             }
-            if ui.add_enabled(running, egui::Button::new("Stop program")).clicked() {
+            if ui.add_enabled(running, egui::Button::new("Stop program")).on_disabled_hover_text(idle).clicked() {
                 ctx.send(AppCommand::Program(RunnerControl::Stop));
             }
         });
@@ -548,6 +555,9 @@ impl ProgramPanel {
         }
     }
 }
+
+/// Why Pause and Stop program are greyed: nothing runs (also under the E-stop and in replay).
+const NO_RUN: &str = "no program is running";
 
 /// One line, always present, so nothing below moves when a run starts or ends.
 fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>, unit: AngleUnit) {

@@ -140,6 +140,8 @@ pub struct Parol6App {
     cartesian_jog_held: Option<(MotionCommand, Instant)>,
     /// The E-stop button latched: motion commands are refused until it is released.
     estop: bool,
+    /// The floor rule of manual motions (pre-flight's), built on first use (`execute`).
+    floor_guard: std::sync::OnceLock<parol6_core::collision::CollisionGuard>,
     /// Refusal id last shown, per backend name.
     last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
@@ -180,8 +182,7 @@ pub struct Parol6App {
     replay_loading: Option<replay::ReplayLoading>,
     /// The File menu.
     files: FileMenu,
-    /// When to hand freed memory back to the system (after the first frames, a replay opened
-    /// or closed).
+    /// When to hand freed memory back to the system (after the first frames, a replay opened or closed).
     release_memory_at: Option<Instant>,
     /// Frame reuse, when installed in the egui context (see [`frame_reuse`]).
     frame_reuse: Option<frame_reuse::FrameReuse>,
@@ -234,6 +235,7 @@ impl Parol6App {
             jog_held: None,
             cartesian_jog_held: None,
             estop: false,
+            floor_guard: std::sync::OnceLock::new(),
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,

@@ -123,7 +123,8 @@ impl IoGripperPanel {
             }
             ui.separator();
             let disabled = io.drives_disabled;
-            on_off_led(ui, !disabled, green, "drives enabled");
+            // off in replay: a lit LED would read as the recording's drives
+            on_off_led(ui, shown && !disabled, green, "drives enabled");
         });
     }
 

@@ -17,6 +17,44 @@ use crate::profile::JointMove;
 /// Name used for the ground plane in reports.
 pub const GROUND: &str = "ground";
 
+/// The floor rule's words for `link` (pre-flight and the manual motions say the same).
+pub fn below_floor_text(link: &str) -> String {
+    format!("{link} goes below the floor (z = 0)")
+}
+
+/// Height above the floor of a placed piece's lowest point, m (negative: below it). Parry's
+/// boxes of convex primitives are tight, so the lowest point is exact. The one floor test of the
+/// guard and of pre-flight's clearances.
+pub(crate) fn floor_height_m(bb: &Aabb) -> f64 {
+    f64::from(bb.mins.z)
+}
+
+/// A link below the floor plane (z = 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FloorContact {
+    /// The link reaching deepest.
+    pub link: String,
+    /// Height of its lowest point, m (negative).
+    pub lowest_z_m: f64,
+}
+
+impl std::fmt::Display for FloorContact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: its lowest point at z = {:.1} mm", below_floor_text(&self.link), self.lowest_z_m * 1000.0)
+    }
+}
+
+/// Floor only: the Cartesian jog of a backend with no collision model (the robot) stops before
+/// the floor, as the simulation's stops before any contact.
+#[derive(Debug, Clone)]
+pub struct FloorGuard(pub CollisionGuard);
+
+impl crate::motion::cartesian_jog::JogObstacleCheck for FloorGuard {
+    fn contact(&self, model: &RobotModel, q: &[f64]) -> Option<(String, String)> {
+        self.0.floor_contact(model, q).map(|c| (c.link, GROUND.to_string()))
+    }
+}
+
 /// Link pairs of the embedded PAROL6 that cannot touch anywhere inside the joint limits,
 /// found by testing every non-adjacent pair over 200 000 random in-limit configurations
 /// (`derived_never_colliding_pairs_hold` re-checks them).
@@ -182,11 +220,50 @@ impl CollisionGuard {
     }
 
     fn below_ground(&self, placed: &[Option<(Pose, Aabb)>], l: usize) -> bool {
-        // parry's boxes of convex primitives are tight, so the lowest point is exact
+        self.lowest_z_m(placed, l).is_some_and(|z| z < 0.0)
+    }
+
+    /// Height of link `l`'s lowest point above the floor, m (`None`: no placed piece).
+    fn lowest_z_m(&self, placed: &[Option<(Pose, Aabb)>], l: usize) -> Option<f64> {
         self.pieces
             .iter()
-            .enumerate()
-            .any(|(i, p)| p.link == l && placed[i].as_ref().is_some_and(|(_, bb)| bb.mins.z < 0.0))
+            .zip(placed)
+            .filter(|(p, _)| p.link == l)
+            .filter_map(|(_, placed)| placed.as_ref().map(|(_, bb)| floor_height_m(bb)))
+            .reduce(f64::min)
+    }
+
+    /// The floor rule at joint values `q` (the one pre-flight applies to a program): the link
+    /// reaching deepest below the floor plane (z = 0), or `None` when every tested link is above it.
+    pub fn floor_contact(&self, model: &RobotModel, q: &[f64]) -> Option<FloorContact> {
+        let placed = self.place(&model.link_poses(q));
+        self.ground_links
+            .iter()
+            .filter_map(|&l| self.lowest_z_m(&placed, l).map(|z| (l, z)))
+            .filter(|&(_, z)| z < 0.0)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(l, z)| FloorContact { link: self.link_names[l].clone(), lowest_z_m: z })
+    }
+
+    /// The floor rule along the straight joint-space path from `from` to `to` (a profiled joint
+    /// move or a joint jog follows it): the contact at `to` when the end itself is below the
+    /// floor, else the first one on the way, with its fraction of the path (0–1). Samples are
+    /// spaced so no joint moves more than [`SWEEP_STEP`] between two.
+    pub fn floor_on_path(&self, model: &RobotModel, from: &[f64], to: &[f64]) -> Option<(FloorContact, f64)> {
+        if let Some(c) = self.floor_contact(model, to) {
+            return Some((c, 1.0));
+        }
+        let n = from.len().min(to.len());
+        let dist = (0..n).map(|k| (to[k] - from[k]).abs()).fold(0.0, f64::max);
+        let samples = ((dist / SWEEP_STEP).ceil() as usize).clamp(1, 100_000);
+        let mut q = to.to_vec();
+        (0..samples).find_map(|i| {
+            let f = i as f64 / samples as f64;
+            for k in 0..n {
+                q[k] = from[k] + (to[k] - from[k]) * f;
+            }
+            self.floor_contact(model, &q).map(|c| (c, f))
+        })
     }
 
     /// First collision at joint values `q` (link pairs first, then the ground), or `None`.
@@ -354,5 +431,60 @@ pub(crate) fn convex_shape(shape: &Shape) -> Option<(SharedShape, Isometry3<f64>
                 .collect();
             SharedShape::convex_hull(&points).map(|s| (s, Isometry3::identity()))
         }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod floor_tests {
+    use super::*;
+
+    /// The pose of trial 12 (n-d), Go to (90, −3.37, 180, −12.5, 28.65, 180)°, J2 at its limit.
+    pub(crate) fn under_the_floor() -> Vec<f64> {
+        let model = RobotModel::parol6();
+        let mut q: Vec<f64> = [90.0f64, -3.37, 180.0, -12.5, 28.65, 180.0].iter().map(|d| d.to_radians()).collect();
+        q[1] = q[1].min(model.limits.get(1).map_or(0.0, |l| l.max));
+        q
+    }
+
+    /// Regression (trial 12 n-d): a typed pose under the floor went without a word while
+    /// pre-flight refused a program step there. The manual motions' rule is pre-flight's: the
+    /// same link is named, and the lowest point is given.
+    #[test]
+    fn the_floor_rule_names_the_link_preflight_names_and_its_depth() {
+        let model = RobotModel::parol6();
+        let guard = CollisionGuard::new(&model);
+        let standby = crate::parol6::standby_rad();
+        assert_eq!(guard.floor_contact(&model, &standby), None, "standby stands above the floor");
+        let q = under_the_floor();
+        let c = guard.floor_contact(&model, &q).expect("below the floor");
+        assert!(c.lowest_z_m < -0.05, "{c}");
+        let text = c.to_string();
+        assert!(
+            text.starts_with(&format!("{} goes below the floor (z = 0): its lowest point at z = -", c.link)),
+            "{text}"
+        );
+        // the path from standby ends there: the end is reported, fraction 1
+        let (on_path, at) = guard.floor_on_path(&model, &standby, &q).expect("on the path");
+        assert_eq!((on_path, at), (c.clone(), 1.0));
+        // a way out from under the floor to standby is above it at its end
+        assert_eq!(guard.floor_contact(&model, &standby), None);
+    }
+
+    /// A straight joint path whose ends are above the floor but whose middle dips under it is
+    /// caught on the way, before its end.
+    #[test]
+    fn a_path_dipping_under_the_floor_is_caught_on_the_way() {
+        let model = RobotModel::parol6();
+        let guard = CollisionGuard::new(&model);
+        let q = under_the_floor();
+        let standby = crate::parol6::standby_rad().to_vec();
+        // from standby through the floor pose and as far again: find an end above the floor
+        let beyond: Vec<f64> = standby.iter().zip(&q).map(|(a, b)| b + (b - a)).collect();
+        let end = model.limits.enforce(&beyond, crate::LimitPolicy::Clamp).expect("clamped");
+        if guard.floor_contact(&model, &end).is_none() {
+            let (_, at) = guard.floor_on_path(&model, &standby, &end).expect("dips under");
+            assert!(at > 0.0 && at < 1.0, "{at}");
+        }
+        assert_eq!(guard.floor_on_path(&model, &standby, &crate::parol6::park_rad()), None);
     }
 }

@@ -12,6 +12,12 @@ use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING, PROGRAM_UNFINISHED, TOR
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
 
+/// A held joint jog stops when the floor lies within this long of jog travel ahead, s (covers
+/// the refresh interval and the deceleration).
+const JOG_FLOOR_LOOKAHEAD_S: f64 = 0.3;
+/// ... and at least this far ahead, rad (1°).
+const JOG_FLOOR_MIN_AHEAD_RAD: f64 = 0.017_453_292_519_943_295;
+
 /// A port that has not answered within this long is reported as "no controller answers".
 const ANSWER_TIMEOUT_S: f64 = 3.0;
 
@@ -102,6 +108,16 @@ impl Parol6App {
                 self.cartesian_jog_held = None;
             }
             self.refusal_notice(why);
+            return;
+        }
+        if let Some(why) = self.floor_refusal(&cmd) {
+            if let AppCommand::Jog(_) = cmd
+                && self.jog_held.take().is_some()
+                && let Err(e) = self.backend().send(MotionCommand::JogRelease)
+            {
+                self.notice(format!("jog release refused: {e}"), true);
+            }
+            self.refusal_notice(&why);
             return;
         }
         let step = matches!(cmd, AppCommand::Motion(MotionCommand::CartesianStep { .. }));
@@ -239,6 +255,57 @@ impl Parol6App {
         if CartesianAxis::ALL.into_iter().any(jog) {
             self.refusal_notice(why);
         }
+    }
+
+    /// Why a manual joint motion (a typed or Go to pose, a slider, HOME, Move to target, a held
+    /// joint jog) is refused by the floor rule pre-flight applies to programs, on the simulation
+    /// and the robot alike: its straight joint path from the commanded pose would take a link
+    /// below the floor. A held jog looks [`JOG_FLOOR_LOOKAHEAD_S`] ahead and stops before it.
+    /// From a pose already below the floor only the end is checked (a way out is allowed).
+    fn floor_refusal(&self, cmd: &AppCommand) -> Option<String> {
+        let state = self.backend().state();
+        let dof = self.model.dof();
+        let from = if state.commanded.q.len() == dof { &state.commanded.q } else { &state.q };
+        if from.len() != dof {
+            return None;
+        }
+        let to = match cmd {
+            AppCommand::Motion(MotionCommand::MoveJoints { goal_rad, .. }) => goal_rad.clone(),
+            AppCommand::Motion(MotionCommand::Follow { target_rad, .. }) => target_rad.clone(),
+            AppCommand::Motion(MotionCommand::Home { .. }) => parol6_core::motion::home_position(&self.model),
+            AppCommand::Jog(Some((joint, dir))) => {
+                let speed_rad_s = parol6_core::motion::MotionCaps::of(&self.model).speed_rad_s.get(*joint).copied()?;
+                let ahead_rad = (speed_rad_s * self.settings.jog_speed_fraction * JOG_FLOOR_LOOKAHEAD_S)
+                    .max(JOG_FLOOR_MIN_AHEAD_RAD);
+                let mut to = from.clone();
+                let (lo, hi) = self.model.limits.get(*joint).map_or((f64::MIN, f64::MAX), |l| (l.min, l.max));
+                *to.get_mut(*joint)? = (from[*joint] + f64::from(*dir) * ahead_rad).clamp(lo.min(hi), hi.max(lo));
+                to
+            }
+            _ => return None,
+        };
+        if to.len() != dof {
+            return None;
+        }
+        let guard = self.floor_guard.get_or_init(|| parol6_core::collision::CollisionGuard::new(&self.model));
+        let (contact, at) = if guard.floor_contact(&self.model, from).is_some() {
+            (guard.floor_contact(&self.model, &to)?, 1.0)
+        } else {
+            guard.floor_on_path(&self.model, from, &to)?
+        };
+        Some(match cmd {
+            AppCommand::Jog(Some((joint, _))) => {
+                let name = self.model.joints.get(*joint).map_or("the joint", |j| j.name.as_str());
+                // no depth: it changes with every refresh, and one notice is kept up while held
+                let rule = parol6_core::collision::below_floor_text(&contact.link);
+                format!("{name} jog stopped before the floor: {rule} just ahead; jog the other way")
+            }
+            _ if at >= 1.0 => format!("{contact} at that pose (pre-flight's floor rule); nothing was sent"),
+            _ => format!(
+                "{contact} on the way there ({:.0} % of the move; pre-flight's floor rule); nothing was sent",
+                at * 100.0
+            ),
+        })
     }
 
     /// Why a manual motion is refused now: a program runs (preparing, running, returning to its

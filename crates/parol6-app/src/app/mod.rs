@@ -56,7 +56,6 @@ pub use layout::{FLOATING_WINDOW_POS, LEFT_PANEL_WIDTH, RIGHT_PANEL_WIDTH};
 use link::HwLink;
 pub use link::TITLE_SIMULATION;
 pub use replay::read_replay;
-use settings_store::save_settings;
 pub use settings_store::{load_settings, settings_path};
 pub use telemetry::link_health;
 use test_hooks::Hook;
@@ -140,6 +139,8 @@ pub struct Parol6App {
     cartesian_jog_held: Option<(MotionCommand, Instant)>,
     /// The E-stop button latched: motion commands are refused until it is released.
     estop: bool,
+    /// The floor rule of manual motions (pre-flight's), built on first use (`execute`).
+    floor_guard: std::sync::OnceLock<parol6_core::collision::CollisionGuard>,
     /// Refusal id last shown, per backend name.
     last_refusal_seen: std::collections::HashMap<String, u64>,
     viewport: Option<Viewport>,
@@ -180,8 +181,7 @@ pub struct Parol6App {
     replay_loading: Option<replay::ReplayLoading>,
     /// The File menu.
     files: FileMenu,
-    /// When to hand freed memory back to the system (after the first frames, a replay opened
-    /// or closed).
+    /// When to hand freed memory back to the system (after the first frames, a replay opened or closed).
     release_memory_at: Option<Instant>,
     /// Frame reuse, when installed in the egui context (see [`frame_reuse`]).
     frame_reuse: Option<frame_reuse::FrameReuse>,
@@ -234,6 +234,7 @@ impl Parol6App {
             jog_held: None,
             cartesian_jog_held: None,
             estop: false,
+            floor_guard: std::sync::OnceLock::new(),
             last_refusal_seen: std::collections::HashMap::new(),
             viewport,
             viewport_error,
@@ -550,19 +551,6 @@ impl Parol6App {
     /// release): what the keyboard tests watch.
     pub fn moves_sent(&self) -> impl Iterator<Item = &str> {
         self.moves_sent.iter().map(String::as_str)
-    }
-
-    /// Saves the settings now, after any write under way (they are also saved whenever they
-    /// change, on a writer thread: `settings_store::SettingsAutosave`).
-    pub fn save_settings(&mut self) {
-        if let Some(autosave) = &mut self.autosave {
-            autosave.finish(&self.settings);
-            self.autosave = None;
-        } else if let Some(p) = &self.settings_path
-            && let Err(e) = save_settings(p, &self.settings)
-        {
-            tracing::warn!("settings not saved: {e:#}");
-        }
     }
 }
 

@@ -110,3 +110,18 @@ impl SettingsAutosave {
         }
     }
 }
+
+impl super::Parol6App {
+    /// Saves the settings now, after any write under way (they are also saved whenever they
+    /// change, on a writer thread: [`SettingsAutosave`]).
+    pub fn save_settings(&mut self) {
+        if let Some(autosave) = &mut self.autosave {
+            autosave.finish(&self.settings);
+            self.autosave = None;
+        } else if let Some(p) = &self.settings_path
+            && let Err(e) = save_settings(p, &self.settings)
+        {
+            tracing::warn!("settings not saved: {e:#}");
+        }
+    }
+}

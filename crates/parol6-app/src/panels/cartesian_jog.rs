@@ -13,7 +13,7 @@
 use std::sync::Arc;
 
 use eframe::egui;
-use parol6_core::collision::CollisionGuard;
+use parol6_core::collision::{CollisionGuard, FloorGuard};
 use parol6_core::motion::cartesian_jog::{CartesianJogPlan, JogObstacleCheck, jog_speed};
 use parol6_core::motion::{CartesianAxis, JogFrame, JogKinematics, MotionCaps, MotionCommand};
 
@@ -168,13 +168,15 @@ impl CartesianJogPanel {
     fn preview(&mut self, ctx: &PanelContext<'_>, axis: CartesianAxis, dir: i8) {
         let q = if ctx.robot.commanded.q.len() == ctx.model.dof() { &ctx.robot.commanded.q } else { &ctx.robot.q };
         let caps = self.caps.get_or_insert_with(|| MotionCaps::of(ctx.model)).clone();
-        // the simulation stops before collisions, the robot at limits and singularities only
-        let obstacles: Option<Arc<dyn JogObstacleCheck>> = if ctx.app.link.is_none() {
-            let g = self.guard.get_or_insert_with(|| Arc::new(CollisionGuard::new(ctx.model)));
-            Some(Arc::clone(g) as Arc<dyn JogObstacleCheck>)
+        // the simulation stops before collisions, the robot before the floor (and at limits and
+        // singularities, as both)
+        let g = self.guard.get_or_insert_with(|| Arc::new(CollisionGuard::new(ctx.model)));
+        let obstacles: Arc<dyn JogObstacleCheck> = if ctx.app.link.is_none() {
+            Arc::clone(g) as Arc<dyn JogObstacleCheck>
         } else {
-            None
+            Arc::new(FloorGuard(CollisionGuard::clone(g)))
         };
+        let obstacles = Some(obstacles);
         let kin = JogKinematics { model: Arc::new(ctx.model.clone()), obstacles };
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());

@@ -16,6 +16,11 @@ use super::entry::{EntryEvent, in_range, ranged_entry};
 use super::{AppCommand, Panel, PanelContext, on_off_led, zone_color};
 use crate::palette;
 
+/// What the section says during a replay: a recording has no I/O channel, so the live state is
+/// hidden (not shown as if it were the recording's) and its controls are disabled.
+pub const NOT_RECORDED: &str = "Not recorded: the live I/O and gripper are hidden during replay; close the replay to \
+                                see them";
+
 /// Why motion is refused while the E-stop is latched: the app puts it in the shown state's
 /// `blocked` (see `RobotState::blocked`), every refusal names it.
 pub const ESTOP_LATCHED: &str = "E-STOP latched: drives disabled, motion refused until the E-stop is released";
@@ -91,14 +96,20 @@ impl IoGripperPanel {
         }
     }
 
-    fn io_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let io = ctx.robot.io;
+    /// The outputs, inputs and drives; `shown`: false during a replay (placeholders, no live value).
+    fn io_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, shown: bool) {
+        let io = if shown { ctx.robot.io } else { Default::default() };
         let green = zone_color(LimitZone::Safe);
         ui.horizontal(|ui| {
             ui.label("Outputs");
             for i in 0..DIGITAL_PORTS {
                 let on = io.outputs.get(i).copied().unwrap_or(false);
-                let label = format!("OUTPUT {}: {}", i + 1, if on { "HIGH" } else { "LOW" });
+                let state = match (shown, on) {
+                    (false, _) => "—",
+                    (true, true) => "HIGH",
+                    (true, false) => "LOW",
+                };
+                let label = format!("OUTPUT {}: {state}", i + 1);
                 if ui.selectable_label(on, label).on_hover_text("Click to toggle the output").clicked() {
                     let output = u8::try_from(i + 1).unwrap_or(1);
                     ctx.send(AppCommand::Io(IoCommand::SetOutput { output, on: !on }));
@@ -112,16 +123,21 @@ impl IoGripperPanel {
             }
             ui.separator();
             let disabled = io.drives_disabled;
-            on_off_led(ui, !disabled, green, "drives enabled");
+            // off in replay: a lit LED would read as the recording's drives
+            on_off_led(ui, shown && !disabled, green, "drives enabled");
         });
     }
 
-    fn gripper_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
-        let io = ctx.robot.io;
+    fn gripper_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, shown: bool) {
+        let io = if shown { ctx.robot.io } else { Default::default() };
         let g = io.gripper();
         ui.label(egui::RichText::new("Gripper").strong());
-        ui.monospace(format!("position {:>3} / 255   current {:>5} mA", io.gripper_position, io.gripper_current_ma))
-            .on_hover_text("as reported (0 open … 255 closed)");
+        let reported = if shown {
+            format!("position {:>3} / 255   current {:>5} mA", io.gripper_position, io.gripper_current_ma)
+        } else {
+            format!("position {:>3} / 255   current {:>5} mA", "—", "—")
+        };
+        ui.monospace(reported).on_hover_text("as reported (0 open … 255 closed)");
         let green = zone_color(LimitZone::Safe);
         let red = zone_color(LimitZone::Critical);
         ui.horizontal(|ui| {
@@ -129,7 +145,11 @@ impl IoGripperPanel {
             on_off_led(ui, g.calibrated, green, "calibrated");
             on_off_led(ui, g.error, red, "error");
             // the object code means nothing before the gripper is activated
-            ui.label(if g.activated { g.object_text() } else { "not activated" });
+            ui.label(match (shown, g.activated) {
+                (false, _) => "not recorded",
+                (true, true) => g.object_text(),
+                (true, false) => "not activated",
+            });
         });
         egui::Grid::new("gripper_set").num_columns(2).spacing([6.0, 3.0]).show(ui, |ui| {
             ui.label("Position");
@@ -168,22 +188,35 @@ impl Panel for IoGripperPanel {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
+        let replaying = ctx.app.replaying();
         ui.horizontal(|ui| {
             ui.heading(self.title());
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                 let hover = "CLEAR ERROR to the controller (resets a failed homing and the fault text) and the \
                              gripper's clear-error";
-                if ui.button("Clear error").on_hover_text(hover).clicked() {
+                let b = ui.add_enabled(!replaying, egui::Button::new("Clear error"));
+                if b.on_hover_text(hover).on_disabled_hover_text(NOT_RECORDED).clicked() {
                     ctx.send(AppCommand::Io(IoCommand::ClearError));
                 }
             });
         });
-        // two lines, empty while the E-stop is not latched: nothing below moves when it latches
-        let latched = if estop_latched(ctx) { ESTOP_LATCHED } else { "" };
-        super::fixed_box::message_lines(ui, egui::RichText::new(latched).color(palette::rgb(palette::ERROR_TEXT)), 2);
-        Self::io_ui(ui, ctx);
-        ui.add_space(4.0);
-        self.gripper_ui(ui, ctx);
+        // two lines, empty while the E-stop is not latched and no replay is open: nothing below
+        // moves when it latches or a replay opens (trial12 n-c)
+        let line = if replaying {
+            egui::RichText::new(NOT_RECORDED).color(palette::rgb(palette::WARN_TEXT))
+        } else {
+            let latched = if estop_latched(ctx) { ESTOP_LATCHED } else { "" };
+            egui::RichText::new(latched).color(palette::rgb(palette::ERROR_TEXT))
+        };
+        super::fixed_box::message_lines(ui, line, 2);
+        // the recording has no I/O channel: greyed placeholders, controls disabled with the reason
+        ui.add_enabled_ui(!replaying, |ui| {
+            Self::io_ui(ui, ctx, !replaying);
+            ui.add_space(4.0);
+            self.gripper_ui(ui, ctx, !replaying);
+        })
+        .response
+        .on_disabled_hover_text(NOT_RECORDED);
     }
 }
 

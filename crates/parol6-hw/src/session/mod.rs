@@ -89,11 +89,13 @@ impl Session {
         config.validate()?;
         let serial = crate::ports::open_port(port)?;
         let model = RobotModel::parol6();
-        // Cartesian jogs and steps: IK within the session's limits; no collision model on the
-        // robot (it stops at limits, singularities and the workspace edge)
+        // Cartesian jogs and steps: IK within the session's limits; of the collision model only
+        // the floor on the robot (it stops at limits, singularities, the workspace edge and
+        // before the floor, as pre-flight's floor rule)
         let mut jog_model = model.clone();
         jog_model.limits = config.limits.clone();
-        let kinematics = JogKinematics { model: Arc::new(jog_model), obstacles: None };
+        let floor = parol6_core::collision::FloorGuard(parol6_core::collision::CollisionGuard::new(&model));
+        let kinematics = JogKinematics { model: Arc::new(jog_model), obstacles: Some(Arc::new(floor)) };
         let streamer = motion::Streamer::new(
             config.limits.clone(),
             MotionCaps::of(&model),

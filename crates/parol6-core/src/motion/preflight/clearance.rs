@@ -250,7 +250,7 @@ impl ClearanceWorld {
             let sa = &self.pieces[pair.piece].shape;
             let (d, touching) = match pair.partner {
                 Partner::Ground => {
-                    let z = f64::from(ba.mins.z);
+                    let z = crate::collision::floor_height_m(ba);
                     (z.max(0.0), z < 0.0)
                 }
                 Partner::Piece(b) => {

@@ -128,6 +128,20 @@ fn a_move_into_the_floor_is_an_error() {
     assert!((ground[0].t_s - truth).abs() < 2e-3, "{} vs {truth}", ground[0].t_s);
 }
 
+/// The manual motions' floor rule (`CollisionGuard::floor_contact`) is pre-flight's: a move to
+/// the pose of trial 12 n-d is refused by both, naming the same link in the same words.
+#[test]
+fn preflight_and_the_manual_floor_rule_name_the_same_link() {
+    let (model, caps) = parol6();
+    let pf = Preflight::new(&model, &caps, &[]).expect("builds");
+    let goal = crate::collision::floor_tests::under_the_floor();
+    let r = pf.check(&[planned(1, MoveKind::Joint, joint_traj(&station(2), &goal, 0.5))]);
+    let c = crate::collision::CollisionGuard::new(&model).floor_contact(&model, &goal).expect("below the floor");
+    let named = |i: &&PreflightIssue| matches!(&i.kind, IssueKind::Ground { link } if *link == c.link);
+    let issue = r.issues.iter().find(named).unwrap_or_else(|| panic!("{c} not in {:#?}", r.issues));
+    assert!(issue.message.contains(&crate::collision::below_floor_text(&c.link)), "{}", issue.message);
+}
+
 #[test]
 fn a_joint_beyond_its_limit_is_one_error() {
     let (model, caps) = parol6();

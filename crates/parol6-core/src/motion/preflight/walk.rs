@@ -118,7 +118,7 @@ impl<'p> Walk<'p> {
         let what = match &kind {
             IssueKind::SelfCollision { a, b } => format!("{a} collides with {b}"),
             IssueKind::KeepOut { link, shape } => format!("{link} enters keep-out shape '{shape}'"),
-            IssueKind::Ground { link } => format!("{link} goes below the floor (z = 0)"),
+            IssueKind::Ground { link } => crate::collision::below_floor_text(link),
             _ => detail,
         };
         let where_ = match q {

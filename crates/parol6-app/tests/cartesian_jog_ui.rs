@@ -4,9 +4,9 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
-use std::time::{Duration, Instant};
-
 mod ui_support;
+
+use ui_support::settle;
 
 use eframe::egui;
 use egui_kittest::Harness;
@@ -33,15 +33,6 @@ fn app_harness() -> Harness<'static, Parol6App> {
     h.run_steps(3);
     settle(&mut h, 0.2);
     h
-}
-
-/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
-fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
-    let until = Instant::now() + Duration::from_secs_f64(s);
-    while Instant::now() < until {
-        h.run_steps(1);
-        std::thread::sleep(Duration::from_millis(15));
-    }
 }
 
 /// The commanded TCP position of the simulation, m.

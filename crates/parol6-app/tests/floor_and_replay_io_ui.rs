@@ -45,13 +45,19 @@ fn go_to_a_pose_under_the_floor_is_refused_in_the_simulation() {
     assert_floor_refusal(&said);
 }
 
-#[test]
-fn go_to_a_pose_under_the_floor_is_refused_on_the_robot() {
+/// The app connected to the built-in emulator, once it has answered.
+fn on_the_fake_robot() -> Harness<'static, Parol6App> {
     let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..launch_options() };
     let mut h = harness_with(opts, egui::vec2(1280.0, 1400.0));
     until(&mut h, "the emulator answers", 20.0, |h| {
         h.state().notices().iter().any(|n| n.text.starts_with("PAROL6 answered"))
     });
+    h
+}
+
+#[test]
+fn go_to_a_pose_under_the_floor_is_refused_on_the_robot() {
+    let mut h = on_the_fake_robot();
     let said = go_under_the_floor(&mut h);
     assert_floor_refusal(&said);
 }
@@ -61,11 +67,7 @@ fn go_to_a_pose_under_the_floor_is_refused_on_the_robot() {
 #[test]
 fn a_held_joint_jog_on_the_robot_stops_before_the_floor() {
     use parol6_app::panels::AppCommand;
-    let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..launch_options() };
-    let mut h = harness_with(opts, egui::vec2(1280.0, 1400.0));
-    until(&mut h, "the emulator answers", 20.0, |h| {
-        h.state().notices().iter().any(|n| n.text.starts_with("PAROL6 answered"))
-    });
+    let mut h = on_the_fake_robot();
     // above the floor, J2 leaning forward: J2 + takes the wrist down to it
     for (name, v) in [("J2", "-40"), ("J4", "-12.5"), ("J5", "28.65")] {
         type_into(&mut h, &format!("{name} pose"), v);

@@ -10,7 +10,7 @@ mod ui_support;
 use eframe::egui::{self, Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use ui_support::{app_harness, open_program_file, pointer_on_view, type_into, until};
+use ui_support::{app_harness, open_program_file, pointer_on_view, settle, type_into, until};
 
 use parol6_app::app::Parol6App;
 use parol6_core::program::{PoseMm, Program, Step, json};
@@ -180,15 +180,6 @@ fn jog_harness() -> Harness<'static, Parol6App> {
     h.run_steps(3);
     settle(&mut h, 0.2);
     h
-}
-
-/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
-fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
-    let until = std::time::Instant::now() + std::time::Duration::from_secs_f64(s);
-    while std::time::Instant::now() < until {
-        h.run_steps(1);
-        std::thread::sleep(std::time::Duration::from_millis(15));
-    }
 }
 
 fn pointer_button(h: &mut Harness<'_, Parol6App>, at: egui::Pos2, pressed: bool) {

@@ -15,21 +15,12 @@ use egui_kittest::kittest::{NodeT, Queryable};
 use parol6_app::app::{LEFT_PANEL_WIDTH, Parol6App, RIGHT_PANEL_WIDTH};
 use parol6_app::panels::{AngleConvention, AngleUnit};
 use parol6_core::program::{Program, Step, json};
-use ui_support::{app_harness, has_label, type_into, until};
+use ui_support::{app_harness, has_label, settle, type_into, until};
 
 fn temp_dir(tag: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("parol6-trial7-minors-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
-fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
-    let until = Instant::now() + Duration::from_secs_f64(s);
-    while Instant::now() < until {
-        h.run_steps(1);
-        std::thread::sleep(Duration::from_millis(15));
-    }
 }
 
 fn area(h: &Harness<'_, Parol6App>, id: &str) -> Option<egui::Rect> {

@@ -7,24 +7,13 @@
 
 mod ui_support;
 
-use std::time::{Duration, Instant};
-
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use parol6_app::app::Parol6App;
 use parol6_app::panels::AppCommand;
 use parol6_core::motion::MotionCommand;
-use ui_support::{app_harness, has_label, until};
-
-/// Runs frames for `s` seconds of wall time (the simulation runs on its own thread).
-fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
-    let until = Instant::now() + Duration::from_secs_f64(s);
-    while Instant::now() < until {
-        h.run_steps(1);
-        std::thread::sleep(Duration::from_millis(15));
-    }
-}
+use ui_support::{app_harness, has_label, settle, until};
 
 /// A pose away from the standby wrist singularity (J5 = 34°).
 fn work_pose() -> Vec<f64> {

@@ -113,7 +113,7 @@ impl SettingsAutosave {
 
 impl super::Parol6App {
     /// Saves the settings now, after any write under way (they are also saved whenever they
-    /// change, on a writer thread: [`SettingsAutosave`]).
+    /// change, on a writer thread: `SettingsAutosave`).
     pub fn save_settings(&mut self) {
         if let Some(autosave) = &mut self.autosave {
             autosave.finish(&self.settings);

@@ -57,6 +57,16 @@ pub fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Har
     }
 }
 
+/// Runs frames for `s` seconds of wall time (the simulation and the link run on their own
+/// threads).
+pub fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {
+    let until = Instant::now() + Duration::from_secs_f64(s);
+    while Instant::now() < until {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+}
+
 /// True when some widget's label contains `text`.
 pub fn has_label(h: &Harness<'_, Parol6App>, text: &str) -> bool {
     h.query_all_by_label_contains(text).next().is_some()

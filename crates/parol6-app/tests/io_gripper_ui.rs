@@ -285,3 +285,35 @@ fn the_robots_rows_reach_the_plots_when_disconnecting_with_the_plots_hidden() {
     let (at, _) = p.switches().into_iter().find(|&(_, robot)| !robot).unwrap();
     assert!(at > first, "the robot's rows come before the switch: from {first} s to {at} s");
 }
+
+/// Regression (trial14, major): a Robot connection jog button held with the mouse jogged for
+/// 0.8 s only. The button sensed clicks alone, and egui stops counting a press held longer than
+/// its click time (0.8 s) as the button's: the jog was released under a still-held button, the
+/// joint stopped about 11° on, without a word (docs: "press and hold"). Held for 5 s of egui
+/// time, the jog is still sent and the joint still moves on the board.
+#[test]
+fn a_joint_jog_button_held_with_the_mouse_keeps_jogging() {
+    let mut h = robot_harness();
+    // the jog grid's first "+" is J1's (the Cartesian jog's buttons are "+X" and so on)
+    let at = h.get_all_by_label("+").next().expect("J1 +").rect().center();
+    h.hover_at(at);
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed: true, modifiers });
+    let jogs_sent = |h: &Harness<'_, Parol6App>| h.state().moves_sent().filter(|m| m.starts_with("Jog(Some")).count();
+    // each step is a quarter second of egui time: 12 steps are well past the 0.8 s click time
+    // (and, on the old code, past the stop that followed it)
+    for _ in 0..12 {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let (sent_before, at_before) = (jogs_sent(&h), emulator_positions(&h)[0]);
+    for _ in 0..8 {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(40));
+    }
+    let (sent_after, at_after) = (jogs_sent(&h), emulator_positions(&h)[0]);
+    h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed: false, modifiers });
+    h.run_steps(2);
+    assert!(sent_after > sent_before, "the jog was no longer sent after 3 s of holding ({sent_before} jogs sent)");
+    assert_ne!(at_after, at_before, "J1 stopped on the board while the button was still held");
+}

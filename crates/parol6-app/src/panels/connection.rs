@@ -159,7 +159,11 @@ impl ConnectionPanel {
                     self.key_joint = i;
                 }
                 for (label, dir) in [("−", -1i8), ("+", 1i8)] {
-                    let b = ui.add_enabled(allowed, egui::Button::new(label).min_size(egui::vec2(34.0, 20.0)));
+                    // click-and-drag: a click-only button stops counting a press held past egui's
+                    // click time (0.8 s) as its own, and the jog was released under a held button
+                    let button =
+                        egui::Button::new(label).min_size(egui::vec2(34.0, 20.0)).sense(egui::Sense::click_and_drag());
+                    let b = ui.add_enabled(allowed, button);
                     if b.is_pointer_button_down_on() {
                         held = Some((i, dir));
                     }

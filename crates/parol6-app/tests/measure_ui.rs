@@ -105,6 +105,14 @@ fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
         assert!(same, "{l}: fresh {a:?}, after {b:?}");
     }
 
+    // a failed save (no such folder: a long message) then a saved one move nothing below them
+    let below = |h: &Harness<'_, Parol6App>| h.get_by_label_contains("AP_p mm").rect();
+    let before = below(&h);
+    h.state_mut().measure_panel().report_path = "/no such folder/of reports/anywhere at all/r.html".into();
+    h.get_by_label("Save report").click();
+    h.run_steps(2);
+    assert_eq!(below(&h), before, "a two-line error moved the figures under the pointer");
+
     // Save report over yesterday's report: the first click says it exists, the second replaces
     let dir = std::env::temp_dir().join(format!("parol6-measure-ui-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -118,6 +126,7 @@ fn after_an_iso_test_the_window_is_laid_out_as_a_fresh_full_paint() {
     h.get_by_label("Save report").click();
     h.run_steps(2);
     assert!(std::fs::read_to_string(&report).unwrap().contains("<svg"), "the second click saves the report");
+    assert_eq!(below(&h), before, "a saved report's line moved the figures under the pointer");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

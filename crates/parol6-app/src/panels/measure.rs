@@ -82,7 +82,7 @@ impl MeasurePanel {
 
     fn save_report(&mut self, model: &RobotModel, finished: &[FinishedMeasurement]) {
         let Some(last) = finished.last() else { return };
-        let path = std::path::PathBuf::from(self.report_path.trim());
+        let path = crate::typed_path::typed_path(&self.report_path);
         if !self.replace_ask.may_write(&path) {
             self.message = self.replace_ask.question(&path, "Save report again").map(|q| (q, true));
             return;
@@ -253,14 +253,21 @@ impl Panel for MeasurePanel {
         });
         let measurement = &ctx.app.measurement;
         let live = measurement.progress().filter(|_| running);
-        if let Some(p) = &live {
-            ui.add(crate::theme::bar(p.fraction as f32).text(format!("{:.0} % {}", 100.0 * p.fraction, p.describe())));
-            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
-        }
-        if let Some((text, error)) = self.message.as_ref().or(measurement.outcome()) {
-            let color = if *error { palette::ERROR_TEXT } else { palette::PATH_OK };
-            ui.colored_label(palette::rgb(color), text);
-        }
+        // the progress and the outcome in a box of a fixed height: a longer or shorter message
+        // (a failed save, then a saved one) moved everything below it under the pointer
+        let status_h = 3.0 * ui.spacing().interact_size.y;
+        let message = self.message.as_ref().or(measurement.outcome());
+        super::fixed_box::fixed_height(ui, "measure-status", status_h, |ui| {
+            if let Some(p) = &live {
+                let text = format!("{:.0} % {}", 100.0 * p.fraction, p.describe());
+                ui.add(crate::theme::bar(p.fraction as f32).text(text));
+                ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+            }
+            if let Some((text, error)) = message {
+                let color = if *error { palette::ERROR_TEXT } else { palette::PATH_OK };
+                ui.add(egui::Label::new(egui::RichText::new(text).color(palette::rgb(color))).wrap());
+            }
+        });
         let samples: Option<&[PoseSample]> = match &live {
             Some(p) => Some(&p.attained),
             None => measurement.finished().last().map(|f| f.samples.as_slice()),

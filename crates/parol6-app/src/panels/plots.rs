@@ -315,7 +315,7 @@ impl PlotsPanel {
             let label = ui.label("Export to");
             ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(220.0).hint_text("plots.csv"))
                 .labelled_by(label.id);
-            let path = std::path::PathBuf::from(self.export_path.trim());
+            let path = crate::typed_path::typed_path(&self.export_path);
             let has_path = !self.export_path.trim().is_empty();
             let csv = ui.add_enabled(has_path, egui::Button::new("CSV of the visible window"));
             if csv.clicked() && !self.export_ask.may_write(&path) {

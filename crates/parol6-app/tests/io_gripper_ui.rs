@@ -317,3 +317,20 @@ fn a_joint_jog_button_held_with_the_mouse_keeps_jogging() {
     assert!(sent_after > sent_before, "the jog was no longer sent after 3 s of holding ({sent_before} jogs sent)");
     assert_ne!(at_after, at_before, "J1 stopped on the board while the button was still held");
 }
+
+/// Regression (trial14 m5): disconnecting under the latched E-STOP handed the view to the
+/// simulation with its drives enabled (a green "drives enabled" LED under the red "E-STOP latched:
+/// drives disabled" line). The backend that becomes the active one is disabled too.
+#[test]
+fn the_backend_taken_over_under_the_latched_estop_has_its_drives_disabled_too() {
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    let mut h = robot_harness();
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation shown", 10.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    until(&mut h, "the simulation's drives disabled", 5.0, |h| h.state().backend().state().io.drives_disabled);
+    assert!(h.state().estop_latched(), "still latched");
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "the simulation's drives enabled", 5.0, |h| !h.state().backend().state().io.drives_disabled);
+}

@@ -366,6 +366,17 @@ impl Parol6App {
         }
     }
 
+    /// Under the latch, the backend that has just become the active one (a connect or a
+    /// disconnect) gets DISABLE too: the latched line says "drives disabled", and the other
+    /// backend's drives were enabled (trial14 m5: the simulation's green LED under it).
+    pub(super) fn latch_the_new_backend(&mut self) {
+        if self.estop
+            && let Err(e) = self.backend().io(IoCommand::Disable)
+        {
+            self.notice(format!("E-STOP latched, but DISABLE: {e}: motion is refused here"), true);
+        }
+    }
+
     /// Releases the E-stop latch with ENABLE; it stays latched when ENABLE is refused.
     fn release_estop(&mut self) {
         match self.backend().io(IoCommand::Enable) {

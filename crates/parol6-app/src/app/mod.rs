@@ -321,6 +321,7 @@ impl Parol6App {
                 self.hw = Some(link);
                 // the plots now take the robot's rows: the simulation's would never be drawn
                 self.sim_recorder.as_ref().inspect(|r| r.keep_live_rows(false));
+                self.latch_the_new_backend();
             }
             Err(e) => self.notice(format!("connect failed: {e:#}"), true),
         }
@@ -349,6 +350,7 @@ impl Parol6App {
             if let Err(e) = self.sim.send(SimCommand::Teleport(q)) {
                 self.notice(format!("simulation: {e}"), true);
             }
+            self.latch_the_new_backend();
         }
     }
 

@@ -323,3 +323,41 @@ fn home_acts_only_with_the_pointer_over_the_3d_view() {
     press(&mut h, Key::H, Modifiers::NONE, 2);
     assert!(moves(&h).iter().any(|m| m.contains("Home")), "H on the view homes: {:?}", moves(&h));
 }
+
+/// Esc while a jog key is still held (its autorepeat going on) stops the jog for good: no jog is
+/// sent after it until the key is let go and pressed again (trial15 D1: Esc with Q held over the
+/// 3D view, the TCP went on down 100 mm).
+#[test]
+fn esc_stops_a_held_jog_key_until_the_key_is_pressed_again() {
+    let mut h = harness("esc-held");
+    focus_view(&mut h);
+    let key = |h: &mut Harness<'_, Parol6App>, key, pressed, repeat| {
+        h.event(egui::Event::Key { key, pressed, modifiers: Modifiers::NONE, repeat, physical_key: None });
+        h.run_steps(1);
+    };
+    let jogs = |h: &Harness<'_, Parol6App>, from: usize| {
+        moves(h)[from..].iter().filter(|m| m.contains("CartesianJog")).count()
+    };
+    key(&mut h, Key::D, true, false);
+    h.run_steps(2);
+    assert!(jogs(&h, 0) > 0, "D held over the 3D view jogs: {:?}", moves(&h));
+    let at_esc = moves(&h).len();
+    h.event(egui::Event::Key {
+        key: Key::Escape,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    key(&mut h, Key::Escape, false, false);
+    for _ in 0..8 {
+        key(&mut h, Key::D, true, true);
+    }
+    assert_eq!(jogs(&h, at_esc), 0, "a jog was sent after Esc with D still held: {:?}", &moves(&h)[at_esc..]);
+    // let go and pressed again, the key jogs again
+    key(&mut h, Key::D, false, false);
+    let again = moves(&h).len();
+    key(&mut h, Key::D, true, false);
+    h.run_steps(2);
+    assert!(jogs(&h, again) > 0, "D pressed again jogs: {:?}", &moves(&h)[again..]);
+}

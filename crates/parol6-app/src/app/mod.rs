@@ -518,8 +518,18 @@ impl Parol6App {
 
         let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
         let newest_error_before = newest_error(&self.notices);
-        for c in &commands {
-            self.execute(c.clone());
+        // after STOP (Esc, the button) or E-STOP a held jog key or a jog queued behind it in this
+        // frame does not start the arm again: the key must be let go and pressed anew (trial15 D1)
+        let stop = |c: &AppCommand| matches!(c, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true));
+        let stop_at = commands.iter().position(stop);
+        for (i, c) in commands.iter().enumerate() {
+            let jog = matches!(c, AppCommand::Jog(Some(_)) | AppCommand::CartesianJog(Some(_)));
+            if !(jog && stop_at.is_some_and(|s| i > s)) {
+                self.execute(c.clone());
+            }
+        }
+        if stop_at.is_some() {
+            crate::panels::shortcuts::disarm_held(&ctx);
         }
         // an action that failed closes the menu it came from, so the error is seen, not hidden
         // under the menu (issue 32: "The File menu stays open over an error")

@@ -372,6 +372,13 @@ pub fn update_held(ctx: &egui::Context) {
     });
 }
 
+/// Forgets every held jog key: after STOP a key still held does not jog again until it is let go
+/// and pressed anew (the STOP must hold; trial15 D1: Esc with Q held, the arm went on down).
+pub fn disarm_held(ctx: &egui::Context) {
+    update_held(ctx);
+    ctx.data_mut(|d| d.get_temp_mut_or_default::<HeldKeys>(held_keys_id()).armed.clear());
+}
+
 /// True while a key of `action` is held where the table lets it act (see the module's rules);
 /// Shift must match the table's row (Shift+A turns about X, A moves along it).
 pub fn held(ctx: &egui::Context, action: Action) -> bool {

@@ -64,6 +64,10 @@ fn a_broken_file_is_refused_and_the_loaded_program_stays() {
     until(&mut h, "the error notice", 5.0, |h| {
         h.state().notices().iter().any(|n| n.error && n.text.contains("bad.json") && n.text.contains("steps[0]"))
     });
+    // the built-in's own pre-flight may still run beside the other tests (its line says
+    // "checking…" until then): wait for it, then the line must be the built-in's
+    until(&mut h, "the built-in's pre-flight", 30.0, |h| !h.state().program_panel().checking());
+    h.run_steps(2);
     assert!(has_label(&h, "12 steps"), "the loaded program (Pick & place) stays");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -318,6 +318,33 @@ fn a_joint_jog_button_held_with_the_mouse_keeps_jogging() {
     assert_ne!(at_after, at_before, "J1 stopped on the board while the button was still held");
 }
 
+/// Regression (trial 15 minor, issue 32's "the joint sliders show the jog's planned end instead
+/// of the arm" for the joint jog): while a joint jog is held on the robot, J1's field showed the
+/// jog's far end (its limit) instead of where the arm was.
+#[test]
+fn the_joint_fields_follow_the_arm_during_a_held_joint_jog() {
+    let mut h = robot_harness();
+    let at = h.get_all_by_label("+").next().expect("J1 +").rect().center();
+    h.hover_at(at);
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed: true, modifiers });
+    until(&mut h, "J1 moving", 10.0, |h| h.state().backend().state().moving);
+    for _ in 0..4 {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let s = h.state().backend().state();
+    let (arm_deg, end_deg) = (s.q[0].to_degrees(), s.target_q[0].to_degrees());
+    let shown: f64 = h.get_by_label("J1 target").value().unwrap().parse().unwrap();
+    h.event(egui::Event::PointerButton { pos: at, button: egui::PointerButton::Primary, pressed: false, modifiers });
+    h.run_steps(2);
+    assert!((end_deg - arm_deg).abs() > 10.0, "the test needs a jog whose end is far: {arm_deg:.2}° → {end_deg:.2}°");
+    assert!(
+        (shown - arm_deg).abs() < 5.0,
+        "J1 shows {shown:.2}°, the arm is at {arm_deg:.2}° (jog's end {end_deg:.2}°)"
+    );
+}
+
 /// Regression (trial14 m5): disconnecting under the latched E-STOP handed the view to the
 /// simulation with its drives enabled (a green "drives enabled" LED under the red "E-STOP latched:
 /// drives disabled" line). The backend that becomes the active one is disabled too.

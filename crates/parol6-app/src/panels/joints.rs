@@ -68,14 +68,14 @@ pub struct JointsPanel {
 }
 
 /// True when the backend's target is a joint goal the arm is moving to (a joint move, a slider
-/// being followed, a joint jog): the joint fields show it and a typed joint keeps the others on
-/// it. Otherwise they show, and keep, where the arm is: a held Cartesian jog's target is where it
-/// would stop at the latest, and a program's path (running or paused, trial6: a typed J4 on a
-/// paused Draw sent J1, J3 and J6 7° to an earlier step's goal) is not where the arm stays.
+/// being followed): the joint fields show it and a typed joint keeps the others on it.
+/// Otherwise they show, and keep, where the arm is: a held jog's target (joint or Cartesian) is
+/// where it would stop at the latest (trial 15: J1's field read −123.05° while the arm was at
+/// 80°), and a program's path (running or paused, trial6: a typed J4 on a paused Draw sent J1,
+/// J3 and J6 7° to an earlier step's goal) is not where the arm stays.
 fn joint_goal_is_set(ctx: &PanelContext<'_>, n: usize) -> bool {
     use parol6_core::motion::PlannerMode;
-    ctx.robot.target_q.len() == n
-        && matches!(ctx.robot.mode, PlannerMode::Move | PlannerMode::Follow | PlannerMode::Jog)
+    ctx.robot.target_q.len() == n && matches!(ctx.robot.mode, PlannerMode::Move | PlannerMode::Follow)
 }
 
 /// How long slider values are kept after a change before following the reported targets.

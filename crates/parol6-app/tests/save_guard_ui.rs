@@ -146,3 +146,36 @@ fn save_over_a_file_changed_on_disk_asks_first_and_a_save_of_our_own_does_not() 
     assert!(!asked(&h));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+fn steps_in(path: &std::path::Path) -> usize {
+    json::parse(&std::fs::read_to_string(path).unwrap()).unwrap().steps.len()
+}
+
+/// Regression (trial14 m2): Ctrl+S did nothing, without a word, while Tab's ring sat on a
+/// button. It saves then; while a field is being typed in, the key is the field's and the
+/// window says why nothing was saved.
+#[test]
+fn ctrl_s_saves_while_a_button_has_the_keyboard_and_says_why_not_while_typing() {
+    let dir = temp_dir("focus");
+    let path = dir.join("focus.json");
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    reopen_program_from(&mut h, &path);
+    let saved = steps_in(&path);
+
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    h.get_by_label("Teach pose").focus();
+    h.run_steps(2);
+    assert!(h.ctx.memory(|m| m.focused().is_some()), "the button has the keyboard");
+    ctrl_s(&mut h);
+    assert_eq!(steps_in(&path), saved + 1, "Ctrl+S with a button focused saved nothing");
+
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    h.get_by_label("Program file").focus();
+    h.run_steps(2);
+    ctrl_s(&mut h);
+    assert_eq!(steps_in(&path), saved + 1, "Ctrl+S in a text field saved past the field");
+    assert!(has_label(&h, "press Enter"), "Ctrl+S in a field says why nothing was saved");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

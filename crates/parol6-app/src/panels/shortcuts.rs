@@ -245,6 +245,36 @@ pub fn keyboard_taken(ctx: &egui::Context) -> bool {
     ctx.memory(|m| m.focused().is_some()) || menu_open(ctx)
 }
 
+/// True while a text field has the keyboard (the focused widget keeps a text edit's state):
+/// typed text, where the program editor's Ctrl / Alt keys would act on the field's text.
+pub fn text_field_has_keyboard(ctx: &egui::Context) -> bool {
+    ctx.memory(|m| m.focused()).is_some_and(|id| egui::text_edit::TextEditState::load(ctx, id).is_some())
+}
+
+/// True when `s` is a program-editing key with Ctrl / Alt (Ctrl+S, Ctrl+Z, Alt+↑…): it moves
+/// nothing, so a focused button (after Tab) does not hold it back; only a text field or a menu
+/// does (trial14 m2: Ctrl+S did nothing while Tab's ring sat on a button).
+fn acts_beside_a_focused_button(s: &Shortcut) -> bool {
+    s.scope == Scope::Program && !s.action.moves_arm() && matches!(s.mods, Mods::Exactly(m) if command_modifier(m))
+}
+
+/// True when a key of `action` was pressed this frame, where the table would let it act but for
+/// a text field having the keyboard (Ctrl+S while a step's number is being typed); the press is
+/// left for the field.
+pub fn pressed_in_text_field(ctx: &egui::Context, action: Action) -> bool {
+    if !text_field_has_keyboard(ctx) || menu_open(ctx) {
+        return false;
+    }
+    SHORTCUTS.iter().filter(|s| s.action == action && acts_beside_a_focused_button(s)).any(|s| {
+        ctx.input(|i| {
+            i.events.iter().any(|e| {
+                matches!(e, egui::Event::Key { key, pressed: true, repeat: false, modifiers, .. }
+                    if *key == s.key && mods_match(s.mods, *modifiers))
+            })
+        })
+    })
+}
+
 /// True while a menu or popup is open.
 fn menu_open(ctx: &egui::Context) -> bool {
     egui::Popup::is_any_open(ctx) || ctx.any_popup_open()
@@ -296,8 +326,10 @@ fn mods_match(mods: Mods, held: Modifiers) -> bool {
 /// key press is consumed. Keys that move the arm do not count key repeats.
 pub fn pressed(ctx: &egui::Context, action: Action) -> bool {
     let taken = keyboard_taken(ctx);
+    let typing = text_field_has_keyboard(ctx) || menu_open(ctx);
     let mut hit = false;
     for s in SHORTCUTS.iter().filter(|s| s.action == action && s.trigger == Trigger::Press) {
+        let taken = if acts_beside_a_focused_button(s) { typing } else { taken };
         if !scope_open(ctx, s.scope, taken) {
             continue;
         }

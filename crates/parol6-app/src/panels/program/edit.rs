@@ -301,6 +301,9 @@ impl ProgramPanel {
         let undo = pressed(Action::Undo);
         let dup = pressed(Action::DuplicateStep);
         let save = pressed(Action::SaveProgram);
+        if super::super::shortcuts::pressed_in_text_field(&ctx_ui, Action::SaveProgram) {
+            ctx.info("Ctrl+S: nothing saved while a field is being typed in: press Enter (or click outside it) first");
+        }
         let del = pressed(Action::DeleteStep);
         let up = pressed(Action::MoveStepUp);
         let down = pressed(Action::MoveStepDown);

@@ -72,6 +72,35 @@ fn the_status_bar_toggles_stay_in_place_while_moving_and_sharing() {
     }
 }
 
+/// trial14 m6: at 1024 and 1280 wide with the robot connected, the last read-out before the
+/// *Share live* slot was cut mid-word ("cmd laten"). Read-outs are shown whole or not at all.
+#[test]
+fn the_status_bar_shows_whole_read_outs_or_none() {
+    use parol6_app::app::{ConnectTarget, LaunchOptions};
+    for width in [1024.0, 1280.0] {
+        let opts = LaunchOptions { connect: Some(ConnectTarget::Emulator), ..ui_support::launch_options() };
+        let mut h = ui_support::harness_with(opts, egui::vec2(width, 700.0));
+        until(&mut h, "the link rate shown", 15.0, |h| h.query_by_label_contains("link ").is_some());
+        h.run_steps(3);
+        let share = toggles(&h).0;
+        let bar: Vec<(String, egui::Rect)> = h
+            .root()
+            .query_all_by_role(egui::accesskit::Role::Label)
+            .filter(|n| (n.rect().center().y - share.center().y).abs() < 4.0 && n.rect().min.x < share.min.x)
+            .map(|n| (n.value().or_else(|| n.accesskit_node().label()).unwrap_or_default(), n.rect()))
+            .collect();
+        assert!(bar.iter().any(|(t, _)| t.contains("FPS")), "{width} wide: the bar's read-outs {bar:?}");
+        for (text, rect) in &bar {
+            assert!(
+                rect.max.x <= share.min.x,
+                "{width} wide: {text:?} ends at {} under the Share live slot at {}",
+                rect.max.x,
+                share.min.x
+            );
+        }
+    }
+}
+
 /// trial12 n-e: F5 on a program with pre-flight errors did nothing and said nothing (Run is
 /// greyed, the count red). A notice names the count and the first error with its step and line.
 #[test]

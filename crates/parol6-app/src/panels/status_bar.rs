@@ -5,7 +5,8 @@
 //!
 //! The toggles come first, at the bar's right end, each in a slot of fixed width, so no text that
 //! appears or changes (*moving*, a recording, *LIVE ws://…*) moves them under the pointer; the
-//! read-outs fill the rest from the left and are clipped where the window is narrow.
+//! read-outs fill the rest from the left; where the window is narrow the last ones are left out
+//! whole, never cut mid-word.
 
 use super::{AppCommand, Panel, PanelContext, StateSource};
 use eframe::egui;
@@ -48,7 +49,7 @@ fn slot_width(ui: &egui::Ui, widest: &str) -> f32 {
 }
 
 /// Where the shown state comes from, the recording, whether the arm moves and the link's rate,
-/// then the performance read-outs (cut first where the window is narrow).
+/// then the simulated time and the performance read-outs (left out first where the window is narrow).
 fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     let p = ctx.perf;
     let src = crate::app::state::source_label(ctx.app, ctx.robot.source);
@@ -72,26 +73,39 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
             ui.label(moving);
         }
     });
-    if let Some(link) = &ctx.app.link {
-        ui.separator();
-        ui.monospace(format!("link {:.0} Hz", link.loop_rate_hz));
-    }
-    ui.separator();
-    ui.monospace(format!("{:5.1} FPS", p.fps)).on_hover_text("frames per second (last second)");
-    ui.separator();
-    ui.monospace(format!("UI {:.2} ms", p.ui_cpu_ms)).on_hover_text("CPU time of the last UI pass");
-    ui.separator();
-    ui.monospace(format!("physics {:6.0} Hz, step {:5.1} µs", p.physics_rate_hz, p.physics_step_us))
-        .on_hover_text("simulation steps per second of wall time, and the duration of the last step");
-    ui.separator();
     let lat = match p.command_latency_ms {
         Some(ms) => format!("cmd latency {ms:.2} ms"),
         None => "cmd latency –".to_string(),
     };
-    ui.monospace(lat).on_hover_text("time from sending the last command to the simulation applying it");
-    ui.separator();
-    ui.monospace(format!("t = {:.1} s", p.sim_time_s)).on_hover_text("simulated time");
+    let readouts = [
+        ctx.app.link.as_ref().map(|link| (format!("link {:.0} Hz", link.loop_rate_hz), "the serial link's loop rate")),
+        Some((format!("t = {:.1} s", p.sim_time_s), "simulated time")),
+        Some((format!("{:5.1} FPS", p.fps), "frames per second (last second)")),
+        Some((format!("UI {:.2} ms", p.ui_cpu_ms), "CPU time of the last UI pass")),
+        Some((lat, "time from sending the last command to the simulation applying it")),
+        Some((
+            format!("physics {:6.0} Hz, step {:5.1} µs", p.physics_rate_hz, p.physics_step_us),
+            "simulation steps per second of wall time, and the duration of the last step",
+        )),
+    ];
+    // whole read-outs only: where the window is narrow the last ones go, none is cut mid-word
+    // (trial14 m6: "cmd laten" beside the Share live slot)
+    for (text, hover) in readouts.into_iter().flatten() {
+        let text = egui::RichText::new(text).monospace();
+        let width = egui::WidgetText::from(text.clone())
+            .into_galley(ui, Some(egui::TextWrapMode::Extend), f32::INFINITY, egui::TextStyle::Monospace)
+            .size()
+            .x;
+        if width + 2.0 * ui.spacing().item_spacing.x + SEPARATOR_WIDTH > ui.available_width() {
+            break;
+        }
+        ui.separator();
+        ui.label(text).on_hover_text(hover);
+    }
 }
+
+/// The room a separator takes between two read-outs (its line and margins), pt.
+const SEPARATOR_WIDTH: f32 = 6.0;
 
 /// While a file is written: a red dot, "REC", the file's name and the time since it started
 /// (m:ss), refreshed every second; the full path on hover.

@@ -300,23 +300,42 @@ impl CartesianTargetPanel {
             }
             self.dirty = true;
         }
-        let mut solve_now = false;
-        ui.horizontal(|ui| {
-            if ui.button("From TCP").on_hover_text("Load the current TCP pose").clicked() {
-                self.load_from_tcp(ctx);
-            }
-            solve_now |= ui.button("Solve IK").clicked();
-        });
         // The closed-form PAROL6 solver takes microseconds: solve as the entries change.
         // The branches are ordered by distance to the current joints: once the arm has moved
-        // and stopped, order them again.
+        // and stopped, order them again. Solved before *Move to target* is drawn: a value typed
+        // and then left by a click on *Move to target* is the one moved to.
         let seed_moved = !ctx.robot.moving
             && self.result.is_some()
             && (self.solved_seed.len() != ctx.robot.q.len()
                 || self.solved_seed.iter().zip(&ctx.robot.q).any(|(a, b)| (a - b).abs() > 1e-6));
-        if solve_now || ((self.dirty || seed_moved) && ctx.model.is_parol6) {
+        if (self.dirty || seed_moved) && ctx.model.is_parol6 {
             self.solve(ctx);
         }
+        // *Move to target* in the row with the panel's other buttons, above the solutions: at
+        // 1280×800 it sat under the status bar below them until the column was scrolled (trial13).
+        ui.horizontal(|ui| {
+            if ui.button("From TCP").on_hover_text("Load the current TCP pose").clicked() {
+                self.load_from_tcp(ctx);
+                if ctx.model.is_parol6 {
+                    self.solve(ctx);
+                }
+            }
+            if ui.button("Solve IK").clicked() {
+                self.solve(ctx);
+            }
+            let chosen = self.chosen().cloned();
+            let refused = ctx.motion_refused();
+            let go = ui.add_enabled(chosen.is_some() && refused.is_none(), egui::Button::new("Move to target"));
+            let go = match refused {
+                Some(why) => go.on_disabled_hover_text(why),
+                None => go,
+            };
+            if go.on_hover_text("Profiled joint move to the configuration chosen below").clicked()
+                && let Some(s) = &chosen
+            {
+                ctx.move_to(s.joints_rad.clone());
+            }
+        });
 
         // The result has a fixed height (more solutions scroll inside): a typed value changes it
         // (two solutions, one, a "No solution" of three lines), and a height that followed it
@@ -355,20 +374,6 @@ impl CartesianTargetPanel {
                 }
             }
         });
-        let chosen = self.chosen().cloned();
-        ui.horizontal(|ui| {
-            let refused = ctx.motion_refused();
-            let go = ui.add_enabled(chosen.is_some() && refused.is_none(), egui::Button::new("Move to target"));
-            let go = match refused {
-                Some(why) => go.on_disabled_hover_text(why),
-                None => go,
-            };
-            if go.on_hover_text("Profiled joint move to the chosen configuration").clicked()
-                && let Some(s) = &chosen
-            {
-                ctx.move_to(s.joints_rad.clone());
-            }
-        });
-        chosen
+        self.chosen().cloned()
     }
 }

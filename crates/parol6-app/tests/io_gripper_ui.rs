@@ -345,6 +345,44 @@ fn the_joint_fields_follow_the_arm_during_a_held_joint_jog() {
     );
 }
 
+/// Regression (trial14 m4): the plots lost the robot's last moments before a disconnect during
+/// motion (J1 stepped 45° → 55.9° at the switch mark instead of a ramp): they took the
+/// recorder's last published view, up to 50 ms old and more on a busy host. The robot's last
+/// plotted row is where the simulation takes over, the robot's pose when the link closed.
+#[test]
+fn the_plots_keep_the_robots_last_rows_at_a_disconnect_during_a_move() {
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    use parol6_core::motion::MotionCommand;
+    let mut h = robot_harness();
+    h.state_mut().show_plot(parol6_core::telemetry::Quantity::Position);
+    let mut goal = parol6_core::parol6::standby_rad().to_vec();
+    goal[0] -= 0.6;
+    h.state_mut().queue_command(AppCommand::Motion(MotionCommand::MoveJoints {
+        goal_rad: goal,
+        speed_fraction: 0.3,
+        profile: parol6_core::profile::ProfileKind::Trapezoidal,
+    }));
+    until(&mut h, "J1 moving", 10.0, |h| h.state().backend().state().moving);
+    for _ in 0..6 {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::Disconnect));
+    until(&mut h, "the simulation again", 15.0, |h| h.state().backend().state().source == StateSource::Simulation);
+    // the simulation is sent to the robot's last pose: it holds there once that is applied
+    ui_support::settle(&mut h, 0.3);
+    let taken_over_deg = h.state().backend().state().q[0].to_degrees();
+    until(&mut h, "the switch mark", 15.0, |h| h.state().plots_panel().switches().iter().any(|&(_, robot)| !robot));
+    let p = h.state().plots_panel();
+    let (switch_s, _) = p.switches().into_iter().find(|&(_, robot)| !robot).unwrap();
+    let last_robot_deg = p.store().joint_positions_at(switch_s).expect("the robot's last row")[0].to_degrees();
+    assert!(taken_over_deg < 88.0, "the test needs the move under way at the disconnect: J1 {taken_over_deg:.2}°");
+    assert!(
+        (last_robot_deg - taken_over_deg).abs() < 1.0,
+        "the robot's last plotted J1 is {last_robot_deg:.2}°, the simulation took over at {taken_over_deg:.2}°"
+    );
+}
+
 /// Regression (trial14 m5): disconnecting under the latched E-STOP handed the view to the
 /// simulation with its drives enabled (a green "drives enabled" LED under the red "E-STOP latched:
 /// drives disabled" line). The backend that becomes the active one is disabled too.

@@ -345,7 +345,7 @@ impl Parol6App {
             } else {
                 self.sim.snapshot().q.clone()
             };
-            drop(link);
+            self.plots_take_the_last_rows_of(link);
             self.sim_recorder.as_ref().inspect(|r| r.keep_live_rows(true));
             if let Err(e) = self.sim.send(SimCommand::Teleport(q)) {
                 self.notice(format!("simulation: {e}"), true);

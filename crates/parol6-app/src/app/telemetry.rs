@@ -58,6 +58,19 @@ impl Parol6App {
         self.panels.plots.feed_live(&view, self.hw.is_some());
     }
 
+    /// Closes a link that is going away: its recorder takes every sample the session delivered
+    /// and the plots get those last rows (the published view was up to 50 ms old, more on a
+    /// busy host: the robot's last moments before a disconnect were missing, trial14 m4).
+    pub(super) fn plots_take_the_last_rows_of(&mut self, mut link: super::link::HwLink) {
+        if let Some(recorder) = link.recorder.take() {
+            let (finished, view) = recorder.finish_with_live();
+            if let Err(e) = finished {
+                tracing::warn!("the robot's telemetry did not close cleanly: {e}");
+            }
+            self.panels.plots.feed_live(&view, true);
+        }
+    }
+
     /// Passes this frame's state, link health and program step to the active recorder.
     pub(super) fn feed_telemetry(&mut self, robot: &Arc<RobotState>) {
         let step = self.program.as_ref().filter(|r| !r.is_finished()).and(self.state.program.as_ref());

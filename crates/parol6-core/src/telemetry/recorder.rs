@@ -330,6 +330,15 @@ impl Recorder {
         result
     }
 
+    /// As [`Self::finish`], and then the live view with every sample delivered until now: the
+    /// last rows of a backend that goes away (a disconnect), up to 50 ms (500 ms while the arm
+    /// was still) newer than the last published view.
+    pub fn finish_with_live(self) -> (Result<Option<RecordingSummary>, TelemetryError>, Arc<LiveView>) {
+        let shared = Arc::clone(&self.shared);
+        let finished = self.finish();
+        (finished, shared.live.load_full())
+    }
+
     /// The live view (lock-free; published every [`RecorderConfig::publish_interval_s`]).
     pub fn live(&self) -> Arc<LiveView> {
         self.shared.live.load_full()

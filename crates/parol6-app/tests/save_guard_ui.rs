@@ -179,3 +179,56 @@ fn ctrl_s_saves_while_a_button_has_the_keyboard_and_says_why_not_while_typing() 
     assert!(has_label(&h, "press Enter"), "Ctrl+S in a field says why nothing was saved");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Regression (trial17 D1): Save wrote a hand-written G-code file back from the program's
+/// steps, and its comments (`( … )`, `; …`) were gone without a word. Save now asks first
+/// while the file holds comments that the program does not carry; once this window wrote the
+/// file, saves are quiet again. "Save and quit" does not drop them either.
+#[test]
+fn save_over_a_commented_gcode_file_asks_before_dropping_its_comments() {
+    let dir = temp_dir("comments");
+    let path = dir.join("square.gcode");
+    let theirs = "(my square: keep this note)\nG21 G90 G17\nG0 X-20 Y210 Z250 A90 B0 C90 ; above the start\n\
+                  G1 Z230 F1200\nM30\n";
+    std::fs::write(&path, theirs).unwrap();
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    ui_support::open_program_file(&mut h, &path);
+    assert_eq!(h.state().program_panel().file(), Some(path.as_path()), "the G-code file is loaded");
+
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    ctrl_s(&mut h);
+    assert!(asked(&h), "Ctrl+S rewrote a commented G-code file without a word (its comments were lost)");
+    assert!(has_label(&h, "2 comment lines"), "the question says what would be lost");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs, "nothing is written before the answer");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+
+    // the quit question's "Save and quit" keeps the file and the window
+    press_with_ctrl(&mut h, Key::Q);
+    h.get_by_label("Save and quit").click();
+    h.run_steps(1);
+    let closes = h
+        .output()
+        .viewport_output
+        .get(&egui::ViewportId::ROOT)
+        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close));
+    assert!(!closes, "Save and quit dropped the file's comments and closed");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+    h.run_steps(2);
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+
+    // the operator agrees: written; the file is now this window's, saves are quiet
+    ctrl_s(&mut h);
+    h.get_by_label("Save anyway").click();
+    h.run_steps(2);
+    let written = std::fs::read_to_string(&path).unwrap();
+    assert!(written != theirs && written.contains("G0"), "Save anyway wrote the program");
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+    ctrl_s(&mut h);
+    assert!(!asked(&h), "a save over the window's own G-code asked");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -36,6 +36,9 @@ pub(super) enum SaveQuestion {
     /// "Save" onto the program's own file, which changed on disk since this window read or
     /// wrote it.
     ChangedOnDisk(PathBuf),
+    /// "Save" onto the program's own file, whose comment lines (this many) the written program
+    /// would not hold (`comment_guard`).
+    DropsComments(PathBuf, usize),
 }
 
 impl ProgramPanel {
@@ -53,12 +56,19 @@ impl ProgramPanel {
         }
     }
 
-    /// Saves to `path` now, or first asks (the file changed on disk, or "Save as" names another
-    /// existing file).
+    /// Saves to `path` now, or first asks (the file changed on disk or holds comments the save
+    /// would drop, or "Save as" names another existing file).
     pub(super) fn save_or_ask(&mut self, path: PathBuf, ctx: &mut PanelContext<'_>) {
         let own = self.file.as_deref() == Some(path.as_path());
+        let dropped = if own {
+            self.comments_a_save_drops(&path, ctx.model, &ctx.live_robot.commanded.q, ctx.settings)
+        } else {
+            0
+        };
         if own && self.changed_on_disk(&path) {
             self.files.question = Some(SaveQuestion::ChangedOnDisk(path));
+        } else if dropped > 0 {
+            self.files.question = Some(SaveQuestion::DropsComments(path, dropped));
         } else if !own && path.exists() {
             self.files.question = Some(SaveQuestion::Replace(path));
         } else {
@@ -106,6 +116,17 @@ impl ProgramPanel {
                 ),
                 "Overwrite",
             ),
+            SaveQuestion::DropsComments(path, n) => (
+                "Comments would be lost",
+                format!(
+                    "{} has {n} comment line{} that the program does not hold: Save writes the file from \
+                     the program's steps, without them. Save anyway, or save under another name and keep \
+                     this file as it is?",
+                    path.display(),
+                    if *n == 1 { "" } else { "s" }
+                ),
+                "Save anyway",
+            ),
         };
         let (mut save, mut save_as, mut cancel) = (false, false, false);
         let modal = egui::Modal::new(egui::Id::unique("parol6_save_question")).show(ui.ctx(), |ui| {
@@ -122,7 +143,7 @@ impl ProgramPanel {
         if save {
             self.files.question = None;
             let path = match question {
-                SaveQuestion::Replace(p) | SaveQuestion::ChangedOnDisk(p) => p,
+                SaveQuestion::Replace(p) | SaveQuestion::ChangedOnDisk(p) | SaveQuestion::DropsComments(p, _) => p,
             };
             self.save_and_say(&path, ctx);
         } else if save_as {

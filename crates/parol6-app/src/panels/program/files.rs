@@ -246,8 +246,9 @@ impl ProgramPanel {
     }
 
     /// Saves before the window closes: `Ok(true)` saved to its file, `Ok(false)` it has no file
-    /// yet (the Save-as dialog is opened instead), `Err` the write failed or the file changed on
-    /// disk since this window read or wrote it (the message says why; nothing is written).
+    /// yet (the Save-as dialog is opened instead), `Err` the write failed, the file changed on
+    /// disk since this window read or wrote it, or it holds comments the save would drop
+    /// (`comment_guard`; the message says why; nothing is written).
     pub fn save_before_quit(
         &mut self,
         model: &parol6_core::RobotModel,
@@ -258,6 +259,11 @@ impl ProgramPanel {
             Some(path) if self.changed_on_disk(&path) => Err(format!(
                 "{} changed on disk since this window read or saved it (another window or program wrote it); \
                  Cancel, then Save or Save as… in the Program panel",
+                path.display()
+            )),
+            Some(path) if self.comments_a_save_drops(&path, model, start_q, settings) > 0 => Err(format!(
+                "{} has comment lines that Save would not keep; Cancel, then Save (it asks) or Save as… in \
+                 the Program panel",
                 path.display()
             )),
             Some(path) => self.save_with(&path, model, start_q, settings).map(|()| true),

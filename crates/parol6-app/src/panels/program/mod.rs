@@ -20,6 +20,7 @@
 //! this panel only reads its progress and queues commands.
 
 mod checker;
+mod comment_guard;
 mod confirm;
 mod edit;
 mod edit_menu;

@@ -361,3 +361,35 @@ fn esc_stops_a_held_jog_key_until_the_key_is_pressed_again() {
     h.run_steps(2);
     assert!(jogs(&h, again) > 0, "D pressed again jogs: {:?}", &moves(&h)[again..]);
 }
+
+/// Regression (trial16 n1): Ctrl+D held for 0.8 s made six copies of the selected step, Delete
+/// held removed as many: the keys that add or remove a step act once per press, not on the
+/// key's repeats. Undo still repeats, as in editors.
+#[test]
+fn a_held_duplicate_or_delete_key_acts_once() {
+    let mut h = harness("repeat");
+    h.state_mut().program_panel_mut().select_step(Some(0));
+    focus_view(&mut h);
+    let count = |h: &Harness<'_, Parol6App>| h.state().program_panel().program().steps.len();
+    let held = |h: &mut Harness<'_, Parol6App>, key: Key, modifiers: Modifiers| {
+        h.event(egui::Event::ModifiersChanged(modifiers));
+        h.event(egui::Event::Key { key, pressed: true, modifiers, repeat: false, physical_key: None });
+        h.run_steps(1);
+        for _ in 0..5 {
+            h.event(egui::Event::Key { key, pressed: true, modifiers, repeat: true, physical_key: None });
+            h.run_steps(1);
+        }
+        h.event(egui::Event::Key { key, pressed: false, modifiers, repeat: false, physical_key: None });
+        h.event(egui::Event::ModifiersChanged(Modifiers::NONE));
+        h.run_steps(2);
+    };
+    let before = count(&h);
+    held(&mut h, Key::D, Modifiers::CTRL | Modifiers::COMMAND);
+    assert_eq!(count(&h), before + 1, "Ctrl+D held: one copy");
+    held(&mut h, Key::Delete, Modifiers::NONE);
+    assert_eq!(count(&h), before, "Delete held: one step deleted");
+    held(&mut h, Key::D, Modifiers::CTRL | Modifiers::COMMAND);
+    held(&mut h, Key::D, Modifiers::CTRL | Modifiers::COMMAND);
+    held(&mut h, Key::Z, Modifiers::CTRL | Modifiers::COMMAND);
+    assert_eq!(count(&h), before, "Ctrl+Z held undid every edit");
+}

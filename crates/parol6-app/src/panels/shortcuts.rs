@@ -75,6 +75,13 @@ pub enum Action {
 }
 
 impl Action {
+    /// True when a key held down acts once, not on each of its repeats: the keys that move the
+    /// arm, and the program edits that add or remove a step (trial16: Ctrl+D held 0.8 s made
+    /// six copies of the step). Undo / Redo and moving a step up or down repeat, as in editors.
+    pub fn once_per_press(self) -> bool {
+        self.moves_arm() || matches!(self, Action::DuplicateStep | Action::DeleteStep | Action::SaveProgram)
+    }
+
     /// True when the action sets the arm in motion (STOP does not: it holds it).
     pub fn moves_arm(self) -> bool {
         matches!(
@@ -323,7 +330,7 @@ fn mods_match(mods: Mods, held: Modifiers) -> bool {
 }
 
 /// True (once) when a key of `action` was pressed this frame where the table lets it act; the
-/// key press is consumed. Keys that move the arm do not count key repeats.
+/// key press is consumed. Key repeats count only for actions not [`Action::once_per_press`].
 pub fn pressed(ctx: &egui::Context, action: Action) -> bool {
     let taken = keyboard_taken(ctx);
     let typing = text_field_has_keyboard(ctx) || menu_open(ctx);
@@ -336,7 +343,7 @@ pub fn pressed(ctx: &egui::Context, action: Action) -> bool {
         ctx.input_mut(|i| {
             let at = i.events.iter().position(|e| {
                 matches!(e, egui::Event::Key { key, pressed: true, repeat, modifiers, .. }
-                    if *key == s.key && mods_match(s.mods, *modifiers) && !(*repeat && action.moves_arm()))
+                    if *key == s.key && mods_match(s.mods, *modifiers) && !(*repeat && action.once_per_press()))
             });
             if let Some(at) = at {
                 i.events.remove(at);

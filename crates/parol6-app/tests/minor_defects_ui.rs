@@ -425,3 +425,25 @@ fn an_estop_during_a_run_says_once_that_the_operator_pressed_it() {
     h.get_by_label("Release E-STOP").click();
     settle(&mut h, 0.5);
 }
+
+/// Regression (trial17 m2): STOP after minutes of a looping run said "stopped after 0 of 12
+/// steps", as if nothing had run. A looping run's stop names its passes.
+#[test]
+fn a_stopped_looping_run_names_its_passes() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("loop");
+    let path = dir.join("loop.json");
+    let program = Program::from_steps("loop", vec![Step::Dwell { seconds: 0.05 }, Step::Dwell { seconds: 0.05 }]);
+    std::fs::write(&path, json::to_string(&program)).unwrap();
+    open_program_file(&mut h, &path);
+    h.state_mut().program_panel_mut().looping = true;
+    pointer_on_panel(&mut h);
+    press(&mut h, Key::F5);
+    until(&mut h, "two passes", 20.0, |h| h.state().program_progress().is_some_and(|p| p.passes >= 2));
+    press(&mut h, Key::Escape);
+    until(&mut h, "the run stopped", 20.0, |h| !h.state().program_running());
+    h.run_steps(2);
+    let line = label_with(&h, "loop: stopped after").expect("the run's outcome");
+    assert!(line.contains(" passes and "), "the stop names the passes: {line}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -572,6 +572,14 @@ fn progress_line(ui: &mut egui::Ui, progress: Option<&RunProgress>, unit: AngleU
                 },
                 RunState::Paused => format!("{}: paused at step {} of {}", p.name, p.step + 1, p.steps),
                 RunState::Done => format!("{}: done ({:.1} s)", p.name, p.clock_s.1 - p.clock_s.0),
+                // a looping run names its passes: "after 0 of 12 steps" read as if nothing ran (trial17)
+                RunState::Stopped if p.passes > 0 => format!(
+                    "{}: stopped after {} and {} of {} steps",
+                    p.name,
+                    parol6_core::plural::count(p.passes as usize, "pass"),
+                    p.steps_done,
+                    p.steps
+                ),
                 RunState::Stopped => format!("{}: stopped after {} of {} steps", p.name, p.steps_done, p.steps),
                 RunState::Failed(why) => format!("{}: {}", p.name, in_unit(why, unit)),
             };

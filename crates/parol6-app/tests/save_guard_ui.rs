@@ -232,3 +232,43 @@ fn save_over_a_commented_gcode_file_asks_before_dropping_its_comments() {
     assert!(!asked(&h), "a save over the window's own G-code asked");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// "Overwrite" on the changed-on-disk question agrees to replace what another writer saved,
+/// not to lose the file's comments: the comment question still follows (trial18: a G-code file
+/// touched by an editor while open lost all its comments on Overwrite without a word).
+#[test]
+fn overwrite_of_a_commented_gcode_file_changed_on_disk_still_asks_about_its_comments() {
+    let dir = temp_dir("overwrite-comments");
+    let path = dir.join("square.gcode");
+    let theirs = "(my square: keep this note)\nG21 G90 G17\nG0 X-20 Y210 Z250 A90 B0 C90 ; above the start\n\
+                  G1 Z230 F1200\nM30\n";
+    std::fs::write(&path, theirs).unwrap();
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    ui_support::open_program_file(&mut h, &path);
+    assert_eq!(h.state().program_panel().file(), Some(path.as_path()), "the G-code file is loaded");
+    h.get_by_label("Teach pose").click();
+    h.run_steps(2);
+
+    // an editor changes one number of the open file; its comments stay
+    let edited = theirs.replace("G1 Z230 F1200", "G1 Z235 F1200");
+    std::fs::write(&path, &edited).unwrap();
+    ctrl_s(&mut h);
+    assert!(has_label(&h, "changed on disk since this window read or saved it"));
+    h.get_by_label("Overwrite").click();
+    h.run_steps(2);
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        edited,
+        "Overwrite rewrote a commented G-code file without a word (its comments were lost)"
+    );
+    assert!(asked(&h), "after Overwrite the comment question follows");
+    assert!(has_label(&h, "2 comment lines"), "the question says what would be lost");
+
+    // Save anyway writes the program
+    h.get_by_label("Save anyway").click();
+    h.run_steps(2);
+    let written = std::fs::read_to_string(&path).unwrap();
+    assert!(written != edited && written.contains("G0"), "Save anyway wrote the program");
+    assert!(!asked(&h));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

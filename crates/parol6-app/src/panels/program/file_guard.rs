@@ -142,10 +142,20 @@ impl ProgramPanel {
         });
         if save {
             self.files.question = None;
-            let path = match question {
-                SaveQuestion::Replace(p) | SaveQuestion::ChangedOnDisk(p) | SaveQuestion::DropsComments(p, _) => p,
-            };
-            self.save_and_say(&path, ctx);
+            match question {
+                // "Overwrite" agrees to replace the other writer's text, not to lose the file's
+                // comments: those are still asked about (trial18: they went without a word)
+                SaveQuestion::ChangedOnDisk(path) => {
+                    let dropped =
+                        self.comments_a_save_drops(&path, ctx.model, &ctx.live_robot.commanded.q, ctx.settings);
+                    if dropped > 0 {
+                        self.files.question = Some(SaveQuestion::DropsComments(path, dropped));
+                    } else {
+                        self.save_and_say(&path, ctx);
+                    }
+                }
+                SaveQuestion::Replace(path) | SaveQuestion::DropsComments(path, _) => self.save_and_say(&path, ctx),
+            }
         } else if save_as {
             self.files.question = None;
             self.open_save_as_dialog();

@@ -419,8 +419,9 @@ fn jogs_sent_during(h: &mut Harness<'_, Parol6App>, ms: u64) -> usize {
 }
 
 /// Regression (trial19 D1): Page Up pressed while motion was refused (the latched E-stop, a
-/// running program, the drives disabled) did nothing, but the key still held jogged J1 as soon as
-/// the refusal ended (Release E-STOP, F6, Enable): the arm moved without a new press. A key held
+/// running program, the drives disabled, no robot connected) did nothing, but the key still held
+/// jogged J1 as soon as the refusal ended (Release E-STOP, F6, Enable, Connect): the arm moved
+/// without a new press. A key held
 /// through a refusal must be let go and pressed anew, as after STOP.
 #[test]
 fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends() {
@@ -465,6 +466,21 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
     until(&mut h, "the program paused", 10.0, |h| state(h) == Some(RunState::Paused));
     let jogs = jogs_sent_during(&mut h, 600);
     assert_eq!(jogs, 0, "Page Up pressed during a program run jogged J1 after F6 ({jogs} jogs)");
+    page_up(&mut h, false);
+    h.run_steps(2);
+
+    // disconnected, the key pressed, connected again with the key still held
+    h.get_by_label("Disconnect").click();
+    until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
+    page_up(&mut h, true);
+    h.run_steps(3);
+    h.get_by_label("Connect to the built-in emulator").click();
+    until(&mut h, "the emulator answers again", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    let jogs = jogs_sent_during(&mut h, 600);
+    assert_eq!(jogs, 0, "Page Up held while disconnected jogged J1 once connected ({jogs} jogs)");
     page_up(&mut h, false);
     h.run_steps(2);
 

@@ -15,6 +15,7 @@ use egui_kittest::kittest::{NodeT, Queryable};
 use parol6_app::app::{ConnectTarget, LaunchOptions, Parol6App};
 use parol6_app::panels::io_gripper::ESTOP_LATCHED;
 use parol6_core::motion::{RobotBackend, StateSource};
+use parol6_core::program::runner::RunState;
 use parol6_hw::CommandCode;
 
 use ui_support::{harness_with, has_label, launch_options, type_into, until};
@@ -398,4 +399,92 @@ fn the_backend_taken_over_under_the_latched_estop_has_its_drives_disabled_too() 
     assert!(h.state().estop_latched(), "still latched");
     h.get_by_label("Release E-STOP").click();
     until(&mut h, "the simulation's drives enabled", 5.0, |h| !h.state().backend().state().io.drives_disabled);
+}
+
+/// Presses or lets go of Page Up (jog the selected joint, J1).
+fn page_up(h: &mut Harness<'_, Parol6App>, pressed: bool) {
+    let modifiers = Modifiers::NONE;
+    h.event(egui::Event::Key { key: Key::PageUp, pressed, modifiers, repeat: false, physical_key: None });
+}
+
+/// Runs frames for `ms` milliseconds and returns the joint jogs the app sent meanwhile.
+fn jogs_sent_during(h: &mut Harness<'_, Parol6App>, ms: u64) -> usize {
+    let before = h.state().moves_sent().filter(|m| m.starts_with("Jog(Some")).count();
+    let deadline = Instant::now() + Duration::from_millis(ms);
+    while Instant::now() < deadline {
+        h.run_steps(1);
+        std::thread::sleep(Duration::from_millis(15));
+    }
+    h.state().moves_sent().filter(|m| m.starts_with("Jog(Some")).count() - before
+}
+
+/// Regression (trial19 D1): Page Up pressed while motion was refused (the latched E-stop, a
+/// running program, the drives disabled, no robot connected) did nothing, but the key still held
+/// jogged J1 as soon as the refusal ended (Release E-STOP, F6, Enable, Connect): the arm moved
+/// without a new press. A key held
+/// through a refusal must be let go and pressed anew, as after STOP.
+#[test]
+fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends() {
+    let mut h = robot_harness();
+    focus_view(&mut h);
+    let start = emulator_positions(&h);
+
+    // the latched E-stop, released with the key still held
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
+    page_up(&mut h, true);
+    assert_eq!(jogs_sent_during(&mut h, 300), 0, "no jog under the latch");
+    h.get_by_label("Release E-STOP").click();
+    until(&mut h, "ENABLE reached the board", 10.0, |h| !h.state().emulator().unwrap().snapshot().disabled);
+    until(&mut h, "the robot accepts motion", 10.0, |h| h.state().backend().state().blocked.is_none());
+    let jogs = jogs_sent_during(&mut h, 600);
+    assert_eq!(jogs, 0, "Page Up pressed under the E-stop latch jogged J1 after Release E-STOP ({jogs} jogs)");
+    assert_eq!(emulator_positions(&h)[0], start[0], "J1 stayed where it was after the release");
+    page_up(&mut h, false);
+    h.run_steps(2);
+
+    // the drives disabled, enabled with the key still held
+    h.get_by_label("Disable").click();
+    until(&mut h, "the drives disabled", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
+    page_up(&mut h, true);
+    h.run_steps(3);
+    h.get_by_label("Enable").click();
+    until(&mut h, "the drives enabled", 10.0, |h| !h.state().emulator().unwrap().snapshot().disabled);
+    let jogs = jogs_sent_during(&mut h, 600);
+    assert_eq!(jogs, 0, "Page Up pressed with the drives disabled jogged J1 after Enable ({jogs} jogs)");
+    page_up(&mut h, false);
+    h.run_steps(2);
+
+    // a running program, paused (F6) with the key still held
+    until(&mut h, "the pre-flight", 10.0, |h| has_label(h, "pre-flight: ok"));
+    h.key_press(Key::F5);
+    let state = |h: &Harness<'_, Parol6App>| h.state().program_progress().map(|p| p.state.clone());
+    until(&mut h, "the program runs", 10.0, |h| state(h) == Some(RunState::Running));
+    page_up(&mut h, true);
+    h.run_steps(3);
+    h.key_press(Key::F6);
+    until(&mut h, "the program paused", 10.0, |h| state(h) == Some(RunState::Paused));
+    let jogs = jogs_sent_during(&mut h, 600);
+    assert_eq!(jogs, 0, "Page Up pressed during a program run jogged J1 after F6 ({jogs} jogs)");
+    page_up(&mut h, false);
+    h.run_steps(2);
+
+    // disconnected, the key pressed, connected again with the key still held
+    h.get_by_label("Disconnect").click();
+    until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
+    page_up(&mut h, true);
+    h.run_steps(3);
+    h.get_by_label("Connect to the built-in emulator").click();
+    until(&mut h, "the emulator answers again", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    let jogs = jogs_sent_during(&mut h, 600);
+    assert_eq!(jogs, 0, "Page Up held while disconnected jogged J1 once connected ({jogs} jogs)");
+    page_up(&mut h, false);
+    h.run_steps(2);
+
+    // pressed anew, the key jogs again
+    hold_page_up(&mut h, 40);
+    assert!(h.state().moves_sent().any(|m| m.starts_with("Jog(Some")), "a new press jogs");
 }

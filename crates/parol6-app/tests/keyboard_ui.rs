@@ -393,3 +393,40 @@ fn a_held_duplicate_or_delete_key_acts_once() {
     held(&mut h, Key::Z, Modifiers::CTRL | Modifiers::COMMAND);
     assert_eq!(count(&h), before, "Ctrl+Z held undid every edit");
 }
+
+/// Regression (trial19 D1): W held over the 3D view during a program run was refused with a
+/// notice, but F6 (pause) with W still held set the arm jogging +Y at once (149 mm to the
+/// workspace's edge in the window): a jog key held while manual motion is refused must be let
+/// go and pressed anew once the refusal ends.
+#[test]
+fn a_jog_key_held_through_a_program_run_does_not_jog_after_pause() {
+    use parol6_core::program::runner::RunState;
+    let mut h = harness("held-run");
+    focus_view(&mut h);
+    let state = |h: &Harness<'_, Parol6App>| h.state().program_progress().map(|p| p.state.clone());
+    press(&mut h, Key::F5, Modifiers::NONE, 2);
+    ui_support::until(&mut h, "the program runs", 10.0, |h| state(h) == Some(RunState::Running));
+    let key = |h: &mut Harness<'_, Parol6App>, key, pressed| {
+        h.event(egui::Event::Key { key, pressed, modifiers: Modifiers::NONE, repeat: false, physical_key: None });
+        h.run_steps(1);
+    };
+    key(&mut h, Key::W, true);
+    h.run_steps(3);
+    key(&mut h, Key::F6, true);
+    key(&mut h, Key::F6, false);
+    ui_support::until(&mut h, "the program paused", 10.0, |h| state(h) == Some(RunState::Paused));
+    let at_pause = moves(&h).len();
+    for _ in 0..20 {
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(15));
+    }
+    let jogs: Vec<String> = moves(&h)[at_pause..].iter().filter(|m| m.contains("CartesianJog")).cloned().collect();
+    assert_eq!(jogs, [] as [String; 0], "W held through the run jogged after F6 (pause)");
+    // let go and pressed again, the key jogs
+    key(&mut h, Key::W, false);
+    let again = moves(&h).len();
+    key(&mut h, Key::W, true);
+    h.run_steps(2);
+    assert!(moves(&h)[again..].iter().any(|m| m.contains("CartesianJog")), "W pressed again jogs");
+    key(&mut h, Key::W, false);
+}

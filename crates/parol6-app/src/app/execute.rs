@@ -240,9 +240,12 @@ impl Parol6App {
 
     /// A Cartesian jog key held over the 3D view while manual motion is refused (the latched
     /// E-stop, replay, a program, an ISO test or a torque run): the jog panel greys its buttons
-    /// and ignores its keys then; the notice says why the key does nothing.
+    /// and ignores its keys then; the notice says why the key does nothing. Every jog key held
+    /// meanwhile is disarmed: it does not jog when the refusal ends (Release E-STOP, F6) until
+    /// it is let go and pressed anew (trial19 D1: Page Up held under the latch jogged J1 at the
+    /// release).
     pub(super) fn refuse_held_jog_keys(&mut self, ctx: &eframe::egui::Context) {
-        use crate::panels::shortcuts::{Action, held};
+        use crate::panels::shortcuts::{Action, disarm_held, held};
         let why = if self.estop {
             Some(crate::panels::io_gripper::ESTOP_LATCHED)
         } else if self.state.replaying() {
@@ -255,6 +258,7 @@ impl Parol6App {
         if CartesianAxis::ALL.into_iter().any(jog) {
             self.refusal_notice(why);
         }
+        disarm_held(ctx);
     }
 
     /// Why a manual joint motion (a typed or Go to pose, a slider, HOME, Move to target, a held

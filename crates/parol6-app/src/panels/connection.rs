@@ -199,6 +199,11 @@ impl ConnectionPanel {
                 self.key_joint = i;
             }
         }
+        if !allowed {
+            // a key held while the jog is off (the drives disabled, the E-stop input, the link
+            // down) does not jog once it is on again: let go and press anew (trial19 D1)
+            shortcuts::disarm_held(ui.ctx());
+        }
         if held.is_none() && allowed {
             if shortcuts::held(ui.ctx(), Action::JogJoint(1)) {
                 held = Some((self.key_joint, 1));

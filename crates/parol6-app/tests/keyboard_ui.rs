@@ -430,3 +430,36 @@ fn a_jog_key_held_through_a_program_run_does_not_jog_after_pause() {
     assert!(moves(&h)[again..].iter().any(|m| m.contains("CartesianJog")), "W pressed again jogs");
     key(&mut h, Key::W, false);
 }
+
+/// The jog keys are disarmed while a program runs (trial19 D1), the camera's keys are not: an
+/// arrow key held over the 3D view still orbits the camera during the run.
+#[test]
+fn the_camera_keys_stay_held_while_a_program_runs() {
+    use parol6_app::panels::shortcuts::held;
+    use parol6_core::program::runner::RunState;
+    let mut h = harness("orbit-run");
+    focus_view(&mut h);
+    press(&mut h, Key::F5, Modifiers::NONE, 2);
+    ui_support::until(&mut h, "the program runs", 10.0, |h| {
+        h.state().program_progress().is_some_and(|p| p.state == RunState::Running)
+    });
+    h.event(egui::Event::Key {
+        key: Key::ArrowLeft,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(4);
+    assert!(h.state().program_running(), "still running");
+    assert!(held(&h.ctx, Action::Orbit(-1, 0)), "← held over the view orbits during a run");
+    h.event(egui::Event::Key {
+        key: Key::ArrowLeft,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+        repeat: false,
+        physical_key: None,
+    });
+    h.run_steps(2);
+    press(&mut h, Key::Escape, Modifiers::NONE, 2);
+}

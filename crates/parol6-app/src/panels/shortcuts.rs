@@ -411,11 +411,18 @@ pub fn update_held(ctx: &egui::Context) {
     });
 }
 
-/// Forgets every held jog key: after STOP a key still held does not jog again until it is let go
-/// and pressed anew (the STOP must hold; trial15 D1: Esc with Q held, the arm went on down).
+/// Forgets every held key that moves the arm (the jog keys): after STOP, or while manual
+/// motion is refused, a key still held does not jog again until it is let go and pressed anew
+/// (trial15 D1: Esc with Q held, the arm went on down). The camera's keys stay held: orbiting
+/// the view while a program runs or a replay plays goes on.
 pub fn disarm_held(ctx: &egui::Context) {
     update_held(ctx);
-    ctx.data_mut(|d| d.get_temp_mut_or_default::<HeldKeys>(held_keys_id()).armed.clear());
+    ctx.data_mut(|d| d.get_temp_mut_or_default::<HeldKeys>(held_keys_id()).armed.retain(|k, _| !moves_arm_held(*k)));
+}
+
+/// True for a key that moves the arm while held (a jog key).
+fn moves_arm_held(key: Key) -> bool {
+    SHORTCUTS.iter().any(|s| s.trigger == Trigger::Hold && s.key == key && s.action.moves_arm())
 }
 
 /// True while a key of `action` is held where the table lets it act (see the module's rules);

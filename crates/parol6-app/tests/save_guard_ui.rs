@@ -180,6 +180,20 @@ fn ctrl_s_saves_while_a_button_has_the_keyboard_and_says_why_not_while_typing() 
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// A hand-written G-code file with two comments.
+const COMMENTED_GCODE: &str = "(my square: keep this note)\nG21 G90 G17\nG0 X-20 Y210 Z250 A90 B0 C90 ; above the \
+                               start\nG1 Z230 F1200\nM30\n";
+
+/// The window with [`COMMENTED_GCODE`] written to `dir/square.gcode` and opened; its path and text.
+fn window_on_commented_gcode(dir: &std::path::Path) -> (Harness<'static, Parol6App>, std::path::PathBuf, &'static str) {
+    let path = dir.join("square.gcode");
+    std::fs::write(&path, COMMENTED_GCODE).unwrap();
+    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
+    ui_support::open_program_file(&mut h, &path);
+    assert_eq!(h.state().program_panel().file(), Some(path.as_path()), "the G-code file is loaded");
+    (h, path, COMMENTED_GCODE)
+}
+
 /// Regression (trial17 D1): Save wrote a hand-written G-code file back from the program's
 /// steps, and its comments (`( … )`, `; …`) were gone without a word. Save now asks first
 /// while the file holds comments that the program does not carry; once this window wrote the
@@ -187,13 +201,7 @@ fn ctrl_s_saves_while_a_button_has_the_keyboard_and_says_why_not_while_typing() 
 #[test]
 fn save_over_a_commented_gcode_file_asks_before_dropping_its_comments() {
     let dir = temp_dir("comments");
-    let path = dir.join("square.gcode");
-    let theirs = "(my square: keep this note)\nG21 G90 G17\nG0 X-20 Y210 Z250 A90 B0 C90 ; above the start\n\
-                  G1 Z230 F1200\nM30\n";
-    std::fs::write(&path, theirs).unwrap();
-    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    ui_support::open_program_file(&mut h, &path);
-    assert_eq!(h.state().program_panel().file(), Some(path.as_path()), "the G-code file is loaded");
+    let (mut h, path, theirs) = window_on_commented_gcode(&dir);
 
     h.get_by_label("Teach pose").click();
     h.run_steps(2);
@@ -239,13 +247,7 @@ fn save_over_a_commented_gcode_file_asks_before_dropping_its_comments() {
 #[test]
 fn overwrite_of_a_commented_gcode_file_changed_on_disk_still_asks_about_its_comments() {
     let dir = temp_dir("overwrite-comments");
-    let path = dir.join("square.gcode");
-    let theirs = "(my square: keep this note)\nG21 G90 G17\nG0 X-20 Y210 Z250 A90 B0 C90 ; above the start\n\
-                  G1 Z230 F1200\nM30\n";
-    std::fs::write(&path, theirs).unwrap();
-    let mut h = app_harness(egui::vec2(1280.0, 1000.0));
-    ui_support::open_program_file(&mut h, &path);
-    assert_eq!(h.state().program_panel().file(), Some(path.as_path()), "the G-code file is loaded");
+    let (mut h, path, theirs) = window_on_commented_gcode(&dir);
     h.get_by_label("Teach pose").click();
     h.run_steps(2);
 

@@ -5,7 +5,7 @@
 //! and samples a backend could not deliver show up as gaps in its sequence numbers
 //! ([`RecorderStats::missing_samples`]).
 //!
-//! The thread builds a [`TelemetrySample`] per tick, finds events, keeps the last
+//! The thread builds a [`TelemetrySample`](super::sample::TelemetrySample) per tick, finds events, keeps the last
 //! [`RecorderConfig::live_span_s`] in a [`LiveRing`] published lock-free as a [`LiveView`]
 //! ([`Recorder::live`]), and while recording writes an MCAP file through [`McapSink`].
 //!
@@ -31,11 +31,13 @@ use crate::model::RobotModel;
 use crate::motion::{MotionSample, RobotState};
 
 use super::TelemetryError;
-use super::event::{EventDetector, EventKind, TelemetryEvent};
+use super::event::{EventDetector, TelemetryEvent};
 use super::ring::{LiveRing, LiveView};
-use super::sample::TelemetrySample;
 use super::sample::{LinkHealth, SampleBuilder};
 use super::writer::{McapSink, RecordingInfo, RecordingSummary, SyncedFile};
+
+pub use outlets::{LiveItem, LiveOutlet, RecorderEvents};
+use outlets::{Outlet, send_control};
 
 /// Settings of a [`Recorder`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,63 +102,6 @@ enum Control {
     Outlet(Outlet),
     /// Whether the live view keeps rows ([`Recorder::keep_live_rows`]).
     LiveRows(bool),
-}
-
-/// What a [`LiveOutlet`] carries.
-#[derive(Debug, Clone)]
-pub enum LiveItem {
-    /// One control tick (every sample the backend delivered while the outlet is open).
-    Sample(Arc<TelemetrySample>),
-    /// An event (limit warning, refusal, E-stop, link loss, program step, network command …).
-    Event(TelemetryEvent),
-}
-
-/// The recorder's end of a live outlet.
-struct Outlet {
-    tx: Sender<LiveItem>,
-    dropped: Arc<AtomicU64>,
-}
-
-/// A live server's end of an outlet of the recorder: every sample and event from now on, through
-/// a bounded channel (see the module docs). Dropping it closes the outlet.
-#[derive(Debug)]
-pub struct LiveOutlet {
-    /// The samples and events, in order.
-    pub rx: Receiver<LiveItem>,
-    dropped: Arc<AtomicU64>,
-}
-
-impl LiveOutlet {
-    /// Items the recorder dropped because this outlet was full.
-    pub fn dropped(&self) -> u64 {
-        self.dropped.load(Ordering::Relaxed)
-    }
-}
-
-/// A cloneable handle that adds events to a recorder's `/events` (from any thread, never
-/// blocking: a full control channel drops the event and counts it).
-#[derive(Debug, Clone)]
-pub struct RecorderEvents {
-    control: Sender<Control>,
-    shared: Arc<Shared>,
-}
-
-impl RecorderEvents {
-    /// Records an event (a NaN time takes the latest sample's).
-    pub fn event(&self, event: TelemetryEvent) {
-        send_control(&self.control, &self.shared, Control::Event(event));
-    }
-
-    /// Records a note (`EventKind::Note`) with `message`, at the latest sample's time.
-    pub fn note(&self, message: impl Into<String>) {
-        self.event(TelemetryEvent { time_s: f64::NAN, kind: EventKind::Note, message: message.into() });
-    }
-}
-
-fn send_control(control: &Sender<Control>, shared: &Shared, c: Control) {
-    if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) = control.try_send(c) {
-        shared.counters.control_dropped.fetch_add(1, Ordering::Relaxed);
-    }
 }
 
 impl std::fmt::Debug for Control {
@@ -605,5 +550,6 @@ impl Worker {
     }
 }
 
+mod outlets;
 #[cfg(test)]
 mod tests;

@@ -37,6 +37,17 @@ fn ctrl_s(h: &mut Harness<'_, Parol6App>) {
     press_with_ctrl(h, Key::S);
 }
 
+/// Ctrl+Q, then the quit question's *Save and quit*: true when the window was told to close.
+fn save_and_quit_closes(h: &mut Harness<'_, Parol6App>) -> bool {
+    press_with_ctrl(h, Key::Q);
+    h.get_by_label("Save and quit").click();
+    h.run_steps(1);
+    h.output()
+        .viewport_output
+        .get(&egui::ViewportId::ROOT)
+        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close))
+}
+
 fn asked(h: &Harness<'_, Parol6App>) -> bool {
     h.state().program_panel().save_question_open()
 }
@@ -122,14 +133,7 @@ fn save_over_a_file_changed_on_disk_asks_first_and_a_save_of_our_own_does_not() 
     // the quit question's "Save and quit" does not overwrite it either, and the window stays
     h.get_by_label("Teach pose").click();
     h.run_steps(2);
-    press_with_ctrl(&mut h, Key::Q);
-    h.get_by_label("Save and quit").click();
-    h.run_steps(1);
-    let closes = h
-        .output()
-        .viewport_output
-        .get(&egui::ViewportId::ROOT)
-        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close));
+    let closes = save_and_quit_closes(&mut h);
     assert!(!closes, "Save and quit overwrote the changed file and closed");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
     h.run_steps(2);
@@ -214,14 +218,7 @@ fn save_over_a_commented_gcode_file_asks_before_dropping_its_comments() {
     assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
 
     // the quit question's "Save and quit" keeps the file and the window
-    press_with_ctrl(&mut h, Key::Q);
-    h.get_by_label("Save and quit").click();
-    h.run_steps(1);
-    let closes = h
-        .output()
-        .viewport_output
-        .get(&egui::ViewportId::ROOT)
-        .is_some_and(|v| v.commands.contains(&egui::ViewportCommand::Close));
+    let closes = save_and_quit_closes(&mut h);
     assert!(!closes, "Save and quit dropped the file's comments and closed");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
     h.run_steps(2);

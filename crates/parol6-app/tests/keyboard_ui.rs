@@ -463,3 +463,25 @@ fn the_camera_keys_stay_held_while_a_program_runs() {
     h.run_steps(2);
     press(&mut h, Key::Escape, Modifiers::NONE, 2);
 }
+
+/// Trial 20 m: Ctrl+F6 did not pause a running program. Pausing only stops the arm, so F6
+/// pauses with any modifier held too (as Esc is STOP with any); F5 with Ctrl still starts nothing.
+#[test]
+fn f6_pauses_a_running_program_with_a_modifier_held() {
+    use parol6_core::program::runner::RunState;
+    let mut h = harness("ctrl-f6");
+    focus_view(&mut h);
+    let state = |h: &Harness<'_, Parol6App>| h.state().program_progress().map(|p| p.state.clone());
+    let ctrl = Modifiers::CTRL | Modifiers::COMMAND;
+    ui_support::until(&mut h, "the program's check", 60.0, |h| !h.state().program_panel().checking());
+    press(&mut h, Key::F5, ctrl, 2);
+    h.run_steps(5);
+    assert_eq!(moves(&h), [] as [String; 0], "Ctrl+F5 starts nothing");
+    for mods in [ctrl, Modifiers::ALT, Modifiers::SHIFT] {
+        press(&mut h, Key::F5, Modifiers::NONE, 2);
+        ui_support::until(&mut h, "the program runs", 10.0, |h| state(h) == Some(RunState::Running));
+        press(&mut h, Key::F6, mods, 2);
+        ui_support::until(&mut h, "the program paused", 10.0, |h| state(h) == Some(RunState::Paused));
+    }
+    stop_and_clear(&mut h);
+}

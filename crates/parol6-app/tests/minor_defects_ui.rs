@@ -165,6 +165,35 @@ fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors
     std::fs::remove_file(&dir).unwrap();
 }
 
+/// Trial 19 m1: Esc in a point-table cell being typed into closed the whole table (egui drops
+/// the keyboard on Esc before the app looked at who had it). The first Esc leaves the cell,
+/// dropping what was typed; the second closes the table.
+#[test]
+fn escape_in_a_point_table_cell_leaves_the_cell_and_keeps_the_table_open() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir("table-esc");
+    let path = table_program(&dir);
+    open_program_file(&mut h, &path);
+    h.get_by_label("Table").click();
+    h.run_steps(3);
+    let before = steps(&h);
+    h.get_by_label("table 1 X").click();
+    h.run_steps(1);
+    h.get_by_label("table 1 X").type_text("123");
+    h.run_steps(1);
+    let focused = |h: &Harness<'_, Parol6App>| h.ctx.memory(|m| m.focused()).is_some();
+    assert!(focused(&h), "the cell has the keyboard");
+    press(&mut h, Key::Escape);
+    assert!(h.state().program_panel().table_open, "the first Esc leaves the cell, the table stays open");
+    assert!(!focused(&h), "the cell gave up the keyboard");
+    assert_eq!(steps(&h), before, "what was typed is dropped");
+    assert!(h.state().moves_sent().next().is_none(), "Esc in the table moved nothing");
+    pointer_on_panel(&mut h);
+    press(&mut h, Key::Escape);
+    assert!(!h.state().program_panel().table_open, "the second Esc closes the table");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A pose away from the standby wrist singularity (J5 = 34°), where a jog moves freely.
 fn work_pose() -> Vec<f64> {
     let mut q = parol6_core::parol6::standby_rad().to_vec();
@@ -250,6 +279,31 @@ fn the_jog_readout_is_frozen_at_release_and_its_message_keeps_one_height() {
     settle(&mut h, 0.3);
     assert_eq!(label_with(&h, "released after").as_deref(), Some(released.as_str()), "read-out changed");
     press(&mut h, Key::Escape);
+}
+
+/// A held jog that Esc (STOP) ended said "released after …", as if the operator had let go. It
+/// says "ended by STOP after …"; the next jog, let go, says "released after …" again.
+#[test]
+fn a_held_jog_ended_by_stop_says_so() {
+    let mut h = jog_harness();
+    let mut sent_at_stop = 0;
+    hold_button(&mut h, "+X", 0.8, |h| {
+        press(h, Key::Escape);
+        sent_at_stop = h.state().moves_sent().count();
+    });
+    // the button was held on after STOP: the jog does not start again (let go, press anew)
+    let after: Vec<String> = h.state().moves_sent().skip(sent_at_stop).map(str::to_string).collect();
+    assert_eq!(after, [] as [String; 0], "the jog button held through STOP jogged again");
+    let stopped = label_with(&h, "ended by STOP after");
+    assert!(stopped.as_deref().is_some_and(|t| t.starts_with("+X (world)")), "the read-out: {stopped:?}");
+    assert!(label_with(&h, "released after").is_none(), "the jog was not let go first");
+    hold_button(&mut h, "+Y", 0.4, |_| {});
+    assert!(label_with(&h, "+Y (world) released after").is_some(), "the next jog, let go");
+    // a STOP after the jog came to rest does not rewrite it
+    pointer_on_view(&mut h);
+    press(&mut h, Key::Escape);
+    h.run_steps(3);
+    assert!(label_with(&h, "+Y (world) released after").is_some(), "a later STOP rewrote the jog's line");
 }
 
 /// Issue 32 minor: "During a held Cartesian jog the joint sliders show the jog's planned end

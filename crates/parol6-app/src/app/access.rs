@@ -193,4 +193,11 @@ impl Parol6App {
         self.sim.send(SimCommand::Teleport(q))?;
         Ok(())
     }
+
+    /// The last commands (at most 256, oldest first, as `Debug` text) that set the arm moving
+    /// (jogs, moves, HOME, program runs and steps, measurements, torque runs; not STOP or a jog
+    /// release): what the keyboard tests watch.
+    pub fn moves_sent(&self) -> impl Iterator<Item = &str> {
+        self.moves_sent.iter().map(String::as_str)
+    }
 }

@@ -39,6 +39,25 @@ pub(super) enum Closable {
     Field(egui::Id),
 }
 
+/// Where [`remember_focus`] keeps the widget that had the keyboard at the end of a frame.
+fn focus_memory_id() -> egui::Id {
+    egui::Id::unique("parol6-escape-focus-at-frame-end")
+}
+
+/// Notes which widget has the keyboard as the frame ends. egui drops the focus when Esc goes
+/// down, before the next frame's code runs, so [`Parol6App::escape_closes`] reads the widget that
+/// had the keyboard from here: a field typed into inside a window gives up the keyboard on the
+/// first Esc, and the window stays open (trial 19 m1: Esc in a point-table cell closed the table).
+pub(super) fn remember_focus(ctx: &egui::Context) {
+    let focus = ctx.memory(|m| m.focused());
+    ctx.data_mut(|d| d.insert_temp(focus_memory_id(), focus));
+}
+
+/// The widget that had the keyboard before this frame's input (see [`remember_focus`]).
+fn focus_before_input(ctx: &egui::Context) -> Option<egui::Id> {
+    ctx.memory(|m| m.focused()).or_else(|| ctx.data(|d| d.get_temp::<Option<egui::Id>>(focus_memory_id())).flatten())
+}
+
 /// True when Esc went down this frame (before the STOP shortcut consumes it).
 fn esc_pressed(ctx: &egui::Context) -> bool {
     ctx.input(|i| i.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. })))
@@ -56,7 +75,7 @@ impl Parol6App {
         if program_moving || self.pointer_over_view(ctx) {
             return None;
         }
-        let focus = ctx.memory(|m| m.focused());
+        let focus = focus_before_input(ctx);
         let focus_layer = focus.and_then(|id| ctx.read_response(id)).map(|r| r.layer_id);
         if focus_layer.is_some_and(|l| l.order == egui::Order::Background) {
             return None; // a control of the docked panels has the keyboard

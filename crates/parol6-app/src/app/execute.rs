@@ -90,6 +90,9 @@ fn manual_motion(cmd: &AppCommand) -> bool {
 
 impl Parol6App {
     pub(super) fn execute(&mut self, cmd: AppCommand) {
+        if matches!(cmd, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true)) {
+            self.state.stops += 1;
+        }
         let refused_by = if self.estop {
             Some(crate::panels::io_gripper::ESTOP_LATCHED).filter(|_| refused_by_estop(&cmd))
         } else if self.state.replaying() {

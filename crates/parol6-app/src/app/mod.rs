@@ -515,6 +515,7 @@ impl Parol6App {
         self.central_and_reuse(ui, partial.as_ref(), groups, &scene);
         self.quit_prompt_ui(&ctx);
         crate::theme::paint_focus_ring(&ctx);
+        escape::remember_focus(&ctx);
 
         let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
         let newest_error_before = newest_error(&self.notices);
@@ -556,13 +557,6 @@ impl Parol6App {
             ctx.request_repaint_after(IDLE_REPAINT);
         }
         self.perf.ui_cpu_ms = t0.elapsed().as_secs_f64() * 1000.0;
-    }
-
-    /// The last commands (at most 256, oldest first, as `Debug` text) that set the arm moving
-    /// (jogs, moves, HOME, program runs and steps, measurements, torque runs; not STOP or a jog
-    /// release): what the keyboard tests watch.
-    pub fn moves_sent(&self) -> impl Iterator<Item = &str> {
-        self.moves_sent.iter().map(String::as_str)
     }
 }
 

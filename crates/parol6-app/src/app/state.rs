@@ -62,6 +62,8 @@ pub struct AppState {
     /// move, a jog, a measurement, a torque run, the controller's homing): the Cartesian jog
     /// panel's row of steps ends when this changes.
     pub other_motions: u64,
+    /// How many STOPs and E-STOPs were given (Esc, the buttons): a jog they ended says so.
+    pub stops: u64,
 }
 
 /// A file being written.

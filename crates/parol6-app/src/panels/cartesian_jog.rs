@@ -53,6 +53,10 @@ struct JogView {
     /// How far the jog moved (m or rad), fixed once the arm came to rest after the release: a
     /// later motion does not change what this jog did.
     moved: Option<f64>,
+    /// `AppState::stops` when the jog started: a STOP or E-STOP since ended it.
+    stops: u64,
+    /// A STOP or E-STOP ended the jog, fixed with `moved` (a later STOP is not this jog's).
+    ended_by_stop: Option<bool>,
 }
 
 /// The last clicks of Step mode (the same step in a row): what the line under the buttons says.
@@ -180,7 +184,16 @@ impl CartesianJogPanel {
         let kin = JogKinematics { model: Arc::new(ctx.model.clone()), obstacles };
         let fraction = f64::from(dir) * ctx.settings.cartesian_jog_fraction;
         let plan = CartesianJogPlan::plan(&kin, &caps, q, self.frame, axis, fraction).map_err(|e| e.to_string());
-        self.view = Some(JogView { frame: self.frame, axis, dir, plan, start: ctx.model.tcp_isometry(q), moved: None });
+        self.view = Some(JogView {
+            frame: self.frame,
+            axis,
+            dir,
+            plan,
+            start: ctx.model.tcp_isometry(q),
+            moved: None,
+            stops: ctx.app.stops,
+            ended_by_stop: None,
+        });
         self.stepped = None;
     }
 
@@ -351,12 +364,17 @@ impl CartesianJogPanel {
                         };
                         if !ctx.robot.moving {
                             v.moved = Some(m); // at rest after the release: what this jog did
+                            v.ended_by_stop = Some(ctx.app.stops != v.stops);
                         }
                         m
                     }
                 };
                 let at_stop = (moved - plan.travel().abs()).abs() < 1e-6;
-                let text = if at_stop {
+                let text = if v.ended_by_stop.unwrap_or(ctx.app.stops != v.stops) {
+                    let moved = display(v.axis, moved, unit);
+                    egui::RichText::new(format!("{what} ended by STOP after {moved}"))
+                        .color(palette::rgb(palette::WARN_TEXT))
+                } else if at_stop {
                     egui::RichText::new(format!(
                         "{what} stopped after {travel}: {}",
                         in_unit(&plan.stop_reason().to_string(), unit)

@@ -200,7 +200,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
     press(Key::F1, NONE, Action::ToggleHelp, Scope::Always, "this help"),
     press(Key::Q, CMD, Action::Quit, Scope::Always, "quit (asks first when a program has unsaved edits)"),
     press(Key::F5, NONE, Action::RunProgram, Scope::Program, "run the program, or resume it"),
-    press(Key::F6, NONE, Action::PauseProgram, Scope::Program, "pause the program"),
+    press(Key::F6, Mods::Any, Action::PauseProgram, Scope::Program, "pause the program (with any modifier held too)"),
     press(Key::F10, NONE, Action::SingleStep, Scope::Program, "run one step of the program"),
     press(Key::S, CMD, Action::SaveProgram, Scope::Program, "save the program"),
     press(Key::Z, CMD, Action::Undo, Scope::Program, "undo an edit of the program (also Edit menu)"),

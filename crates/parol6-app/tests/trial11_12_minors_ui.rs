@@ -1,7 +1,8 @@
-//! Minor defects of trials 11 and 12 (issue 32), driven headless through egui's kittest
+//! Minor defects of trials 11, 12 and 20 (issue 32), driven headless through egui's kittest
 //! harness on the full app: the status bar's toggles stay in place, F5 refused by the
 //! pre-flight says why, STOP and E-STOP say what they ended, one-shot gripper commands answer,
-//! a refusal names its file once, and a typed `~` is the home directory.
+//! a refusal names its file once, a typed `~` is the home directory, and the status bar's clock is
+//! the shown state's.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -225,4 +226,36 @@ fn pause_and_stop_program_say_why_they_are_greyed_with_no_run() {
         ui_support::pointer_on_view(&mut h);
         h.run_steps(2);
     }
+}
+
+/// The `t = … s` read-out of the status bar.
+fn status_clock_s(h: &Harness<'_, Parol6App>) -> f64 {
+    let label = h
+        .root()
+        .query_all_by_role(egui::accesskit::Role::Label)
+        .filter_map(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .find(|t| t.starts_with("t = ") && t.ends_with(" s") && !t.contains('\n'))
+        .expect("the status bar's clock");
+    label.trim_start_matches("t = ").trim_end_matches(" s").trim().parse().unwrap()
+}
+
+/// trial 20: connected to the robot after a spell in simulation, the status bar's `t = …` went
+/// on with the simulation's clock, 57 s off the plots' time axis (the robot link's clock). It
+/// shows the clock of the state shown.
+#[test]
+fn the_status_bar_clock_is_the_shown_states_clock() {
+    use parol6_app::panels::LinkCommand;
+    use parol6_core::motion::StateSource;
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    settle(&mut h, 2.0);
+    let sim_t = h.state().backend().state().time_s;
+    assert!(sim_t > 1.5, "the simulation's clock runs: {sim_t}");
+    assert!((status_clock_s(&h) - sim_t).abs() < 0.5, "simulation: {} vs {sim_t}", status_clock_s(&h));
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the robot shown", 15.0, |h| h.state().backend().state().source == StateSource::Robot);
+    h.run_steps(3);
+    let robot_t = h.state().backend().state().time_s;
+    let shown = status_clock_s(&h);
+    assert!((shown - robot_t).abs() < 0.5, "robot: the bar shows {shown} s, the link's clock is {robot_t} s");
+    assert!(robot_t + 1.0 < sim_t + 0.5, "the test needs the two clocks apart: robot {robot_t}, simulation {sim_t}");
 }

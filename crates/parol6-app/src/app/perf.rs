@@ -25,6 +25,5 @@ impl Parol6App {
         self.perf.physics_rate_hz = snap.step_rate_hz;
         self.perf.physics_step_us = snap.last_step_ns as f64 / 1000.0;
         self.perf.command_latency_ms = snap.last_command_latency_ns.map(|ns| ns as f64 / 1e6);
-        self.perf.sim_time_s = snap.sim_time_s;
     }
 }

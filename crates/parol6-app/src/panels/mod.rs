@@ -211,8 +211,6 @@ pub struct PerfStats {
     pub physics_step_us: f64,
     /// Last command latency (send → applied), ms.
     pub command_latency_ms: Option<f64>,
-    /// Simulated time, s.
-    pub sim_time_s: f64,
 }
 
 /// A message shown to the operator (banner at the top of the 3D view).

@@ -48,8 +48,18 @@ fn slot_width(ui: &egui::Ui, widest: &str) -> f32 {
     galley.size().x + 2.0 * ui.spacing().button_padding.x
 }
 
+/// What the `t = …` read-out is: the clock of the state shown, the plots' time axis too
+/// (trial 20: it showed the simulation's clock while the robot was shown, 57 s off the plots).
+fn clock_hover(ctx: &PanelContext<'_>) -> &'static str {
+    match (ctx.app.replaying(), ctx.readout.source) {
+        (true, _) => "the recording's time at the cursor (the plots' time axis)",
+        (false, StateSource::Simulation) => "the simulation's clock (the plots' time axis)",
+        (false, StateSource::Robot) => "the robot link's clock, from connecting (the plots' time axis)",
+    }
+}
+
 /// Where the shown state comes from, the recording, whether the arm moves and the link's rate,
-/// then the simulated time and the performance read-outs (left out first where the window is narrow).
+/// then the shown state's clock and the performance read-outs (left out first where the window is narrow).
 fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     let p = ctx.perf;
     let src = crate::app::state::source_label(ctx.app, ctx.robot.source);
@@ -79,7 +89,7 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     };
     let readouts = [
         ctx.app.link.as_ref().map(|link| (format!("link {:.0} Hz", link.loop_rate_hz), "the serial link's loop rate")),
-        Some((format!("t = {:.1} s", p.sim_time_s), "simulated time")),
+        Some((format!("t = {:.1} s", ctx.readout.time_s), clock_hover(ctx))),
         Some((format!("{:5.1} FPS", p.fps), "frames per second (last second)")),
         Some((format!("UI {:.2} ms", p.ui_cpu_ms), "CPU time of the last UI pass")),
         Some((lat, "time from sending the last command to the simulation applying it")),

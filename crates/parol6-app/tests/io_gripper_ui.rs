@@ -119,7 +119,7 @@ fn the_estop_latches_and_refuses_a_jog_until_released() {
     assert_eq!(emulator_positions(&h), before, "nothing moved while latched");
     assert_eq!(h.state().moves_sent().count(), 0, "no motion command left the app");
 
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "ENABLE reached the board", 10.0, |h| !h.state().emulator().unwrap().snapshot().disabled);
     assert!(!h.state().estop_latched());
     until(&mut h, "the robot accepts motion", 10.0, |h| h.state().backend().state().blocked.is_none());
@@ -147,7 +147,7 @@ fn the_estop_disables_the_simulation_the_same_way() {
     });
     h.run_steps(2);
     assert_eq!(h.state().moves_sent().count(), 0, "no jog left the app while latched");
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
 }
 
@@ -171,7 +171,7 @@ fn stop_and_the_estop_stay_on_screen_with_the_joints_panel_hidden() {
     // the button reads "Release E-STOP" from the frame after the latch (the drives may be off
     // before that frame is laid out)
     until(&mut h, "the release button", 5.0, |h| has_label(h, "Release E-STOP"));
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "the simulated drives are enabled", 5.0, |h| !h.state().sim().state().io.drives_disabled);
     // shown again, the panel has them, the menu bar not
     ui_support::click_in_view_menu(&mut h, "Joints panel");
@@ -397,7 +397,7 @@ fn the_backend_taken_over_under_the_latched_estop_has_its_drives_disabled_too() 
     until(&mut h, "the simulation shown", 10.0, |h| h.state().backend().state().source == StateSource::Simulation);
     until(&mut h, "the simulation's drives disabled", 5.0, |h| h.state().backend().state().io.drives_disabled);
     assert!(h.state().estop_latched(), "still latched");
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "the simulation's drives enabled", 5.0, |h| !h.state().backend().state().io.drives_disabled);
 }
 
@@ -434,7 +434,7 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
     until(&mut h, "DISABLE latched on the board", 10.0, |h| h.state().emulator().unwrap().snapshot().disabled);
     page_up(&mut h, true);
     assert_eq!(jogs_sent_during(&mut h, 300), 0, "no jog under the latch");
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "ENABLE reached the board", 10.0, |h| !h.state().emulator().unwrap().snapshot().disabled);
     until(&mut h, "the robot accepts motion", 10.0, |h| h.state().backend().state().blocked.is_none());
     let jogs = jogs_sent_during(&mut h, 600);
@@ -487,4 +487,77 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
     // pressed anew, the key jogs again
     hold_page_up(&mut h, 40);
     assert!(h.state().moves_sent().any(|m| m.starts_with("Jog(Some")), "a new press jogs");
+}
+
+/// Trial 21 D3: a hurried double-click on E-STOP latched it and released it at once (the button
+/// turns into *Release E-STOP* in the same place), sending ENABLE; H then homed the arm. The
+/// release takes clicks only a moment after the latch.
+#[test]
+fn a_double_click_on_estop_leaves_it_latched() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
+    let at = h.get_by_label("E-STOP").rect().center();
+    let click = |h: &mut Harness<'_, Parol6App>| {
+        h.hover_at(at);
+        for pressed in [true, false] {
+            let (button, modifiers) = (egui::PointerButton::Primary, Modifiers::NONE);
+            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+            h.run_steps(1);
+        }
+    };
+    click(&mut h);
+    std::thread::sleep(Duration::from_millis(150));
+    click(&mut h);
+    h.run_steps(3);
+    assert!(h.state().estop_latched(), "the second click of a double-click released the E-stop");
+    assert!(has_label(&h, "Release E-STOP"));
+    until(&mut h, "the simulated drives disabled", 5.0, |h| h.state().sim().state().io.drives_disabled);
+    ui_support::settle(&mut h, 0.3);
+    assert!(h.state().sim().state().io.drives_disabled, "no ENABLE was sent");
+    // a moment later the release takes a click
+    ui_support::release_estop(&mut h);
+    until(&mut h, "the release", 5.0, |h| !h.state().estop_latched());
+}
+
+/// Trial 22 D1: with `--tool ssg48` and the robot connected, the TCP panel showed the flange
+/// (Y 236.77 mm at standby) while the Cartesian target and pre-flight used the tool tip
+/// (341.77 mm): *From TCP* → *Solve IK* → *Move to target*, meant to keep the arm where it was,
+/// moved it some 40°. The robot's TCP is the tool tip's, as the simulation's.
+#[test]
+fn with_a_tool_the_robots_tcp_is_the_tool_tip() {
+    let mut model = parol6_core::RobotModel::parol6();
+    model.set_tool(parol6_core::parol6::Tool::Ssg48);
+    let opts = LaunchOptions { model: model.clone(), connect: Some(ConnectTarget::Emulator), ..launch_options() };
+    let mut h = harness_with(opts, egui::vec2(1280.0, 2400.0));
+    until(&mut h, "the emulator answers", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    h.run_steps(3);
+    let state = h.state().backend().state();
+    let tip = model.fk(&state.q).position_m;
+    for k in 0..3 {
+        assert!(
+            (state.tcp.position_m[k] - tip[k]).abs() < 1e-9,
+            "axis {k}: robot TCP {:?}, tool tip {tip:?}",
+            state.tcp
+        );
+    }
+    let y_mm = format!("{:.2} mm", tip[1] * 1000.0);
+    assert!(h.query_all_by_label_contains(&y_mm).next().is_some(), "the TCP panel shows the tool tip's Y {y_mm}");
+    // From TCP, Solve IK, Move to target: the arm stays where it is
+    let sent = h.state().moves_sent().count();
+    for button in ["From TCP", "Solve IK"] {
+        h.get_by_label(button).click();
+        h.run_steps(3);
+    }
+    until(&mut h, "the IK solution", 10.0, |h| h.query_by_label("Move to target").is_some());
+    h.get_by_label("Move to target").click();
+    ui_support::settle(&mut h, 1.0);
+    let after = h.state().backend().state().q.clone();
+    let moved = after.iter().zip(&state.q).map(|(a, b)| (a - b).abs().to_degrees()).fold(0.0, f64::max);
+    assert!(
+        moved < 0.5,
+        "Move to target from the TCP moved a joint {moved:.2}° (sent {:?})",
+        h.state().moves_sent().skip(sent).collect::<Vec<_>>()
+    );
 }

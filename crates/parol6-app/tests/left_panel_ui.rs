@@ -252,7 +252,7 @@ fn stop_and_estop_stay_on_screen_with_the_left_column_scrolled_to_its_end() {
     h.get_by_label("E-STOP").click();
     until(&mut h, "the E-stop latch", 5.0, |h| has_label(h, "Release E-STOP"));
     assert!(h.state().estop_latched(), "E-STOP latched with the column scrolled");
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     until(&mut h, "the release", 5.0, |h| has_label(h, "E-STOP"));
 }
 
@@ -265,7 +265,7 @@ fn the_estop_latch_moves_no_jog_button_on_the_fake_robot() {
     until(&mut h, "the E-stop latch", 5.0, |h| has_label(h, "Release E-STOP"));
     h.run_steps(5);
     let after = h.get_by_label("Jog speed").rect();
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     h.run_steps(2);
     assert!((after.min - before.min).length() < 0.5, "the jog moved from {before:?} to {after:?} when E-STOP latched");
 }

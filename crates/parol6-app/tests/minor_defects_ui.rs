@@ -110,6 +110,17 @@ fn table_program(dir: &std::path::Path) -> std::path::PathBuf {
     path
 }
 
+/// The app with [`table_program`] opened from a new folder `tag` and its point table shown.
+fn table_opened(tag: &str) -> (Harness<'static, Parol6App>, std::path::PathBuf) {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let dir = temp_dir(tag);
+    let path = table_program(&dir);
+    open_program_file(&mut h, &path);
+    h.get_by_label("Table").click();
+    h.run_steps(3);
+    (h, dir)
+}
+
 fn steps(h: &Harness<'_, Parol6App>) -> Vec<Step> {
     h.state().program_panel().program().steps.iter().map(|s| s.step.clone()).collect()
 }
@@ -123,12 +134,7 @@ fn error_with(h: &Harness<'_, Parol6App>, text: &str) -> bool {
 /// window."
 #[test]
 fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors_in_front() {
-    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
-    let dir = temp_dir("table");
-    let path = table_program(&dir);
-    open_program_file(&mut h, &path);
-    h.get_by_label("Table").click();
-    h.run_steps(3);
+    let (mut h, dir) = table_opened("table");
     let before = steps(&h);
     type_into(&mut h, "table 1 X", "1e9");
     assert_eq!(steps(&h), before, "1e9 mm is refused");
@@ -170,12 +176,7 @@ fn the_point_table_refuses_far_values_adds_and_removes_rows_and_shows_its_errors
 /// dropping what was typed; the second closes the table.
 #[test]
 fn escape_in_a_point_table_cell_leaves_the_cell_and_keeps_the_table_open() {
-    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
-    let dir = temp_dir("table-esc");
-    let path = table_program(&dir);
-    open_program_file(&mut h, &path);
-    h.get_by_label("Table").click();
-    h.run_steps(3);
+    let (mut h, dir) = table_opened("table-esc");
     let before = steps(&h);
     h.get_by_label("table 1 X").click();
     h.run_steps(1);
@@ -476,7 +477,7 @@ fn an_estop_during_a_run_says_once_that_the_operator_pressed_it() {
     );
     let said = notices.iter().filter(|n| n.contains("Draw stopped: the operator pressed E-STOP")).count();
     assert_eq!(said, 1, "said once: {notices:?}");
-    h.get_by_label("Release E-STOP").click();
+    ui_support::release_estop(&mut h);
     settle(&mut h, 0.5);
 }
 

@@ -454,3 +454,68 @@ fn the_plots_in_replay_count_time_from_the_recordings_start_as_the_timeline() {
     assert!((0.0..29.0).contains(&t), "the pointer's time counts from the recording's start: {text}");
     std::fs::remove_dir_all(&dir).expect("remove the temporary folder");
 }
+
+/// Trial 21 D1: a recording opened while Pick & place ran: the program went on driving the arm
+/// to its end while every read-out showed the recorded arm at rest and the status bar said
+/// REPLAY. A recording is not opened while a program runs (or the arm moves); it opens once
+/// the program is stopped.
+#[test]
+fn a_recording_is_not_opened_while_a_program_moves_the_arm() {
+    use parol6_core::program::runner::RunState;
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-ui-running");
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    until(&mut h, "the program's check", 60.0, |h| !h.state().program_panel().checking());
+    ui_support::pointer_on_view(&mut h);
+    h.key_press(egui::Key::F5);
+    let state = |h: &Harness<'_, Parol6App>| h.state().program_progress().map(|p| p.state.clone());
+    until(&mut h, "the program moving the arm", 30.0, |h| state(h) == Some(RunState::Running));
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the refusal", 10.0, |h| {
+        h.state().notices().iter().any(|n| n.error && n.text.contains("not opened: a program is running"))
+    });
+    ui_support::settle(&mut h, 0.5);
+    assert!(h.state().replay().is_none() && !h.state().replay_loading(), "no replay while the program runs");
+    assert_eq!(state(&h), Some(RunState::Running), "the program runs on, shown live");
+    assert!(!shows(&h, "REPLAY"), "the status bar does not say REPLAY");
+    // stopped, the arm at rest: the recording opens
+    h.key_press(egui::Key::Escape);
+    until(&mut h, "the arm at rest", 20.0, |h| !h.state().program_running() && !h.state().backend().state().moving);
+    // (the menu's field still holds the path: the same request as its Enter)
+    h.state_mut().queue_command(parol6_app::panels::AppCommand::OpenRecording(path.clone()));
+    until(&mut h, "the replay", 10.0, |h| h.state().replay().is_some());
+}
+
+/// Trial 21 D2: a double-click on *Close recording* closed the recording with the first click,
+/// the plots slid up under the pointer, and the second click chose their *torque*. The place
+/// the timeline left stays while the pointer is in the lower panel.
+#[test]
+fn a_double_click_on_close_recording_lands_on_nothing_else() {
+    use parol6_core::telemetry::Quantity;
+    let model = RobotModel::parol6();
+    let path = write_recording(&model, "parol6-replay-ui-close-twice");
+    let mut h = app_harness(egui::vec2(1024.0, 700.0));
+    ui_support::open_recording(&mut h, &path);
+    until(&mut h, "the replay", 10.0, |h| has_label(h, "Replay: run.mcap"));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(3);
+    let toolbar_before = h.get_by_label("torque").rect();
+    let at = h.get_by_label("Close recording").rect().center();
+    h.hover_at(at);
+    for _ in 0..2 {
+        for pressed in [true, false] {
+            let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+            h.run_steps(1);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    h.run_steps(3);
+    assert!(h.state().replay().is_none(), "the recording closed");
+    assert_eq!(h.state().plots_panel().quantities, [Quantity::Position], "the second click chose another quantity");
+    assert_eq!(h.get_by_label("torque").rect(), toolbar_before, "the plots' toolbar moved under the pointer");
+    // the pointer gone to the 3D view, the plots take the place
+    ui_support::pointer_on_view(&mut h);
+    h.run_steps(3);
+    assert!(h.get_by_label("torque").rect().top() < toolbar_before.top() - 20.0, "the plots moved up");
+}

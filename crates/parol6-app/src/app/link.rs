@@ -67,7 +67,9 @@ impl HwLink {
         if !model.is_parol6 {
             anyhow::bail!("the serial link drives a PAROL6 only; this model is \"{}\"", model.name);
         }
-        let config = parol6_hw::SessionConfig { tracking, ..parol6_hw::SessionConfig::default() };
+        // the tool's TCP: the robot's read-outs and jogs are the tool tip's, as the simulation's
+        let config =
+            parol6_hw::SessionConfig { tracking, tool_in_flange: model.tool, ..parol6_hw::SessionConfig::default() };
         let recorder = super::telemetry::start_recorder(model);
         let tap = recorder.as_ref().map(parol6_core::telemetry::Recorder::tap);
         let mut link = match target {

@@ -70,6 +70,7 @@ pub(super) fn lower_dock(
 /// tabs ([`SHARED_COLUMN_MIN_WIDTH`]).
 fn lower_contents(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [(Dock, &mut dyn Panel)]) {
     let mut stacked = false;
+    let top = ui.cursor().top();
     for (_, p) in docked.iter_mut().filter(|(d, _)| *d == Dock::Lower) {
         if p.shown(pctx) {
             if stacked {
@@ -79,6 +80,9 @@ fn lower_contents(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [
             p.ui(ui, pctx);
         }
     }
+    // (the height without the spacing after the last panel, which the place adds again)
+    let stacked_pt = stacked.then(|| ui.cursor().top() - top - ui.spacing().item_spacing.y);
+    stacked |= hold_vacated_place(ui, stacked_pt);
     let mut shared: Vec<&mut dyn Panel> = Vec::new();
     for (d, p) in docked.iter_mut() {
         if *d == Dock::LowerShared && p.shown(pctx) {
@@ -131,4 +135,34 @@ fn lower_contents(ui: &mut egui::Ui, pctx: &mut PanelContext<'_>, docked: &mut [
         let title = p.title();
         fixed_height(ui, ("lower-tab", title), height, |ui| p.ui(ui, pctx));
     }
+}
+
+/// Where the stacked panels' height of the last frame is kept, and the place they left.
+fn stacked_height_id() -> egui::Id {
+    egui::Id::unique("parol6-lower-stacked-height")
+}
+fn vacated_id() -> egui::Id {
+    egui::Id::unique("parol6-lower-vacated")
+}
+
+/// Keeps the place the stacked panels (the replay timeline) left, empty but for a line, while
+/// the pointer stays in the lower panel: the plots do not slide up under it, so the second click
+/// of a double-click on *Close recording* does not land on the plots' toolbar (trial 21 D2: it
+/// chose "torque"). `stacked_pt`: the stacked panels' height this frame, if shown. Returns true
+/// while the place is held.
+fn hold_vacated_place(ui: &mut egui::Ui, stacked_pt: Option<f32>) -> bool {
+    let kept = |ui: &egui::Ui, id: egui::Id| ui.data(|d| d.get_temp::<Option<f32>>(id).flatten());
+    let (last_frame, vacated) = (kept(ui, stacked_height_id()), kept(ui, vacated_id()));
+    ui.data_mut(|d| d.insert_temp(stacked_height_id(), stacked_pt));
+    let panel = ui.max_rect().intersect(ui.clip_rect());
+    let pointer_in_panel = ui.ctx().pointer_latest_pos().is_some_and(|p| panel.contains(p));
+    let held = if stacked_pt.is_some() { None } else { vacated.or(last_frame).filter(|_| pointer_in_panel) };
+    ui.data_mut(|d| d.insert_temp(vacated_id(), held));
+    let Some(height) = held else { return false };
+    let size = egui::vec2(ui.available_width(), height);
+    ui.allocate_ui_with_layout(size, egui::Layout::top_down(egui::Align::Min), |ui| {
+        ui.set_min_size(size);
+        ui.weak("Recording closed (the plots move up once the pointer leaves this panel)");
+    });
+    true
 }

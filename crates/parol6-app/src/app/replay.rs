@@ -50,9 +50,33 @@ pub fn free_off_ui_thread<T: Send + 'static>(garbage: T) {
     }
 }
 
+/// Why a recording is not opened while the arm may move: every read-out would show the
+/// recording while the live arm moved (trial 21 D1: a program went on driving the robot under
+/// REPLAY, the 3D view showing the recorded arm at rest).
+const PROGRAM_UNFINISHED: &str = "a program is running or paused: stop it first (Stop program, or Esc)";
+const ARM_MOVING: &str = "the arm is moving: let it stop (or press STOP) first";
+
 impl Parol6App {
-    /// Starts reading `path` on a thread; the replay opens when it is read.
+    /// Why a recording cannot be opened now (see [`PROGRAM_UNFINISHED`]), if it cannot.
+    fn replay_refused_by(&self) -> Option<&'static str> {
+        if self.program_running() {
+            Some(PROGRAM_UNFINISHED)
+        } else if self.state.measurement.running() {
+            Some(super::state::MEASUREMENT_RUNNING)
+        } else if self.state.torque_run {
+            Some(super::state::TORQUE_RUNNING)
+        } else {
+            self.robot_state().moving.then_some(ARM_MOVING)
+        }
+    }
+
+    /// Starts reading `path` on a thread; the replay opens when it is read, unless the arm has
+    /// started moving by then ([`Self::replay_refused_by`]).
     pub(super) fn open_recording(&mut self, path: PathBuf) {
+        if let Some(why) = self.replay_refused_by() {
+            self.notice(format!("{} not opened: {why}", path.display()), true);
+            return;
+        }
         let (tx, rx) = bounded(1);
         let model = self.model.clone();
         let p = path.clone();
@@ -91,6 +115,11 @@ impl Parol6App {
         let path = path.clone();
         self.replay_loading = None;
         match result {
+            Ok((data, _)) if self.replay_refused_by().is_some() => {
+                let why = self.replay_refused_by().unwrap_or_default();
+                self.notice(format!("{} not opened: {why}", path.display()), true);
+                free_off_ui_thread(data);
+            }
             Ok((data, read_s)) => {
                 for w in &data.warnings {
                     self.notice(format!("{}: {w}", path.display()), true);

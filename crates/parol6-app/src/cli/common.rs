@@ -117,14 +117,20 @@ pub(crate) struct Link {
 }
 
 /// Opens the controller of `connect` (the emulator with `--fake-robot`), with an optional
-/// telemetry tap, and waits for its first status.
+/// telemetry tap, and waits for its first status. `tool_in_flange`: the tool's TCP in the
+/// flange frame (`RobotModel::tool`): the session's TCP is the tool tip's.
 pub(crate) fn open(
     connect: &ConnectArgs,
     rate: &RateArgs,
     tap: Option<Sender<MotionSample>>,
+    tool_in_flange: parol6_core::na::Isometry3<f64>,
 ) -> Result<Link, CliError> {
-    let config =
-        SessionConfig { rate_hz: rate.rate, tracking: rate.tracking.unwrap_or_default(), ..SessionConfig::default() };
+    let config = SessionConfig {
+        rate_hz: rate.rate,
+        tracking: rate.tracking.unwrap_or_default(),
+        tool_in_flange,
+        ..SessionConfig::default()
+    };
     let emulator = if connect.fake_robot {
         Some(
             EmulatorHandle::spawn_socket(EmulatorConfig { log_commands: false, ..EmulatorConfig::homed_at_standby() })

@@ -34,6 +34,12 @@ use super::output::print_line;
 use super::record::{Telemetry, link_health};
 use super::{CliError, CliResult, interrupt, print_json};
 
+/// The tool of the `hw` commands: they drive the bare PAROL6 (no `--tool`; their recordings say `Tool::None`):
+/// the session's TCP is the flange.
+fn bare_flange() -> parol6_core::na::Isometry3<f64> {
+    parol6_core::na::Isometry3::identity()
+}
+
 /// Slowest `hw move --speed` (fraction of the max joint speeds): the longest move of the arm
 /// (every joint end to end, jerk-limited) then takes about 90 s.
 pub const MIN_MOVE_SPEED: f64 = 0.05;
@@ -190,7 +196,7 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
             print_json(&json!({ "ports": ports }))
         }
         HwCommand::Status(rate) => {
-            let link = open(connect, rate, None)?;
+            let link = open(connect, rate, None, bare_flange())?;
             let s = link.session.wait_until(Duration::from_secs(2), |s| s.status_frames >= 3).map_err(hw_err)?;
             let mut out = s.to_json();
             let (enabled, basis) = enabled_json(&s);
@@ -201,7 +207,7 @@ pub fn run(args: &HwArgs, connect: &ConnectArgs) -> CliResult {
         HwCommand::Enable(rate) => send_latch(connect, rate, "enable", CommandCode::Enable, Session::enable),
         HwCommand::Disable(rate) => send_latch(connect, rate, "disable", CommandCode::Disable, Session::disable),
         HwCommand::Home(rate) => {
-            let link = open(connect, rate, None)?;
+            let link = open(connect, rate, None, bare_flange())?;
             let t0 = Instant::now();
             link.session.home_blocking().map_err(hw_err)?;
             let s = link.session.snapshot();
@@ -296,7 +302,7 @@ fn jog(
     if !(speed.is_finite() && (-1.0..=1.0).contains(&speed)) {
         return Err(CliError::usage(format!("--speed must be within −1…1 (got {speed})")));
     }
-    let link = open(connect, rate, tap)?;
+    let link = open(connect, rate, tap, bare_flange())?;
     if let Some(t) = telemetry {
         t.begin()?;
     }
@@ -398,7 +404,7 @@ fn move_to(
     if !(speed.is_finite() && (MIN_MOVE_SPEED..=1.0).contains(&speed)) {
         return Err(CliError::usage(format!("--speed must be within {MIN_MOVE_SPEED}…1 (got {speed})")));
     }
-    let link = open(connect, rate, tap)?;
+    let link = open(connect, rate, tap, bare_flange())?;
     let session = &link.session;
     let start = session.snapshot();
     // Before planning from the measured position: it may be impossible (issue 29 item 9).
@@ -436,7 +442,7 @@ fn send_latch(
     code: CommandCode,
     op: fn(&Session) -> Result<(), HwError>,
 ) -> CliResult {
-    let link = open(connect, rate, None)?;
+    let link = open(connect, rate, None, bare_flange())?;
     let before = link.session.snapshot().frames_sent;
     op(&link.session).map_err(hw_err)?;
     wait_sent(&link.session, code, before)?;

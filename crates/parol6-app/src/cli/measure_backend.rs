@@ -44,10 +44,10 @@ impl Opened {
         Ok(Self { backend: Arc::new(sim), tap: rx, name: "simulation".into(), _emulator: None })
     }
 
-    /// The controller of `connect`.
-    pub fn robot(connect: &ConnectArgs, rate: &RateArgs, tapped: bool) -> Result<Self, CliError> {
+    /// The controller of `connect`, its TCP the tool tip of `model`.
+    pub fn robot(model: &RobotModel, connect: &ConnectArgs, rate: &RateArgs, tapped: bool) -> Result<Self, CliError> {
         let (tx, rx) = tap(tapped);
-        let link = open(connect, rate, tx)?;
+        let link = open(connect, rate, tx, model.tool)?;
         let session = Arc::new(link.session);
         let name = session.state().backend.clone();
         Ok(Self { backend: session, tap: rx, name, _emulator: link.emulator })
@@ -61,7 +61,7 @@ impl Opened {
         tapped: bool,
     ) -> Result<Self, CliError> {
         if connect.port.is_some() || connect.fake_robot {
-            Self::robot(connect, rate, tapped)
+            Self::robot(model, connect, rate, tapped)
         } else {
             Self::simulation(model, tapped, rate.tracking.unwrap_or_default())
         }

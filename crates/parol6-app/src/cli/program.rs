@@ -204,7 +204,7 @@ pub fn run(args: &ProgramArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliR
             let begin = || telemetry.as_ref().map_or(Ok(()), Telemetry::begin);
             let mut summary = if robot_link {
                 // the session is dropped before the emulator behind it
-                let link = open(connect, rate, tap)?;
+                let link = open(connect, rate, tap, model.tool)?;
                 let _emulator = link.emulator;
                 let session = Arc::new(link.session);
                 if start_deg.is_some() {

@@ -199,7 +199,7 @@ pub fn run(args: &RecordArgs, robot: &RobotArgs, connect: &ConnectArgs) -> CliRe
         Telemetry::prepare(&model, tool_of(robot), &text, &args.output, "")?.with_tracking(TrackingMode::default());
     let source;
     if on_robot {
-        let link = open(connect, &RateArgs::defaults(), Some(telemetry.tap()))?;
+        let link = open(connect, &RateArgs::defaults(), Some(telemetry.tap()), model.tool)?;
         telemetry.begin()?;
         source = link.session.snapshot().port.clone();
         let poll = || (link.session.robot_state(), Some(link_health(&link.session.snapshot())));

@@ -198,7 +198,7 @@ fn open_backend(
     recorder: &Recorder,
 ) -> Result<Backend, CliError> {
     if connect.fake_robot || connect.port.is_some() {
-        let link = open(connect, &args.rate, Some(recorder.tap()))?;
+        let link = open(connect, &args.rate, Some(recorder.tap()), model.tool)?;
         let session = Arc::new(link.session);
         let source = session.snapshot().port.clone();
         let health_of = Arc::clone(&session);

@@ -30,10 +30,32 @@ pub fn estop_latched(ctx: &PanelContext<'_>) -> bool {
     ctx.robot.blocked.as_deref() == Some(ESTOP_LATCHED)
 }
 
+/// How long *Release E-STOP* stays greyed after the latch: the second click of a hurried
+/// double-click on E-STOP (the same place) does not release it (trial 21 D3: it sent ENABLE at once).
+pub const ESTOP_RELEASE_HOLD_OFF: std::time::Duration = std::time::Duration::from_millis(1500);
+
+/// Why *Release E-STOP* is greyed just after the latch.
+const RELEASE_HELD_OFF: &str = "E-STOP latched just now: Release is possible 1.5 s after the latch, so that a \
+                                double-click on E-STOP does not undo it";
+
 /// The E-stop button: red "E-STOP" sends DISABLE (and STOP) and latches; while latched it
-/// reads "Release E-STOP" and releasing sends ENABLE. `height`: its height, points.
+/// reads "Release E-STOP" and releasing sends ENABLE, possible [`ESTOP_RELEASE_HOLD_OFF`] after
+/// the latch. `height`: its height, points.
 pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) {
     let latched = estop_latched(ctx);
+    // when this window saw the latch begin (none while released)
+    let latched_at_id = egui::Id::unique("parol6-estop-latched-at");
+    let now = std::time::Instant::now();
+    let latched_at = ui.data_mut(|d| {
+        let at = d.get_temp::<Option<std::time::Instant>>(latched_at_id).flatten();
+        let at = if latched { Some(at.unwrap_or(now)) } else { None };
+        d.insert_temp(latched_at_id, at);
+        at
+    });
+    let held_off = latched_at.map(|at| ESTOP_RELEASE_HOLD_OFF.saturating_sub(now - at)).filter(|d| !d.is_zero());
+    if let Some(left) = held_off {
+        ui.ctx().request_repaint_after(left);
+    }
     let (text, hover) = if latched {
         ("Release E-STOP", "Release the E-stop latch: ENABLE the drives; motion is accepted again")
     } else {
@@ -43,7 +65,9 @@ pub fn estop_button(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, height: f32) 
         .fill(if latched { palette::rgb(palette::LED_OFF) } else { palette::rgb(palette::STOP_FILL) })
         .stroke(egui::Stroke::new(2.0, zone_color(LimitZone::Critical)))
         .min_size(egui::vec2(120.0, height));
-    if ui.add(button).on_hover_text(hover).clicked() {
+    let response =
+        ui.add_enabled(held_off.is_none(), button).on_hover_text(hover).on_disabled_hover_text(RELEASE_HELD_OFF);
+    if response.clicked() {
         ctx.send(AppCommand::EStop(!latched));
     }
 }

@@ -57,6 +57,16 @@ pub fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Har
     }
 }
 
+/// Clicks *Release E-STOP* once it takes clicks: it stays greyed for a moment after the latch
+/// (`panels::io_gripper::ESTOP_RELEASE_HOLD_OFF`).
+pub fn release_estop(h: &mut Harness<'_, Parol6App>) {
+    use egui_kittest::kittest::NodeT;
+    until(h, "Release E-STOP taking clicks", 10.0, |h| {
+        h.query_by_label("Release E-STOP").is_some_and(|b| !b.accesskit_node().is_disabled())
+    });
+    h.get_by_label("Release E-STOP").click();
+}
+
 /// Runs frames for `s` seconds of wall time (the simulation and the link run on their own
 /// threads).
 pub fn settle(h: &mut Harness<'_, Parol6App>, s: f64) {

@@ -7,6 +7,9 @@ use parol6_core::parol6::JOINT_COUNT;
 
 use crate::HwError;
 
+/// Farthest a tool's TCP may be from the flange, m.
+const MAX_TOOL_REACH_M: f64 = 1.0;
+
 /// Session settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SessionConfig {
@@ -49,6 +52,10 @@ pub struct SessionConfig {
     pub raise_priority: bool,
     /// Which targets the MOVE frames carry (`parol6_core::motion::tracking`; default `lead`).
     pub tracking: parol6_core::motion::tracking::TrackingMode,
+    /// The tool's TCP in the flange frame (`RobotModel::tool`; default none: the flange): the
+    /// published TCP and the Cartesian jogs and steps are the tool tip's, as in the simulation
+    /// (trial 22 D1: the robot's TCP read-out was the flange's with a tool fitted).
+    pub tool_in_flange: parol6_core::na::Isometry3<f64>,
 }
 
 impl Default for SessionConfig {
@@ -68,6 +75,7 @@ impl Default for SessionConfig {
             disagreement_timeout: Duration::from_millis(500),
             raise_priority: true,
             tracking: parol6_core::motion::tracking::TrackingMode::default(),
+            tool_in_flange: parol6_core::na::Isometry3::identity(),
         }
     }
 }
@@ -83,6 +91,12 @@ impl SessionConfig {
         }
         if self.status_timeout.is_zero() || self.no_answer_timeout.is_zero() || self.home_frames == 0 {
             return Err(HwError::BadConfig("timeouts and home_frames must be > 0".into()));
+        }
+        let tool = self.tool_in_flange.to_homogeneous();
+        if !tool.iter().all(|v| v.is_finite()) || self.tool_in_flange.translation.vector.norm() > MAX_TOOL_REACH_M {
+            return Err(HwError::BadConfig(format!(
+                "the tool's TCP must be finite and within {MAX_TOOL_REACH_M} m of the flange"
+            )));
         }
         if self.implausible_frames_fault == 0 || self.disagreement_steps <= 0 {
             return Err(HwError::BadConfig("implausible_frames_fault and disagreement_steps must be > 0".into()));

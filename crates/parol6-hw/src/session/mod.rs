@@ -88,7 +88,8 @@ impl Session {
     ) -> Result<Session, HwError> {
         config.validate()?;
         let serial = crate::ports::open_port(port)?;
-        let model = RobotModel::parol6();
+        let mut model = RobotModel::parol6();
+        model.set_tool_transform(config.tool_in_flange);
         // Cartesian jogs and steps: IK within the session's limits; of the collision model only
         // the floor on the robot (it stops at limits, singularities, the workspace edge and
         // before the floor, as pre-flight's floor rule)

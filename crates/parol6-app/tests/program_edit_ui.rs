@@ -93,13 +93,24 @@ fn opening_over_unsaved_edits_asks_first() {
     h.get_by_label("Teach pose").click();
     h.run_steps(2);
     assert_eq!(steps(&h).len(), before.len() + 1);
+    let run_at = h.get_by_label("Run (F5)").rect();
     h.get_by_label("Draw").click();
     h.run_steps(2);
-    assert!(h.query_by_label_contains("Discard them?").is_some(), "asks");
+    assert!(h.query_by_label_contains("Discard them").is_some(), "asks");
     assert_eq!(steps(&h).len(), before.len() + 1, "nothing lost yet");
+    // a window over the panel: the Run buttons and the step list stay where they were (trial 22
+    // m1: the question inline pushed them 46 px down under the pointer)
+    assert_eq!(h.get_by_label("Run (F5)").rect(), run_at, "Run moved under the pointer");
     h.get_by_label("Keep editing").click();
     h.run_steps(2);
     assert_eq!(steps(&h).len(), before.len() + 1);
+    // Esc keeps editing too
+    h.get_by_label("Draw").click();
+    h.run_steps(2);
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("Discard them").is_none(), "Esc closed the question");
+    assert_eq!(steps(&h).len(), before.len() + 1, "and kept the edits");
     h.get_by_label("Draw").click();
     h.run_steps(2);
     h.get_by_label("Discard").click();

@@ -25,6 +25,8 @@ pub(super) enum Closable {
     RunConfirmation,
     /// The "replace the file?" / "the file changed on disk" question of a save.
     SaveQuestion,
+    /// The "unsaved changes: discard them?" question before another program opens.
+    DiscardQuestion,
     /// An open menu or popup.
     Menu,
     /// The program panel's Open / Save-as dialog.
@@ -89,6 +91,9 @@ impl Parol6App {
         if self.panels.program.save_question_open() {
             return Some(Closable::SaveQuestion);
         }
+        if self.panels.program.discard_question_open() {
+            return Some(Closable::DiscardQuestion);
+        }
         if egui::Popup::is_any_open(ctx) || ctx.any_popup_open() {
             return Some(Closable::Menu);
         }
@@ -115,6 +120,7 @@ impl Parol6App {
             Closable::QuitPrompt => self.quit_prompt = false,
             Closable::RunConfirmation => self.panels.program.cancel_run_confirmation(),
             Closable::SaveQuestion => self.panels.program.cancel_save_question(),
+            Closable::DiscardQuestion => self.panels.program.cancel_discard_question(),
             Closable::Menu => egui::Popup::close_all(ctx),
             Closable::FileDialog => self.panels.program.close_file_dialog(),
             Closable::RecordingDialog => self.files.close_dialog(),

@@ -57,6 +57,9 @@ struct JogView {
     stops: u64,
     /// A STOP or E-STOP ended the jog, fixed with `moved` (a later STOP is not this jog's).
     ended_by_stop: Option<bool>,
+    /// `AppState::other_motions` once the jog came to rest: another motion since (a program,
+    /// HOME, a joint move) empties the line (trial 21 m1, trial 22 m4: it stayed for good).
+    other_motions_at_rest: Option<u64>,
 }
 
 /// The last clicks of Step mode (the same step in a row): what the line under the buttons says.
@@ -193,6 +196,7 @@ impl CartesianJogPanel {
             moved: None,
             stops: ctx.app.stops,
             ended_by_stop: None,
+            other_motions_at_rest: None,
         });
         self.stepped = None;
     }
@@ -333,6 +337,9 @@ impl CartesianJogPanel {
             }
             return (egui::RichText::new(text), MESSAGE_LINES);
         }
+        if self.view.as_ref().and_then(|v| v.other_motions_at_rest).is_some_and(|n| n != ctx.app.other_motions) {
+            self.view = None;
+        }
         let Some(v) = &mut self.view else { return (egui::RichText::new(""), MESSAGE_LINES) };
         let dir = if v.dir > 0 { "+" } else { "−" };
         let what = format!("{dir}{} ({})", v.axis.label(), frame_name(v.frame));
@@ -365,6 +372,7 @@ impl CartesianJogPanel {
                         if !ctx.robot.moving {
                             v.moved = Some(m); // at rest after the release: what this jog did
                             v.ended_by_stop = Some(ctx.app.stops != v.stops);
+                            v.other_motions_at_rest = Some(ctx.app.other_motions);
                         }
                         m
                     }

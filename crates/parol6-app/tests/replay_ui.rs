@@ -512,6 +512,16 @@ fn a_double_click_on_close_recording_lands_on_nothing_else() {
     }
     h.run_steps(3);
     assert!(h.state().replay().is_none(), "the recording closed");
+    // its notices no longer stand: "opening …" went when it replayed, "replaying …" when it closed
+    // (trial 21 m3)
+    let stale: Vec<&str> = h
+        .state()
+        .notices()
+        .iter()
+        .map(|n| n.text.as_str())
+        .filter(|t| t.starts_with("opening ") || t.starts_with("replaying "))
+        .collect();
+    assert_eq!(stale, [] as [&str; 0], "stale notices");
     assert_eq!(h.state().plots_panel().quantities, [Quantity::Position], "the second click chose another quantity");
     assert_eq!(h.get_by_label("torque").rect(), toolbar_before, "the plots' toolbar moved under the pointer");
     // the pointer gone to the 3D view, the plots take the place

@@ -46,7 +46,9 @@ pub enum HwError {
         port: String,
     },
     /// The port could not be opened for another reason.
-    #[error("cannot open serial port {port}: {reason}")]
+    #[error(
+        "cannot open serial port {port}: {reason}; pick the PAROL6's port (USB 0483:5740, listed by `parol6 hw ports`) and check its cable"
+    )]
     PortOpen {
         /// Port path.
         port: String,

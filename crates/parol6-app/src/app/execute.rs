@@ -88,7 +88,41 @@ fn manual_motion(cmd: &AppCommand) -> bool {
     }
 }
 
+/// True for STOP (Esc, the button) and E-STOP.
+pub(super) fn is_stop(c: &AppCommand) -> bool {
+    matches!(c, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true))
+}
+
+/// What overrides `commands[i]`, if anything, in the frame that gave `commands`: STOP or E-STOP
+/// drops every other command that sets the arm moving, HOME every other motion but STOP. Such a
+/// motion beside them is one the operator did not mean: a joint's typed value committed because
+/// the click on STOP or HOME took its field's keyboard (trial 24 D1: J1 swung to the typed 20°
+/// after STOP; HOME went to the typed 60°), or a held jog key or a jog queued behind STOP
+/// (trial15 D1).
+pub(super) fn overridden(commands: &[AppCommand], i: usize) -> Option<&'static str> {
+    let home = |c: &AppCommand| matches!(c, AppCommand::Motion(MotionCommand::Home { .. }));
+    let c = &commands[i];
+    if !sets_arm_moving(c) || is_stop(c) {
+        return None;
+    }
+    if commands.iter().any(is_stop) {
+        Some("STOP")
+    } else if !home(c) && commands.iter().any(home) {
+        Some("HOME")
+    } else {
+        None
+    }
+}
+
 impl Parol6App {
+    /// Says that `cmd` was not sent because `by` (STOP, HOME) came in the same frame, where it
+    /// moves the arm to a typed target (a jog simply does not start).
+    pub(super) fn dropped_for(&mut self, cmd: &AppCommand, by: &str) {
+        if matches!(cmd, AppCommand::Motion(MotionCommand::MoveJoints { .. })) {
+            self.notice(format!("{by} pressed: the value typed and not confirmed with Enter was not sent"), false);
+        }
+    }
+
     pub(super) fn execute(&mut self, cmd: AppCommand) {
         if matches!(cmd, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true)) {
             self.state.stops += 1;
@@ -174,6 +208,12 @@ impl Parol6App {
                     return;
                 }
                 let name = program.name.clone();
+                // not started, so not "stopped" (trial 21 m10: "Pick & place stopped: the arm is
+                // moving" during an ISO test, which it did not name)
+                if self.state.measurement.running() {
+                    self.notice(format!("cannot start {name}: {MEASUREMENT_RUNNING}"), true);
+                    return;
+                }
                 let started = match checked.filter(|c| Arc::ptr_eq(&c.program, &program)) {
                     // the runner reuses the check from the joints it was made at
                     Some(c) => ProgramRunner::start_checked(self.backend(), self.model.clone(), c, opts),
@@ -389,6 +429,9 @@ impl Parol6App {
         match self.backend().io(IoCommand::Enable) {
             Ok(()) => {
                 self.estop = false;
+                // the latch's "motion is refused until the E-stop is released" no longer holds
+                // (trial 23 m12: it stayed under this one)
+                self.notices.retain(|n| !n.text.starts_with("E-STOP: STOP and DISABLE sent"));
                 self.notice("E-stop released: ENABLE sent; motion is accepted again", false);
             }
             Err(e) => self.notice(format!("E-stop stays latched: ENABLE refused: {e}"), true),
@@ -531,6 +574,11 @@ impl Parol6App {
         }
         if let Some(p) = remember_port {
             self.settings.last_port = p;
+        }
+        if !out.is_empty() {
+            crate::panels::Notice::withdraw(&mut self.notices, |t| {
+                t.ends_with("waiting for it to answer") || t.ends_with("waiting for the controller to answer")
+            });
         }
         for (text, error) in out {
             self.notice(text, error);

@@ -519,17 +519,15 @@ impl Parol6App {
 
         let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
         let newest_error_before = newest_error(&self.notices);
-        // after STOP (Esc, the button) or E-STOP a held jog key or a jog queued behind it in this
-        // frame does not start the arm again: the key must be let go and pressed anew (trial15 D1)
-        let stop = |c: &AppCommand| matches!(c, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true));
-        let stop_at = commands.iter().position(stop);
+        // STOP, E-STOP and HOME win over the other motions of their frame (`execute::overridden`)
+        let stopped = commands.iter().any(execute::is_stop);
         for (i, c) in commands.iter().enumerate() {
-            let jog = matches!(c, AppCommand::Jog(Some(_)) | AppCommand::CartesianJog(Some(_)));
-            if !(jog && stop_at.is_some_and(|s| i > s)) {
-                self.execute(c.clone());
+            match execute::overridden(&commands, i) {
+                Some(by) => self.dropped_for(c, by),
+                None => self.execute(c.clone()),
             }
         }
-        if stop_at.is_some() {
+        if stopped {
             crate::panels::shortcuts::disarm_held(&ctx);
         }
         // an action that failed closes the menu it came from, so the error is seen, not hidden

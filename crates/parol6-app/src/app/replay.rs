@@ -116,6 +116,8 @@ impl Parol6App {
         self.replay_loading = None;
         match result {
             Ok((data, _)) if self.replay_refused_by().is_some() => {
+                let opening = format!("opening {}", path.display());
+                crate::panels::Notice::withdraw(&mut self.notices, |t| t == opening);
                 let why = self.replay_refused_by().unwrap_or_default();
                 self.notice(format!("{} not opened: {why}", path.display()), true);
                 free_off_ui_thread(data);
@@ -132,6 +134,8 @@ impl Parol6App {
                 } else {
                     String::new()
                 };
+                let opening = format!("opening {}", path.display());
+                crate::panels::Notice::withdraw(&mut self.notices, |t| t == opening);
                 let replay = Replay::new(path.clone(), Arc::new(data));
                 let (t0, t1) = replay.span_s();
                 self.notice(
@@ -158,6 +162,8 @@ impl Parol6App {
     /// are freed on a thread of their own: the frame that closes it does not wait for that.
     pub(super) fn close_recording(&mut self) {
         if let Some(replay) = self.state.replay.take() {
+            // "replaying FILE …: the 3D view shows the recording" no longer holds
+            crate::panels::Notice::withdraw(&mut self.notices, |t| t.starts_with("replaying "));
             // the plots let go of their handle; ours and the Dynamics panel's are the last
             self.panels.prepare(&self.state, None);
             let analysis = self.panels.dynamics.forget_replay();

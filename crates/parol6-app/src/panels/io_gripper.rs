@@ -25,9 +25,10 @@ pub const NOT_RECORDED: &str = "Not recorded: the live I/O and gripper are hidde
 /// `blocked` (see `RobotState::blocked`), every refusal names it.
 pub const ESTOP_LATCHED: &str = "E-STOP latched: drives disabled, motion refused until the E-stop is released";
 
-/// True when the shown state says the E-stop is latched.
+/// True when the E-stop is latched: the live state's, also during replay (trial 24 D2: the
+/// recording's state showed a plain "E-STOP" over a latched robot).
 pub fn estop_latched(ctx: &PanelContext<'_>) -> bool {
-    ctx.robot.blocked.as_deref() == Some(ESTOP_LATCHED)
+    ctx.live_robot.blocked.as_deref() == Some(ESTOP_LATCHED)
 }
 
 /// How long *Release E-STOP* stays greyed after the latch: the second click of a hurried

@@ -232,6 +232,13 @@ impl Notice {
         list.retain(|n| n.text != text || n.error != error);
         list.push(Notice { text, error, at: Instant::now() });
     }
+
+    /// Takes back the information notices (not errors) that `stale` picks: what a later notice
+    /// answers ("waiting for it to answer" once it answered, "opening FILE" once it replays) no
+    /// longer stands beside the answer (trial 21 m3).
+    pub fn withdraw(list: &mut Vec<Notice>, stale: impl Fn(&str) -> bool) {
+        list.retain(|n| n.error || !stale(&n.text));
+    }
 }
 
 /// The per-frame context handed to every panel.

@@ -313,11 +313,18 @@ impl PlotsPanel {
         // wrapped: at 1024 px the row ran under the right panel ("SVG of the plots" out of reach)
         ui.horizontal_wrapped(|ui| {
             let label = ui.label("Export to");
-            ui.add(egui::TextEdit::singleline(&mut self.export_path).desired_width(220.0).hint_text("plots.csv"))
-                .labelled_by(label.id);
+            ui.add(
+                egui::TextEdit::singleline(&mut self.export_path)
+                    .desired_width(220.0)
+                    .hint_text("file name, e.g. plots.csv"),
+            )
+            .labelled_by(label.id);
             let path = crate::typed_path::typed_path(&self.export_path);
             let has_path = !self.export_path.trim().is_empty();
+            // greyed without a file name, saying so (trial 22 m3: they did nothing and said nothing)
+            const NO_PATH: &str = "type a file name into Export to first";
             let csv = ui.add_enabled(has_path, egui::Button::new("CSV of the visible window"));
+            let csv = csv.on_disabled_hover_text(NO_PATH);
             if csv.clicked() && !self.export_ask.may_write(&path) {
                 let again = "clicking CSV of the visible window or SVG of the plots again";
                 ctx.info(self.export_ask.question(&path, again).unwrap_or_default());
@@ -334,7 +341,8 @@ impl PlotsPanel {
                     None => ctx.error("nothing is plotted yet"),
                 }
             }
-            if ui.add_enabled(has_path, egui::Button::new("SVG of the plots")).clicked() {
+            let svg = ui.add_enabled(has_path, egui::Button::new("SVG of the plots")).on_disabled_hover_text(NO_PATH);
+            if svg.clicked() {
                 if self.export_ask.may_write(&path) {
                     self.svg_pending = Some(path);
                 } else {

@@ -48,6 +48,9 @@ fn slot_width(ui: &egui::Ui, widest: &str) -> f32 {
     galley.size().x + 2.0 * ui.spacing().button_padding.x
 }
 
+/// Below this many frames per second with nothing moving, the FPS read-out says "idle".
+const IDLE_FPS: f64 = 5.0;
+
 /// What the `t = …` read-out is: the clock of the state shown, the plots' time axis too
 /// (trial 20: it showed the simulation's clock while the robot was shown, 57 s off the plots).
 fn clock_hover(ctx: &PanelContext<'_>) -> &'static str {
@@ -90,7 +93,13 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     let readouts = [
         ctx.app.link.as_ref().map(|link| (format!("link {:.0} Hz", link.loop_rate_hz), "the serial link's loop rate")),
         Some((format!("t = {:.1} s", ctx.readout.time_s), clock_hover(ctx))),
-        Some((format!("{:5.1} FPS", p.fps), "frames per second (last second)")),
+        // idle, the window redraws only on input or change: a low count read as a frozen window
+        // (trial 23 m14)
+        Some(if p.fps < IDLE_FPS && !ctx.robot.moving {
+            ("  idle   ".to_string(), "nothing changes: the window redraws only on input or when something moves")
+        } else {
+            (format!("{:5.1} FPS", p.fps), "frames per second (last second)")
+        }),
         Some((format!("UI {:.2} ms", p.ui_cpu_ms), "CPU time of the last UI pass")),
         Some((lat, "time from sending the last command to the simulation applying it")),
         Some((

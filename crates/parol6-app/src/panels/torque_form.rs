@@ -110,6 +110,10 @@ pub struct TorqueForm {
     active: Option<ActiveRun>,
     /// What the last run did (shown under the form until the next run).
     pub outcome: Option<String>,
+    /// The outcome is this refusal of the app's (`PanelContext::torque_run_refused`): it goes
+    /// once the reason no longer holds (trial 22 m5: "disconnect the robot first" stayed after
+    /// the disconnect).
+    refused_for: Option<&'static str>,
 }
 
 /// A run the form sent and follows: its outcome is told once the simulation reported it
@@ -140,6 +144,7 @@ impl TorqueForm {
             hold_others: false,
             active: None,
             outcome: None,
+            refused_for: None,
         }
     }
 
@@ -246,7 +251,8 @@ impl TorqueForm {
         ui.horizontal(|ui| {
             if ui.button("Run torques").clicked() {
                 // a refused run is said on the form's line too, never reported as a run (trial10)
-                match ctx.torque_run_refused().map(str::to_string).map_or_else(|| self.run(), Err) {
+                self.refused_for = ctx.torque_run_refused();
+                match self.refused_for.map(str::to_string).map_or_else(|| self.run(), Err) {
                     Ok(run) => {
                         self.active = Some(ActiveRun {
                             started: Instant::now(),
@@ -302,6 +308,10 @@ impl TorqueForm {
                 ui.ctx().request_repaint_after(Duration::from_millis(100));
                 return;
             }
+        }
+        if self.refused_for.is_some() && ctx.torque_run_refused() != self.refused_for {
+            self.refused_for = None;
+            self.outcome = None;
         }
         match &self.outcome {
             Some(text) => ui.label(text),

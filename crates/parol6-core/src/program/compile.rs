@@ -221,8 +221,9 @@ pub fn compile_observed(
     Ok(out)
 }
 
-/// The index of the last `move_l` of a blended chain starting at `i` (`i` when none).
-fn blended_chain_end(program: &Program, i: usize) -> usize {
+/// The index of the last `move_l` of a blended chain starting at `i` (`i` when none): the
+/// steps `i..=end` run as one path, so a single step (F10) runs them together.
+pub fn blended_chain_end(program: &Program, i: usize) -> usize {
     let mut k = i;
     // a line with a fixed duration is never part of a blended chain
     while let Some(Step::MoveL { blend_mm: Some(b), duration_s: None, .. }) = program.steps.get(k).map(|s| &s.step) {

@@ -43,6 +43,26 @@ impl ProgramPanel {
         }
     }
 
+    /// Step (F10): one step of a paused run (`paused_at`: its step), or a run of the first step
+    /// that then pauses. Steps blended into one path run together, and the notice says which
+    /// (trial 23 D1: one F10 ran steps 3–6 of Draw without a word).
+    pub(super) fn step_once(&mut self, ctx: &mut PanelContext<'_>, paused_at: Option<usize>) {
+        let from = paused_at.unwrap_or(0);
+        let end = parol6_core::program::compile::blended_chain_end(&self.program, from);
+        if end > from {
+            ctx.info(format!(
+                "Step runs steps {}–{} together: they are blended into one path (blend); set their blend \
+                 to 0 to step through them one by one",
+                from + 1,
+                end + 1
+            ));
+        }
+        match paused_at {
+            Some(_) => ctx.send(crate::panels::AppCommand::Program(parol6_core::program::runner::RunnerControl::Step)),
+            None => self.start_run(ctx, true),
+        }
+    }
+
     /// True while the torque question is open.
     pub fn run_confirmation_open(&self) -> bool {
         self.confirm_run.is_some()

@@ -462,9 +462,11 @@ impl ProgramPanel {
         let clean = !checking && self.checked.as_ref().is_some_and(|r| r.ok);
         ui.horizontal(|ui| {
             let run_label = if paused { "Resume (F5)" } else { "Run (F5)" };
-            // nothing starts while the E-stop is latched or a recording is replayed: Run is
-            // greyed, with the reason
-            let refused = ctx.motion_refused();
+            // nothing starts while the E-stop is latched, a recording is replayed or an ISO
+            // test drives the arm: Run is greyed, with the reason
+            let refused = ctx
+                .motion_refused()
+                .or_else(|| ctx.app.measurement.running().then_some(crate::app::state::MEASUREMENT_RUNNING));
             let can_run = ((clean && !running) || paused) && refused.is_none();
             // tighter than elsewhere: the four buttons fit the column with "Resume (F5)"
             ui.spacing_mut().button_padding.x = 1.0;
@@ -516,11 +518,7 @@ impl ProgramPanel {
             let can_step = (paused || (!running && clean)) && refused.is_none();
             let step = ui.add_enabled(can_step, egui::Button::new("Step (F10)"));
             if step.clicked() || (can_step && shortcuts::pressed(ui.ctx(), Action::SingleStep)) {
-                if paused {
-                    ctx.send(AppCommand::Program(RunnerControl::Step));
-                } else {
-                    self.start_run(ctx, true);
-                }
+                self.step_once(ctx, progress.filter(|_| paused).map(|p| p.step));
             }
             if ui.add_enabled(running, egui::Button::new("Stop program")).on_disabled_hover_text(idle).clicked() {
                 ctx.send(AppCommand::Program(RunnerControl::Stop));

@@ -1,0 +1,116 @@
+//! Trial 23 and 24 majors, driven headless through egui's kittest harness on the full app: a click on
+//! STOP or HOME that takes the keyboard from a joint field holding a typed value does not send
+//! that value (STOP and HOME win over the other motions of their frame), the E-STOP button
+//! shows the live latch while a recording replays, and a Step over blended lines names the steps
+//! that run together.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
+
+mod ui_support;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui_support::{app_harness, has_label, settle, until};
+
+use parol6_app::app::Parol6App;
+use parol6_core::motion::RobotBackend;
+
+/// A primary click at the centre of the widget labelled `name`, with pointer events (the focus
+/// moves as it does for a mouse).
+fn click_on(h: &mut Harness<'_, Parol6App>, name: &str) {
+    let at = h.get_by_label(name).rect().center();
+    h.hover_at(at);
+    for pressed in [true, false] {
+        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+        h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+        h.run_steps(1);
+    }
+}
+
+/// Types `text` into the J1 target field without Enter: the field keeps the keyboard.
+fn type_j1(h: &mut Harness<'_, Parol6App>, text: &str) {
+    h.get_by_label("J1 target").click();
+    h.run_steps(1);
+    h.get_by_label("J1 target").type_text(text);
+    h.run_steps(1);
+    assert!(h.ctx.memory(|m| m.focused().is_some()), "the J1 field has the keyboard");
+}
+
+fn j1_deg(h: &Harness<'_, Parol6App>) -> f64 {
+    h.state().backend().state().q[0].to_degrees()
+}
+
+/// Trial 24 D1: J1 typed 20 (no Enter), then a click on STOP: the click took the field's keyboard,
+/// which committed the value, and J1 swung from 90° to 20° after STOP. Then HOME: the arm went
+/// to the typed 60° instead of standby.
+#[test]
+fn stop_or_home_clicked_over_a_typed_joint_value_does_not_send_it() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let start = j1_deg(&h);
+    type_j1(&mut h, "20");
+    click_on(&mut h, "STOP");
+    settle(&mut h, 0.6);
+    assert!((j1_deg(&h) - start).abs() < 0.1, "J1 moved from {start:.2}° to {:.2}° after STOP", j1_deg(&h));
+    assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
+    assert!(h.state().notices().iter().any(|n| n.text.contains("STOP pressed: the value typed")), "it says so");
+
+    // HOME from elsewhere: J1 at 60° first, then a typed 30 and a click on HOME
+    let mut q = h.state().backend().state().q.clone();
+    q[0] = 60f64.to_radians();
+    h.state_mut().teleport(q).unwrap();
+    settle(&mut h, 0.3);
+    type_j1(&mut h, "30");
+    click_on(&mut h, "HOME");
+    until(&mut h, "HOME at rest", 30.0, |h| {
+        let s = h.state().backend().state();
+        !s.moving && (s.q[0].to_degrees() - start).abs() < 0.1
+    });
+    let sent: Vec<String> = h.state().moves_sent().map(str::to_string).collect();
+    assert!(sent.iter().all(|m| !m.contains("MoveJoints")), "the typed 30° was sent: {sent:?}");
+}
+
+/// Trial 24 D2: with the E-stop latched, a recording opened turned the button back into a plain
+/// "E-STOP" (the recording's state has no latch), though the robot stayed latched.
+#[test]
+fn the_estop_button_shows_the_live_latch_during_replay() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the latch", 5.0, |h| has_label(h, "Release E-STOP"));
+    let dir = std::env::temp_dir().join(format!("parol6-stop-wins-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.mcap");
+    let model = parol6_core::RobotModel::parol6();
+    std::fs::write(&path, parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 10.0).unwrap()).unwrap();
+    h.state_mut().queue_command(parol6_app::panels::AppCommand::OpenRecording(path));
+    until(&mut h, "the replay", 10.0, |h| h.state().replay().is_some());
+    h.run_steps(3);
+    assert!(has_label(&h, "Release E-STOP"), "during replay the button shows the live latch");
+    assert!(h.query_all_by_label("E-STOP").next().is_none(), "no plain E-STOP over the latched arm");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Trial 23 D1: one Step (F10) ran steps 3–6 of Draw (blended into one path) without a word,
+/// where the guide said Step runs one step. The notice names the steps that run together.
+#[test]
+fn step_over_blended_lines_says_which_steps_run_together() {
+    use parol6_core::program::runner::RunState;
+    let draw = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/programs/draw.json");
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    ui_support::open_program_file(&mut h, &draw);
+    until(&mut h, "the program's check", 60.0, |h| !h.state().program_panel().checking());
+    let progress = |h: &Harness<'_, Parol6App>| h.state().program_progress().map(|p| (p.state.clone(), p.step));
+    let said = |h: &Harness<'_, Parol6App>| h.state().notices().iter().any(|n| n.text.starts_with("Step runs steps"));
+    // steps 1 and 2 one at a time, and nothing said
+    for paused_at in [1, 2] {
+        h.get_by_label("Step (F10)").click();
+        until(&mut h, "the step's end", 60.0, |h| progress(h) == Some((RunState::Paused, paused_at)));
+    }
+    assert!(!said(&h), "a single step needs no word");
+    // steps 3–6 are blended: one Step runs them, and says so
+    h.get_by_label("Step (F10)").click();
+    h.run_steps(2);
+    let texts: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();
+    assert!(texts.iter().any(|t| t.starts_with("Step runs steps 3–6 together")), "{texts:?}");
+    until(&mut h, "paused after the blended lines", 60.0, |h| progress(h) == Some((RunState::Paused, 6)));
+}

@@ -14,7 +14,6 @@ use egui_kittest::kittest::Queryable;
 use ui_support::{app_harness, has_label, settle, until};
 
 use parol6_app::app::Parol6App;
-use parol6_core::motion::RobotBackend;
 
 /// A primary click at the centre of the widget labelled `name`, with pointer events (the focus
 /// moves as it does for a mouse).

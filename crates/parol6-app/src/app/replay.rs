@@ -50,17 +50,16 @@ pub fn free_off_ui_thread<T: Send + 'static>(garbage: T) {
     }
 }
 
-/// Why a recording is not opened while the arm may move: every read-out would show the
-/// recording while the live arm moved (trial 21 D1: a program went on driving the robot under
-/// REPLAY, the 3D view showing the recorded arm at rest).
-const PROGRAM_UNFINISHED: &str = "a program is running or paused: stop it first (Stop program, or Esc)";
+/// Why a recording is not opened while the arm moves by hand (see `replay_refused_by`).
 const ARM_MOVING: &str = "the arm is moving: let it stop (or press STOP) first";
 
 impl Parol6App {
-    /// Why a recording cannot be opened now (see [`PROGRAM_UNFINISHED`]), if it cannot.
+    /// Why a recording cannot be opened now, if it cannot: while the arm may move, every read-out
+    /// would show the recording while the live arm moved (trial 21 D1: a program went on driving
+    /// the robot under REPLAY, the 3D view showing the recorded arm at rest).
     fn replay_refused_by(&self) -> Option<&'static str> {
         if self.program_running() {
-            Some(PROGRAM_UNFINISHED)
+            Some(super::state::PROGRAM_UNFINISHED)
         } else if self.state.measurement.running() {
             Some(super::state::MEASUREMENT_RUNNING)
         } else if self.state.torque_run {
@@ -114,11 +113,11 @@ impl Parol6App {
         };
         let path = path.clone();
         self.replay_loading = None;
+        let refused = self.replay_refused_by();
         match result {
-            Ok((data, _)) if self.replay_refused_by().is_some() => {
+            Ok((data, _)) if let Some(why) = refused => {
                 let opening = format!("opening {}", path.display());
                 crate::panels::Notice::withdraw(&mut self.notices, |t| t == opening);
-                let why = self.replay_refused_by().unwrap_or_default();
                 self.notice(format!("{} not opened: {why}", path.display()), true);
                 free_off_ui_thread(data);
             }

@@ -124,7 +124,7 @@ impl Parol6App {
     }
 
     pub(super) fn execute(&mut self, cmd: AppCommand) {
-        if matches!(cmd, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true)) {
+        if is_stop(&cmd) {
             self.state.stops += 1;
         }
         let refused_by = if self.estop {

@@ -10,7 +10,7 @@ use ui_support::settle;
 
 use eframe::egui;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 
 use parol6_app::app::Parol6App;
 use parol6_app::panels::cartesian_jog::CartesianJogPanel;
@@ -112,8 +112,12 @@ struct Bench {
 }
 
 fn panel_harness() -> Harness<'static, Bench> {
+    panel_harness_at(&work_pose())
+}
+
+fn panel_harness_at(q: &[f64]) -> Harness<'static, Bench> {
     let model = RobotModel::parol6();
-    let robot = RobotState::at_rest(&model, StateSource::Simulation, "test", &work_pose());
+    let robot = RobotState::at_rest(&model, StateSource::Simulation, "test", q);
     let bench = Bench {
         model,
         robot,
@@ -233,6 +237,65 @@ fn holding_a_button_queues_the_jog_until_released() {
     h.drop_at(at);
     h.run_steps(2);
     assert!(matches!(h.state().commands.last(), Some(AppCommand::CartesianJog(None))));
+}
+
+/// Trial 24 m2: a held jog button went on jogging after the pointer was dragged off it (for as
+/// long as the mouse button stayed down). A jog button is a dead-man switch: leaving it ends the jog.
+#[test]
+fn dragging_the_pointer_off_a_held_jog_button_ends_the_jog() {
+    let mut h = panel_harness();
+    let at = h.get_by_label("+X").rect().center();
+    h.hover_at(at);
+    h.drag_at(at);
+    h.run_steps(3);
+    assert!(
+        matches!(h.state().commands.last(), Some(AppCommand::CartesianJog(Some((JogFrame::World, CartesianAxis::X, f)))) if *f > 0.0)
+    );
+    // still pressed, 200 px to the right of the button
+    h.hover_at(at + egui::vec2(200.0, 0.0));
+    h.run_steps(3);
+    assert!(
+        matches!(h.state().commands.last(), Some(AppCommand::CartesianJog(None))),
+        "the jog goes on off the button: {:?}",
+        h.state().commands.last()
+    );
+    // released off the button: no jog starts again
+    h.state_mut().commands.clear();
+    h.drop_at(at + egui::vec2(200.0, 0.0));
+    h.run_steps(2);
+    assert!(!h.state().commands.iter().any(|c| matches!(c, AppCommand::CartesianJog(Some(_)))));
+}
+
+/// The line under the buttons while `label` is held.
+fn held_line(h: &mut Harness<'_, Bench>, label: &str) -> String {
+    let at = h.get_by_label(label).rect().center();
+    h.hover_at(at);
+    h.drag_at(at);
+    h.run_steps(3);
+    let line = h
+        .query_by_label_contains("(world)")
+        .and_then(|n| n.value().or_else(|| n.accesskit_node().label()))
+        .unwrap_or_default();
+    h.drop_at(at);
+    h.run_steps(2);
+    line
+}
+
+/// Trial 25 m3: at the standby wrist (J5 = 0) a held jog crept at about 1.5 mm/s while the
+/// speed line said 40.8 mm/s, without a word. The line says the jog is slow, how slow and why.
+#[test]
+fn a_jog_slowed_near_a_singular_pose_says_so() {
+    let mut h = panel_harness_at(&parol6_core::parol6::standby_rad());
+    let lines: Vec<String> = ["+X", "−X", "+Y", "−Y", "+Z", "−Z"].iter().map(|b| held_line(&mut h, b)).collect();
+    let slow: Vec<&String> = lines.iter().filter(|l| l.contains("slowly") && l.contains("mm/s at most")).collect();
+    assert!(!slow.is_empty(), "no jog at standby says it is slow: {lines:#?}");
+    assert!(slow.iter().all(|l| l.contains("singular pose")), "{slow:#?}");
+    // a hop of 0.01 mm to the edge of the workspace is short, not slow
+    assert!(lines.iter().any(|l| l.contains("stops after 0.01 mm") && !l.contains("slowly")), "{lines:#?}");
+    // away from the singularity: the plain line
+    let mut h = panel_harness();
+    let line = held_line(&mut h, "+X");
+    assert!(line.starts_with("jogging +X (world): stops after"), "{line}");
 }
 
 /// Issue 32 minor: the jog increment accepted 0, 100000 and negatives (which reversed the

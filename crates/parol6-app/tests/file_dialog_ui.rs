@@ -110,6 +110,38 @@ fn save_as_proposes_a_readable_file_name_for_pick_and_place() {
     assert!(!proposed("Pick___place.json"));
 }
 
+/// Trial 22 m14: a name the formats refuse (`x.xyz`) closed Save as, and the operator had to
+/// open it again and find the folder. It says why and asks again, with the name typed.
+#[test]
+fn save_as_a_refused_extension_says_why_and_asks_again() {
+    let dir = temp_dir("save-as-refused");
+    let mut h = harness_with(launch_options(), egui::vec2(1280.0, 800.0));
+    assert!(h.state_mut().load_program("Pick & place"));
+    until(&mut h, "the program's check", 30.0, |h| !h.state().program_panel().checking());
+    h.get_by_label("Save as…").click();
+    h.run_steps(3);
+    h.query_all_by_value("Pick_and_place.json").next().expect("the name field").click();
+    h.run_steps(1);
+    h.event(egui::Event::Key {
+        key: egui::Key::A,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    });
+    h.run_steps(1);
+    h.event(egui::Event::Text(format!("{}/x.xyz", dir.display())));
+    h.run_steps(1);
+    h.query_all_by_label("Save").last().expect("the dialog's Save").click();
+    h.run_steps(3);
+    let said = h.state().notices().iter().any(|n| n.text.contains("x.xyz: unknown program file extension"));
+    assert!(said, "{:?}", h.state().notices().iter().map(|n| n.text.clone()).collect::<Vec<_>>());
+    assert!(dialog_open(&h), "Save as asks again");
+    assert!(h.query_all_by_value("x.xyz").next().is_some(), "with the name typed");
+    assert!(!dir.join("x.xyz").exists(), "nothing written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Issue 32 minor: "The File menu has no Quit and no Browse for recordings." File → Browse
 /// recordings…
 /// opens a dialog in the typed path's folder that lists recordings only; picking one opens it

@@ -474,7 +474,7 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
     until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
     page_up(&mut h, true);
     h.run_steps(3);
-    h.get_by_label("Connect to the built-in emulator").click();
+    ui_support::click_when_enabled(&mut h, "Connect to the built-in emulator");
     until(&mut h, "the emulator answers again", 15.0, |h| {
         let s = h.state().backend().state();
         s.source == StateSource::Robot && s.blocked.is_none()

@@ -103,7 +103,8 @@ fn panel_harness<P: Panel + 'static>(bench: Bench<P>, size: egui::Vec2) -> Harne
 /// The last profiled move queued, if any.
 fn last_move(commands: &[AppCommand]) -> Option<Vec<f64>> {
     commands.iter().rev().find_map(|c| match c {
-        AppCommand::Motion(MotionCommand::MoveJoints { goal_rad, .. }) => Some(goal_rad.clone()),
+        AppCommand::Motion(MotionCommand::MoveJoints { goal_rad, .. })
+        | AppCommand::TypedMotion(MotionCommand::MoveJoints { goal_rad, .. }) => Some(goal_rad.clone()),
         _ => None,
     })
 }

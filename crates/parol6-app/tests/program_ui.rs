@@ -46,6 +46,13 @@ fn a_built_in_program_runs_pauses_resumes_and_stops_from_the_panel() {
     until(&mut h, "stopped", 10.0, |h| has_label(h, "stopped after"));
     std::thread::sleep(Duration::from_millis(600));
     assert!(!h.state().backend().state().moving, "the arm holds after STOP");
+    // trial 23 m5: the outcome of the run stayed over the edited program (10 steps listed under
+    // "stopped after 6 of 9 steps"); an edit ends what the line says of the run
+    h.get_by_label("Teach joints").click();
+    h.run_steps(3);
+    assert!(has_label(&h, "10 steps"), "the edit is in");
+    assert!(!has_label(&h, "stopped after"), "the old run's outcome is gone");
+    assert!(has_label(&h, "Idle."));
 }
 
 #[test]

@@ -138,6 +138,9 @@ fn the_cartesian_jog_frame_mode_and_increments_survive_a_restart() {
     let h = restart(&path, SIZE);
     let jog = h.state().cartesian_jog_panel();
     assert_eq!((jog.frame(), jog.step_mode(), jog.step_increments()), (JogFrame::Tool, true, (2.5, 5.0)));
+    // trial 25 m10: Step mode (and its increments) came back without a word
+    let said = |h: &Harness<'_, Parol6App>, part: &str| h.state().notices().iter().any(|n| n.text.contains(part));
+    assert!(said(&h, "Cartesian jog: Step mode, 2.50 mm and 5.00° per click, as left last time"));
 
     // an increment out of its range in the file is the default, never 0 or a negative
     let mut s = load_settings(Some(&path));
@@ -147,6 +150,12 @@ fn the_cartesian_jog_frame_mode_and_increments_survive_a_restart() {
     let h = restart(&path, SIZE);
     assert_eq!(h.state().cartesian_jog_panel().step_increments(), (1.0, 1.0));
     assert_eq!(h.state().cartesian_jog_panel().frame(), JogFrame::Tool, "the rest is kept");
+    // Hold mode comes back quietly
+    let mut s = load_settings(Some(&path));
+    s.cartesian_jog.step_mode = false;
+    write_settings(&path, &s);
+    let h = restart(&path, SIZE);
+    assert!(!said(&h, "Cartesian jog: Step mode"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

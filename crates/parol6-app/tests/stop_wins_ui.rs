@@ -2,7 +2,7 @@
 //! STOP or HOME that takes the keyboard from a joint field holding a typed value does not send
 //! that value (STOP and HOME win over the other motions of their frame), the E-STOP button
 //! shows the live latch while a recording replays, and a Step over blended lines names the steps
-//! that run together.
+//! that run together. A click on Go over a typed value says the value was not sent.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -52,7 +52,7 @@ fn stop_or_home_clicked_over_a_typed_joint_value_does_not_send_it() {
     settle(&mut h, 0.6);
     assert!((j1_deg(&h) - start).abs() < 0.1, "J1 moved from {start:.2}° to {:.2}° after STOP", j1_deg(&h));
     assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
-    assert!(h.state().notices().iter().any(|n| n.text.contains("STOP pressed: the value typed")), "it says so");
+    assert!(h.state().notices().iter().any(|n| n.text.contains("J1: the value typed and not confirmed")), "it says so");
 
     // HOME from elsewhere: J1 at 60° first, then a typed 30 and a click on HOME
     let mut q = h.state().backend().state().q.clone();
@@ -67,6 +67,36 @@ fn stop_or_home_clicked_over_a_typed_joint_value_does_not_send_it() {
     });
     let sent: Vec<String> = h.state().moves_sent().map(str::to_string).collect();
     assert!(sent.iter().all(|m| !m.contains("MoveJoints")), "the typed 30° was sent: {sent:?}");
+}
+
+/// Trials 25 m1 and 26 m2: J1 typed and not confirmed, then a click on the 3D view or on the File
+/// menu committed the value: the arm moved (under the open menu that covered STOP). A click
+/// elsewhere drops it, with a notice; Enter still moves.
+#[test]
+fn a_click_elsewhere_never_sends_a_typed_joint_value() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let start = j1_deg(&h);
+    type_j1(&mut h, "20");
+    click_on(&mut h, "File");
+    settle(&mut h, 0.6);
+    h.key_press(egui::Key::Escape);
+    type_j1(&mut h, "30");
+    let view = h.get_by_label_contains("3D view unavailable").rect().center();
+    h.hover_at(view);
+    for pressed in [true, false] {
+        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+        h.event(egui::Event::PointerButton { pos: view, button, pressed, modifiers });
+        h.run_steps(1);
+    }
+    settle(&mut h, 0.6);
+    assert!((j1_deg(&h) - start).abs() < 0.1, "J1 moved from {start:.2}° to {:.2}°", j1_deg(&h));
+    assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
+    let said = h.state().notices().iter().filter(|n| n.text.contains("J1: the value typed and not confirmed")).count();
+    assert!(said >= 1, "it says so");
+    // Enter moves
+    type_j1(&mut h, "40");
+    h.key_press(egui::Key::Enter);
+    until(&mut h, "J1 at 40°", 20.0, |h| (j1_deg(h) - 40.0).abs() < 0.1);
 }
 
 /// Trial 24 D2: with the E-stop latched, a recording opened turned the button back into a plain
@@ -112,4 +142,56 @@ fn step_over_blended_lines_says_which_steps_run_together() {
     let texts: Vec<String> = h.state().notices().iter().map(|n| n.text.clone()).collect();
     assert!(texts.iter().any(|t| t.starts_with("Step runs steps 3–6 together")), "{texts:?}");
     until(&mut h, "paused after the blended lines", 60.0, |h| progress(h) == Some((RunState::Paused, 6)));
+}
+
+/// Trial 25 m2: J1 typed 20 (no Enter), then a click on *Go* (go to joint pose): Go's move won,
+/// and the typed value was dropped without a word. A click never sends a typed joint value (trials
+/// 25 m1, 26 m2): Go moves, and a notice says the typed value was not sent.
+#[test]
+fn go_clicked_over_a_typed_joint_value_says_the_value_was_not_sent() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let start = j1_deg(&h);
+    type_j1(&mut h, "20");
+    click_on(&mut h, "Go");
+    settle(&mut h, 1.0);
+    let sent: Vec<String> = h.state().moves_sent().map(str::to_string).collect();
+    assert_eq!(sent.len(), 1, "Go's move only: {sent:?}");
+    assert!(!sent[0].contains("TypedMotion"), "{sent:?}");
+    assert!((j1_deg(&h) - 20.0).abs() > 5.0, "J1 went to the typed 20°: {:.2}° (from {start:.2}°)", j1_deg(&h));
+    assert!(
+        h.state().notices().iter().any(|n| n.text.contains("J1: the value typed and not confirmed")),
+        "it says so: {:?}",
+        h.state().notices().iter().map(|n| n.text.clone()).collect::<Vec<_>>()
+    );
+}
+
+/// Trial 26 m10 and m6: during replay with the robot connected, the per-joint jog buttons looked
+/// clickable (only a notice refused them), and *Release E-STOP* said "motion is accepted again"
+/// while motion stayed refused until the recording was closed.
+#[test]
+fn during_replay_the_joint_jog_buttons_are_greyed_and_the_release_says_what_still_holds() {
+    use egui_kittest::kittest::NodeT;
+    use parol6_app::panels::{AppCommand, LinkCommand};
+    let mut h = app_harness(egui::vec2(1280.0, 2400.0));
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the robot enabled", 15.0, |h| h.state().backend().state().blocked.is_none());
+    until(&mut h, "the jog buttons", 5.0, |h| h.query_all_by_label("+").count() == 6);
+    assert!(h.query_all_by_label("+").all(|b| !b.accesskit_node().is_disabled()), "live: they take clicks");
+    let dir = std::env::temp_dir().join(format!("parol6-stop-wins-replay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.mcap");
+    let model = parol6_core::RobotModel::parol6();
+    std::fs::write(&path, parol6_app::cli::bench_replay::synthetic_recording(&model, 0.5, 10.0).unwrap()).unwrap();
+    h.state_mut().queue_command(AppCommand::OpenRecording(path));
+    until(&mut h, "the replay", 10.0, |h| h.state().replay().is_some());
+    h.run_steps(3);
+    assert!(h.query_all_by_label("+").all(|b| b.accesskit_node().is_disabled()), "greyed during replay");
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the latch", 10.0, |h| h.state().estop_latched());
+    ui_support::release_estop(&mut h);
+    until(&mut h, "the release", 10.0, |h| !h.state().estop_latched());
+    let said = |h: &Harness<'_, Parol6App>, part: &str| h.state().notices().iter().any(|n| n.text.contains(part));
+    assert!(said(&h, "motion is accepted once the recording is closed"));
+    assert!(!said(&h, "motion is accepted again"));
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,7 +2,7 @@
 //! harness on the full app: the status bar's toggles stay in place, F5 refused by the
 //! pre-flight says why, STOP and E-STOP say what they ended, one-shot gripper commands answer,
 //! a refusal names its file once, a typed `~` is the home directory, and the status bar's clock is
-//! the shown state's.
+//! the shown state's, and it names the robot drives' state.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // a panic in a test is a failed test
 
@@ -262,4 +262,60 @@ fn the_status_bar_clock_is_the_shown_states_clock() {
     });
     let robot_t = h.state().backend().state().time_s;
     assert!(robot_t + 1.0 < sim_t + 0.5, "the test needs the two clocks apart: robot {robot_t}, simulation {sim_t}");
+}
+
+/// Trial 24 m4: with the drives disabled or the E-stop latched the status bar said a plain
+/// "ROBOT". It says the drives' state after ROBOT (and nothing in simulation).
+#[test]
+fn the_status_bar_says_whether_the_robots_drives_are_enabled() {
+    use parol6_app::panels::LinkCommand;
+    use parol6_core::motion::StateSource;
+    let mut h = app_harness(egui::vec2(1280.0, 800.0));
+    settle(&mut h, 0.5);
+    assert!(
+        h.query_by_label("ENABLED").is_none() && h.query_by_label("DISABLED").is_none(),
+        "no drive word in simulation"
+    );
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the robot enabled", 15.0, |h| {
+        let s = h.state().backend().state();
+        s.source == StateSource::Robot && s.blocked.is_none()
+    });
+    until(&mut h, "ENABLED in the bar", 5.0, |h| h.query_by_label("ENABLED").is_some());
+    h.get_by_label("E-STOP").click();
+    until(&mut h, "the latch", 10.0, |h| h.state().estop_latched());
+    until(&mut h, "E-STOP LATCHED in the bar", 5.0, |h| {
+        h.query_by_label("E-STOP LATCHED").is_some() && h.query_by_label("ENABLED").is_none()
+    });
+    ui_support::release_estop(&mut h);
+    until(&mut h, "the release", 10.0, |h| !h.state().estop_latched());
+    until(&mut h, "ENABLED again", 10.0, |h| h.query_by_label("ENABLED").is_some());
+}
+
+/// Trial 26 m1: a double-click on *Disconnect*: the first click disconnected, the port list took
+/// the button's place and the second click opened it. The section's controls are greyed a
+/// moment after Connect or Disconnect.
+#[test]
+fn a_double_click_on_disconnect_lands_on_nothing_else() {
+    use parol6_app::panels::LinkCommand;
+    let mut h = app_harness(egui::vec2(1280.0, 2400.0));
+    h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
+    until(&mut h, "the robot", 15.0, |h| h.state().robot_connected());
+    until(&mut h, "Disconnect", 5.0, |h| h.query_by_label("Disconnect").is_some());
+    settle(&mut h, 0.5);
+    let at = h.get_by_label("Disconnect").rect().center();
+    h.hover_at(at);
+    for _ in 0..2 {
+        for pressed in [true, false] {
+            let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+            h.run_steps(1);
+        }
+        until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
+        h.run_steps(2);
+    }
+    assert!(!egui::Popup::is_any_open(&h.ctx), "the second click opened what took Disconnect's place");
+    assert!(h.get_by_label("Connect to the built-in emulator").accesskit_node().is_disabled(), "greyed a moment");
+    ui_support::click_when_enabled(&mut h, "Connect to the built-in emulator");
+    until(&mut h, "connected again", 15.0, |h| h.state().robot_connected());
 }

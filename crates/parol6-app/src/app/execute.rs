@@ -8,6 +8,7 @@ use std::time::Instant;
 use parol6_core::motion::{CartesianAxis, IoCommand, JogFrame, MotionCommand, RobotBackend};
 use parol6_core::program::runner::ProgramRunner;
 
+use super::command_kinds::{is_stop, manual_motion, refused_by_estop, sets_arm_moving};
 use super::state::{MEASUREMENT_RUNNING, PROGRAM_RUNNING, PROGRAM_UNFINISHED, TORQUE_ON_ROBOT, TORQUE_RUNNING};
 use super::{ConnectTarget, JOG_REFRESH, Parol6App};
 use crate::panels::{AppCommand, LinkCommand, RobotState};
@@ -37,19 +38,6 @@ const CLEAR_ERROR_SENT: &str = "CLEAR ERROR sent to the controller and the gripp
 /// The measurement's name in the notices.
 const ISO_TEST: &str = "ISO 9283 test";
 
-/// True for a command that sets the arm moving (not STOP, a pause or a jog release).
-fn sets_arm_moving(cmd: &AppCommand) -> bool {
-    use parol6_core::program::runner::RunnerControl;
-    match cmd {
-        AppCommand::Motion(m) => !matches!(m, MotionCommand::Stop | MotionCommand::JogRelease),
-        AppCommand::Jog(held) => held.is_some(),
-        AppCommand::CartesianJog(held) => held.is_some(),
-        AppCommand::RunProgram { .. } | AppCommand::StartMeasurement(_) | AppCommand::RunTorques(_) => true,
-        AppCommand::Program(c) => matches!(c, RunnerControl::Resume | RunnerControl::Step),
-        _ => false,
-    }
-}
-
 /// How a command that sets the arm moving is kept in [`Parol6App::moves_sent`]: its `Debug` text,
 /// but a program run by its name and length (the `Debug` text of a 1 000-step program with its
 /// check is megabytes: writing it took 50 ms of the frame that pressed F5).
@@ -65,65 +53,22 @@ fn move_text(cmd: &AppCommand) -> String {
     }
 }
 
-/// True for a command the latched E-stop (or an open recording) refuses: whatever sets the arm or
-/// the gripper moving (the controller's homing routine included), and ENABLE other than by
-/// releasing the E-stop (the I/O panel's or the Robot connection's: either re-enabled the drives
-/// under the latch, and homing then moved the arm, trial13 D1).
-fn refused_by_estop(cmd: &AppCommand) -> bool {
-    sets_arm_moving(cmd)
-        || matches!(cmd, AppCommand::Io(IoCommand::Gripper { .. } | IoCommand::GripperCalibrate | IoCommand::Enable))
-        || matches!(cmd, AppCommand::Link(LinkCommand::Enable | LinkCommand::Home))
-}
-
-/// True for a command an operator gives by hand that sets the arm moving: a joint or Cartesian jog,
-/// a move (typed joint, slider, Go, HOME, Move to target) or the controller's homing routine; not
-/// STOP, a jog release, a program control or a run that checks itself for a running one.
-fn manual_motion(cmd: &AppCommand) -> bool {
-    match cmd {
-        AppCommand::Motion(m) => !matches!(m, MotionCommand::Stop | MotionCommand::JogRelease),
-        AppCommand::Jog(held) => held.is_some(),
-        AppCommand::CartesianJog(held) => held.is_some(),
-        AppCommand::Link(l) => matches!(l, LinkCommand::Home),
-        _ => false,
-    }
-}
-
-/// True for STOP (Esc, the button) and E-STOP.
-pub(super) fn is_stop(c: &AppCommand) -> bool {
-    matches!(c, AppCommand::Motion(MotionCommand::Stop) | AppCommand::EStop(true))
-}
-
-/// What overrides `commands[i]`, if anything, in the frame that gave `commands`: STOP or E-STOP
-/// drops every other command that sets the arm moving, HOME every other motion but STOP. Such a
-/// motion beside them is one the operator did not mean: a joint's typed value committed because
-/// the click on STOP or HOME took its field's keyboard (trial 24 D1: J1 swung to the typed 20°
-/// after STOP; HOME went to the typed 60°), or a held jog key or a jog queued behind STOP
-/// (trial15 D1).
-pub(super) fn overridden(commands: &[AppCommand], i: usize) -> Option<&'static str> {
-    let home = |c: &AppCommand| matches!(c, AppCommand::Motion(MotionCommand::Home { .. }));
-    let c = &commands[i];
-    if !sets_arm_moving(c) || is_stop(c) {
-        return None;
-    }
-    if commands.iter().any(is_stop) {
-        Some("STOP")
-    } else if !home(c) && commands.iter().any(home) {
-        Some("HOME")
-    } else {
-        None
-    }
-}
-
 impl Parol6App {
-    /// Says that `cmd` was not sent because `by` (STOP, HOME) came in the same frame, where it
-    /// moves the arm to a typed target (a jog simply does not start).
+    /// Says that `cmd` was not sent because `by` (STOP, HOME, another move) came in the same
+    /// frame, where it moves the arm to a typed target (a jog simply does not start).
     pub(super) fn dropped_for(&mut self, cmd: &AppCommand, by: &str) {
-        if matches!(cmd, AppCommand::Motion(MotionCommand::MoveJoints { .. })) {
-            self.notice(format!("{by} pressed: the value typed and not confirmed with Enter was not sent"), false);
+        if matches!(cmd, AppCommand::Motion(m) | AppCommand::TypedMotion(m) if matches!(m, MotionCommand::MoveJoints { .. }))
+        {
+            self.notice(format!("{by}: the value typed and not confirmed with Enter was not sent"), false);
         }
     }
 
     pub(super) fn execute(&mut self, cmd: AppCommand) {
+        // a typed move that no click overrode (`command_kinds::overridden`) runs as any move
+        let cmd = match cmd {
+            AppCommand::TypedMotion(m) => AppCommand::Motion(m),
+            other => other,
+        };
         if is_stop(&cmd) {
             self.state.stops += 1;
         }
@@ -188,7 +133,7 @@ impl Parol6App {
             AppCommand::ShareLive(on) => self.share_live(on),
             AppCommand::ShareRos2(on) => self.share_ros2(on),
             AppCommand::RemoteControl(on) => self.set_remote_control(on),
-            AppCommand::Motion(m) => {
+            AppCommand::Motion(m) | AppCommand::TypedMotion(m) => {
                 if matches!(m, MotionCommand::Stop) {
                     // said in a notice: at 1024×700 the program's status line is below the fold
                     self.stopped_notices(RUN_STOP);
@@ -432,7 +377,13 @@ impl Parol6App {
                 // the latch's "motion is refused until the E-stop is released" no longer holds
                 // (trial 23 m12: it stayed under this one)
                 self.notices.retain(|n| !n.text.starts_with("E-STOP: STOP and DISABLE sent"));
-                self.notice("E-stop released: ENABLE sent; motion is accepted again", false);
+                // trial 26 m6: during replay motion stays refused until the recording is closed
+                let then = if self.state.replaying() {
+                    "motion is accepted once the recording is closed"
+                } else {
+                    "motion is accepted again"
+                };
+                self.notice(format!("E-stop released: ENABLE sent; {then}"), false);
             }
             Err(e) => self.notice(format!("E-stop stays latched: ENABLE refused: {e}"), true),
         }

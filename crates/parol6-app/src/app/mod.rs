@@ -24,6 +24,7 @@ use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, Rob
 use crate::viewport::Viewport;
 
 mod access;
+mod command_kinds;
 mod escape;
 mod execute;
 pub mod file_menu;
@@ -519,10 +520,10 @@ impl Parol6App {
 
         let newest_error = |notices: &[Notice]| notices.iter().filter(|n| n.error).map(|n| n.at).max();
         let newest_error_before = newest_error(&self.notices);
-        // STOP, E-STOP and HOME win over the other motions of their frame (`execute::overridden`)
-        let stopped = commands.iter().any(execute::is_stop);
+        // STOP, E-STOP and HOME win over the other motions of their frame (`command_kinds::overridden`)
+        let stopped = commands.iter().any(command_kinds::is_stop);
         for (i, c) in commands.iter().enumerate() {
-            match execute::overridden(&commands, i) {
+            match command_kinds::overridden(&commands, i) {
                 Some(by) => self.dropped_for(c, by),
                 None => self.execute(c.clone()),
             }

@@ -149,7 +149,13 @@ impl Parol6App {
     /// if it cannot be, the built-in default stays and a notice says why).
     pub(super) fn restore_remembered(&mut self) {
         let s = &self.settings;
-        self.panels.cartesian_jog.restore(s.cartesian_jog.checked());
+        let jog = s.cartesian_jog.checked();
+        self.panels.cartesian_jog.restore(jog);
+        // trial 25 m10: Step mode with a 50.80 mm increment came back without a word
+        let step_notice = jog.step_mode.then(|| {
+            let deg = self.settings.unit.fmt(jog.step_deg.to_radians());
+            format!("Cartesian jog: Step mode, {:.2} mm and {deg} per click, as left last time", jog.step_mm)
+        });
         if let Some(form) = &s.torque_form {
             form.restore_into(&mut self.panels.dynamics.form);
         }
@@ -171,6 +177,9 @@ impl Parol6App {
         };
         if let Err(why) = outcome {
             self.notice(format!("{why}; started with {default}"), true);
+        }
+        if let Some(text) = step_notice {
+            self.notice(text, false);
         }
     }
 

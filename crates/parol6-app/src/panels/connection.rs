@@ -68,7 +68,19 @@ pub struct ConnectionPanel {
     /// list) does not pull everything above it down under the pointer when the column is
     /// scrolled to its end.
     body_height_pt: f32,
+    /// When Connect or Disconnect was last clicked: the section's other face (the port list for
+    /// the connected view's Disconnect, and back) stays greyed for [`SWAP_HOLD_OFF`].
+    swapped_at: Option<Instant>,
 }
+
+/// How long the section's controls stay greyed after Connect or Disconnect swapped them: the
+/// second click of a double-click on Disconnect opened the port list that took its place (trial
+/// 26 m1).
+const SWAP_HOLD_OFF: Duration = Duration::from_millis(800);
+
+/// Why the section's controls are greyed just after a Connect or Disconnect.
+const SWAP_HELD_OFF: &str = "just connected or disconnected: the controls take clicks again in a moment, so that \
+                             a double-click does not land on what took the button's place";
 
 impl ConnectionPanel {
     fn rescan(&mut self) {
@@ -101,6 +113,16 @@ impl ConnectionPanel {
         }
     }
 
+    /// True while the controls that took the place of Connect / Disconnect wait
+    /// ([`SWAP_HOLD_OFF`]); a repaint is asked for at its end.
+    fn settling(&self, ui: &egui::Ui) -> bool {
+        let left = self.swapped_at.and_then(|t| SWAP_HOLD_OFF.checked_sub(t.elapsed()));
+        if let Some(left) = left {
+            ui.ctx().request_repaint_after(left);
+        }
+        left.is_some()
+    }
+
     fn disconnected_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         if self.scanned_at.is_none_or(|t| t.elapsed() > RESCAN_INTERVAL * 15) {
             if self.port_text.is_empty() {
@@ -108,6 +130,14 @@ impl ConnectionPanel {
             }
             self.rescan();
         }
+        let settling = self.settling(ui);
+        let r = ui.add_enabled_ui(!settling, |ui| self.disconnected_controls(ui, ctx)).response;
+        if settling {
+            r.on_disabled_hover_text(SWAP_HELD_OFF);
+        }
+    }
+
+    fn disconnected_controls(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.horizontal(|ui| {
             ui.label("Port");
             egui::ComboBox::from_id_salt("port_list")
@@ -132,11 +162,13 @@ impl ConnectionPanel {
             let can = !self.port_text.trim().is_empty();
             if ui.add_enabled(can, egui::Button::new("Connect")).clicked() {
                 let p = self.port_text.trim().to_string();
+                self.swapped_at = Some(Instant::now());
                 ctx.send(AppCommand::Link(LinkCommand::Connect(p)));
             }
         });
         if ui.button("Connect to the built-in emulator").on_hover_text("a fake PAROL6 controller in-process").clicked()
         {
+            self.swapped_at = Some(Instant::now());
             ctx.send(AppCommand::Link(LinkCommand::ConnectEmulator));
         }
         if let Some(e) = &self.scan_error {
@@ -149,6 +181,9 @@ impl ConnectionPanel {
         let n = ctx.model.dof();
         let latched = super::io_gripper::estop_latched(ctx);
         let allowed = link.link_ok && link.enabled && !link.estop && !latched;
+        // the buttons are greyed during replay too, as the Cartesian jog's are (trial 26 m10); a
+        // jog key is refused by the app with the reason
+        let replaying = ctx.app.replaying();
         ui.label(egui::RichText::new("Jog (hold)").strong())
             .on_hover_text("Press and hold a button, or select a joint with 1–6 and hold Page Up / Page Down");
         egui::Grid::new("jog_grid").num_columns(4).spacing([6.0, 3.0]).show(ui, |ui| {
@@ -163,8 +198,12 @@ impl ConnectionPanel {
                     // click time (0.8 s) as its own, and the jog was released under a held button
                     let button =
                         egui::Button::new(label).min_size(egui::vec2(34.0, 20.0)).sense(egui::Sense::click_and_drag());
-                    let b = ui.add_enabled(allowed, button);
-                    if b.is_pointer_button_down_on() {
+                    let mut b = ui.add_enabled(allowed && !replaying, button);
+                    if replaying {
+                        b = b.on_disabled_hover_text(crate::app::state::REPLAY_OPEN);
+                    }
+                    // a dead-man button: dragging the pointer off it ends the jog
+                    if b.is_pointer_button_down_on() && b.contains_pointer() {
                         held = Some((i, dir));
                     }
                 }
@@ -226,7 +265,10 @@ impl ConnectionPanel {
             } else {
                 ui.label(&link.port);
             }
-            if ui.button("Disconnect").clicked() {
+            let settling = self.settling(ui);
+            let b = ui.add_enabled(!settling, egui::Button::new("Disconnect"));
+            if b.on_disabled_hover_text(SWAP_HELD_OFF).clicked() {
+                self.swapped_at = Some(Instant::now());
                 ctx.send(AppCommand::Link(LinkCommand::Disconnect));
             }
         });

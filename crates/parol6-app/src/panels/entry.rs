@@ -71,6 +71,18 @@ fn accepts(unit: &str) -> String {
     }
 }
 
+/// True when the keyboard left the field this frame: Enter or Tab, not a click elsewhere (nor the
+/// window losing the keyboard). A field whose value moves the arm commits only so: a click on the
+/// 3D view, a menu or a jog button never moves the arm (trials 25 m1, 26 m2).
+pub fn left_by_key(ui: &egui::Ui) -> bool {
+    ui.input(|i| {
+        i.raw
+            .events
+            .iter()
+            .any(|e| matches!(e, egui::Event::Key { key: egui::Key::Enter | egui::Key::Tab, pressed: true, .. }))
+    })
+}
+
 /// The result of one frame of an entry.
 #[derive(Debug, Clone, PartialEq)]
 pub enum EntryEvent {

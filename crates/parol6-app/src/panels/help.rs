@@ -70,7 +70,10 @@ const PANELS: [(&str, &str); 9] = [
 
 /// The mouse, and typing into fields (the keys are the table in [`super::shortcuts`]).
 const MOUSE: [(&str, &str); 4] = [
-    ("Enter, Tab", "commit a typed value (clicking elsewhere does too)"),
+    (
+        "Enter, Tab",
+        "commit a typed value (clicking elsewhere does too, but never moves the arm: a typed joint value is then dropped)",
+    ),
     ("left drag", "3D view: orbit"),
     ("right drag", "3D view: pan"),
     ("wheel", "3D view: zoom"),

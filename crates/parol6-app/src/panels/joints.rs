@@ -127,7 +127,7 @@ impl JointsPanel {
         }
     }
 
-    /// Commits a value typed into joint `joint`'s entry (display unit): clamps it into the
+    /// Commits a value typed into joint `joint`'s entry (display unit), confirmed by Enter or Tab: clamps it into the
     /// joint's limits (saying so), then a profiled move of that joint, the others keeping
     /// their commanded targets.
     fn commit_joint(&mut self, joint: usize, typed: f64, ctx: &mut PanelContext<'_>) {
@@ -161,7 +161,7 @@ impl JointsPanel {
             Ok(q) => {
                 self.edit = q.clone();
                 self.hold_until = Some(std::time::Instant::now() + HOLD_AFTER_CHANGE);
-                ctx.move_to(q);
+                ctx.typed_move_to(q);
             }
             Err(e) => ctx.error(format!("joint target refused: {e}")),
         }
@@ -243,7 +243,8 @@ impl JointsPanel {
             self.set_joint(i, v, ctx);
         }
         match typed {
-            Some(EntryEvent::Committed(v)) => self.commit_joint(i, v, ctx),
+            Some(EntryEvent::Committed(v)) if entry::left_by_key(ui) => self.commit_joint(i, v, ctx),
+            Some(EntryEvent::Committed(_)) => ctx.info(format!("{name}: {TYPED_NOT_SENT}")),
             Some(EntryEvent::Invalid(why)) => ctx.error(format!("{name}: {why}")),
             None => {}
         }
@@ -261,6 +262,10 @@ impl JointsPanel {
         });
     }
 }
+
+/// What a joint's typed value left by a click elsewhere (not Enter or Tab) becomes.
+pub const TYPED_NOT_SENT: &str =
+    "the value typed and not confirmed with Enter was not sent (a click elsewhere never moves the arm)";
 
 /// Height of the STOP and E-STOP buttons in the joints panel, points.
 const STOP_BUTTON_HEIGHT: f32 = 28.0;

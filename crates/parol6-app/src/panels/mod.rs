@@ -117,6 +117,10 @@ pub enum AppCommand {
     /// A motion command for the active backend (simulation or robot; the same meaning on
     /// both). STOP also ends a running program.
     Motion(MotionCommand),
+    /// A motion from a value typed into a field, committed by Enter, Tab or focus loss. It runs
+    /// as [`AppCommand::Motion`], unless a click in the same frame (the click that took the field's
+    /// keyboard) set the arm moving otherwise: then it is dropped, with a notice.
+    TypedMotion(MotionCommand),
     /// Hold-to-run jog of joint `joint` (0-based) in `direction` (±1) while `Some`; `None`
     /// releases. The app repeats the jog command within the dead-man time while held.
     Jog(Option<(usize, i8)>),
@@ -353,12 +357,22 @@ impl PanelContext<'_> {
 
     /// A profiled move to `goal` with the current speed and profile settings.
     pub fn move_to(&mut self, goal: Vec<f64>) {
-        let cmd = MotionCommand::MoveJoints {
+        let cmd = self.move_to_command(goal);
+        self.motion(cmd);
+    }
+
+    /// [`Self::move_to`] for a goal typed into a field ([`AppCommand::TypedMotion`]).
+    pub fn typed_move_to(&mut self, goal: Vec<f64>) {
+        let cmd = self.move_to_command(goal);
+        self.send(AppCommand::TypedMotion(cmd));
+    }
+
+    fn move_to_command(&self, goal: Vec<f64>) -> MotionCommand {
+        MotionCommand::MoveJoints {
             goal_rad: goal,
             speed_fraction: self.settings.speed_fraction,
             profile: self.settings.profile.kind(),
-        };
-        self.motion(cmd);
+        }
     }
 
     /// STOP: hold the commanded position now (also ends a running program).

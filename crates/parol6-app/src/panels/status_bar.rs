@@ -75,6 +75,7 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ),
     };
     ui.label(egui::RichText::new(src).strong().color(color)).on_hover_text(hover);
+    drive_state_ui(ui, ctx);
     ui.separator();
     recording_ui(ui, ctx);
     // a slot of its own, kept while the arm rests: the link rate after it stays in place
@@ -121,6 +122,30 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
         ui.separator();
         ui.label(text).on_hover_text(hover);
     }
+}
+
+/// With a robot connected, the drives' state in one word after ROBOT, in a slot of its own (the
+/// read-outs after it stay in place): E-STOP LATCHED (the window's), E-STOP PRESSED (the
+/// robot's button), DISABLED or ENABLED. Trial 24 m4: with the drives
+/// disabled or the E-stop latched, the bar said a plain "ROBOT". It reads the live link, also
+/// during replay (the recording's state is in the panels).
+fn drive_state_ui(ui: &mut egui::Ui, ctx: &PanelContext<'_>) {
+    let Some(link) = ctx.app.link.as_ref() else { return };
+    let (word, color, hover) = if super::io_gripper::estop_latched(ctx) {
+        ("E-STOP LATCHED", palette::ERROR_TEXT, "the window's E-STOP is latched: no motion until it is released")
+    } else if link.estop {
+        ("E-STOP PRESSED", palette::ERROR_TEXT, "the robot's E-stop button is pressed: no motion until it is released")
+    } else if !link.enabled {
+        ("DISABLED", palette::WARN_TEXT, "the robot's drives are disabled: Enable them to move")
+    } else {
+        ("ENABLED", palette::SOURCE_ROBOT, "the robot's drives are enabled")
+    };
+    let text = egui::RichText::new(word).strong().color(palette::rgb(color));
+    let slot = egui::vec2(slot_width(ui, "E-STOP PRESSED"), ui.spacing().interact_size.y);
+    ui.allocate_ui_with_layout(slot, egui::Layout::left_to_right(egui::Align::Center), |ui| {
+        ui.set_min_size(slot);
+        ui.label(text).on_hover_text(hover);
+    });
 }
 
 /// The room a separator takes between two read-outs (its line and margins), pt.

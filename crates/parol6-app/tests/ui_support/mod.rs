@@ -60,11 +60,18 @@ pub fn until(h: &mut Harness<'_, Parol6App>, what: &str, s: f64, f: impl Fn(&Har
 /// Clicks *Release E-STOP* once it takes clicks: it stays greyed for a moment after the latch
 /// (`panels::io_gripper::ESTOP_RELEASE_HOLD_OFF`).
 pub fn release_estop(h: &mut Harness<'_, Parol6App>) {
+    click_when_enabled(h, "Release E-STOP");
+}
+
+/// Clicks the button labelled `name` once it takes clicks: some are greyed a moment after the
+/// click that put them in place (Release E-STOP after the latch, Connect after Disconnect).
+#[allow(dead_code)] // not every test binary that includes this module calls it
+pub fn click_when_enabled(h: &mut Harness<'_, Parol6App>, name: &str) {
     use egui_kittest::kittest::NodeT;
-    until(h, "Release E-STOP taking clicks", 10.0, |h| {
-        h.query_by_label("Release E-STOP").is_some_and(|b| !b.accesskit_node().is_disabled())
+    until(h, &format!("{name} taking clicks"), 10.0, |h| {
+        h.query_by_label(name).is_some_and(|b| !b.accesskit_node().is_disabled())
     });
-    h.get_by_label("Release E-STOP").click();
+    h.get_by_label(name).click();
 }
 
 /// Runs frames for `s` seconds of wall time (the simulation and the link run on their own

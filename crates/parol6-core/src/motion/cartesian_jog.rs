@@ -513,6 +513,14 @@ impl CartesianJogPlan {
         &self.stop
     }
 
+    /// The fastest path speed reached in the first `window_s` seconds (m/s, or rad/s for
+    /// rotations): below the commanded speed where a singularity or a joint's speed limit slows
+    /// the jog from its start (trial 25 m3: 1.5 mm/s at the standby wrist, the panel said 40.8).
+    pub fn top_speed_within(&self, window_s: f64) -> f64 {
+        let reached = self.t.iter().take_while(|t| **t <= window_s).count();
+        self.v.iter().take(reached + 1).copied().fold(0.0, f64::max)
+    }
+
     /// Signed travel to the stop along the axis (m, or rad for rotations).
     pub fn travel(&self) -> f64 {
         self.sign * self.s.last().copied().unwrap_or(0.0)

@@ -297,6 +297,10 @@ fn split_command(line: usize, text: &str) -> Result<Command<'_>, CommanderError>
         message,
     };
     let rest = &text[head.len()..];
+    // trial 23 m4: a `#` line was refused as "a command is written Name(arguments)"
+    if head.is_empty() && (text.starts_with('#') || text.starts_with("//")) {
+        return Err(err("a comment: the commander's program format has no comments; delete the line".into()));
+    }
     let Some(inner) = rest.trim_start().strip_prefix('(') else {
         return Err(err("a command is written Name(arguments)".into()));
     };

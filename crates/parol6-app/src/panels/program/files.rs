@@ -337,6 +337,11 @@ impl ProgramPanel {
     }
 
     fn show_dialog(&mut self, kind: DialogKind) {
+        self.show_dialog_named(kind, None);
+    }
+
+    /// [`Self::show_dialog`]; Save as proposes `name` where given (else the file's name).
+    fn show_dialog_named(&mut self, kind: DialogKind, name: Option<String>) {
         let start = self.dialog_folder();
         let mut dialog = match kind {
             // opening changes no file: no Rename, no New Folder
@@ -344,7 +349,9 @@ impl ProgramPanel {
                 egui_file::FileDialog::open_file().title("Open program").show_rename(false).show_new_folder(false)
             }
             DialogKind::SaveAs => {
-                let name = self.file.as_ref().and_then(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned());
+                let name = name.or_else(|| {
+                    self.file.as_ref().and_then(|f| f.file_name()).map(|n| n.to_string_lossy().into_owned())
+                });
                 egui_file::FileDialog::save_file()
                     .title("Save program as (.json, .gcode, .csv, .txt)")
                     .default_filename(name.unwrap_or_else(|| format!("{}.json", file_stem(&self.program.name))))
@@ -380,6 +387,14 @@ impl ProgramPanel {
             DialogKind::Open => self.request_open(OpenRequest::File(path), ctx),
             DialogKind::SaveAs => {
                 let path = if path.extension().is_none() { path.with_extension("json") } else { path };
+                // a name the formats refuse: say why and ask again, with the name typed (trial 22
+                // m14: the dialog closed, and the operator had to open it and find the folder again)
+                if let Err(e) = ProgramFormat::from_path(&path) {
+                    ctx.error(e.to_string());
+                    let typed = path.file_name().map(|n| n.to_string_lossy().into_owned());
+                    self.show_dialog_named(DialogKind::SaveAs, typed);
+                    return;
+                }
                 self.save_or_ask(path, ctx);
             }
         }

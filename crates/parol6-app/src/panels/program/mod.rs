@@ -230,6 +230,9 @@ impl ProgramPanel {
     /// After any change of the edited program: share it and plan / check it again.
     fn program_changed(&mut self) {
         self.program = Arc::new(self.editor.program().clone());
+        // the last run's outcome and done marks were of the program before the change (trial 23
+        // m5: "stopped after 6 of 9 steps" stayed over 10 steps)
+        self.hide_last_run = true;
         drop_elsewhere(self.checked.take());
         self.overlay = None;
         self.check_error = None;

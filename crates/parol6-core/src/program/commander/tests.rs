@@ -91,6 +91,11 @@ fn errors_name_the_line_and_command() {
         (wrap("Home()"), "line 2, Home: the commander lists this command but does not implement it"),
         (wrap("Jump(1)"), "line 2, Jump: is not a PAROL commander command"),
         (wrap("Delay 1"), "line 2, Delay: a command is written Name(arguments)"),
+        (
+            wrap("# pick the part"),
+            "line 2, \"# pick the part\": a comment: the commander's program format has no comments; delete the line",
+        ),
+        (wrap("// x"), "line 2, \"// x\": a comment: the commander's program format has no comments; delete the line"),
         (wrap("Dummy(1)"), "line 2, Dummy: Dummy() takes no arguments"),
         ("Delay(1)\nEnd()\n".into(), "line 1, Delay: the program must start with Begin()"),
         ("Begin()\nDelay(1)\n".into(), "line 2, Delay: the program must end with End() or Loop()"),

@@ -204,6 +204,11 @@ fn home_stays_put_with_and_without_a_limit_alarm() {
     }
     assert_eq!(h.get_by_label("HOME").rect(), home_calm, "HOME moved when the alarm appeared");
     assert_eq!(h.get_by_label("J6 target").rect(), j6_calm, "joint rows moved");
+    // at rest in the red zone, degrees short of the limit: "very near", not "at" (trials 21 m15, 24 m3)
+    h.state_mut().set_motion(&q, &[0.0; 6]);
+    h.run_steps(2);
+    let (text, _) = status_of(h.state());
+    assert!(text.starts_with("J2 very near limit: ") && text.contains("to its lower limit"), "{text}");
 }
 
 fn status_of<P>(b: &Bench<P>) -> (String, Option<parol6_core::limits::LimitZone>) {

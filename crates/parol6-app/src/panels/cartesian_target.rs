@@ -361,7 +361,7 @@ impl CartesianTargetPanel {
                         solution_label(s),
                         unit.fmt(s.distance_to_seed),
                         if s.distance_to_seed < SAME_POSE_TOL { "  (current joints)" } else { "" },
-                        if s.singular { "  (singular)" } else { "" }
+                        if s.singular { "  (target singular)" } else { "" }
                     );
                     let hover = s.joints_rad.iter().map(|v| unit.fmt(*v)).collect::<Vec<_>>().join(", ");
                     if ui.selectable_label(self.selected == i, text).on_hover_text(hover).clicked() {

@@ -469,7 +469,9 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
     page_up(&mut h, false);
     h.run_steps(2);
 
-    // disconnected, the key pressed, connected again with the key still held
+    // disconnected, the key pressed, connected again with the key still held (after Disconnect the
+    // section's controls wait 0.8 s: held that long while no jog rows were drawn, the key jogged
+    // J1 17 times once connected, until the key was disarmed while the rows are not drawn)
     h.get_by_label("Disconnect").click();
     until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
     page_up(&mut h, true);
@@ -496,14 +498,7 @@ fn a_jog_key_pressed_while_motion_is_refused_does_not_jog_when_the_refusal_ends(
 fn a_double_click_on_estop_leaves_it_latched() {
     let mut h = ui_support::app_harness(egui::vec2(1280.0, 1400.0));
     let at = h.get_by_label("E-STOP").rect().center();
-    let click = |h: &mut Harness<'_, Parol6App>| {
-        h.hover_at(at);
-        for pressed in [true, false] {
-            let (button, modifiers) = (egui::PointerButton::Primary, Modifiers::NONE);
-            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
-            h.run_steps(1);
-        }
-    };
+    let click = |h: &mut Harness<'_, Parol6App>| ui_support::mouse_click(h, at);
     click(&mut h);
     std::thread::sleep(Duration::from_millis(150));
     click(&mut h);

@@ -501,13 +501,8 @@ fn a_double_click_on_close_recording_lands_on_nothing_else() {
     h.run_steps(3);
     let toolbar_before = h.get_by_label("torque").rect();
     let at = h.get_by_label("Close recording").rect().center();
-    h.hover_at(at);
     for _ in 0..2 {
-        for pressed in [true, false] {
-            let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
-            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
-            h.run_steps(1);
-        }
+        ui_support::mouse_click(&mut h, at);
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
     h.run_steps(3);

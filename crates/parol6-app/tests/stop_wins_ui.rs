@@ -10,7 +10,7 @@ mod ui_support;
 
 use eframe::egui;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use ui_support::{app_harness, has_label, settle, until};
 
 use parol6_app::app::Parol6App;
@@ -19,12 +19,7 @@ use parol6_app::app::Parol6App;
 /// moves as it does for a mouse).
 fn click_on(h: &mut Harness<'_, Parol6App>, name: &str) {
     let at = h.get_by_label(name).rect().center();
-    h.hover_at(at);
-    for pressed in [true, false] {
-        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
-        h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
-        h.run_steps(1);
-    }
+    ui_support::mouse_click(h, at);
 }
 
 /// Types `text` into the J1 target field without Enter: the field keeps the keyboard.
@@ -82,12 +77,7 @@ fn a_click_elsewhere_never_sends_a_typed_joint_value() {
     h.key_press(egui::Key::Escape);
     type_j1(&mut h, "30");
     let view = h.get_by_label_contains("3D view unavailable").rect().center();
-    h.hover_at(view);
-    for pressed in [true, false] {
-        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
-        h.event(egui::Event::PointerButton { pos: view, button, pressed, modifiers });
-        h.run_steps(1);
-    }
+    ui_support::mouse_click(&mut h, view);
     settle(&mut h, 0.6);
     assert!((j1_deg(&h) - start).abs() < 0.1, "J1 moved from {start:.2}° to {:.2}°", j1_deg(&h));
     assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
@@ -170,7 +160,6 @@ fn go_clicked_over_a_typed_joint_value_says_the_value_was_not_sent() {
 /// while motion stayed refused until the recording was closed.
 #[test]
 fn during_replay_the_joint_jog_buttons_are_greyed_and_the_release_says_what_still_holds() {
-    use egui_kittest::kittest::NodeT;
     use parol6_app::panels::{AppCommand, LinkCommand};
     let mut h = app_harness(egui::vec2(1280.0, 2400.0));
     h.state_mut().queue_command(AppCommand::Link(LinkCommand::ConnectEmulator));
@@ -194,4 +183,36 @@ fn during_replay_the_joint_jog_buttons_are_greyed_and_the_release_says_what_stil
     assert!(said(&h, "motion is accepted once the recording is closed"));
     assert!(!said(&h, "motion is accepted again"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Trial 29 D1: under load (~10 FPS) the last key typed and the click on *Go* came in one frame;
+/// egui gave the field's keyboard away at the click before the field read the key, and Go moved
+/// J1 to 5° for a typed 55. The Cartesian target's X lost digits the same way before *Solve IK*.
+#[test]
+fn a_key_typed_in_the_frame_of_the_click_is_not_lost() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    let click_in_one_frame = |h: &mut Harness<'_, Parol6App>, last_key: &str, on: &str| {
+        let at = h.get_by_label(on).rect().center();
+        h.hover_at(at);
+        h.event(egui::Event::Text(last_key.to_string()));
+        for pressed in [true, false] {
+            let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+        }
+        h.run_steps(1);
+    };
+    h.get_by_label("J1 pose").click();
+    h.run_steps(1);
+    h.get_by_label("J1 pose").type_text("5");
+    h.run_steps(1);
+    click_in_one_frame(&mut h, "5", "Go");
+    until(&mut h, "J1 at the typed 55°", 20.0, |h| (j1_deg(h) - 55.0).abs() < 0.1);
+
+    h.get_by_label("target X").click();
+    h.run_steps(1);
+    h.get_by_label("target X").type_text("7");
+    h.run_steps(1);
+    click_in_one_frame(&mut h, "8", "Solve IK");
+    h.run_steps(2);
+    assert_eq!(h.get_by_label("target X").value().as_deref(), Some("78.00"));
 }

@@ -304,13 +304,8 @@ fn a_double_click_on_disconnect_lands_on_nothing_else() {
     until(&mut h, "Disconnect", 5.0, |h| h.query_by_label("Disconnect").is_some());
     settle(&mut h, 0.5);
     let at = h.get_by_label("Disconnect").rect().center();
-    h.hover_at(at);
     for _ in 0..2 {
-        for pressed in [true, false] {
-            let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
-            h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
-            h.run_steps(1);
-        }
+        ui_support::mouse_click(&mut h, at);
         until(&mut h, "disconnected", 10.0, |h| !h.state().robot_connected());
         h.run_steps(2);
     }

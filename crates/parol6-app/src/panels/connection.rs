@@ -71,6 +71,8 @@ pub struct ConnectionPanel {
     /// When Connect or Disconnect was last clicked: the section's other face (the port list for
     /// the connected view's Disconnect, and back) stays greyed for [`SWAP_HOLD_OFF`].
     swapped_at: Option<Instant>,
+    /// The jog rows were drawn this frame (the keys are disarmed while they are not).
+    jog_drawn: bool,
 }
 
 /// How long the section's controls stay greyed after Connect or Disconnect swapped them: the
@@ -177,6 +179,7 @@ impl ConnectionPanel {
     }
 
     fn jog_ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelContext<'_>, link: &LinkView) {
+        self.jog_drawn = true;
         let mut held: Option<(usize, i8)> = None;
         let n = ctx.model.dof();
         let latched = super::io_gripper::estop_latched(ctx);
@@ -363,6 +366,7 @@ impl Panel for ConnectionPanel {
         // Folded while there is no robot; unfolds by itself when a link opens.
         let just_linked = link.is_some() && !self.was_linked;
         self.was_linked = link.is_some();
+        self.jog_drawn = false;
         egui::CollapsingHeader::new(egui::RichText::new(self.title()).heading())
             .id_salt("robot_connection")
             .open(just_linked.then_some(true))
@@ -378,6 +382,11 @@ impl Panel for ConnectionPanel {
                 }
                 self.body_height_pt = self.body_height_pt.max(used);
             });
+        if !self.jog_drawn {
+            // Page Up / Down held while the jog is not on screen (no robot, the section folded)
+            // does not jog the moment it is: let go and press anew (as under a refusal, trial19 D1)
+            shortcuts::disarm_held_of(ui.ctx(), |a| matches!(a, Action::JogJoint(_)));
+        }
         // below the section, the column's last row: opening a replay moves nothing (above the
         // heading it pushed the section down 38 px: trial9 m9)
         if let Some(h) = ctx.app.replayed_link() {

@@ -420,6 +420,16 @@ pub fn disarm_held(ctx: &egui::Context) {
     ctx.data_mut(|d| d.get_temp_mut_or_default::<HeldKeys>(held_keys_id()).armed.retain(|k, _| !moves_arm_held(*k)));
 }
 
+/// [`disarm_held`] for the keys of the actions `which` picks: the joint jog's Page Up / Down while
+/// its buttons are not drawn (no robot, the section folded), so that a key held then does not jog
+/// the moment they are (the simulation's Cartesian keys stay held).
+pub fn disarm_held_of(ctx: &egui::Context, which: impl Fn(Action) -> bool) {
+    update_held(ctx);
+    let keys: Vec<Key> =
+        SHORTCUTS.iter().filter(|s| s.trigger == Trigger::Hold && which(s.action)).map(|s| s.key).collect();
+    ctx.data_mut(|d| d.get_temp_mut_or_default::<HeldKeys>(held_keys_id()).armed.retain(|k, _| !keys.contains(k)));
+}
+
 /// True for a key that moves the arm while held (a jog key).
 fn moves_arm_held(key: Key) -> bool {
     SHORTCUTS.iter().any(|s| s.trigger == Trigger::Hold && s.key == key && s.action.moves_arm())

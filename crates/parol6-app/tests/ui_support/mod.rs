@@ -172,3 +172,15 @@ pub fn pointer_on_view(h: &mut Harness<'_, Parol6App>) {
     h.hover_at(free);
     h.run_steps(1);
 }
+
+/// A primary mouse click at `at`: the pointer moves there, the button goes down in one frame and
+/// up in the next (the keyboard focus moves as it does for a mouse, unlike kittest's `click`).
+#[allow(dead_code)] // not every test binary that includes this module calls it
+pub fn mouse_click(h: &mut Harness<'_, Parol6App>, at: egui::Pos2) {
+    h.hover_at(at);
+    for pressed in [true, false] {
+        let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
+        h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });
+        h.run_steps(1);
+    }
+}

@@ -194,7 +194,25 @@ fn a_key_typed_in_the_frame_of_the_click_is_not_lost() {
     let click_in_one_frame = |h: &mut Harness<'_, Parol6App>, last_key: &str, on: &str| {
         let at = h.get_by_label(on).rect().center();
         h.hover_at(at);
+        h.run_steps(1);
+        // as the window gets a key: the key, then its text
+        let key = egui::Key::from_name(last_key).expect("a key");
+        h.event(egui::Event::Key {
+            key,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers: Default::default(),
+        });
         h.event(egui::Event::Text(last_key.to_string()));
+        h.event(egui::Event::Key {
+            key,
+            physical_key: None,
+            pressed: false,
+            repeat: false,
+            modifiers: Default::default(),
+        });
+        h.event(egui::Event::PointerMoved(at));
         for pressed in [true, false] {
             let (button, modifiers) = (egui::PointerButton::Primary, egui::Modifiers::NONE);
             h.event(egui::Event::PointerButton { pos: at, button, pressed, modifiers });

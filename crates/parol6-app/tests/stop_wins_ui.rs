@@ -234,3 +234,18 @@ fn a_key_typed_in_the_frame_of_the_click_is_not_lost() {
     h.run_steps(2);
     assert_eq!(h.get_by_label("target X").value().as_deref(), Some("78.00"));
 }
+
+/// Trial 29 m1: J2 `abc` (no Enter) in Go to joint pose, then a click on *Go*: J2 was refused
+/// ("not a number") and Go still moved, with J2's old value. Go is not sent then.
+#[test]
+fn go_is_not_sent_when_a_field_left_by_its_click_holds_no_number() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    h.get_by_label("J2 pose").click();
+    h.run_steps(1);
+    h.get_by_label("J2 pose").type_text("abc");
+    h.run_steps(1);
+    click_on(&mut h, "Go");
+    settle(&mut h, 0.5);
+    assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
+    assert!(h.state().notices().iter().any(|n| n.text.contains("Go not sent: J2 holds no number")));
+}

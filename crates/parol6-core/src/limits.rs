@@ -140,7 +140,7 @@ impl LimitZone {
         match self {
             LimitZone::Safe => "safe",
             LimitZone::Warning => "near limit",
-            LimitZone::Critical => "very near limit",
+            LimitZone::Critical => "at limit",
         }
     }
 }

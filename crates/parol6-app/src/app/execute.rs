@@ -341,7 +341,7 @@ impl Parol6App {
         .flatten()
         .collect();
         if failed.is_empty() {
-            self.notice("E-STOP: STOP and DISABLE sent; motion is refused until the E-stop is released", true);
+            self.notice("E-STOP: STOP and DISABLE sent; all motion refused (Release E-STOP to move again)", true);
         } else {
             self.notice(format!("E-STOP latched, but {}: motion is refused here", failed.join(", ")), true);
         }
@@ -374,7 +374,7 @@ impl Parol6App {
         match self.backend().io(IoCommand::Enable) {
             Ok(()) => {
                 self.estop = false;
-                // the latch's "motion is refused until the E-stop is released" no longer holds
+                // the latch's "all motion refused" no longer holds
                 // (trial 23 m12: it stayed under this one)
                 self.notices.retain(|n| !n.text.starts_with("E-STOP: STOP and DISABLE sent"));
                 // trial 26 m6: during replay motion stays refused until the recording is closed

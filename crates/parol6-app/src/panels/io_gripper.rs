@@ -23,7 +23,9 @@ pub const NOT_RECORDED: &str = "Not recorded: the live I/O and gripper are hidde
 
 /// Why motion is refused while the E-stop is latched: the app puts it in the shown state's
 /// `blocked` (see `RobotState::blocked`), every refusal names it.
-pub const ESTOP_LATCHED: &str = "E-STOP latched: drives disabled, motion refused until the E-stop is released";
+/// No part of it, cut at a line, reads as the opposite (trial 29 m2: a scrolled column showed only
+/// "E-stop is released" under a latched E-STOP).
+pub const ESTOP_LATCHED: &str = "E-STOP latched: drives disabled, all motion refused (Release E-STOP to move again)";
 
 /// True when the E-stop is latched: the live state's, also during replay (trial 24 D2: the
 /// recording's state showed a plain "E-STOP" over a latched robot).

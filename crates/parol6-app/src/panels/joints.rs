@@ -328,7 +328,9 @@ pub fn limit_status_text(ctx: &PanelContext<'_>) -> (String, Option<LimitZone>) 
         let name = joint_name(ctx, i);
         let mut text = match distance(i) {
             Some((side, left)) => {
-                format!("{name} {}: {} to its {side} limit", report.zone.label(), unit.fmt(left.max(0.0)))
+                // "at limit: 5.89° to its upper limit" read as a contradiction (trials 21 m15, 24 m3)
+                let zone = if report.zone == LimitZone::Critical { "very near limit" } else { report.zone.label() };
+                format!("{name} {zone}: {} to its {side} limit", unit.fmt(left.max(0.0)))
             }
             None => format!("{name} {}", report.zone.label()),
         };
@@ -510,6 +512,8 @@ impl JointsPanel {
                 }
             }
         });
+        // a field whose text was refused this frame: Go does not move with its old value (trial 29 m1)
+        let mut refused = None;
         for (i, name, event) in events {
             match event {
                 EntryEvent::Committed(v) => {
@@ -526,7 +530,10 @@ impl JointsPanel {
                     }
                     self.goto[i] = clamped;
                 }
-                EntryEvent::Invalid(why) => ctx.error(format!("{name}: {why}")),
+                EntryEvent::Invalid(why) => {
+                    ctx.error(format!("{name}: {why}"));
+                    refused = Some(name);
+                }
             }
         }
         ui.horizontal(|ui| {
@@ -536,7 +543,10 @@ impl JointsPanel {
             if ui.button("Park").on_hover_text("The commander's park pose").clicked() && ctx.model.is_parol6 {
                 self.goto = parol6_core::parol6::park_rad().to_vec();
             }
-            if ui.button("Go").on_hover_text("Profiled move to this pose").clicked() {
+            let go = ui.button("Go").on_hover_text("Profiled move to this pose").clicked();
+            if let (true, Some(name)) = (go, &refused) {
+                ctx.error(format!("Go not sent: {name} holds no number; type it again"));
+            } else if go {
                 match ctx.model.limits.enforce(&self.goto, parol6_core::LimitPolicy::Reject) {
                     Ok(goal) => ctx.move_to(goal),
                     Err(e) => ctx.error(format!("pose refused: {e}")),

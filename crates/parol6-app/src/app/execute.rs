@@ -448,6 +448,9 @@ impl Parol6App {
     }
 
     fn execute_link(&mut self, cmd: LinkCommand) {
+        if matches!(cmd, LinkCommand::Connect(_) | LinkCommand::ConnectEmulator | LinkCommand::Disconnect) {
+            self.state.other_motions += 1;
+        }
         let res: Result<(), String> = match (&self.hw, cmd) {
             (_, LinkCommand::Connect(p)) => {
                 self.connect(&ConnectTarget::Port(p));

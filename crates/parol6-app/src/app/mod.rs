@@ -367,6 +367,7 @@ impl Parol6App {
         use crate::panels::shortcuts::{self, Action};
         // the held jog keys see this frame's key presses before any panel consumes one; the
         // Cartesian jog keys act only with the pointer over the 3D view
+        shortcuts::note_pass_start(ctx);
         shortcuts::set_pointer_over_view(ctx, self.pointer_over_view(ctx));
         shortcuts::update_held(ctx);
         self.refuse_held_jog_keys(ctx);

@@ -59,8 +59,9 @@ pub struct AppState {
     /// the robot): manual motion is refused with [`TORQUE_RUNNING`] until it ends.
     pub torque_run: bool,
     /// How many motions other than a Cartesian step were set going (a program run, HOME, a joint
-    /// move, a jog, a measurement, a torque run, the controller's homing): the Cartesian jog
-    /// panel's row of steps ends when this changes.
+    /// move, a jog, a measurement, a torque run, the controller's homing), plus each Connect and
+    /// Disconnect (the shown arm changes): the Cartesian jog panel's line and row of steps end
+    /// when this changes (trial 29 m9: "+Y released after 41.64 mm" stayed over a fresh robot).
     pub other_motions: u64,
     /// How many STOPs and E-STOPs were given (Esc, the buttons): a jog they ended says so.
     pub stops: u64,

@@ -160,9 +160,14 @@ impl ConnectionPanel {
             }
         });
         ui.horizontal(|ui| {
-            ui.add(egui::TextEdit::singleline(&mut self.port_text).hint_text("/dev/ttyACM0").desired_width(150.0));
+            // "e.g.": a bare port name in grey read as filled in, and Connect looked usable (trial 29 m8)
+            let example = if cfg!(windows) { "e.g. COM3" } else { "e.g. /dev/ttyACM0" };
+            ui.add(egui::TextEdit::singleline(&mut self.port_text).hint_text(example).desired_width(150.0));
             let can = !self.port_text.trim().is_empty();
-            if ui.add_enabled(can, egui::Button::new("Connect")).clicked() {
+            let connect = ui
+                .add_enabled(can, egui::Button::new("Connect"))
+                .on_disabled_hover_text("type a serial port, or pick one from the list above");
+            if connect.clicked() {
                 let p = self.port_text.trim().to_string();
                 self.swapped_at = Some(Instant::now());
                 ctx.send(AppCommand::Link(LinkCommand::Connect(p)));

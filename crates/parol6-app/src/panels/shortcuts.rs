@@ -247,15 +247,52 @@ pub const SHORTCUTS: &[Shortcut] = &[
     press(Key::Home, NONE, Action::ResetView, Scope::View, "reset the camera"),
 ];
 
-/// True while a text field, a menu or a popup has the keyboard.
+/// True while a text field, a menu or a popup has the keyboard, or had it when this frame began.
 pub fn keyboard_taken(ctx: &egui::Context) -> bool {
-    ctx.memory(|m| m.focused().is_some()) || menu_open(ctx)
+    ctx.memory(|m| m.focused().is_some()) || menu_open(ctx) || at_pass_start(ctx).taken
 }
 
-/// True while a text field has the keyboard (the focused widget keeps a text edit's state):
-/// typed text, where the program editor's Ctrl / Alt keys would act on the field's text.
+/// True while a text field has the keyboard (the focused widget keeps a text edit's state), or
+/// had it when this frame began: typed text, where the program editor's Ctrl / Alt keys would
+/// act on the field's text.
 pub fn text_field_has_keyboard(ctx: &egui::Context) -> bool {
+    text_field_focused(ctx) || at_pass_start(ctx).typing
+}
+
+fn text_field_focused(ctx: &egui::Context) -> bool {
     ctx.memory(|m| m.focused()).is_some_and(|id| egui::text_edit::TextEditState::load(ctx, id).is_some())
+}
+
+/// Who had the keyboard when this frame began ([`note_pass_start`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct PassStart {
+    /// The pass this was noted in, plus one (0: never).
+    pass: u64,
+    taken: bool,
+    typing: bool,
+}
+
+fn pass_start_id() -> egui::Id {
+    egui::Id::unique("parol6_shortcuts_pass_start")
+}
+
+/// Notes who has the keyboard as this frame begins; the app calls it before any panel draws.
+/// In a slow frame (a busy machine, ~10 FPS) the keys typed into a field and the click that
+/// takes the field's keyboard away come together, and egui gives the focus away before the
+/// frame's keys are read: those keys were typed into the field, and act as no shortcut (trial
+/// 29: a `5` typed into a joint field picked J5 for the keyboard jog).
+pub fn note_pass_start(ctx: &egui::Context) {
+    let noted = PassStart {
+        pass: ctx.cumulative_pass_nr() + 1,
+        taken: ctx.memory(|m| m.focused().is_some()) || menu_open(ctx),
+        typing: text_field_focused(ctx) || menu_open(ctx),
+    };
+    ctx.data_mut(|d| d.insert_temp(pass_start_id(), noted));
+}
+
+fn at_pass_start(ctx: &egui::Context) -> PassStart {
+    let now = ctx.cumulative_pass_nr() + 1;
+    ctx.data(|d| d.get_temp::<PassStart>(pass_start_id())).filter(|p| p.pass == now).unwrap_or_default()
 }
 
 /// True when `s` is a program-editing key with Ctrl / Alt (Ctrl+S, Ctrl+Z, Alt+↑…): it moves

@@ -84,7 +84,13 @@ fn readouts_ui(ui: &mut egui::Ui, ctx: &mut PanelContext<'_>) {
     ui.allocate_ui_with_layout(slot, egui::Layout::left_to_right(egui::Align::Center), |ui| {
         ui.set_min_size(slot);
         if ctx.robot.moving {
-            ui.label(moving);
+            // during replay the read-outs show the recording: say whose motion this is (trial 29 m7)
+            let whose = if ctx.app.replaying() {
+                "the recording shows the arm moving here; the live arm is not moving (motion is refused during replay)"
+            } else {
+                "the arm is moving"
+            };
+            ui.label(moving).on_hover_text(whose);
         }
     });
     let lat = match p.command_latency_ms {

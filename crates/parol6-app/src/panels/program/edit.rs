@@ -302,7 +302,7 @@ impl ProgramPanel {
         let dup = pressed(Action::DuplicateStep);
         let save = pressed(Action::SaveProgram);
         if super::super::shortcuts::pressed_in_text_field(&ctx_ui, Action::SaveProgram) {
-            ctx.info("Ctrl+S: nothing saved while a field is being typed in: press Enter (or click outside it) first");
+            ctx.info("Ctrl+S: nothing saved while a field is being typed in: finish the field (or Esc to drop it), then press Ctrl+S again");
         }
         let del = pressed(Action::DeleteStep);
         let up = pressed(Action::MoveStepUp);

@@ -180,7 +180,7 @@ fn ctrl_s_saves_while_a_button_has_the_keyboard_and_says_why_not_while_typing() 
     h.run_steps(2);
     ctrl_s(&mut h);
     assert_eq!(steps_in(&path), saved + 1, "Ctrl+S in a text field saved past the field");
-    assert!(has_label(&h, "press Enter"), "Ctrl+S in a field says why nothing was saved");
+    assert!(has_label(&h, "finish the field"), "Ctrl+S in a field says why nothing was saved");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -7,10 +7,9 @@
 //! offscreen renderer ([`crate::ui_screenshot`]) both call it.
 
 use eframe::egui;
-use std::collections::VecDeque;
-use std::path::PathBuf;
 use std::sync::{Arc, atomic::AtomicI32};
 use std::time::{Duration, Instant};
+use std::{collections::VecDeque, path::PathBuf};
 
 use anyhow::Context as _;
 use eframe::egui_wgpu;
@@ -24,6 +23,7 @@ use crate::panels::{AppCommand, Notice, PanelContext, PerfStats, READOUT_HZ, Rob
 use crate::viewport::Viewport;
 
 mod access;
+mod click_after_typing;
 mod command_kinds;
 mod escape;
 mod execute;
@@ -168,6 +168,7 @@ pub struct Parol6App {
     /// The Super key's state on X11, in the window only ([`super_key`]).
     #[cfg(target_os = "linux")]
     super_key: Option<super_key::SuperKeyProbe>,
+    click_after_typing: click_after_typing::ClickAfterTyping,
     exit_code: Arc<AtomicI32>,
     started: Instant,
     show_help: bool,
@@ -243,6 +244,7 @@ impl Parol6App {
             window_title: None,
             #[cfg(target_os = "linux")]
             super_key: None,
+            click_after_typing: Default::default(),
             autosave: opts.settings_path.clone().and_then(|p| {
                 settings_store::SettingsAutosave::start(p, &settings)
                     .map_err(|e| tracing::warn!("settings will be saved at exit only: {e}"))
@@ -571,6 +573,10 @@ impl eframe::App for Parol6App {
 
     #[cfg_attr(not(target_os = "linux"), allow(unused_variables))]
     fn raw_input_hook(&mut self, ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        let typing_into_field = crate::panels::shortcuts::text_field_focused(ctx);
+        if self.click_after_typing.apply(&mut raw_input.events, typing_into_field) {
+            ctx.request_repaint(); // the held click, in the next frame
+        }
         #[cfg(target_os = "linux")]
         if let Some(probe) = &mut self.super_key {
             let current = ctx.input(|i| i.modifiers);

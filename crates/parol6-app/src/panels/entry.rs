@@ -229,7 +229,6 @@ fn entry(
     let buffer_id = id.with("typed");
     let typed: Option<String> = ui.data(|d| d.get_temp(buffer_id));
     let editing = typed.is_some();
-    let before = typed.clone();
     let mut text = typed.unwrap_or_else(|| fmt_fixed(value, decimals));
     let response = ui
         .horizontal(|ui| {
@@ -274,9 +273,6 @@ fn entry(
         let esc = ui.input(|i| {
             i.raw.events.iter().any(|e| matches!(e, egui::Event::Key { key: egui::Key::Escape, pressed: true, .. }))
         });
-        if before.as_ref() == Some(&text) {
-            text = keys_before_the_click(ui, text, &fmt_fixed(value, decimals));
-        }
         // text left as shown: nothing was typed, nothing moves (not even by the rounding)
         if esc || text == fmt_fixed(value, decimals) {
             return (response, None);
@@ -287,35 +283,6 @@ fn entry(
         });
     }
     (response, event)
-}
-
-/// `text` with the keys typed in the frame of the click that took the field's keyboard, before
-/// that click: egui gives the field's focus away at the click before the field reads the frame's
-/// keys, so in a slow frame (a busy machine, ~10 FPS) the last digits were lost, and Go moved J1
-/// to 5° for a typed 55 (trial 29 D1). `shown` is the value shown when the field took the
-/// keyboard (all selected then: the first key replaces it).
-fn keys_before_the_click(ui: &egui::Ui, mut text: String, shown: &str) -> String {
-    ui.input(|i| {
-        for e in &i.raw.events {
-            match e {
-                egui::Event::PointerButton { .. } => break,
-                egui::Event::Text(t) => {
-                    if text == shown {
-                        text.clear();
-                    }
-                    text.push_str(t);
-                }
-                egui::Event::Key { key: egui::Key::Backspace, pressed: true, .. } => {
-                    if text == shown {
-                        text.clear();
-                    }
-                    text.pop();
-                }
-                _ => {}
-            }
-        }
-    });
-    text
 }
 
 #[cfg(test)]

@@ -259,7 +259,8 @@ pub fn text_field_has_keyboard(ctx: &egui::Context) -> bool {
     text_field_focused(ctx) || at_pass_start(ctx).typing
 }
 
-fn text_field_focused(ctx: &egui::Context) -> bool {
+/// True while a text field has the keyboard (the focused widget keeps a text edit's state).
+pub fn text_field_focused(ctx: &egui::Context) -> bool {
     ctx.memory(|m| m.focused()).is_some_and(|id| egui::text_edit::TextEditState::load(ctx, id).is_some())
 }
 

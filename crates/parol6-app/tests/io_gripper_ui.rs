@@ -199,6 +199,29 @@ fn gripper_fields_take_units_refuse_the_range_and_move_the_gripper() {
     until(&mut h, "calibrated", 5.0, |h| h.state().sim().state().io.gripper().calibrated);
 }
 
+/// Trial 32 D1: `xyz` (or `300`) typed into the gripper position, then a click on *Move gripper*:
+/// the field was refused and the gripper still moved, to the last accepted value. It is not sent.
+#[test]
+fn move_gripper_is_not_sent_when_a_field_left_by_its_click_is_refused() {
+    let mut h = ui_support::app_harness(egui::vec2(1280.0, 2400.0));
+    type_into(&mut h, "Gripper position", "150");
+    for typed in ["xyz", "300"] {
+        h.get_by_label("Gripper position").click();
+        h.run_steps(1);
+        h.get_by_label("Gripper position").type_text(typed);
+        h.run_steps(1);
+        let at = h.get_by_label("Move gripper").rect().center();
+        ui_support::mouse_click(&mut h, at);
+        h.run_steps(5);
+        let said =
+            |h: &Harness<'_, Parol6App>| h.state().notices().iter().any(|n| n.text.contains("Move gripper not sent"));
+        assert!(said(&h), "{typed}: says why nothing was sent");
+        assert_eq!(h.state().sim().state().io.gripper_position, 0, "{typed}: the gripper did not move");
+    }
+    h.get_by_label("Move gripper").click();
+    until(&mut h, "a valid Move gripper still moves", 5.0, |h| h.state().sim().state().io.gripper_position == 150);
+}
+
 /// Issue 32 (minor): Home (homing) on the fake robot shows its progress and its outcome.
 #[test]
 fn home_on_the_fake_robot_shows_progress_and_outcome() {

@@ -105,22 +105,20 @@ impl IoGripperPanel {
         value: f64,
         unit: &str,
         range: (f64, f64),
+        refused: &mut Option<String>,
     ) -> Option<f64> {
         let (_, ev) = ranged_entry(ui, name, value, (0, 60.0), (unit, unit), range);
-        match ev {
+        let why = match ev {
             Some(EntryEvent::Committed(v)) => match in_range(name, v, range, unit, true) {
-                Ok(v) => Some(v),
-                Err(e) => {
-                    ctx.error(e);
-                    None
-                }
+                Ok(v) => return Some(v),
+                Err(e) => e,
             },
-            Some(EntryEvent::Invalid(e)) => {
-                ctx.error(format!("{name}: {e}"));
-                None
-            }
-            None => None,
-        }
+            Some(EntryEvent::Invalid(e)) => format!("{name}: {e}"),
+            None => return None,
+        };
+        ctx.error(why);
+        refused.get_or_insert_with(|| name.to_string());
+        None
     }
 
     /// The outputs, inputs and drives; `shown`: false during a replay (placeholders, no live value).
@@ -178,26 +176,37 @@ impl IoGripperPanel {
                 (true, false) => "not activated",
             });
         });
+        // a field refused in this frame (left by the click on Move gripper) holds back the move:
+        // it moved to the last accepted value (trial 32 D1)
+        let mut refused = None;
         egui::Grid::new("gripper_set").num_columns(2).spacing([6.0, 3.0]).show(ui, |ui| {
             ui.label("Position");
-            if let Some(v) = Self::entry(ui, ctx, "Gripper position", f64::from(self.position), "", POSITION_RANGE) {
+            if let Some(v) =
+                Self::entry(ui, ctx, "Gripper position", f64::from(self.position), "", POSITION_RANGE, &mut refused)
+            {
                 self.position = v as u8;
             }
             ui.end_row();
             ui.label("Speed");
-            if let Some(v) = Self::entry(ui, ctx, "Gripper speed", f64::from(self.speed), "", SPEED_RANGE) {
+            if let Some(v) = Self::entry(ui, ctx, "Gripper speed", f64::from(self.speed), "", SPEED_RANGE, &mut refused)
+            {
                 self.speed = v as u8;
             }
             ui.end_row();
             ui.label("Current");
             let range = (f64::from(GRIPPER_CURRENT_MA.0), f64::from(GRIPPER_CURRENT_MA.1));
-            if let Some(v) = Self::entry(ui, ctx, "Gripper current", f64::from(self.current_ma), "mA", range) {
+            if let Some(v) =
+                Self::entry(ui, ctx, "Gripper current", f64::from(self.current_ma), "mA", range, &mut refused)
+            {
                 self.current_ma = v as u16;
             }
             ui.end_row();
         });
         ui.horizontal(|ui| {
-            if ui.button("Move gripper").on_hover_text("Send position, speed and current").clicked() {
+            let go = ui.button("Move gripper").on_hover_text("Send position, speed and current").clicked();
+            if go && let Some(name) = &refused {
+                ctx.error(format!("Move gripper not sent: {name} holds no valid value"));
+            } else if go {
                 let cmd =
                     IoCommand::Gripper { position: self.position, speed: self.speed, current_ma: self.current_ma };
                 ctx.send(AppCommand::Io(cmd));

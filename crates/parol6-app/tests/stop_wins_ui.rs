@@ -275,3 +275,29 @@ fn go_is_not_sent_when_a_field_left_by_its_click_holds_no_number() {
     assert!(h.state().moves_sent().next().is_none(), "sent {:?}", h.state().moves_sent().collect::<Vec<_>>());
     assert!(h.state().notices().iter().any(|n| n.text.contains("Go not sent: J2 holds no number")));
 }
+
+/// Trial 30 D1: target Z `280` + Enter, then `abc` (or a value beyond the range) and a click on
+/// *Move to target*: the field was refused and the arm still moved, to Z = 280. It is not sent.
+#[test]
+fn move_to_target_is_not_sent_when_a_field_left_by_its_click_is_refused() {
+    let mut h = app_harness(egui::vec2(1280.0, 1400.0));
+    ui_support::type_into(&mut h, "target Z", "280");
+    for typed in ["abc", "1e9"] {
+        h.get_by_label("target Z").click();
+        h.run_steps(1);
+        h.get_by_label("target Z").type_text(typed);
+        h.run_steps(1);
+        click_on(&mut h, "Move to target");
+        settle(&mut h, 0.5);
+        assert!(
+            h.state().moves_sent().next().is_none(),
+            "{typed}: sent {:?}",
+            h.state().moves_sent().collect::<Vec<_>>()
+        );
+        let said = "Move to target not sent: target Z holds no valid value";
+        assert!(h.state().notices().iter().any(|n| n.text == said), "{typed}: {:?}", h.state().notices());
+    }
+    click_on(&mut h, "Move to target");
+    settle(&mut h, 0.5);
+    assert!(h.state().moves_sent().next().is_some(), "a valid Move to target still moves");
+}

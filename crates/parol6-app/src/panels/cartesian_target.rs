@@ -262,14 +262,19 @@ impl CartesianTargetPanel {
                 }
             });
         });
+        // a field refused in this frame (left by the click on Move to target) holds back the
+        // move: it went to the last accepted target (trial 30 D1)
+        let mut field_refused: Option<String> = None;
         for (k, event) in events {
+            let field = if k < 3 { ["X", "Y", "Z"][k] } else { labels[k - 3] };
             match event {
                 Some(EntryEvent::Committed(v)) if k < 3 => {
-                    let name = format!("target {}", ["X", "Y", "Z"][k]);
+                    let name = format!("target {field}");
                     match entry::in_range(&name, v, (-MAX_TARGET_POSITION_MM, MAX_TARGET_POSITION_MM), "mm", false) {
                         Ok(v) => self.xyz_mm[k] = v,
                         Err(e) => {
                             ctx.error(format!("{e}; the target stays as it was"));
+                            field_refused.get_or_insert_with(|| format!("target {field}"));
                             continue;
                         }
                     }
@@ -280,6 +285,7 @@ impl CartesianTargetPanel {
                     let typed = unit.to_rad(v);
                     if typed.abs() > MAX_TARGET_ANGLE_RAD + 1e-9 {
                         ctx.error(beyond_a_turn(name, v, unit));
+                        field_refused.get_or_insert_with(|| format!("target {field}"));
                         continue;
                     }
                     angles[k - 3] = typed;
@@ -292,8 +298,8 @@ impl CartesianTargetPanel {
                     }
                 }
                 Some(EntryEvent::Invalid(why)) => {
-                    let name = if k < 3 { ["X", "Y", "Z"][k] } else { labels[k - 3] };
-                    ctx.error(format!("target {name}: {why}"));
+                    ctx.error(format!("target {field}: {why}"));
+                    field_refused.get_or_insert_with(|| format!("target {field}"));
                     continue;
                 }
                 None => continue,
@@ -330,9 +336,10 @@ impl CartesianTargetPanel {
                 Some(why) => go.on_disabled_hover_text(why),
                 None => go,
             };
-            if go.on_hover_text("Profiled joint move to the configuration chosen below").clicked()
-                && let Some(s) = &chosen
-            {
+            let go = go.on_hover_text("Profiled joint move to the configuration chosen below").clicked();
+            if go && let Some(field) = &field_refused {
+                ctx.error(format!("Move to target not sent: {field} holds no valid value"));
+            } else if go && let Some(s) = &chosen {
                 ctx.move_to(s.joints_rad.clone());
             }
         });
